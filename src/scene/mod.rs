@@ -1,0 +1,7 @@
+//! Everything about what is drawn: the scene data model, built-in procedural scenes, the
+//! OBJ/MTL loader, the deterministic camera and the forward renderer that draws a scene into
+//! the targets a technique asks for.
+
+pub mod model;
+
+pub use model::{AlphaMode, CameraRig, DirectionalLight, Material, Mesh, Scene, Spin, TextureImage, Vertex};
