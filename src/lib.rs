@@ -3,4 +3,5 @@
 //! The crate is one engine with two front ends: a headless command line (`render`, `compare`,
 //! `bench`) and an egui viewer. See `README.md` for the tour and `shaders/` for the WGSL.
 
+pub mod gpu;
 pub mod scene;

@@ -2,6 +2,10 @@
 //! OBJ/MTL loader, the deterministic camera and the forward renderer that draws a scene into
 //! the targets a technique asks for.
 
+pub mod camera;
 pub mod model;
+pub mod renderer;
 
-pub use model::{AlphaMode, CameraRig, DirectionalLight, Material, Mesh, Scene, Spin, TextureImage, Vertex};
+pub use model::{
+    AlphaMode, CameraRig, DirectionalLight, Material, Mesh, Scene, Spin, TextureImage, Vertex,
+};

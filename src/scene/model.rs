@@ -104,7 +104,10 @@ impl Spin {
     /// The object-to-world matrix at a (possibly fractional) frame number.
     pub fn transform_at(&self, frame: f32) -> Mat4 {
         Mat4::from_translation(self.pivot)
-            * Mat4::from_quat(Quat::from_axis_angle(self.axis, self.radians_per_frame * frame))
+            * Mat4::from_quat(Quat::from_axis_angle(
+                self.axis,
+                self.radians_per_frame * frame,
+            ))
             * Mat4::from_translation(-self.pivot)
     }
 }
@@ -254,8 +257,13 @@ mod tests {
             axis: Vec3::Y,
             radians_per_frame: std::f32::consts::FRAC_PI_2,
         };
-        let moved = spin.transform_at(1.0).transform_point3(Vec3::new(2.0, 0.0, 0.0));
-        assert!((moved - Vec3::new(1.0, 0.0, -1.0)).length() < 1e-5, "{moved}");
+        let moved = spin
+            .transform_at(1.0)
+            .transform_point3(Vec3::new(2.0, 0.0, 0.0));
+        assert!(
+            (moved - Vec3::new(1.0, 0.0, -1.0)).length() < 1e-5,
+            "{moved}"
+        );
         let pivot = spin.transform_at(3.0).transform_point3(spin.pivot);
         assert!((pivot - spin.pivot).length() < 1e-6);
     }

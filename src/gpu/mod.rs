@@ -1,0 +1,154 @@
+//! GPU access shared by every front end: device creation (headless, or adopted from the
+//! viewer's eframe device), the capability report, texture readback and the small helpers
+//! every pass uses (shader loading, fullscreen triangle).
+//!
+//! Headless creation ranks every adapter wgpu can see (discrete GPU first, software
+//! rasterisers last) and asks for the optional features the frame graph can use: timestamp
+//! queries (per-pass GPU time), pipeline-statistics queries (fragment invocations) and
+//! adapter-specific format features (the real list of MSAA sample counts instead of WebGPU's
+//! guaranteed {1, 4}).
+
+pub mod capabilities;
+pub mod readback;
+pub mod shader;
+
+pub use capabilities::Capabilities;
+pub use readback::read_texture_rgba8;
+
+/// Colour format of every scene render and every technique output: 8-bit RGBA storing
+/// sRGB-encoded values, so that blending, filtering and MSAA resolves happen in linear light.
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// The same texels viewed without sRGB decoding (what FXAA/SMAA and egui read).
+pub const COLOR_FORMAT_ENCODED_VIEW: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// Depth format of scene renders.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Screen-space motion vectors, in pixels from the previous frame to this one.
+pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
+
+/// What installing a software Vulkan driver takes on Debian/Ubuntu, quoted in every
+/// "no adapter" message.
+pub const SOFTWARE_DRIVER_HINT: &str = "install a Vulkan driver; on a machine without a GPU, Mesa's software rasteriser \
+     (Debian/Ubuntu: `apt-get install mesa-vulkan-drivers libvulkan1`)";
+
+/// Errors of device creation.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    /// No adapter on any backend.
+    #[error("no GPU adapter found on any backend; {SOFTWARE_DRIVER_HINT}")]
+    NoAdapter,
+    /// The adapter refused the device.
+    #[error("the adapter {adapter} refused to create a device: {source}")]
+    RequestDevice {
+        /// Adapter name.
+        adapter: String,
+        /// wgpu's reason.
+        source: wgpu::RequestDeviceError,
+    },
+}
+
+/// A device with its queue, the adapter it came from and what that adapter can do.
+#[derive(Clone, Debug)]
+pub struct Gpu {
+    /// The adapter the device was created on.
+    pub adapter: wgpu::Adapter,
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// What the device was created with and supports.
+    pub caps: Capabilities,
+}
+
+/// Optional features the engine uses when the adapter has them.
+pub fn wanted_features() -> wgpu::Features {
+    wgpu::Features::TIMESTAMP_QUERY
+        | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+        | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES
+        | wgpu::Features::PIPELINE_STATISTICS_QUERY
+        | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
+}
+
+/// The device descriptor the engine wants from `adapter`: every wanted feature it has, and its
+/// full limits (large supersampled targets need the real maximum texture size).
+pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
+    wgpu::DeviceDescriptor {
+        label: Some("aa-lab device"),
+        required_features: adapter.features() & wanted_features(),
+        required_limits: adapter.limits(),
+        ..Default::default()
+    }
+}
+
+fn adapter_rank(info: &wgpu::AdapterInfo) -> u8 {
+    let type_rank = match info.device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Other => 3,
+        wgpu::DeviceType::Cpu => 4,
+    };
+    // OpenGL reads multisampled textures as zeros on Mesa: prefer any other backend.
+    let backend_rank = u8::from(info.backend == wgpu::Backend::Gl);
+    backend_rank * 8 + type_rank
+}
+
+impl Gpu {
+    /// Creates a device without a window on the best adapter (see module docs).
+    /// `WGPU_BACKEND` (e.g. `vulkan`, `gl`) and `WGPU_ADAPTER_NAME` narrow the choice.
+    pub fn headless() -> Result<Self, GpuError> {
+        pollster::block_on(Self::headless_async())
+    }
+
+    async fn headless_async() -> Result<Self, GpuError> {
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all());
+        let mut adapters = instance.enumerate_adapters(backends).await;
+        if let Ok(wanted) = std::env::var("WGPU_ADAPTER_NAME") {
+            let wanted = wanted.to_lowercase();
+            adapters.retain(|a| a.get_info().name.to_lowercase().contains(&wanted));
+        }
+        adapters.sort_by_key(|a| adapter_rank(&a.get_info()));
+        let adapter = adapters.into_iter().next().ok_or(GpuError::NoAdapter)?;
+        let (device, queue) = adapter
+            .request_device(&device_descriptor(&adapter))
+            .await
+            .map_err(|source| GpuError::RequestDevice {
+                adapter: adapter.get_info().name,
+                source,
+            })?;
+        Ok(Self::from_parts(adapter, device, queue))
+    }
+
+    /// Wraps a device created elsewhere (the viewer's eframe device).
+    pub fn from_parts(adapter: wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue) -> Self {
+        let caps = Capabilities::query(&adapter, &device, &queue);
+        Self {
+            adapter,
+            device,
+            queue,
+            caps,
+        }
+    }
+
+    /// Blocks until all submitted work has finished.
+    pub fn wait_idle(&self) {
+        // A poll error means the device is lost; the next submission reports that properly.
+        let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
+    }
+}
+
+/// Bytes a texture occupies: every mip level times its sample count. Formats without a fixed
+/// copy size (combined depth-stencil) are counted at 4 bytes a texel, what drivers allocate
+/// for `Depth24PlusStencil8`.
+pub fn texture_bytes(texture: &wgpu::Texture) -> u64 {
+    let texel = u64::from(texture.format().block_copy_size(None).unwrap_or(4));
+    let texels: u64 = (0..texture.mip_level_count())
+        .map(|level| {
+            let w = u64::from((texture.width() >> level).max(1));
+            let h = u64::from((texture.height() >> level).max(1));
+            w * h
+        })
+        .sum();
+    texels * texel * u64::from(texture.sample_count())
+}

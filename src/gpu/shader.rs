@@ -1,0 +1,28 @@
+//! Loading WGSL from `shaders/`. The sources are compiled into the binary with
+//! `include_str!`, so an installed `aa-lab` needs no files beside it; the naga validation test
+//! reads the same files from disk.
+
+/// Every WGSL file under `shaders/`, by file name. The naga test checks this list against the
+/// directory so that no shader escapes validation.
+pub const SHADERS: &[(&str, &str)] = &[("scene.wgsl", include_str!("../../shaders/scene.wgsl"))];
+
+/// The source of `shaders/<name>`.
+///
+/// # Panics
+/// Panics if `name` is not in [`SHADERS`]: shader names are compile-time constants of this
+/// crate, so a miss is a programming error caught by the tests, never user input.
+pub fn source(name: &str) -> &'static str {
+    SHADERS
+        .iter()
+        .find(|(file, _)| *file == name)
+        .map(|(_, src)| *src)
+        .unwrap_or_else(|| panic!("shader {name} is not listed in gpu::shader::SHADERS"))
+}
+
+/// Creates a shader module from `shaders/<name>`.
+pub fn module(device: &wgpu::Device, name: &str) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(name),
+        source: wgpu::ShaderSource::Wgsl(source(name).into()),
+    })
+}

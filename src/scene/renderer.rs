@@ -1,0 +1,795 @@
+//! The forward scene renderer: uploads a [`Scene`] once and draws it into [`SceneTargets`]
+//! of any sample count, with any projection jitter, optionally writing motion vectors.
+//!
+//! Everything a technique may want from the scene render is chosen per call through
+//! [`RasterOptions`] (sample-rate shading, centroid texture coordinates, alpha-to-coverage) and
+//! [`ViewParams`] (jitter, tile, mip bias). Pipelines are built on first use and cached by
+//! [`PipelineKey`]. Per-call view uniforms live in a ring of dynamic-offset slots so that many
+//! renders (supersampling tiles, accumulation passes) can be recorded into one encoder.
+
+use std::collections::HashMap;
+
+use glam::{Mat4, Vec3, Vec4};
+use wgpu::util::DeviceExt;
+
+use super::camera::ViewParams;
+use super::{AlphaMode, Scene, TextureImage, Vertex};
+use crate::gpu::{self, COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, DEPTH_FORMAT, Gpu, MOTION_FORMAT};
+
+/// Where varyings are evaluated inside a multisampled pixel.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
+pub enum ShadingRate {
+    /// Once per pixel at the pixel centre (ordinary MSAA).
+    #[default]
+    Pixel,
+    /// Once per pixel, texture coordinates at the centroid of the covered samples.
+    Centroid,
+    /// Once per covered sample (sample-rate shading: MSAA becomes SSAA).
+    Sample,
+}
+
+/// Rasterisation choices of one scene render.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct RasterOptions {
+    /// Where varyings are evaluated.
+    pub shading: ShadingRate,
+    /// Alpha-masked materials drive sample coverage instead of discarding (only meaningful with
+    /// more than one sample).
+    pub alpha_to_coverage: bool,
+}
+
+/// What the render targets of a scene render hold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TargetDesc {
+    /// Width and height in pixels (never zero).
+    pub size: (u32, u32),
+    /// Samples per pixel.
+    pub sample_count: u32,
+    /// Whether a motion-vector target is written.
+    pub motion: bool,
+}
+
+/// Render targets of one scene render: colour, depth and optional motion, each with
+/// `sample_count` samples, plus a single-sample resolve of the colour when multisampled.
+#[derive(Debug)]
+pub struct SceneTargets {
+    /// What the targets were created for.
+    pub desc: TargetDesc,
+    /// Colour, `sample_count` samples (sRGB format, encoded-view compatible).
+    pub color: wgpu::Texture,
+    /// Single-sample resolve of `color` (only when multisampled).
+    pub resolved: Option<wgpu::Texture>,
+    /// Depth (reverse-Z), `sample_count` samples.
+    pub depth: wgpu::Texture,
+    /// Motion vectors in UV units (previous to current position), when requested.
+    pub motion: Option<wgpu::Texture>,
+}
+
+fn target_texture(
+    device: &wgpu::Device,
+    label: &str,
+    desc: &TargetDesc,
+    sample_count: u32,
+    format: wgpu::TextureFormat,
+) -> wgpu::Texture {
+    let view_formats: &[wgpu::TextureFormat] = if format == COLOR_FORMAT {
+        &[COLOR_FORMAT_ENCODED_VIEW]
+    } else {
+        &[]
+    };
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: desc.size.0,
+            height: desc.size.1,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | if sample_count == 1 {
+                wgpu::TextureUsages::COPY_SRC
+            } else {
+                wgpu::TextureUsages::empty()
+            },
+        view_formats,
+    })
+}
+
+impl SceneTargets {
+    /// Creates targets; `label` prefixes every texture label.
+    pub fn new(device: &wgpu::Device, label: &str, desc: TargetDesc) -> Self {
+        let n = desc.sample_count;
+        Self {
+            desc,
+            color: target_texture(device, &format!("{label} color"), &desc, n, COLOR_FORMAT),
+            resolved: (n > 1).then(|| {
+                target_texture(device, &format!("{label} resolved"), &desc, 1, COLOR_FORMAT)
+            }),
+            depth: target_texture(device, &format!("{label} depth"), &desc, n, DEPTH_FORMAT),
+            motion: desc.motion.then(|| {
+                target_texture(device, &format!("{label} motion"), &desc, n, MOTION_FORMAT)
+            }),
+        }
+    }
+
+    /// The single-sample colour image (the resolve when multisampled).
+    pub fn color_1x(&self) -> &wgpu::Texture {
+        self.resolved.as_ref().unwrap_or(&self.color)
+    }
+
+    /// Every texture with its byte size, for memory reports.
+    pub fn textures(&self) -> Vec<&wgpu::Texture> {
+        [
+            Some(&self.color),
+            self.resolved.as_ref(),
+            Some(&self.depth),
+            self.motion.as_ref(),
+        ]
+        .into_iter()
+        .flatten()
+        .collect()
+    }
+}
+
+/// Everything that changes a scene pipeline.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PipelineKey {
+    /// Samples per pixel.
+    pub sample_count: u32,
+    /// Motion target present.
+    pub motion: bool,
+    /// Rasterisation options (alpha-to-coverage forced off for one sample).
+    pub raster: RasterOptions,
+    /// Back-face culling.
+    pub cull_back: bool,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ViewUniform {
+    view_proj: [[f32; 4]; 4],
+    unjittered_view_proj: [[f32; 4]; 4],
+    prev_view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    light_direction: [f32; 4],
+    light_color: [f32; 4],
+    ambient: [f32; 4],
+    params: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct MaterialUniform {
+    base_color: [f32; 4],
+    specular: [f32; 4],
+    params: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ObjectUniform {
+    model: [[f32; 4]; 4],
+    prev_model: [[f32; 4]; 4],
+    normal_matrix: [[f32; 4]; 4],
+}
+
+/// Uniform slots are aligned to the largest dynamic-offset alignment wgpu may demand.
+const UNIFORM_SLOT: u64 = 256;
+
+struct Draw {
+    first_index: u32,
+    index_count: u32,
+    base_vertex: i32,
+    material: usize,
+    object: usize,
+}
+
+struct GpuMaterial {
+    bind_group: wgpu::BindGroup,
+    cull_back: bool,
+}
+
+/// A scene uploaded to the GPU, with its pipelines.
+pub struct SceneRenderer {
+    vertex_buffer: wgpu::Buffer,
+    index_buffer: wgpu::Buffer,
+    draws: Vec<Draw>,
+    materials: Vec<GpuMaterial>,
+    object_buffer: wgpu::Buffer,
+    object_bind_group: wgpu::BindGroup,
+    object_transforms: Vec<Option<super::Spin>>,
+    view_layout: wgpu::BindGroupLayout,
+    view_ring: Option<(wgpu::Buffer, wgpu::BindGroup, u64)>,
+    next_view_slot: u64,
+    pipeline_layout: wgpu::PipelineLayout,
+    shader: wgpu::ShaderModule,
+    pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
+    light: super::DirectionalLight,
+    clear_color: Vec3,
+    triangles: usize,
+    bytes: u64,
+}
+
+fn mat(m: Mat4) -> [[f32; 4]; 4] {
+    m.to_cols_array_2d()
+}
+
+fn uniform_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    dynamic: bool,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: dynamic,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// Number of mip levels of a full chain for a size.
+pub fn mip_level_count(width: u32, height: u32) -> u32 {
+    32 - width.max(height).max(1).leading_zeros()
+}
+
+fn srgb_to_linear(c: u8) -> f32 {
+    let c = f32::from(c) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+fn linear_to_srgb(c: f32) -> u8 {
+    let c = c.clamp(0.0, 1.0);
+    let s = if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0 + 0.5) as u8
+}
+
+/// The next mip level of an sRGB-encoded RGBA8 image: a 2x2 box filter in linear light,
+/// colour weighted by alpha so that transparent texels do not bleed their colour.
+pub fn downsample_srgb(image: &image::RgbaImage) -> image::RgbaImage {
+    let (w, h) = image.dimensions();
+    let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+    image::RgbaImage::from_fn(nw, nh, |x, y| {
+        let mut sum = Vec4::ZERO;
+        for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            let p = image
+                .get_pixel((2 * x + dx).min(w - 1), (2 * y + dy).min(h - 1))
+                .0;
+            let a = f32::from(p[3]) / 255.0;
+            sum += Vec4::new(
+                srgb_to_linear(p[0]) * a,
+                srgb_to_linear(p[1]) * a,
+                srgb_to_linear(p[2]) * a,
+                a,
+            );
+        }
+        let alpha = sum.w / 4.0;
+        let rgb = if sum.w > 0.0 {
+            sum.truncate() / sum.w
+        } else {
+            Vec3::ZERO
+        };
+        image::Rgba([
+            linear_to_srgb(rgb.x),
+            linear_to_srgb(rgb.y),
+            linear_to_srgb(rgb.z),
+            (alpha * 255.0 + 0.5) as u8,
+        ])
+    })
+}
+
+fn upload_texture(gpu: &Gpu, texture: &TextureImage) -> wgpu::Texture {
+    let (width, height) = texture.image.dimensions();
+    let levels = mip_level_count(width, height);
+    let gpu_texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(&texture.label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: levels,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8UnormSrgb,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    let mut level_image = texture.image.clone();
+    for level in 0..levels {
+        let (w, h) = level_image.dimensions();
+        gpu.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &gpu_texture,
+                mip_level: level,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            level_image.as_raw(),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(4 * w),
+                rows_per_image: Some(h),
+            },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+        if level + 1 < levels {
+            level_image = downsample_srgb(&level_image);
+        }
+    }
+    gpu_texture
+}
+
+impl SceneRenderer {
+    /// Uploads `scene`: geometry, textures with full mip chains, materials.
+    pub fn new(gpu: &Gpu, scene: &Scene) -> Self {
+        let device = &gpu.device;
+        let mut vertices: Vec<Vertex> = Vec::with_capacity(scene.vertex_count());
+        let mut indices: Vec<u32> = Vec::with_capacity(scene.triangle_count() * 3);
+        let mut draws = Vec::with_capacity(scene.meshes.len());
+        for (object, mesh) in scene.meshes.iter().enumerate() {
+            if mesh.indices.is_empty() {
+                continue;
+            }
+            draws.push(Draw {
+                first_index: indices.len() as u32,
+                index_count: mesh.indices.len() as u32,
+                base_vertex: vertices.len() as i32,
+                material: mesh.material.min(scene.materials.len().saturating_sub(1)),
+                object,
+            });
+            vertices.extend_from_slice(&mesh.vertices);
+            indices.extend_from_slice(&mesh.indices);
+        }
+        // wgpu refuses zero-sized vertex buffers; an empty scene still clears its targets.
+        let vertex_bytes: &[u8] = if vertices.is_empty() {
+            &[0; 32]
+        } else {
+            bytemuck::cast_slice(&vertices)
+        };
+        let index_bytes: &[u8] = if indices.is_empty() {
+            &[0; 4]
+        } else {
+            bytemuck::cast_slice(&indices)
+        };
+        let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene vertices"),
+            contents: vertex_bytes,
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene indices"),
+            contents: index_bytes,
+            usage: wgpu::BufferUsages::INDEX,
+        });
+
+        let view_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("scene view"),
+            entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX_FRAGMENT, true)],
+        });
+        let material_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("scene material"),
+            entries: &[
+                uniform_entry(0, wgpu::ShaderStages::FRAGMENT, false),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("scene object"),
+            entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX, true)],
+        });
+
+        let mut bytes = vertex_bytes.len() as u64 + index_bytes.len() as u64;
+        let white = TextureImage {
+            label: "white".to_owned(),
+            image: image::RgbaImage::from_pixel(1, 1, image::Rgba([255; 4])),
+        };
+        let textures: Vec<wgpu::Texture> = scene
+            .textures
+            .iter()
+            .chain(std::iter::once(&white))
+            .map(|t| upload_texture(gpu, t))
+            .collect();
+        bytes += textures.iter().map(gpu::texture_bytes).sum::<u64>();
+        let views: Vec<wgpu::TextureView> = textures
+            .iter()
+            .map(|t| t.create_view(&Default::default()))
+            .collect();
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("scene material sampler"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            anisotropy_clamp: 8,
+            ..Default::default()
+        });
+        let default_material = super::Material::default();
+        let materials = (0..scene.materials.len().max(1))
+            .map(|i| {
+                let m = scene.materials.get(i).unwrap_or(&default_material);
+                let (masked, cutoff) = match m.alpha_mode {
+                    AlphaMode::Opaque => (0.0, 0.0),
+                    AlphaMode::Mask { cutoff } => (1.0, cutoff),
+                };
+                let uniform = MaterialUniform {
+                    base_color: m.base_color.extend(1.0).to_array(),
+                    specular: m.specular.extend(m.shininess.max(1.0)).to_array(),
+                    params: [cutoff, f32::from(u8::from(m.unlit)), masked, 0.0],
+                };
+                let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(&format!("material {}", m.name)),
+                    contents: bytemuck::bytes_of(&uniform),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+                let view = m
+                    .base_color_texture
+                    .and_then(|t| views.get(t))
+                    .unwrap_or_else(|| &views[views.len() - 1]);
+                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(&format!("material {}", m.name)),
+                    layout: &material_layout,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: buffer.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: wgpu::BindingResource::TextureView(view),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: wgpu::BindingResource::Sampler(&sampler),
+                        },
+                    ],
+                });
+                GpuMaterial {
+                    bind_group,
+                    cull_back: !m.double_sided,
+                }
+            })
+            .collect();
+
+        let object_count = scene.meshes.len().max(1) as u64;
+        let object_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("scene objects"),
+            size: object_count * UNIFORM_SLOT,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let object_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scene objects"),
+            layout: &object_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &object_buffer,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(std::mem::size_of::<ObjectUniform>() as u64),
+                }),
+            }],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("scene"),
+            bind_group_layouts: &[
+                Some(&view_layout),
+                Some(&material_layout),
+                Some(&object_layout),
+            ],
+            immediate_size: 0,
+        });
+        let renderer = Self {
+            vertex_buffer,
+            index_buffer,
+            draws,
+            materials,
+            object_buffer,
+            object_bind_group,
+            object_transforms: scene.meshes.iter().map(|m| m.spin).collect(),
+            view_layout,
+            view_ring: None,
+            next_view_slot: 0,
+            pipeline_layout,
+            shader: gpu::shader::module(device, "scene.wgsl"),
+            pipelines: HashMap::new(),
+            light: scene.light,
+            clear_color: scene.clear_color,
+            triangles: scene.triangle_count(),
+            bytes,
+        };
+        renderer.write_objects(gpu, 0.0, 0.0);
+        renderer
+    }
+
+    /// Triangles drawn per render.
+    pub fn triangle_count(&self) -> usize {
+        self.triangles
+    }
+
+    /// Bytes of GPU memory the uploaded scene occupies (geometry and textures with mips).
+    pub fn memory_bytes(&self) -> u64 {
+        self.bytes
+    }
+
+    /// Background colour (linear).
+    pub fn clear_color(&self) -> Vec3 {
+        self.clear_color
+    }
+
+    fn write_objects(&self, gpu: &Gpu, frame: f32, prev_frame: f32) {
+        let mut data = vec![0u8; self.object_transforms.len().max(1) * UNIFORM_SLOT as usize];
+        for (i, spin) in self.object_transforms.iter().enumerate() {
+            let model = spin.map_or(Mat4::IDENTITY, |s| s.transform_at(frame));
+            let prev = spin.map_or(Mat4::IDENTITY, |s| s.transform_at(prev_frame));
+            let uniform = ObjectUniform {
+                model: mat(model),
+                prev_model: mat(prev),
+                normal_matrix: mat(model.inverse().transpose()),
+            };
+            let at = i * UNIFORM_SLOT as usize;
+            data[at..at + std::mem::size_of::<ObjectUniform>()]
+                .copy_from_slice(bytemuck::bytes_of(&uniform));
+        }
+        gpu.queue.write_buffer(&self.object_buffer, 0, &data);
+    }
+
+    /// Starts a new frame: object transforms for `view`'s frame numbers, and the view-uniform
+    /// ring rewound. Every `render` of the frame must use the same frame numbers.
+    pub fn begin_frame(&mut self, gpu: &Gpu, frame: f32, prev_frame: f32) {
+        self.next_view_slot = 0;
+        if self.object_transforms.iter().any(Option::is_some) {
+            self.write_objects(gpu, frame, prev_frame);
+        }
+    }
+
+    fn view_slot(&mut self, gpu: &Gpu, uniform: &ViewUniform) -> (wgpu::BindGroup, u32) {
+        let slot = self.next_view_slot;
+        self.next_view_slot += 1;
+        let capacity = self.view_ring.as_ref().map_or(0, |r| r.2);
+        if slot >= capacity {
+            let new_capacity = (slot + 1).next_power_of_two().max(16);
+            let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("scene views"),
+                size: new_capacity * UNIFORM_SLOT,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("scene views"),
+                layout: &self.view_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &buffer,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(std::mem::size_of::<ViewUniform>() as u64),
+                    }),
+                }],
+            });
+            // Slots written earlier this frame live in the old buffer, which the already
+            // recorded passes keep alive; only later slots go to the new one.
+            self.view_ring = Some((buffer, bind_group, new_capacity));
+        }
+        let (buffer, bind_group, _) = self.view_ring.as_ref().expect("view ring allocated above");
+        gpu.queue
+            .write_buffer(buffer, slot * UNIFORM_SLOT, bytemuck::bytes_of(uniform));
+        (bind_group.clone(), (slot * UNIFORM_SLOT) as u32)
+    }
+
+    fn pipeline(&mut self, device: &wgpu::Device, key: PipelineKey) -> wgpu::RenderPipeline {
+        if let Some(p) = self.pipelines.get(&key) {
+            return p.clone();
+        }
+        let (vs, fs) = match key.raster.shading {
+            ShadingRate::Pixel => ("vs_center", "fs_center"),
+            ShadingRate::Centroid => ("vs_centroid", "fs_centroid"),
+            ShadingRate::Sample => ("vs_sample", "fs_sample"),
+        };
+        let a2c = key.raster.alpha_to_coverage && key.sample_count > 1;
+        let constants = [("ALPHA_TO_COVERAGE", if a2c { 1.0 } else { 0.0 })];
+        let options = wgpu::PipelineCompilationOptions {
+            constants: &constants,
+            ..Default::default()
+        };
+        let color_target = wgpu::ColorTargetState {
+            format: COLOR_FORMAT,
+            blend: None,
+            // Alpha keeps the clear value 1: with alpha-to-coverage the shader's alpha is a
+            // coverage fraction, not an image alpha.
+            write_mask: wgpu::ColorWrites::COLOR,
+        };
+        let motion_target = key.motion.then(|| wgpu::ColorTargetState {
+            format: MOTION_FORMAT,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&format!("scene {}x {:?}{}", key.sample_count, key.raster.shading, if a2c { " a2c" } else { "" })),
+            layout: Some(&self.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &self.shader,
+                entry_point: Some(vs),
+                compilation_options: options.clone(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<Vertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2],
+                })],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: key.cull_back.then_some(wgpu::Face::Back),
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Greater),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: key.sample_count,
+                mask: !0,
+                alpha_to_coverage_enabled: a2c,
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &self.shader,
+                entry_point: Some(fs),
+                compilation_options: options,
+                targets: &[Some(color_target), motion_target],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        self.pipelines.insert(key, pipeline.clone());
+        pipeline
+    }
+
+    /// Records one render of the scene into `targets`: clears them, draws every mesh and, when
+    /// multisampled, resolves colour with the hardware box filter into `targets.resolved`.
+    pub fn render(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &SceneTargets,
+        view: &ViewParams,
+        raster: RasterOptions,
+    ) {
+        let uniform = ViewUniform {
+            view_proj: mat(view.view_proj),
+            unjittered_view_proj: mat(view.unjittered_view_proj),
+            prev_view_proj: mat(view.prev_view_proj),
+            eye: view.eye.extend(1.0).to_array(),
+            light_direction: self.light.direction.extend(0.0).to_array(),
+            light_color: self.light.color.extend(1.0).to_array(),
+            ambient: self.light.ambient.extend(1.0).to_array(),
+            params: [
+                view.mip_bias,
+                if targets.desc.motion { 1.0 } else { 0.0 },
+                0.0,
+                0.0,
+            ],
+        };
+        let (view_bind_group, view_offset) = self.view_slot(gpu, &uniform);
+        let color_view = targets.color.create_view(&Default::default());
+        let resolve_view = targets
+            .resolved
+            .as_ref()
+            .map(|t| t.create_view(&Default::default()));
+        let depth_view = targets.depth.create_view(&Default::default());
+        let motion_view = targets
+            .motion
+            .as_ref()
+            .map(|t| t.create_view(&Default::default()));
+        let c = self.clear_color;
+        let color_attachment = wgpu::RenderPassColorAttachment {
+            view: &color_view,
+            depth_slice: None,
+            resolve_target: resolve_view.as_ref(),
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color {
+                    r: c.x.into(),
+                    g: c.y.into(),
+                    b: c.z.into(),
+                    a: 1.0,
+                }),
+                store: wgpu::StoreOp::Store,
+            },
+        };
+        let motion_attachment = motion_view
+            .as_ref()
+            .map(|view| wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            });
+        let keys: Vec<PipelineKey> = self
+            .draws
+            .iter()
+            .map(|d| PipelineKey {
+                sample_count: targets.desc.sample_count,
+                motion: targets.desc.motion,
+                raster,
+                cull_back: self.materials[d.material].cull_back,
+            })
+            .collect();
+        let pipelines: Vec<wgpu::RenderPipeline> = keys
+            .into_iter()
+            .map(|k| self.pipeline(&gpu.device, k))
+            .collect();
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("scene"),
+            color_attachments: &[Some(color_attachment), motion_attachment],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
+        pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+        pass.set_bind_group(0, &view_bind_group, &[view_offset]);
+        for (draw, pipeline) in self.draws.iter().zip(&pipelines) {
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(1, &self.materials[draw.material].bind_group, &[]);
+            pass.set_bind_group(
+                2,
+                &self.object_bind_group,
+                &[(draw.object as u64 * UNIFORM_SLOT) as u32],
+            );
+            pass.draw_indexed(
+                draw.first_index..draw.first_index + draw.index_count,
+                draw.base_vertex,
+                0..1,
+            );
+        }
+    }
+}
