@@ -66,12 +66,17 @@ fn assert_close(a: Vec3, b: Vec3) {
     assert!((a - b).length() < 1e-4, "{a} != {b}");
 }
 
-/// Checks the camera looks at the centre of the bounds from outside the bounding sphere.
+/// Checks the camera looks at the centre of the bounds and keeps every vertex in view.
 fn assert_framed(scene: &Scene) {
     let (lo, hi) = scene.bounds().expect("bounds");
     let camera = &scene.camera;
     assert_close(camera.target, (lo + hi) * 0.5);
-    let radius = (hi - lo).length() * 0.5;
+    let radius = scene
+        .meshes
+        .iter()
+        .flat_map(|m| &m.vertices)
+        .map(|v| Vec3::from(v.position).distance(camera.target))
+        .fold(0.0, f32::max);
     let half_fov = (camera.fov_y_degrees.to_radians() * 0.5).sin();
     assert!(camera.distance * half_fov >= radius, "{camera:?}");
     assert!(camera.near > 0.0 && camera.near < camera.distance - radius);
