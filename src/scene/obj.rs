@@ -34,10 +34,10 @@
 //!   material stays opaque and a warning notes it.
 //! * `map_Kd` (PNG, JPEG or TGA) is the base-colour texture. `map_d` is an alpha mask: it is
 //!   merged into the base texture's alpha channel (a white texture when there is no `map_Kd`;
-//!   the smaller image is resampled bilinearly to the larger size) and the material becomes
-//!   [`AlphaMode::Mask`] with cutoff 0.5. The mask is the channel named by `-imfchan`
-//!   (`r`, `g`, `b`, `m` for alpha, anything else luminance); without it, the image's alpha when
-//!   that is not fully opaque, its luminance otherwise.
+//!   images of different sizes are both resampled bilinearly to the larger width and height)
+//!   and the material becomes [`AlphaMode::Mask`] with cutoff 0.5. The mask is the channel
+//!   named by `-imfchan` (`r`, `g`, `b`, `m` for alpha, anything else luminance); without it,
+//!   the image's alpha when that is not fully opaque, its luminance otherwise.
 //! * Texture paths are relative to the MTL file's directory. Options before the file name
 //!   (`-bm 1`, `-s 1 1 1`, `-clamp on`, ...) are skipped; only `-imfchan` is used.
 //! * A texture that is missing or cannot be decoded never fails the load: the material draws a
@@ -46,9 +46,10 @@
 //! * `illum` and the other MTL records (`Ka`, `Ke`, `Ni`, bump and specular maps) are ignored.
 //!
 //! # Camera
-//! The camera orbits the centre of the model's bounding box at a distance where the bounding
-//! sphere fills the vertical field of view with a margin, slightly from above, at
-//! 0.5 degrees per frame. Near and far planes scale with the radius.
+//! The camera orbits the centre of the model's bounding box, slightly from above, at
+//! 0.5 degrees per frame. Its distance makes the sphere about that centre through the farthest
+//! vertex fill the vertical field of view less a 10% margin, so no orbit angle clips the
+//! model (for image heights up to the width). Near and far planes scale with the radius.
 
 use std::borrow::Cow;
 use std::cell::RefCell;
@@ -346,7 +347,11 @@ fn check_obj<'a>(path: &Path, text: &'a str) -> Result<CheckedObj<'a>, ObjError>
             // Same reading of the name as tobj's: everything after the keyword.
             "usemtl" => usemtl.push((
                 line_no,
-                line.trim().trim_start_matches("usemtl").trim().to_owned(),
+                line.trim()
+                    .strip_prefix(keyword)
+                    .unwrap_or_default()
+                    .trim()
+                    .to_owned(),
             )),
             _ => {}
         }
@@ -491,15 +496,13 @@ fn check_corner(
             )
         })?;
         // Negative indices count back from the last element defined so far.
+        let defined = i64::try_from(count).unwrap_or(i64::MAX);
         let resolved = if index < 0 {
-            i64::try_from(count)
-                .unwrap_or(i64::MAX)
-                .saturating_add(index)
-                + 1
+            defined + index + 1
         } else {
             index
         };
-        if index == 0 || resolved < 1 || resolved > i64::try_from(count).unwrap_or(i64::MAX) {
+        if index == 0 || !(1..=defined).contains(&resolved) {
             return Err(ObjError::IndexOutOfRange {
                 path: path.to_owned(),
                 line,
