@@ -380,3 +380,21 @@ fn unreadable_paths_are_io_errors() {
     assert!(matches!(error, ObjError::Io { .. }), "{error:?}");
     assert!(error.to_string().contains("nowhere.obj"), "{error}");
 }
+
+#[test]
+fn records_tobj_would_mishandle_are_normalised() {
+    let scene = load("awkward_records.obj");
+    assert_eq!(scene.meshes.len(), 1);
+    assert_eq!(scene.meshes[0].name, "panel");
+    assert_eq!(scene.triangle_count(), 2);
+    assert_eq!(scene.materials.len(), 1);
+    assert_eq!(scene.materials[0].name, "paint");
+    assert_eq!(scene.warnings.len(), 2, "{:?}", scene.warnings);
+    assert!(scene.warnings.iter().any(|w| w.contains("polyline")));
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .any(|w| w.contains("fewer than three"))
+    );
+}

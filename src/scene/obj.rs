@@ -6,9 +6,10 @@
 //! 2. A validation pass walks every line before `tobj` sees the text. `tobj` reports errors
 //!    without line numbers, accepts `nan`/`inf` coordinates, turns 3-point polylines into faces
 //!    and can overflow on absurd relative indices, so this pass rejects non-finite or malformed
-//!    `v`/`vt`/`vn` records and out-of-range face indices, naming the line, and blanks out the
-//!    records `tobj` would mishandle (`l` polylines and faces with fewer than three corners,
-//!    each reported once as a warning). A file with no face left is an error.
+//!    `v`/`vt`/`vn` records and out-of-range face indices, naming the line. It rewrites the
+//!    records `tobj` would mishandle: `l` polylines and faces with fewer than three corners are
+//!    blanked out (each kind reported once as a warning), vertex colours are dropped, and names
+//!    after `o`, `g`, `usemtl` and `mtllib` are re-spaced. A file with no face left is an error.
 //! 3. `tobj` parses the text with `triangulate` and `single_index`. Material libraries are read
 //!    through our own loader, relative to the OBJ's directory (backslashes are path separators;
 //!    several names on one `mtllib` line are several libraries). A library that cannot be read
@@ -275,7 +276,7 @@ fn parse_number(path: &Path, line: usize, record: &str, word: &str) -> Result<f3
 
 /// OBJ text that passed validation, ready for `tobj`.
 struct CheckedObj<'a> {
-    /// The text, with the records `tobj` would mishandle blanked out (line numbers kept).
+    /// The text, with the records `tobj` would mishandle rewritten (line numbers kept).
     text: Cow<'a, str>,
     /// Every `usemtl` record: line number and material name.
     usemtl: Vec<(usize, String)>,
@@ -296,8 +297,8 @@ fn check_obj<'a>(path: &Path, text: &'a str) -> Result<CheckedObj<'a>, ObjError>
     let mut counts = ElementCounts::default();
     let mut faces = 0_usize;
     let mut usemtl = Vec::new();
-    // Line numbers (0-based) of records to hide from tobj, and how many of each kind.
-    let mut blanked = HashSet::new();
+    // Replacements of lines (by 0-based number) that tobj would mishandle.
+    let mut rewritten: HashMap<usize, String> = HashMap::new();
     let (mut polylines, mut short_faces) = (0_usize, 0_usize);
 
     for (number, line) in text.lines().enumerate() {
@@ -311,6 +312,11 @@ fn check_obj<'a>(path: &Path, text: &'a str) -> Result<CheckedObj<'a>, ObjError>
             "v" => {
                 counts.positions += 1;
                 check_position(path, line_no, counts.positions, &values)?;
+                // Vertex colours are not used, and tobj fails on files where only some
+                // vertices have them.
+                if let [x, y, z, _, _, _] = values.as_slice() {
+                    rewritten.insert(number, format!("v {x} {y} {z}"));
+                }
             }
             "vt" => {
                 counts.texcoords += 1;
@@ -333,10 +339,10 @@ fn check_obj<'a>(path: &Path, text: &'a str) -> Result<CheckedObj<'a>, ObjError>
                 }
                 if keyword == "l" {
                     polylines += 1;
-                    blanked.insert(number);
+                    rewritten.insert(number, String::new());
                 } else if values.len() < 3 {
                     short_faces += 1;
-                    blanked.insert(number);
+                    rewritten.insert(number, String::new());
                 } else {
                     faces += 1;
                 }
@@ -344,15 +350,18 @@ fn check_obj<'a>(path: &Path, text: &'a str) -> Result<CheckedObj<'a>, ObjError>
             "usemtl" | "mtllib" if values.is_empty() => {
                 return Err(syntax(path, line_no, format!("{keyword} needs a name")));
             }
-            // Same reading of the name as tobj's: everything after the keyword.
-            "usemtl" => usemtl.push((
-                line_no,
-                line.trim()
-                    .strip_prefix(keyword)
-                    .unwrap_or_default()
-                    .trim()
-                    .to_owned(),
-            )),
+            "usemtl" | "mtllib" | "o" | "g" => {
+                // tobj finds these names by splitting at the first space of the raw line, so
+                // indentation or a tab would change or lose them: write them its way.
+                let name = line.trim().strip_prefix(keyword).unwrap_or_default().trim();
+                let canonical = format!("{keyword} {name}");
+                if keyword == "usemtl" {
+                    usemtl.push((line_no, name.to_owned()));
+                }
+                if canonical != line {
+                    rewritten.insert(number, canonical);
+                }
+            }
             _ => {}
         }
     }
@@ -375,13 +384,13 @@ fn check_obj<'a>(path: &Path, text: &'a str) -> Result<CheckedObj<'a>, ObjError>
             path.display()
         ));
     }
-    let text = if blanked.is_empty() {
+    let text = if rewritten.is_empty() {
         Cow::Borrowed(text)
     } else {
         Cow::Owned(
             text.lines()
                 .enumerate()
-                .map(|(n, line)| if blanked.contains(&n) { "" } else { line })
+                .map(|(n, line)| rewritten.get(&n).map_or(line, String::as_str))
                 .collect::<Vec<_>>()
                 .join("\n"),
         )
