@@ -9,6 +9,7 @@
 //! guaranteed {1, 4}).
 
 pub mod capabilities;
+pub mod fullscreen;
 pub mod readback;
 pub mod shader;
 
