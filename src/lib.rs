@@ -7,9 +7,9 @@
 //! - [`aa`]: the technique trait, the registry and one module per technique;
 //! - [`graph`]: the frame graph that shares scene renders between techniques, with timings
 //!   and memory reports;
-//! - [`cli`]: the command-line subcommands.
 
 pub mod aa;
+pub mod export;
 
 pub mod gpu;
 pub mod graph;

@@ -72,3 +72,76 @@ impl FrameTimings {
         self.passes.iter().map(|p| p.ms).sum()
     }
 }
+
+impl FrameTimings {
+    /// Per-pass median over several frames that recorded the same passes in the same order;
+    /// `None` when there are no frames or their passes differ.
+    pub fn median(frames: &[FrameTimings]) -> Option<FrameTimings> {
+        let first = frames.first()?;
+        let same_shape = frames.iter().all(|f| {
+            f.passes.len() == first.passes.len()
+                && f.passes
+                    .iter()
+                    .zip(&first.passes)
+                    .all(|(a, b)| a.label == b.label)
+        });
+        if !same_shape {
+            return None;
+        }
+        let passes = first
+            .passes
+            .iter()
+            .enumerate()
+            .map(|(i, pass)| {
+                let mut values: Vec<f64> = frames.iter().map(|f| f.passes[i].ms).collect();
+                values.sort_by(f64::total_cmp);
+                PassTiming {
+                    label: pass.label.clone(),
+                    ms: median_of_sorted(&values),
+                }
+            })
+            .collect();
+        Some(FrameTimings { passes })
+    }
+}
+
+/// Median of an ascending slice (mean of the two middle values for even lengths).
+pub fn median_of_sorted(values: &[f64]) -> f64 {
+    match values.len() {
+        0 => 0.0,
+        n if n % 2 == 1 => values[n / 2],
+        n => 0.5 * (values[n / 2 - 1] + values[n / 2]),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(ms: &[f64]) -> FrameTimings {
+        FrameTimings {
+            passes: ms
+                .iter()
+                .enumerate()
+                .map(|(i, &ms)| PassTiming {
+                    label: format!("t/p{i}"),
+                    ms,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn median_is_per_pass() {
+        let m = FrameTimings::median(&[
+            frame(&[1.0, 10.0]),
+            frame(&[3.0, 30.0]),
+            frame(&[2.0, 20.0]),
+        ])
+        .unwrap();
+        assert_eq!(m.passes[0].ms, 2.0);
+        assert_eq!(m.passes[1].ms, 20.0);
+        assert_eq!(m.technique_ms("t"), 22.0);
+        assert!(FrameTimings::median(&[frame(&[1.0]), frame(&[1.0, 2.0])]).is_none());
+    }
+}
