@@ -84,7 +84,7 @@ impl RenderArgs {
     pub fn default_args() -> Self {
         let cli = <Cli as clap::Parser>::parse_from(["aa-lab", "render"]);
         match cli.command {
-            Some(super::Command::Render(args)) => args,
+            Some(super::Command::Render(args)) => *args,
             _ => unreachable!("`aa-lab render` parses as the render command"),
         }
     }
