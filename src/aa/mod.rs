@@ -228,6 +228,11 @@ pub trait Technique {
     fn path_note(&self) -> Option<String> {
         None
     }
+
+    /// Short name for labels, including the settings that change what it is (`SSAA 16x`).
+    fn label(&self) -> String {
+        registry::info(self.id()).map_or_else(|| self.id().to_owned(), |info| info.name.to_owned())
+    }
 }
 
 /// Sets a parameter from any value form, validating it against the technique's description.

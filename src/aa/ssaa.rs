@@ -614,6 +614,15 @@ impl Technique for Ssaa {
         Ok(())
     }
 
+    fn label(&self) -> String {
+        let s = &self.settings;
+        if s.ordered {
+            format!("SSAA {}x", s.samples_per_pixel())
+        } else {
+            format!("SSAA {}x {}", s.samples_per_pixel(), s.pattern.name())
+        }
+    }
+
     fn path_note(&self) -> Option<String> {
         let s = &self.settings;
         Some(if s.ordered {
