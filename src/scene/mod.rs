@@ -4,6 +4,7 @@
 
 pub mod camera;
 pub mod model;
+pub mod procedural;
 pub mod renderer;
 
 pub use model::{
