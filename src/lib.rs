@@ -1,7 +1,21 @@
 //! aa-lab: compare real-time antialiasing techniques on the same frame.
 //!
 //! The crate is one engine with two front ends: a headless command line (`render`, `compare`,
-//! `bench`) and an egui viewer. See `README.md` for the tour and `shaders/` for the WGSL.
+//! `bench`) and an egui viewer. Modules:
+//! - [`gpu`]: device creation, capabilities, readback, shader loading, fullscreen passes;
+//! - [`scene`]: scene data, procedural scenes, OBJ loading, camera, forward renderer;
+//! - [`aa`]: the technique trait, the registry and one module per technique;
+//! - [`graph`]: the frame graph that shares scene renders between techniques, with timings
+//!   and memory reports;
+//! - [`spec`]: reproducible render descriptions and the headless runner;
+//! - [`export`]: PNG files with their render record;
+//! - [`cli`]: the command-line subcommands.
+
+pub mod aa;
+pub mod cli;
+pub mod export;
 
 pub mod gpu;
+pub mod graph;
 pub mod scene;
+pub mod spec;

@@ -4,7 +4,22 @@
 
 /// Every WGSL file under `shaders/`, by file name. The naga test checks this list against the
 /// directory so that no shader escapes validation.
-pub const SHADERS: &[(&str, &str)] = &[("scene.wgsl", include_str!("../../shaders/scene.wgsl"))];
+pub const SHADERS: &[(&str, &str)] = &[
+    (
+        "fullscreen.wgsl",
+        include_str!("../../shaders/fullscreen.wgsl"),
+    ),
+    ("scene.wgsl", include_str!("../../shaders/scene.wgsl")),
+    (
+        "msaa_resolve.wgsl",
+        include_str!("../../shaders/msaa_resolve.wgsl"),
+    ),
+    (
+        "msaa_debug.wgsl",
+        include_str!("../../shaders/msaa_debug.wgsl"),
+    ),
+    ("ssaa.wgsl", include_str!("../../shaders/ssaa.wgsl")),
+];
 
 /// The source of `shaders/<name>`.
 ///

@@ -123,13 +123,14 @@ impl SceneTargets {
         self.resolved.as_ref().unwrap_or(&self.color)
     }
 
-    /// Every texture with its byte size, for memory reports.
-    pub fn textures(&self) -> Vec<&wgpu::Texture> {
+    /// Every texture with a short name (`color`, `resolve`, `depth`, `motion`), for memory
+    /// reports.
+    pub fn textures(&self) -> Vec<(&'static str, &wgpu::Texture)> {
         [
-            Some(&self.color),
-            self.resolved.as_ref(),
-            Some(&self.depth),
-            self.motion.as_ref(),
+            Some(("color", &self.color)),
+            self.resolved.as_ref().map(|t| ("resolve", t)),
+            Some(("depth", &self.depth)),
+            self.motion.as_ref().map(|t| ("motion", t)),
         ]
         .into_iter()
         .flatten()
@@ -636,7 +637,7 @@ impl SceneRenderer {
             // coverage fraction, not an image alpha.
             write_mask: wgpu::ColorWrites::COLOR,
         };
-        let motion_target = key.motion.then(|| wgpu::ColorTargetState {
+        let motion_target = key.motion.then_some(wgpu::ColorTargetState {
             format: MOTION_FORMAT,
             blend: None,
             write_mask: wgpu::ColorWrites::ALL,
@@ -692,6 +693,7 @@ impl SceneRenderer {
         targets: &SceneTargets,
         view: &ViewParams,
         raster: RasterOptions,
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let uniform = ViewUniform {
             view_proj: mat(view.view_proj),
@@ -770,7 +772,7 @@ impl SceneRenderer {
                 }),
                 stencil_ops: None,
             }),
-            timestamp_writes: None,
+            timestamp_writes,
             occlusion_query_set: None,
             multiview_mask: None,
         });

@@ -1,0 +1,103 @@
+//! The list of every technique aa-lab knows: stable id, display name, the trade-off paragraph
+//! (used for `aa-lab techniques`, tooltips and the README), whether this adapter can run it and
+//! how to create it. Adding a technique is one entry here plus its module.
+
+use super::Technique;
+use super::msaa::Msaa;
+use super::none::NoAa;
+use super::ssaa::Ssaa;
+use crate::gpu::{Capabilities, Gpu};
+
+/// One registry entry.
+pub struct TechniqueInfo {
+    /// Stable id, as on the command line.
+    pub id: &'static str,
+    /// Display name.
+    pub name: &'static str,
+    /// One paragraph: what it does, what it costs, where it fails.
+    pub summary: &'static str,
+    /// `Ok` when this adapter can run it, otherwise the reason it cannot.
+    pub availability: fn(&Capabilities) -> Result<(), String>,
+    /// Creates the technique with default settings (only called when available).
+    pub create: fn(&Gpu) -> Box<dyn Technique>,
+}
+
+fn always(_: &Capabilities) -> Result<(), String> {
+    Ok(())
+}
+
+fn msaa_availability(caps: &Capabilities, samples: u32) -> Result<(), String> {
+    if caps.supports_sample_count(samples) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{samples}x MSAA is not supported by {} for the scene's colour, depth and motion formats \
+             (supported sample counts: {:?})",
+            caps.adapter_name, caps.scene_sample_counts
+        ))
+    }
+}
+
+const MSAA_SUMMARY: &str = "Multisampling: coverage and depth are tested at n sample positions per pixel but the \
+     pixel shader runs once per pixel, and the samples are averaged at the end. Geometric edges get n+1 \
+     coverage levels at a fraction of SSAA's shading cost, but colour and depth memory grow n times, and \
+     aliasing inside triangles (textures, specular highlights, alpha-tested cut-outs) is left alone unless \
+     alpha-to-coverage or sample-rate shading is switched on. Its cost grows with scene complexity.";
+
+/// Every technique, in the order front ends list them.
+pub fn registry() -> Vec<TechniqueInfo> {
+    vec![
+        TechniqueInfo {
+            id: "none",
+            name: "No AA",
+            summary: "One sample per pixel at the pixel centre: the cheapest image and the baseline. Every \
+                 edge is a staircase, sub-pixel geometry breaks up or vanishes, and anything thinner than a \
+                 pixel flickers as the camera moves.",
+            availability: always,
+            create: |_| Box::new(NoAa),
+        },
+        TechniqueInfo {
+            id: "ssaa",
+            name: "SSAA",
+            summary: "Supersampling: every sample is fully shaded (k x k ordered grid, or N jittered samples \
+                 with a chosen pattern and filter). It fixes every kind of aliasing - edges, textures, \
+                 highlights, sub-pixel geometry - and is the reference the others are measured against, \
+                 but it costs N times the shading, fill and memory bandwidth.",
+            availability: always,
+            create: |gpu| Box::new(Ssaa::new(gpu)),
+        },
+        TechniqueInfo {
+            id: "msaa2",
+            name: "MSAA 2x",
+            summary: MSAA_SUMMARY,
+            availability: |caps| msaa_availability(caps, 2),
+            create: |gpu| Box::new(Msaa::new(gpu, 2)),
+        },
+        TechniqueInfo {
+            id: "msaa4",
+            name: "MSAA 4x",
+            summary: MSAA_SUMMARY,
+            availability: |caps| msaa_availability(caps, 4),
+            create: |gpu| Box::new(Msaa::new(gpu, 4)),
+        },
+        TechniqueInfo {
+            id: "msaa8",
+            name: "MSAA 8x",
+            summary: MSAA_SUMMARY,
+            availability: |caps| msaa_availability(caps, 8),
+            create: |gpu| Box::new(Msaa::new(gpu, 8)),
+        },
+        TechniqueInfo {
+            id: "msaa16",
+            name: "MSAA 16x",
+            summary: MSAA_SUMMARY,
+            availability: |caps| msaa_availability(caps, 16),
+            create: |gpu| Box::new(Msaa::new(gpu, 16)),
+        },
+    ]
+}
+
+/// The registry entry of an id.
+pub fn info(id: &str) -> Option<TechniqueInfo> {
+    registry().into_iter().find(|t| t.id == id)
+}

@@ -1,0 +1,662 @@
+//! SSAA (supersampling): every sample is fully shaded, the brute-force answer that the other
+//! techniques approximate, and with 64 samples the reference the quality metrics compare with.
+//!
+//! Two modes, after the MSAA article's discussion of sample patterns:
+//! - `ordered`: the ordered grid k x k. The scene is rendered k times larger in each direction
+//!   and box-filtered down in linear light. Large images are rendered in tiles (each tile with
+//!   the projection of its part of the big image), so k = 8 at 4K needs no 30720-pixel texture.
+//! - `jittered`: N one-sample renders, each with the projection shifted to one position of a
+//!   pattern (regular grid, rotated grid, uniform random, Poisson disk, Halton(2,3)), gathered
+//!   into a float accumulator with a reconstruction filter (box, tent, Gaussian,
+//!   Blackman-Harris) whose weights come from `aa::sampling`. Textures get a mip bias of
+//!   -log2(N)/2 so they are as sharp as a render N times larger would have them.
+
+use glam::{UVec2, Vec2};
+use wgpu::util::DeviceExt;
+
+use super::params::{Param, ParamError, ParamValue, as_choice, as_i64};
+use super::sampling::{FILTER_NAMES, Filter, PATTERN_NAMES, Pattern, accumulation_weights};
+use super::{FrameInfo, SceneInput, Technique};
+use crate::gpu::fullscreen::FragmentDesc;
+use crate::gpu::{COLOR_FORMAT, Gpu, shader};
+use crate::graph::{MemoryItem, PassContext};
+use crate::scene::camera::PixelRect;
+use crate::scene::renderer::{RasterOptions, SceneTargets, TargetDesc};
+
+/// The largest tile side (in supersampled pixels) rendered at once.
+const MAX_TILE_SIDE: u32 = 4096;
+/// Largest ordered-grid factor (8 x 8 = 64 samples).
+pub const MAX_FACTOR: u32 = 8;
+/// Largest jittered sample count.
+pub const MAX_SAMPLES: u32 = 256;
+/// Bytes between per-sample uniform slots (dynamic offsets need 256-byte alignment).
+const SLOT: u64 = 256;
+
+/// Supersampling settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SsaaSettings {
+    /// Ordered grid (true) or jittered accumulation (false).
+    pub ordered: bool,
+    /// Ordered-grid factor k (k x k samples).
+    pub factor: u32,
+    /// Jittered sample count.
+    pub samples: u32,
+    /// Jittered pattern.
+    pub pattern: Pattern,
+    /// Jittered reconstruction filter.
+    pub filter: Filter,
+}
+
+impl Default for SsaaSettings {
+    fn default() -> Self {
+        Self {
+            ordered: true,
+            factor: 2,
+            samples: 16,
+            pattern: Pattern::RotatedGrid,
+            filter: Filter::Box,
+        }
+    }
+}
+
+impl SsaaSettings {
+    /// The ordered-grid reference: `factor` x `factor` samples, box filter.
+    pub fn reference(factor: u32) -> Self {
+        Self {
+            ordered: true,
+            factor,
+            ..Self::default()
+        }
+    }
+
+    /// Samples per pixel.
+    pub fn samples_per_pixel(&self) -> u32 {
+        if self.ordered {
+            self.factor * self.factor
+        } else {
+            self.pattern.effective_count(self.samples)
+        }
+    }
+}
+
+/// How an ordered-grid image is cut into tiles: output-pixel tiles of `tile` size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TilePlan {
+    /// Output image size.
+    pub size: UVec2,
+    /// Output pixels per tile (the last row/column may be cut by the image edge).
+    pub tile: UVec2,
+    /// Factor k.
+    pub factor: u32,
+}
+
+impl TilePlan {
+    /// Plans tiles whose supersampled side stays within `max_side`.
+    pub fn new(size: (u32, u32), factor: u32, max_side: u32) -> Self {
+        let per_axis = |extent: u32| {
+            let count = (extent * factor).div_ceil(max_side).max(1);
+            extent.div_ceil(count)
+        };
+        Self {
+            size: UVec2::new(size.0, size.1),
+            tile: UVec2::new(per_axis(size.0), per_axis(size.1)),
+            factor,
+        }
+    }
+
+    /// Every tile as an output-pixel rectangle, clipped to the image.
+    pub fn tiles(&self) -> Vec<PixelRect> {
+        let mut out = Vec::new();
+        let mut y = 0;
+        while y < self.size.y {
+            let mut x = 0;
+            while x < self.size.x {
+                out.push(PixelRect {
+                    x,
+                    y,
+                    width: self.tile.x.min(self.size.x - x),
+                    height: self.tile.y.min(self.size.y - y),
+                });
+                x += self.tile.x;
+            }
+            y += self.tile.y;
+        }
+        out
+    }
+}
+
+struct Ordered {
+    plan: TilePlan,
+    targets: SceneTargets,
+    pipeline: wgpu::RenderPipeline,
+    params: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+}
+
+struct Jittered {
+    size: (u32, u32),
+    settings: SsaaSettings,
+    positions: Vec<Vec2>,
+    target: SceneTargets,
+    accumulator: wgpu::Buffer,
+    weights: wgpu::Buffer,
+    accumulate_pipeline: wgpu::ComputePipeline,
+    accumulate_group: wgpu::BindGroup,
+    resolve_pipeline: wgpu::RenderPipeline,
+    resolve_group: wgpu::BindGroup,
+    _resolve_size: wgpu::Buffer,
+}
+
+/// The SSAA technique.
+pub struct Ssaa {
+    settings: SsaaSettings,
+    device: wgpu::Device,
+    max_tile_side: u32,
+    module: wgpu::ShaderModule,
+    ordered: Option<Ordered>,
+    jittered: Option<Jittered>,
+}
+
+impl Ssaa {
+    /// SSAA with default settings (ordered 2 x 2).
+    pub fn new(gpu: &Gpu) -> Self {
+        Self::with_settings(gpu, SsaaSettings::default())
+    }
+
+    /// SSAA with the given settings.
+    pub fn with_settings(gpu: &Gpu, settings: SsaaSettings) -> Self {
+        Self {
+            settings,
+            device: gpu.device.clone(),
+            max_tile_side: gpu.caps.max_texture_dimension_2d.min(MAX_TILE_SIDE),
+            module: shader::module(&gpu.device, "ssaa.wgsl"),
+            ordered: None,
+            jittered: None,
+        }
+    }
+
+    /// Current settings.
+    pub fn settings(&self) -> SsaaSettings {
+        self.settings
+    }
+
+    fn ensure_ordered(&mut self, ctx: &PassContext<'_>, size: (u32, u32)) {
+        let plan = TilePlan::new(size, self.settings.factor, self.max_tile_side);
+        if self.ordered.as_ref().is_some_and(|o| o.plan == plan) {
+            return;
+        }
+        self.jittered = None;
+        let device = &self.device;
+        let desc = TargetDesc {
+            size: (plan.tile.x * plan.factor, plan.tile.y * plan.factor),
+            sample_count: 1,
+            motion: false,
+        };
+        let targets = SceneTargets::new(device, "ssaa tile", desc);
+        let tiles = plan.tiles().len() as u64;
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ssaa tile origins"),
+            size: tiles * SLOT,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let tile_view = targets.color.create_view(&Default::default());
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("ssaa downsample"),
+            entries: &[
+                texture_entry(0, wgpu::ShaderStages::FRAGMENT),
+                dynamic_uniform_entry(1, wgpu::ShaderStages::FRAGMENT),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("ssaa downsample"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = ctx.fullscreen.pipeline(
+            device,
+            &FragmentDesc {
+                label: "ssaa downsample",
+                module: &self.module,
+                entry_point: "fs_downsample",
+                targets: &[COLOR_FORMAT],
+                constants: &[],
+                layout: Some(&pipeline_layout),
+            },
+        );
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("ssaa downsample"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&tile_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &params,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(16),
+                    }),
+                },
+            ],
+        });
+        self.ordered = Some(Ordered {
+            plan,
+            targets,
+            pipeline,
+            params,
+            bind_group,
+        });
+    }
+
+    fn encode_ordered(&mut self, ctx: &mut PassContext<'_>, output: &wgpu::Texture) {
+        let size = ctx.frame.size();
+        self.ensure_ordered(ctx, size);
+        let Some(ordered) = &self.ordered else { return };
+        let tiles = ordered.plan.tiles();
+        let mut origins = vec![0u8; tiles.len() * SLOT as usize];
+        for (i, tile) in tiles.iter().enumerate() {
+            let words = [tile.x, tile.y, ordered.plan.factor, 0];
+            origins[i * SLOT as usize..i * SLOT as usize + 16]
+                .copy_from_slice(bytemuck::cast_slice(&words));
+        }
+        ctx.gpu.queue.write_buffer(&ordered.params, 0, &origins);
+        let output_view = output.create_view(&Default::default());
+        let k = ordered.plan.factor;
+        for (i, tile) in tiles.iter().enumerate() {
+            // The tile's supersampled rectangle, always the full tile target: tiles cut by the
+            // image edge simply render a little beyond it.
+            let rect = PixelRect {
+                x: tile.x * k,
+                y: tile.y * k,
+                width: ordered.plan.tile.x * k,
+                height: ordered.plan.tile.y * k,
+            };
+            let view = ctx.frame.camera.tile_params(k, rect, Vec2::ZERO, 0.0);
+            ctx.render_scene(
+                "scene tile",
+                &ordered.targets,
+                &view,
+                RasterOptions::default(),
+            );
+            let attachment = wgpu::RenderPassColorAttachment {
+                view: &output_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            };
+            ctx.render_pass("downsample", &[Some(attachment)], None, |pass| {
+                pass.set_viewport(
+                    tile.x as f32,
+                    tile.y as f32,
+                    tile.width as f32,
+                    tile.height as f32,
+                    0.0,
+                    1.0,
+                );
+                pass.set_pipeline(&ordered.pipeline);
+                pass.set_bind_group(0, &ordered.bind_group, &[(i as u64 * SLOT) as u32]);
+                pass.draw(0..3, 0..1);
+            });
+        }
+    }
+
+    fn ensure_jittered(&mut self, ctx: &PassContext<'_>, size: (u32, u32)) {
+        if self
+            .jittered
+            .as_ref()
+            .is_some_and(|j| j.size == size && j.settings == self.settings)
+        {
+            return;
+        }
+        self.ordered = None;
+        let device = &self.device;
+        let positions = self.settings.pattern.positions(self.settings.samples);
+        let weights = accumulation_weights(self.settings.filter, &positions);
+        let mut weight_bytes = vec![0u8; weights.len() * SLOT as usize];
+        for (i, w) in weights.iter().enumerate() {
+            let mut slot = [0u32; 40];
+            for (j, x) in w.iter().enumerate() {
+                slot[j * 4] = x.to_bits();
+            }
+            slot[36] = size.0;
+            slot[37] = size.1;
+            weight_bytes[i * SLOT as usize..i * SLOT as usize + 160]
+                .copy_from_slice(bytemuck::cast_slice(&slot));
+        }
+        let weights_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("ssaa sample weights"),
+            contents: &weight_bytes,
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let accumulator = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ssaa accumulator"),
+            size: u64::from(size.0) * u64::from(size.1) * 16,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let target = SceneTargets::new(
+            device,
+            "ssaa jittered",
+            TargetDesc {
+                size,
+                sample_count: 1,
+                motion: false,
+            },
+        );
+        let accumulate_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("ssaa accumulate"),
+            entries: &[
+                texture_entry(0, wgpu::ShaderStages::COMPUTE),
+                dynamic_uniform_entry(1, wgpu::ShaderStages::COMPUTE),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let accumulate_pipeline =
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("ssaa accumulate"),
+                layout: Some(
+                    &device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some("ssaa accumulate"),
+                        bind_group_layouts: &[Some(&accumulate_layout)],
+                        immediate_size: 0,
+                    }),
+                ),
+                module: &self.module,
+                entry_point: Some("cs_accumulate"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+        let target_view = target.color.create_view(&Default::default());
+        let accumulate_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("ssaa accumulate"),
+            layout: &accumulate_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&target_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &weights_buffer,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(160),
+                    }),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: accumulator.as_entire_binding(),
+                },
+            ],
+        });
+        let resolve_pipeline = ctx.fullscreen.pipeline(
+            device,
+            &FragmentDesc {
+                label: "ssaa resolve accumulated",
+                module: &self.module,
+                entry_point: "fs_resolve_accumulated",
+                targets: &[COLOR_FORMAT],
+                constants: &[],
+                layout: None,
+            },
+        );
+        let resolve_size = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("ssaa resolve size"),
+            contents: bytemuck::cast_slice(&[size.0, size.1, 0, 0]),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let resolve_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("ssaa resolve accumulated"),
+            layout: &resolve_pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: accumulator.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: resolve_size.as_entire_binding(),
+                },
+            ],
+        });
+        self.jittered = Some(Jittered {
+            size,
+            settings: self.settings,
+            positions,
+            target,
+            accumulator,
+            weights: weights_buffer,
+            accumulate_pipeline,
+            accumulate_group,
+            resolve_pipeline,
+            resolve_group,
+            _resolve_size: resolve_size,
+        });
+    }
+
+    fn encode_jittered(&mut self, ctx: &mut PassContext<'_>, output: &wgpu::Texture) {
+        let size = ctx.frame.size();
+        self.ensure_jittered(ctx, size);
+        let Some(j) = &self.jittered else { return };
+        ctx.encoder.clear_buffer(&j.accumulator, 0, None);
+        let mip_bias = -0.5 * (j.positions.len() as f32).log2();
+        let groups = (size.0.div_ceil(8), size.1.div_ceil(8));
+        for (i, position) in j.positions.iter().enumerate() {
+            // A sample at `position` inside the pixel is the image moved by centre - position.
+            let view = ctx
+                .frame
+                .camera
+                .params(Vec2::splat(0.5) - *position, mip_bias);
+            ctx.render_scene("scene sample", &j.target, &view, RasterOptions::default());
+            ctx.compute_pass("accumulate", |pass| {
+                pass.set_pipeline(&j.accumulate_pipeline);
+                pass.set_bind_group(0, &j.accumulate_group, &[(i as u64 * SLOT) as u32]);
+                pass.dispatch_workgroups(groups.0, groups.1, 1);
+            });
+        }
+        let view = output.create_view(&Default::default());
+        ctx.fullscreen_pass("resolve", &view, &j.resolve_pipeline, &j.resolve_group);
+    }
+}
+
+fn texture_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+fn dynamic_uniform_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: true,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl Technique for Ssaa {
+    fn id(&self) -> &'static str {
+        "ssaa"
+    }
+
+    fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
+        None
+    }
+
+    fn encode(
+        &mut self,
+        ctx: &mut PassContext<'_>,
+        _input: Option<&SceneTargets>,
+        output: &wgpu::Texture,
+    ) {
+        if self.settings.ordered {
+            self.encode_ordered(ctx, output);
+        } else {
+            self.encode_jittered(ctx, output);
+        }
+    }
+
+    fn memory(&self) -> Vec<MemoryItem> {
+        let mut items = Vec::new();
+        if let Some(o) = &self.ordered {
+            for (name, texture) in o.targets.textures() {
+                items.push(MemoryItem::texture(format!("ssaa tile {name}"), texture));
+            }
+            items.push(MemoryItem::buffer("ssaa tile origins", &o.params));
+        }
+        if let Some(j) = &self.jittered {
+            for (name, texture) in j.target.textures() {
+                items.push(MemoryItem::texture(
+                    format!("ssaa jittered {name}"),
+                    texture,
+                ));
+            }
+            items.push(MemoryItem::buffer("ssaa accumulator", &j.accumulator));
+            items.push(MemoryItem::buffer("ssaa sample weights", &j.weights));
+        }
+        items
+    }
+
+    fn params(&self) -> Vec<Param> {
+        let s = &self.settings;
+        vec![
+            Param::choice(
+                "mode",
+                "Mode",
+                "ordered: render k times larger and average k x k blocks (the classic SSAA and the \
+                 reference); jittered: accumulate N one-sample renders at the positions of a pattern \
+                 with a reconstruction filter.",
+                &["ordered", "jittered"],
+                if s.ordered { "ordered" } else { "jittered" },
+            ),
+            Param::int(
+                "factor",
+                "Grid factor k",
+                "Ordered mode: k x k samples per pixel (k = 8 gives the 64-sample reference).",
+                1,
+                i64::from(MAX_FACTOR),
+                i64::from(s.factor),
+            ),
+            Param::int(
+                "samples",
+                "Samples",
+                "Jittered mode: samples per pixel (grid patterns round to a square count).",
+                1,
+                i64::from(MAX_SAMPLES),
+                i64::from(s.samples),
+            ),
+            Param::choice(
+                "pattern",
+                "Pattern",
+                "Jittered mode: where the samples fall inside the pixel. grid: regular; rgss: rotated \
+                 grid, every sample in its own row and column (better on near-horizontal and \
+                 near-vertical edges); random: uniform; poisson: random but never clumped; halton: \
+                 low-discrepancy Halton(2,3).",
+                PATTERN_NAMES,
+                s.pattern.name(),
+            ),
+            Param::choice(
+                "filter",
+                "Filter",
+                "Jittered mode: reconstruction filter. box averages the pixel's own samples; tent, \
+                 gaussian and blackman-harris also weigh samples of neighbouring pixels (smoother, \
+                 slightly softer).",
+                FILTER_NAMES,
+                s.filter.name(),
+            ),
+        ]
+    }
+
+    fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
+        let s = &mut self.settings;
+        match key {
+            "mode" => s.ordered = as_choice(value) == "ordered",
+            "factor" => s.factor = as_i64(value).clamp(1, i64::from(MAX_FACTOR)) as u32,
+            "samples" => s.samples = as_i64(value).clamp(1, i64::from(MAX_SAMPLES)) as u32,
+            "pattern" => s.pattern = Pattern::from_name(as_choice(value)).unwrap_or(s.pattern),
+            "filter" => s.filter = Filter::from_name(as_choice(value)).unwrap_or(s.filter),
+            _ => return Err(ParamError::unknown_key("ssaa", key, &self.params())),
+        }
+        Ok(())
+    }
+
+    fn path_note(&self) -> Option<String> {
+        let s = &self.settings;
+        Some(if s.ordered {
+            format!(
+                "ordered grid {k}x{k} ({} samples), box filter",
+                s.factor * s.factor,
+                k = s.factor
+            )
+        } else {
+            let n = s.pattern.effective_count(s.samples);
+            let rounded = if n == s.samples {
+                String::new()
+            } else {
+                format!(" (asked for {})", s.samples)
+            };
+            format!(
+                "jittered {n} samples{rounded}, {} pattern, {} filter",
+                s.pattern.name(),
+                s.filter.name()
+            )
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiles_cover_the_image_exactly_once() {
+        for (size, factor, side) in [
+            ((1280, 720), 8, 4096),
+            ((3840, 2160), 8, 4096),
+            ((7, 5), 3, 8),
+            ((100, 100), 1, 4096),
+        ] {
+            let plan = TilePlan::new(size, factor, side);
+            assert!(
+                plan.tile.x * factor <= side && plan.tile.y * factor <= side,
+                "{plan:?}"
+            );
+            let area: u32 = plan.tiles().iter().map(|t| t.width * t.height).sum();
+            assert_eq!(area, size.0 * size.1);
+            assert!(
+                plan.tiles()
+                    .iter()
+                    .all(|t| t.x + t.width <= size.0 && t.y + t.height <= size.1)
+            );
+        }
+    }
+}

@@ -1,0 +1,51 @@
+//! The command line: `aa-lab` opens the viewer; `render`, `compare`, `bench`, `info` and
+//! `techniques` run headless on the same engine. Parsing is clap's; each subcommand lives in
+//! its own file and returns `anyhow::Result` (errors are printed once, by `main`).
+
+mod info;
+mod render;
+
+use clap::{Parser, Subcommand};
+
+pub use render::RenderArgs;
+
+/// Compare real-time antialiasing techniques on the same frame.
+#[derive(Debug, Parser)]
+#[command(name = "aa-lab", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do; without a subcommand the viewer opens.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene through one or more techniques to PNG files.
+    Render(Box<RenderArgs>),
+    /// Print what the GPU adapter can do (sample counts, timestamps, limits).
+    Info {
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// List every technique with its availability on this adapter.
+    Techniques {
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+        /// Also list every parameter with its range and help.
+        #[arg(long, short)]
+        verbose: bool,
+    },
+}
+
+/// Runs a parsed command line.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Info { json }) => info::info(json),
+        Some(Command::Techniques { json, verbose }) => info::techniques(json, verbose),
+        None => render::run(&RenderArgs::default_args()),
+    }
+}

@@ -1,0 +1,427 @@
+//! `aa-lab render`: renders a scene through one or more techniques from one frame graph and
+//! writes one PNG per technique (and per debug view), each carrying its reproducibility record.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::aa::{self, ParamValue, params::parse_value};
+use crate::export::{self, png::read_record};
+use crate::gpu::Gpu;
+use crate::scene::procedural::SceneOptions;
+use crate::scene::source::{self, DEFAULT_SCENE};
+use crate::spec::{self, RenderSpec, RunOptions, TechniqueSpec};
+
+use super::Cli;
+
+/// Arguments of `aa-lab render`.
+#[derive(Debug, clap::Args)]
+pub struct RenderArgs {
+    /// Built-in scene (hairball, atrium, chart) or path to an .obj file.
+    #[arg(long, default_value = DEFAULT_SCENE)]
+    pub scene: String,
+    /// Built-in scene density (hairball: 1 is about 300k triangles, 7 over 2M).
+    #[arg(long, default_value_t = 1.0)]
+    pub density: f32,
+    /// Built-in scene random seed.
+    #[arg(long, default_value_t = SceneOptions::default().seed)]
+    pub seed: u64,
+    /// Comma-separated technique ids, or `all` (see `aa-lab techniques`).
+    #[arg(long, short, default_value = "none")]
+    pub technique: String,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Frame of the deterministic camera path (temporal techniques run frames 0..=N).
+    #[arg(long, default_value_t = 0)]
+    pub frame: u64,
+    /// Output: a .png file for a single image, otherwise a directory that receives
+    /// <scene>-<technique>.png per technique.
+    #[arg(long, short, default_value = "out")]
+    pub out: PathBuf,
+    /// SSAA ordered grid: k x k samples per pixel (8 gives the 64-sample reference).
+    #[arg(long, value_name = "K")]
+    pub ssaa_factor: Option<u32>,
+    /// SSAA jittered pattern: grid, rgss, random, poisson, halton.
+    #[arg(long, value_name = "PATTERN")]
+    pub ssaa_pattern: Option<String>,
+    /// SSAA jittered sample count (1..=256).
+    #[arg(long, value_name = "N")]
+    pub ssaa_samples: Option<u32>,
+    /// SSAA jittered reconstruction filter: box, tent, gaussian, blackman-harris.
+    #[arg(long, value_name = "FILTER")]
+    pub ssaa_filter: Option<String>,
+    /// MSAA resolve: box, tent, gaussian, blackman-harris, quincunx.
+    #[arg(long, value_name = "RESOLVE")]
+    pub msaa_resolve: Option<String>,
+    /// Apply a preset: TECHNIQUE=PRESET (repeatable), e.g. smaa=ultra.
+    #[arg(long, value_name = "TECHNIQUE=PRESET")]
+    pub preset: Vec<String>,
+    /// Set any parameter: TECHNIQUE.KEY=VALUE (repeatable), e.g. msaa4.alpha_to_coverage=on.
+    #[arg(long = "set", value_name = "TECHNIQUE.KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Print GPU milliseconds per pass (median of 5 extra renders of the frame).
+    #[arg(long)]
+    pub timings: bool,
+    /// Print the memory report (every target each technique owns or reads).
+    #[arg(long)]
+    pub memory: bool,
+    /// Also write each technique's debug views (<scene>-<technique>-<view>.png).
+    #[arg(long)]
+    pub debug_views: bool,
+    /// Reproduce a render from a sidecar JSON or from a PNG aa-lab wrote.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "technique", "size", "frame", "density", "seed"])]
+    pub from: Option<PathBuf>,
+    /// Treat scene warnings (a missing texture replaced by a checker) as errors.
+    #[arg(long)]
+    pub strict: bool,
+}
+
+impl RenderArgs {
+    /// The arguments of a plain `aa-lab render`.
+    pub fn default_args() -> Self {
+        let cli = <Cli as clap::Parser>::parse_from(["aa-lab", "render"]);
+        match cli.command {
+            Some(super::Command::Render(args)) => *args,
+            _ => unreachable!("`aa-lab render` parses as the render command"),
+        }
+    }
+}
+
+/// Parses `WIDTHxHEIGHT`.
+pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{text}` is not WIDTHxHEIGHT (e.g. 1280x720)"))?;
+    let parse = |s: &str| {
+        s.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("`{s}` in `{text}` is not a whole number"))
+    };
+    Ok((parse(w)?, parse(h)?))
+}
+
+/// The technique ids of a `--technique` list; `all` expands to every technique this adapter
+/// can run, and the unavailable ones are reported on stderr.
+fn technique_ids(gpu: &Gpu, list: &str) -> anyhow::Result<Vec<String>> {
+    let mut ids = Vec::new();
+    for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        if item == "all" {
+            for info in aa::registry() {
+                match (info.availability)(&gpu.caps) {
+                    Ok(()) => ids.push(info.id.to_owned()),
+                    Err(reason) => eprintln!("skipping {}: {reason}", info.id),
+                }
+            }
+        } else {
+            ids.push(item.to_owned());
+        }
+    }
+    ids.dedup();
+    if ids.is_empty() {
+        bail!("no technique given; use --technique with ids from `aa-lab techniques`, or `all`");
+    }
+    Ok(ids)
+}
+
+/// The `--ssaa-*` and `--msaa-resolve` flags as parameter settings per technique id.
+fn shorthand_settings(
+    args: &RenderArgs,
+    ids: &[String],
+) -> anyhow::Result<Vec<(String, String, ParamValue)>> {
+    let mut out = Vec::new();
+    let jittered =
+        args.ssaa_pattern.is_some() || args.ssaa_samples.is_some() || args.ssaa_filter.is_some();
+    if args.ssaa_factor.is_some() && jittered {
+        bail!(
+            "--ssaa-factor selects the ordered grid; --ssaa-pattern/--ssaa-samples/--ssaa-filter select jittered sampling: give one or the other"
+        );
+    }
+    let mut ssaa =
+        |key: &str, value: ParamValue| out.push(("ssaa".to_owned(), key.to_owned(), value));
+    if let Some(k) = args.ssaa_factor {
+        ssaa("mode", ParamValue::Choice("ordered".into()));
+        ssaa("factor", ParamValue::Int(i64::from(k)));
+    }
+    if jittered {
+        ssaa("mode", ParamValue::Choice("jittered".into()));
+    }
+    if let Some(p) = &args.ssaa_pattern {
+        ssaa("pattern", ParamValue::Choice(p.clone()));
+    }
+    if let Some(n) = args.ssaa_samples {
+        ssaa("samples", ParamValue::Int(i64::from(n)));
+    }
+    if let Some(f) = &args.ssaa_filter {
+        ssaa("filter", ParamValue::Choice(f.clone()));
+    }
+    if !out.is_empty() && !ids.iter().any(|id| id == "ssaa") {
+        bail!(
+            "--ssaa-* options apply to the ssaa technique, which is not among --technique {}",
+            ids.join(",")
+        );
+    }
+    if let Some(resolve) = &args.msaa_resolve {
+        let msaa: Vec<&String> = ids.iter().filter(|id| id.starts_with("msaa")).collect();
+        if msaa.is_empty() {
+            bail!(
+                "--msaa-resolve applies to MSAA techniques, and none is among --technique {}",
+                ids.join(",")
+            );
+        }
+        for id in msaa {
+            out.push((
+                id.clone(),
+                "resolve".to_owned(),
+                ParamValue::Choice(resolve.clone()),
+            ));
+        }
+    }
+    for item in &args.set {
+        let (target, value) = item
+            .split_once('=')
+            .with_context(|| format!("--set {item}: expected TECHNIQUE.KEY=VALUE"))?;
+        let (id, key) = target
+            .split_once('.')
+            .with_context(|| format!("--set {item}: expected TECHNIQUE.KEY=VALUE"))?;
+        if !ids.iter().any(|i| i == id) {
+            bail!(
+                "--set {item}: {id} is not among --technique {}",
+                ids.join(",")
+            );
+        }
+        out.push((id.to_owned(), key.to_owned(), parse_value(value)));
+    }
+    Ok(out)
+}
+
+/// Builds the spec of a command line: techniques created once to resolve presets and validate
+/// every setting, then stored as full settings maps.
+fn spec_from_args(gpu: &Gpu, args: &RenderArgs, scene_name: &str) -> anyhow::Result<RenderSpec> {
+    let ids = technique_ids(gpu, &args.technique)?;
+    let settings = shorthand_settings(args, &ids)?;
+    let mut techniques = Vec::new();
+    for id in &ids {
+        let mut technique = aa::create(gpu, id)?;
+        for preset in &args.preset {
+            let (target, name) = preset
+                .split_once('=')
+                .with_context(|| format!("--preset {preset}: expected TECHNIQUE=PRESET"))?;
+            if target == id {
+                technique.apply_preset(name)?;
+            }
+        }
+        for (target, key, value) in &settings {
+            if target == id {
+                aa::set_param(technique.as_mut(), key, value.clone())?;
+            }
+        }
+        techniques.push(TechniqueSpec {
+            id: id.clone(),
+            settings: aa::param_map(technique.as_ref()),
+        });
+    }
+    for preset in &args.preset {
+        if let Some((target, _)) = preset.split_once('=')
+            && !ids.iter().any(|i| i == target)
+        {
+            bail!(
+                "--preset {preset}: {target} is not among --technique {}",
+                ids.join(",")
+            );
+        }
+    }
+    Ok(RenderSpec {
+        scene: scene_name.to_owned(),
+        density: args.density,
+        seed: args.seed,
+        width: args.size.0,
+        height: args.size.1,
+        frame: args.frame,
+        camera: None,
+        techniques,
+        adapter: None,
+        build: None,
+    })
+}
+
+/// Loads a spec from a sidecar JSON or the record inside an aa-lab PNG.
+pub fn load_spec(path: &Path) -> anyhow::Result<RenderSpec> {
+    let is_png = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    let text = if is_png {
+        read_record(path)?.with_context(|| {
+            format!(
+                "{} has no aa-lab record (it was not written by aa-lab)",
+                path.display()
+            )
+        })?
+    } else {
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?
+    };
+    serde_json::from_str(&text)
+        .with_context(|| format!("{} is not a valid aa-lab render record", path.display()))
+}
+
+fn output_paths(
+    out: &Path,
+    scene: &str,
+    images: &[spec::TechniqueImage],
+) -> anyhow::Result<Vec<PathBuf>> {
+    let names_file = out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if names_file {
+        if images.len() != 1 {
+            bail!(
+                "--out {} names one file but this render produces {} images; give a directory instead",
+                out.display(),
+                images.len()
+            );
+        }
+        if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
+            std::fs::create_dir_all(parent)
+                .with_context(|| format!("cannot create directory {}", parent.display()))?;
+        }
+        return Ok(vec![out.to_owned()]);
+    }
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("cannot create output directory {}", out.display()))?;
+    Ok(images
+        .iter()
+        .map(|i| {
+            let name = match i.view {
+                None => format!("{scene}-{}.png", i.id),
+                Some(view) => format!("{scene}-{}-{view}.png", i.id),
+            };
+            out.join(name)
+        })
+        .collect())
+}
+
+fn progress_bar(total: u64) -> ProgressBar {
+    let bar = ProgressBar::new(total);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {msg} [{bar:30}] frame {pos}/{len} {elapsed}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.enable_steady_tick(std::time::Duration::from_millis(120));
+    bar
+}
+
+/// Runs `aa-lab render`.
+pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let gpu = Gpu::headless()?;
+    let mut spec = match &args.from {
+        Some(path) => load_spec(path)?,
+        None => {
+            // Store OBJ paths absolute so a record reproduces from any directory.
+            let scene = match std::fs::canonicalize(&args.scene) {
+                Ok(p) if p.is_file() => p.display().to_string(),
+                _ => args.scene.clone(),
+            };
+            spec_from_args(&gpu, args, &scene)?
+        }
+    };
+    spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
+    spec.build = Some(spec::build_id());
+    let options = SceneOptions {
+        density: spec.density,
+        seed: spec.seed,
+    };
+    let scene = source::load(&spec.scene, &options)?;
+    for warning in &scene.warnings {
+        eprintln!("warning: {warning}");
+    }
+    if args.strict && !scene.warnings.is_empty() {
+        bail!(
+            "{} scene warning(s) and --strict was given",
+            scene.warnings.len()
+        );
+    }
+    let loaded = started.elapsed();
+
+    let bar = progress_bar(spec.frame + 1);
+    bar.set_message(format!("{} {}x{}", scene.name, spec.width, spec.height));
+    let progress = |done: u64, total: u64| {
+        bar.set_length(total);
+        bar.set_position(done);
+    };
+    let temporal_frames = spec.frame > 0;
+    let run_options = RunOptions {
+        debug_views: args.debug_views,
+        timing_repeats: if args.timings { 5 } else { 0 },
+        progress: temporal_frames.then_some(&progress as &dyn Fn(u64, u64)),
+    };
+    let output = spec::run(&gpu, &scene, &spec, &run_options)?;
+    bar.finish_and_clear();
+    let rendered = started.elapsed();
+
+    let record = serde_json::to_string_pretty(&spec)?;
+    let paths = output_paths(&args.out, &scene.name, &output.images)?;
+    for (image, path) in output.images.iter().zip(&paths) {
+        let existed = path.exists();
+        export::write_png(path, &image.image, Some(&record))?;
+        println!(
+            "{}{}",
+            if existed { "overwrote " } else { "wrote " },
+            path.display()
+        );
+    }
+    for (id, note) in &output.notes {
+        println!("{id}: {note}");
+    }
+    eprintln!(
+        "{}: {} triangles, {}x{}, frame {}, {} scene render(s) in the frame; scene ready in {:.2} s, rendered in {:.2} s, total {:.2} s",
+        scene.name,
+        scene.triangle_count(),
+        spec.width,
+        spec.height,
+        spec.frame,
+        output.scene_renders,
+        loaded.as_secs_f64(),
+        (rendered - loaded).as_secs_f64(),
+        started.elapsed().as_secs_f64()
+    );
+    if args.timings {
+        print_timings(&gpu, output.timings.as_ref());
+    }
+    if args.memory {
+        print!("{}", output.memory.table());
+    }
+    Ok(())
+}
+
+fn print_timings(gpu: &Gpu, timings: Option<&crate::graph::FrameTimings>) {
+    let Some(timings) = timings else {
+        println!(
+            "no GPU timings: {} has no timestamp queries",
+            gpu.caps.adapter_name
+        );
+        return;
+    };
+    println!("GPU time per pass (ms, median of 5 frames):");
+    for pass in &timings.passes {
+        println!("  {:<36} {:>9.3}", pass.label, pass.ms);
+    }
+    println!("  {:<36} {:>9.3}", "total", timings.total_ms());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_and_reject_garbage() {
+        assert_eq!(parse_size("1280x720"), Ok((1280, 720)));
+        assert_eq!(parse_size("0x5"), Ok((0, 5)));
+        assert!(parse_size("1280").is_err());
+        assert!(parse_size("ax5").is_err());
+        assert!(parse_size("-1x5").is_err());
+    }
+}

@@ -1,0 +1,499 @@
+//! The frame graph: one frame of every enabled technique from as few scene renders as possible.
+//!
+//! Per frame it (1) asks every enabled technique for its [`SceneInput`], (2) renders each
+//! distinct input once (No AA, FXAA and SMAA 1x share one 1x render; TAA and SMAA T2x share a
+//! jittered render when their offsets agree), (3) runs each technique's passes into its own
+//! output texture, all in one command encoder with a GPU timer around every pass. The same
+//! graph serves the viewer and the headless CLI.
+
+mod memory;
+mod timing;
+
+pub use memory::{MemoryItem, MemoryReport, TechniqueMemory};
+pub use timing::{FrameTimings, PassTiming};
+
+use std::collections::HashMap;
+
+use crate::aa::{FrameInfo, SceneInput, Technique};
+use crate::gpu::{self, Gpu, fullscreen::Fullscreen};
+use crate::scene::Scene;
+use crate::scene::camera::ViewParams;
+use crate::scene::renderer::{RasterOptions, SceneRenderer, SceneTargets, TargetDesc};
+
+/// Errors of a frame.
+#[derive(Debug, thiserror::Error)]
+pub enum GraphError {
+    /// A zero-sized image was asked for.
+    #[error("cannot render a {0}x{1} image: width and height must be at least 1")]
+    ZeroSize(u32, u32),
+    /// The size exceeds what the adapter allows.
+    #[error(
+        "cannot render a {width}x{height} image: this adapter's largest texture side is {limit}"
+    )]
+    TooLarge {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+        /// The adapter's `max_texture_dimension_2d`.
+        limit: u32,
+    },
+    /// The GPU reported an error while the frame ran (out of memory, device lost, validation).
+    #[error("the GPU failed while rendering: {0}")]
+    Device(String),
+}
+
+/// A technique in the graph, with its output texture.
+pub struct Slot {
+    /// The technique.
+    pub technique: Box<dyn Technique>,
+    /// Whether it runs this frame.
+    pub enabled: bool,
+    output: Option<wgpu::Texture>,
+}
+
+impl Slot {
+    /// The technique's latest output, when it has rendered at the current size.
+    pub fn output(&self) -> Option<&wgpu::Texture> {
+        self.output.as_ref()
+    }
+}
+
+/// Which techniques a frame runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrameScope {
+    /// Every enabled technique.
+    All,
+    /// Only enabled temporal techniques (warm-up frames before the frame that is kept).
+    TemporalOnly,
+}
+
+/// Everything a technique's `encode` may use.
+pub struct PassContext<'a> {
+    /// Device and queue.
+    pub gpu: &'a Gpu,
+    /// The frame's command encoder.
+    pub encoder: &'a mut wgpu::CommandEncoder,
+    /// This frame's camera and flags.
+    pub frame: &'a FrameInfo,
+    /// Shared fullscreen-triangle vertex stage and pipeline helper.
+    pub fullscreen: &'a Fullscreen,
+    scene: &'a mut SceneRenderer,
+    profiler: &'a wgpu_profiler::GpuProfiler,
+    technique_id: &'static str,
+    scene_renders: &'a mut usize,
+}
+
+impl PassContext<'_> {
+    fn label(&self, pass: &str) -> String {
+        format!("{}/{pass}", self.technique_id)
+    }
+
+    /// Records a timed render pass named `pass` (shown as `technique/pass` in timings).
+    pub fn render_pass(
+        &mut self,
+        pass: &str,
+        color_attachments: &[Option<wgpu::RenderPassColorAttachment<'_>>],
+        depth_stencil_attachment: Option<wgpu::RenderPassDepthStencilAttachment<'_>>,
+        record: impl FnOnce(&mut wgpu::RenderPass<'_>),
+    ) {
+        let label = self.label(pass);
+        let query = self.profiler.begin_pass_query(label.clone(), self.encoder);
+        {
+            let mut render_pass = self.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(&label),
+                color_attachments,
+                depth_stencil_attachment,
+                timestamp_writes: query.render_pass_timestamp_writes(),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            record(&mut render_pass);
+        }
+        self.profiler.end_query(self.encoder, query);
+    }
+
+    /// Records a timed compute pass named `pass`.
+    pub fn compute_pass(&mut self, pass: &str, record: impl FnOnce(&mut wgpu::ComputePass<'_>)) {
+        let label = self.label(pass);
+        let query = self.profiler.begin_pass_query(label.clone(), self.encoder);
+        {
+            let mut compute_pass = self
+                .encoder
+                .begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(&label),
+                    timestamp_writes: query.compute_pass_timestamp_writes(),
+                });
+            record(&mut compute_pass);
+        }
+        self.profiler.end_query(self.encoder, query);
+    }
+
+    /// Records a timed fullscreen pass: one triangle into `target` with `pipeline` and
+    /// `bind_group` at group 0.
+    pub fn fullscreen_pass(
+        &mut self,
+        pass: &str,
+        target: &wgpu::TextureView,
+        pipeline: &wgpu::RenderPipeline,
+        bind_group: &wgpu::BindGroup,
+    ) {
+        let attachment = wgpu::RenderPassColorAttachment {
+            view: target,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                store: wgpu::StoreOp::Store,
+            },
+        };
+        self.render_pass(pass, &[Some(attachment)], None, |rp| {
+            rp.set_pipeline(pipeline);
+            rp.set_bind_group(0, bind_group, &[]);
+            rp.draw(0..3, 0..1);
+        });
+    }
+
+    /// Copies a whole texture into another of the same size and format, timed.
+    pub fn copy_texture(
+        &mut self,
+        pass: &str,
+        source: &wgpu::Texture,
+        destination: &wgpu::Texture,
+    ) {
+        let label = self.label(pass);
+        let query = self.profiler.begin_query(label, self.encoder);
+        self.encoder.copy_texture_to_texture(
+            source.as_image_copy(),
+            destination.as_image_copy(),
+            source.size(),
+        );
+        self.profiler.end_query(self.encoder, query);
+    }
+
+    /// Renders the scene (for techniques that produce their own scene renders, such as
+    /// supersampling tiles and accumulation passes). Counted in the frame's scene renders.
+    pub fn render_scene(
+        &mut self,
+        pass: &str,
+        targets: &SceneTargets,
+        view: &ViewParams,
+        raster: RasterOptions,
+    ) {
+        let label = self.label(pass);
+        let query = self.profiler.begin_pass_query(label, self.encoder);
+        self.scene.render(
+            self.gpu,
+            self.encoder,
+            targets,
+            view,
+            raster,
+            query.render_pass_timestamp_writes(),
+        );
+        self.profiler.end_query(self.encoder, query);
+        *self.scene_renders += 1;
+    }
+}
+
+/// The frame graph. See the module docs.
+pub struct FrameGraph {
+    gpu: Gpu,
+    scene: SceneRenderer,
+    slots: Vec<Slot>,
+    fullscreen: Fullscreen,
+    profiler: wgpu_profiler::GpuProfiler,
+    input_pool: HashMap<TargetDesc, Vec<SceneTargets>>,
+    inputs_used: Vec<(SceneInput, TargetDesc, usize)>,
+    /// Per slot, the index into `inputs_used` it read last frame.
+    slot_inputs: Vec<Option<usize>>,
+    size: (u32, u32),
+    timings: Option<FrameTimings>,
+    scene_renders: usize,
+}
+
+impl FrameGraph {
+    /// A graph drawing `scene` on `gpu`, with no techniques yet.
+    pub fn new(gpu: Gpu, scene: &Scene) -> Self {
+        let profiler = wgpu_profiler::GpuProfiler::new(
+            &gpu.device,
+            wgpu_profiler::GpuProfilerSettings {
+                enable_timer_queries: gpu.caps.timestamps,
+                enable_debug_groups: true,
+                max_num_pending_frames: 4,
+            },
+        )
+        .unwrap_or_else(|_| {
+            // Only invalid settings make this fail, and the ones above are valid.
+            wgpu_profiler::GpuProfiler::new(
+                &gpu.device,
+                wgpu_profiler::GpuProfilerSettings::default(),
+            )
+            .expect("default profiler settings are valid")
+        });
+        Self {
+            scene: SceneRenderer::new(&gpu, scene),
+            fullscreen: Fullscreen::new(&gpu.device),
+            gpu,
+            slots: Vec::new(),
+            profiler,
+            input_pool: HashMap::new(),
+            inputs_used: Vec::new(),
+            slot_inputs: Vec::new(),
+            size: (0, 0),
+            timings: None,
+            scene_renders: 0,
+        }
+    }
+
+    /// The device.
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
+    /// The uploaded scene.
+    pub fn scene(&self) -> &SceneRenderer {
+        &self.scene
+    }
+
+    /// Replaces the scene; temporal techniques must be told with `reset_history` next frame.
+    pub fn set_scene(&mut self, scene: &Scene) {
+        self.scene = SceneRenderer::new(&self.gpu, scene);
+    }
+
+    /// Adds a technique (enabled) and returns its index.
+    pub fn add(&mut self, technique: Box<dyn Technique>) -> usize {
+        self.slots.push(Slot {
+            technique,
+            enabled: true,
+            output: None,
+        });
+        self.slots.len() - 1
+    }
+
+    /// The techniques in the order they were added.
+    pub fn slots(&self) -> &[Slot] {
+        &self.slots
+    }
+
+    /// Mutable access to the techniques (settings, enabling).
+    pub fn slots_mut(&mut self) -> &mut [Slot] {
+        &mut self.slots
+    }
+
+    /// The slot of a technique by id.
+    pub fn slot(&self, id: &str) -> Option<&Slot> {
+        self.slots.iter().find(|s| s.technique.id() == id)
+    }
+
+    /// Number of scene renders the last frame recorded (shared inputs and the techniques' own).
+    pub fn scene_renders_last_frame(&self) -> usize {
+        self.scene_renders
+    }
+
+    /// GPU timings of the most recent frame whose queries have come back.
+    pub fn timings(&self) -> Option<&FrameTimings> {
+        self.timings.as_ref()
+    }
+
+    fn check_size(&self, size: (u32, u32)) -> Result<(), GraphError> {
+        let limit = self.gpu.caps.max_texture_dimension_2d;
+        if size.0 == 0 || size.1 == 0 {
+            Err(GraphError::ZeroSize(size.0, size.1))
+        } else if size.0 > limit || size.1 > limit {
+            Err(GraphError::TooLarge {
+                width: size.0,
+                height: size.1,
+                limit,
+            })
+        } else {
+            Ok(())
+        }
+    }
+
+    fn output_texture(device: &wgpu::Device, id: &str, size: (u32, u32)) -> wgpu::Texture {
+        device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(&format!("{id} output")),
+            size: wgpu::Extent3d {
+                width: size.0,
+                height: size.1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: gpu::COLOR_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[gpu::COLOR_FORMAT_ENCODED_VIEW],
+        })
+    }
+
+    /// Renders one frame of the techniques in `scope` and waits for nothing: outputs are ready
+    /// for readback or display once the queue has run the submission.
+    pub fn render(&mut self, frame: &FrameInfo, scope: FrameScope) -> Result<(), GraphError> {
+        let size = frame.size();
+        self.check_size(size)?;
+        if size != self.size {
+            self.input_pool.clear();
+            for slot in &mut self.slots {
+                slot.output = None;
+            }
+            self.size = size;
+        }
+        let device = self.gpu.device.clone();
+        let error_scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let oom_scope = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+
+        let camera = frame.camera;
+        self.scene.begin_frame(
+            &self.gpu,
+            camera.frame as f32,
+            camera.frame.saturating_sub(1) as f32,
+        );
+        let active: Vec<usize> = (0..self.slots.len())
+            .filter(|&i| {
+                let slot = &self.slots[i];
+                slot.enabled && (scope == FrameScope::All || slot.technique.temporal())
+            })
+            .collect();
+
+        // 1. Distinct inputs, each assigned a pooled target of its description.
+        let mut wanted: Vec<Option<SceneInput>> = vec![None; self.slots.len()];
+        self.inputs_used.clear();
+        for &i in &active {
+            let input = self.slots[i].technique.scene_input(frame);
+            wanted[i] = input;
+            if let Some(input) = input
+                && !self.inputs_used.iter().any(|(used, _, _)| *used == input)
+            {
+                let desc = TargetDesc {
+                    size,
+                    sample_count: input.sample_count(),
+                    motion: input.motion(),
+                };
+                let index = self
+                    .inputs_used
+                    .iter()
+                    .filter(|(_, d, _)| *d == desc)
+                    .count();
+                self.inputs_used.push((input, desc, index));
+            }
+        }
+        for (input, desc, index) in &self.inputs_used {
+            let pool = self.input_pool.entry(*desc).or_default();
+            while pool.len() <= *index {
+                let label = input.label();
+                pool.push(SceneTargets::new(&device, &label, *desc));
+            }
+        }
+
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("frame"),
+        });
+        self.scene_renders = 0;
+        // 2. One scene render per distinct input.
+        for (input, desc, index) in &self.inputs_used {
+            let targets = &self.input_pool[desc][*index];
+            let view = camera.params(input.offset(), input.mip_bias());
+            let query = self.profiler.begin_pass_query(input.label(), &mut encoder);
+            self.scene.render(
+                &self.gpu,
+                &mut encoder,
+                targets,
+                &view,
+                input.raster(),
+                query.render_pass_timestamp_writes(),
+            );
+            self.profiler.end_query(&mut encoder, query);
+            self.scene_renders += 1;
+        }
+        // 3. Every technique's passes.
+        self.slot_inputs = wanted
+            .iter()
+            .map(|w| {
+                w.and_then(|input| {
+                    self.inputs_used
+                        .iter()
+                        .position(|(used, _, _)| *used == input)
+                })
+            })
+            .collect();
+        for &i in &active {
+            let slot = &mut self.slots[i];
+            let output = slot
+                .output
+                .get_or_insert_with(|| Self::output_texture(&device, slot.technique.id(), size));
+            let input = self.slot_inputs[i].and_then(|n| {
+                let (_, desc, index) = &self.inputs_used[n];
+                self.input_pool.get(desc)?.get(*index)
+            });
+            let mut ctx = PassContext {
+                gpu: &self.gpu,
+                encoder: &mut encoder,
+                frame,
+                fullscreen: &self.fullscreen,
+                scene: &mut self.scene,
+                profiler: &self.profiler,
+                technique_id: slot.technique.id(),
+                scene_renders: &mut self.scene_renders,
+            };
+            slot.technique.encode(&mut ctx, input, output);
+        }
+        self.profiler.resolve_queries(&mut encoder);
+        self.gpu.queue.submit([encoder.finish()]);
+        // The profiler only fails to end a frame when scopes were left open, which the
+        // closures above make impossible; a dropped frame just means no timings.
+        let _ = self.profiler.end_frame();
+
+        let oom = pollster::block_on(oom_scope.pop());
+        let validation = pollster::block_on(error_scope.pop());
+        if let Some(err) = oom.or(validation) {
+            return Err(GraphError::Device(err.to_string()));
+        }
+        self.collect_timings();
+        Ok(())
+    }
+
+    /// Picks up timer results that have arrived (non-blocking).
+    fn collect_timings(&mut self) {
+        let _ = self.gpu.device.poll(wgpu::PollType::Poll);
+        let period = self.gpu.queue.get_timestamp_period();
+        while let Some(results) = self.profiler.process_finished_frame(period) {
+            self.timings = Some(FrameTimings::from_profiler(&results));
+        }
+    }
+
+    /// Waits for the GPU and collects the timings of everything submitted so far.
+    pub fn finish(&mut self) {
+        self.gpu.wait_idle();
+        self.collect_timings();
+    }
+
+    /// Scene inputs of the last frame with the ids of the techniques that read them.
+    fn input_users(&self) -> Vec<(SceneInput, Vec<&'static str>, &SceneTargets)> {
+        self.inputs_used
+            .iter()
+            .enumerate()
+            .filter_map(|(n, (input, desc, index))| {
+                let targets = self.input_pool.get(desc)?.get(*index)?;
+                let users = self
+                    .slots
+                    .iter()
+                    .zip(&self.slot_inputs)
+                    .filter(|(_, used)| **used == Some(n))
+                    .map(|(slot, _)| slot.technique.id())
+                    .collect();
+                Some((*input, users, targets))
+            })
+            .collect()
+    }
+
+    /// The memory report of the last frame: every technique's private resources and output,
+    /// the scene inputs it reads (shared ones counted once in the total), and the scene itself.
+    pub fn memory_report(&self) -> MemoryReport {
+        let inputs = self.input_users();
+        MemoryReport::build(&self.slots, &inputs, self.scene.memory_bytes())
+    }
+}

@@ -1,0 +1,235 @@
+//! A complete, reproducible description of a render ([`RenderSpec`]: scene, size, frame,
+//! camera, techniques with every setting) and the headless runner that turns it into images.
+//!
+//! Every exported image embeds its spec (plus the adapter and build that produced it), and
+//! `aa-lab render --from` runs the spec again, so results can be reproduced bit-exactly on the
+//! same adapter. Frame N of a temporal technique means running frames 0..=N of the
+//! deterministic camera: warm-up frames run only the temporal techniques.
+
+use crate::aa::{self, FrameInfo, ParamMap, TechniqueError};
+use crate::gpu::{Gpu, read_texture_rgba8, readback::ReadbackError};
+use crate::graph::{FrameGraph, FrameScope, FrameTimings, GraphError, MemoryReport};
+use crate::scene::Scene;
+use crate::scene::camera::{FrameCamera, OrbitPose};
+use crate::scene::procedural::SceneOptions;
+
+/// One technique with its settings.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct TechniqueSpec {
+    /// Registry id.
+    pub id: String,
+    /// Every parameter's value (missing keys keep their defaults).
+    #[serde(default)]
+    pub settings: ParamMap,
+}
+
+/// Everything that determines a render.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RenderSpec {
+    /// Built-in scene name or OBJ path.
+    pub scene: String,
+    /// Built-in scene density (hairball triangle count scale).
+    #[serde(default = "default_density")]
+    pub density: f32,
+    /// Built-in scene seed.
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Frame number of the deterministic camera and animation.
+    pub frame: u64,
+    /// A fixed camera pose (the viewer's); `None` follows the scene's camera path.
+    #[serde(default)]
+    pub camera: Option<OrbitPose>,
+    /// Techniques in output order.
+    pub techniques: Vec<TechniqueSpec>,
+    /// Adapter that produced the image (informational; not used when rendering).
+    #[serde(default)]
+    pub adapter: Option<String>,
+    /// aa-lab version and commit that produced the image (informational).
+    #[serde(default)]
+    pub build: Option<String>,
+}
+
+fn default_density() -> f32 {
+    1.0
+}
+
+fn default_seed() -> u64 {
+    SceneOptions::default().seed
+}
+
+/// This build's version and commit.
+pub fn build_id() -> String {
+    match option_env!("AA_LAB_GIT_HASH") {
+        Some(hash) if !hash.is_empty() => format!("aa-lab {} ({hash})", env!("CARGO_PKG_VERSION")),
+        _ => format!("aa-lab {}", env!("CARGO_PKG_VERSION")),
+    }
+}
+
+/// Errors of running a spec.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// A technique could not be created or configured.
+    #[error(transparent)]
+    Technique(#[from] TechniqueError),
+    /// The frame failed.
+    #[error(transparent)]
+    Graph(#[from] GraphError),
+    /// Reading the result back failed.
+    #[error(transparent)]
+    Readback(#[from] ReadbackError),
+    /// No technique was given.
+    #[error("no technique to render")]
+    NoTechnique,
+}
+
+/// An image a technique produced.
+pub struct TechniqueImage {
+    /// Technique id.
+    pub id: String,
+    /// Debug view name, `None` for the technique's output.
+    pub view: Option<&'static str>,
+    /// The pixels, sRGB-encoded RGBA8.
+    pub image: image::RgbaImage,
+}
+
+/// The result of running a spec.
+pub struct RenderOutput {
+    /// Every technique's output, then its debug views when asked for.
+    pub images: Vec<TechniqueImage>,
+    /// Which code path each technique ran, where it has a choice.
+    pub notes: Vec<(String, String)>,
+    /// GPU timings of the kept frame (or the median of the timing repeats).
+    pub timings: Option<FrameTimings>,
+    /// Memory of the kept frame.
+    pub memory: MemoryReport,
+    /// Scene renders recorded in the kept frame.
+    pub scene_renders: usize,
+}
+
+/// Options of [`run`].
+#[derive(Default)]
+pub struct RunOptions<'a> {
+    /// Also read back each technique's debug views.
+    pub debug_views: bool,
+    /// Render the kept frame this many extra times after reading it back, and report the
+    /// per-pass median GPU times (the first frame includes shader compilation).
+    pub timing_repeats: u32,
+    /// Called after each frame with (frames done, frames total).
+    pub progress: Option<&'a dyn Fn(u64, u64)>,
+}
+
+/// The camera of frame `frame` for a spec.
+pub fn frame_camera(spec: &RenderSpec, scene: &Scene, frame: u64) -> FrameCamera {
+    let size = (spec.width, spec.height);
+    match spec.camera {
+        Some(pose) => FrameCamera {
+            pose,
+            prev_pose: pose,
+            frame,
+            size,
+        },
+        None => FrameCamera::from_rig(&scene.camera, frame, size),
+    }
+}
+
+/// Builds the frame graph of a spec's techniques (settings applied).
+pub fn build_graph(gpu: &Gpu, scene: &Scene, spec: &RenderSpec) -> Result<FrameGraph, RenderError> {
+    if spec.techniques.is_empty() {
+        return Err(RenderError::NoTechnique);
+    }
+    let mut graph = FrameGraph::new(gpu.clone(), scene);
+    for t in &spec.techniques {
+        let mut technique = aa::create(gpu, &t.id)?;
+        aa::apply_param_map(technique.as_mut(), &t.settings).map_err(TechniqueError::from)?;
+        graph.add(technique);
+    }
+    Ok(graph)
+}
+
+/// Renders a spec headless and reads every output back.
+pub fn run(
+    gpu: &Gpu,
+    scene: &Scene,
+    spec: &RenderSpec,
+    options: &RunOptions<'_>,
+) -> Result<RenderOutput, RenderError> {
+    let mut graph = build_graph(gpu, scene, spec)?;
+    for slot in graph.slots_mut() {
+        slot.technique.set_debug_views(options.debug_views);
+    }
+    let temporal = graph.slots().iter().any(|s| s.technique.temporal());
+    let first = if temporal { 0 } else { spec.frame };
+    let total = spec.frame - first + 1;
+    for frame in first..=spec.frame {
+        let info = FrameInfo {
+            camera: frame_camera(spec, scene, frame),
+            reset_history: frame == first,
+        };
+        let scope = if frame == spec.frame {
+            FrameScope::All
+        } else {
+            FrameScope::TemporalOnly
+        };
+        graph.render(&info, scope)?;
+        if let Some(progress) = options.progress {
+            // Keep the queue short so progress reflects finished work.
+            gpu.wait_idle();
+            progress(frame - first + 1, total);
+        }
+    }
+    graph.finish();
+    let mut images = Vec::new();
+    for slot in graph.slots() {
+        let id = slot.technique.id().to_owned();
+        if let Some(output) = slot.output() {
+            images.push(TechniqueImage {
+                id: id.clone(),
+                view: None,
+                image: read_texture_rgba8(gpu, output)?,
+            });
+        }
+        for view in slot.technique.debug_views() {
+            images.push(TechniqueImage {
+                id: id.clone(),
+                view: Some(view.name),
+                image: read_texture_rgba8(gpu, view.texture)?,
+            });
+        }
+    }
+    let notes = graph
+        .slots()
+        .iter()
+        .filter_map(|s| {
+            s.technique
+                .path_note()
+                .map(|n| (s.technique.id().to_owned(), n))
+        })
+        .collect();
+    let scene_renders = graph.scene_renders_last_frame();
+    let memory = graph.memory_report();
+    let mut timings = graph.timings().cloned();
+    if options.timing_repeats > 0 {
+        let info = FrameInfo {
+            camera: frame_camera(spec, scene, spec.frame),
+            reset_history: false,
+        };
+        let mut repeats = Vec::new();
+        for _ in 0..options.timing_repeats {
+            graph.render(&info, FrameScope::All)?;
+            graph.finish();
+            repeats.extend(graph.timings().cloned());
+        }
+        timings = FrameTimings::median(&repeats).or(timings);
+    }
+    Ok(RenderOutput {
+        images,
+        notes,
+        timings,
+        memory,
+        scene_renders,
+    })
+}

@@ -1,0 +1,105 @@
+//! Shared helpers of the GPU tests: the device (failing loudly when no adapter exists) and
+//! small generated scenes whose expected pixels are known exactly.
+
+#![allow(dead_code)]
+
+use aa_lab::gpu::Gpu;
+use aa_lab::scene::{AlphaMode, CameraRig, Material, Mesh, Scene, TextureImage, Vertex};
+use glam::{Vec2, Vec3};
+
+/// The test device. GPU tests must never pass silently without one.
+pub fn gpu() -> Gpu {
+    match Gpu::headless() {
+        Ok(gpu) => gpu,
+        Err(err) => panic!(
+            "GPU tests need a Vulkan (or Metal/DX12) adapter and none was found: {err}. \
+             On Debian/Ubuntu install Mesa's software driver: apt-get install mesa-vulkan-drivers libvulkan1"
+        ),
+    }
+}
+
+fn quad(corners: [Vec2; 4], z: f32, material: usize, name: &str) -> Mesh {
+    let vertices = corners
+        .iter()
+        .zip([[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]])
+        .map(|(c, uv)| Vertex::new(c.extend(z), Vec3::Z, uv))
+        .collect();
+    Mesh {
+        name: name.to_owned(),
+        vertices,
+        indices: vec![0, 1, 2, 0, 2, 3],
+        material,
+        spin: None,
+    }
+}
+
+/// A flat, unlit chart seen head-on: white background, a black quad whose left edge is slanted
+/// by `slant_degrees` from vertical, and an alpha-masked card (left half opaque by texture
+/// alpha, a soft alpha ramp across the middle). World units map to the view so that the chart
+/// spans x in -1.6..1.6 and y in -0.9..0.9.
+pub fn flat_chart(slant_degrees: f32) -> Scene {
+    let black = Material {
+        name: "black".into(),
+        base_color: Vec3::ZERO,
+        unlit: true,
+        ..Material::default()
+    };
+    // Alpha ramp texture: alpha falls from 1 to 0 across the texture's width.
+    let ramp = image::RgbaImage::from_fn(64, 8, |x, _| {
+        image::Rgba([0, 0, 0, (255 - x * 4).min(255) as u8])
+    });
+    let masked = Material {
+        name: "masked".into(),
+        base_color: Vec3::ZERO,
+        base_color_texture: Some(0),
+        unlit: true,
+        alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
+        ..Material::default()
+    };
+    let t = slant_degrees.to_radians().tan();
+    let slanted = quad(
+        [
+            Vec2::new(-0.2 - 0.6 * t, -0.6),
+            Vec2::new(1.4, -0.6),
+            Vec2::new(1.4, 0.6),
+            Vec2::new(-0.2 + 0.6 * t, 0.6),
+        ],
+        0.0,
+        0,
+        "slanted edge",
+    );
+    let card = quad(
+        [
+            Vec2::new(-1.5, -0.3),
+            Vec2::new(-0.5, -0.3),
+            Vec2::new(-0.5, 0.3),
+            Vec2::new(-1.5, 0.3),
+        ],
+        0.0,
+        1,
+        "card",
+    );
+    let fov: f32 = 40.0;
+    Scene {
+        name: "flat-chart".into(),
+        meshes: vec![slanted, card],
+        materials: vec![black, masked],
+        textures: vec![TextureImage {
+            label: "alpha ramp".into(),
+            image: ramp,
+        }],
+        camera: CameraRig {
+            target: Vec3::ZERO,
+            distance: 0.9 / (fov.to_radians() * 0.5).tan(),
+            yaw_degrees: 0.0,
+            pitch_degrees: 0.0,
+            fov_y_degrees: fov,
+            near: 0.1,
+            far: 100.0,
+            orbit_degrees_per_frame: 0.0,
+        },
+        light: Default::default(),
+        clear_color: Vec3::ONE,
+        warnings: Vec::new(),
+    }
+}
