@@ -3,7 +3,7 @@
 //! flat resolution chart seen head-on, with an analytic layout for exact ground truth).
 //!
 //! Everything, meshes and textures alike, is generated in code from [`SceneOptions::seed`]
-//! with the generators' own SplitMix64 ([`rng`]), so a scene never changes with a crate
+//! with the generators' own SplitMix64 (module `rng`), so a scene never changes with a crate
 //! version and nothing is downloaded or read from disk. Together the scenes cover the
 //! thesis' five zoom categories:
 //! - shape preservation: the chart's Siemens star, discs and rings; the atrium's arches,
