@@ -13,6 +13,7 @@ use crate::scene::TextureImage;
 use crate::scene::procedural::rng::Rng;
 use crate::scene::procedural::texture::{
     Canvas, Noise, Rgba, TextBlock, diamond_mesh, distance_to_integer, floor, hash2, mix, opaque,
+    texture_from_fn,
 };
 
 /// Side of the large (1024) textures.
@@ -65,11 +66,11 @@ fn texel(x: f32, y: f32) -> usize {
     y as usize * LARGE as usize + x as usize
 }
 
-/// A sandstone canvas: warm beige with soft mottling and fine grain.
-fn sandstone(seed: u64) -> Canvas {
+/// Sandstone: warm beige with soft mottling and fine grain; returns the texel function.
+fn sandstone(seed: u64) -> impl Fn(f32, f32) -> Rgba {
     let mottle = Noise::new(seed ^ 0x51, 8, 3).fbm(LARGE);
     let grain = Noise::new(seed ^ 0x52, 128, 1).fbm(LARGE);
-    Canvas::from_fn(LARGE, |x, y| {
+    move |x, y| {
         let i = texel(x, y);
         let base = mix(
             Vec3::new(0.42, 0.34, 0.24),
@@ -77,7 +78,7 @@ fn sandstone(seed: u64) -> Canvas {
             mottle[i],
         );
         opaque(base * (0.88 + 0.24 * grain[i]))
-    })
+    }
 }
 
 /// Running-bond bricks: 4 bricks by 16 courses per tile, 7-texel mortar joints, each brick
@@ -86,7 +87,7 @@ pub(super) fn bricks(seed: u64) -> TextureImage {
     let (brick, joint) = (Vec2::new(256.0, 64.0), 7.0);
     let grain = Noise::new(seed ^ 0xB1, 64, 2).fbm(LARGE);
     let mortar_noise = Noise::new(seed ^ 0xB2, 32, 2).fbm(LARGE);
-    let canvas = Canvas::from_fn(LARGE, |x, y| {
+    texture_from_fn(LARGE, "atrium bricks", |x, y| {
         let course = floor(y / brick.y);
         let shift = if course as i32 % 2 == 1 {
             brick.x * 0.5
@@ -107,8 +108,7 @@ pub(super) fn bricks(seed: u64) -> TextureImage {
         let brick_rgb = red * (0.7 + 0.45 * g) * (0.8 + 0.2 * edge);
         let mortar = Vec3::new(0.50, 0.47, 0.42) * (0.8 + 0.3 * mortar_noise[texel(x, y)]);
         opaque(mix(mortar, brick_rgb, interior_coverage(distance)))
-    });
-    canvas.into_texture("atrium bricks")
+    })
 }
 
 /// Polished marble floor: a 4 x 4 checker of veined white and green-black tiles with
@@ -120,7 +120,7 @@ pub(super) fn marble_tiles(seed: u64) -> TextureImage {
     let turbulence = Noise::new(seed ^ 0xF1, 4, 4).turbulence(LARGE);
     let cloud = Noise::new(seed ^ 0xF2, 8, 2).fbm(LARGE);
     let n = LARGE as usize;
-    let canvas = Canvas::from_fn(LARGE, |x, y| {
+    texture_from_fn(LARGE, "atrium marble tiles", |x, y| {
         let (distance, index) = cell_interior(Vec2::new(x, y), tile, 3.0);
         let uv = Vec2::new(x, y) / LARGE as f32;
         let dark = (index.x + index.y) as i32 % 2 == 1;
@@ -145,20 +145,19 @@ pub(super) fn marble_tiles(seed: u64) -> TextureImage {
         };
         let grout = Vec3::new(0.08, 0.08, 0.07);
         opaque(mix(grout, rgb.max(Vec3::ZERO), interior_coverage(distance)))
-    });
-    canvas.into_texture("atrium marble tiles")
+    })
 }
 
 /// Plain sandstone for columns, arches and mouldings.
 pub(super) fn stone(seed: u64) -> TextureImage {
-    sandstone(seed).into_texture("atrium sandstone")
+    texture_from_fn(LARGE, "atrium sandstone", sandstone(seed))
 }
 
 /// The inscription band: sandstone with a moulding line top and bottom and three lines of
 /// carved glyphs (dark strokes with a light lower lip). The texture is stretched 2:1 across
 /// the band, so glyphs are painted half as wide as they will appear.
 pub(super) fn inscription(seed: u64) -> TextureImage {
-    let mut canvas = sandstone(seed ^ 0x1A5C);
+    let mut canvas = Canvas::from_fn(LARGE, sandstone(seed ^ 0x1A5C));
     let groove = [0.10, 0.08, 0.06, 1.0];
     let lip = [0.75, 0.68, 0.55, 1.0];
     for y in [40.0, 980.0] {
