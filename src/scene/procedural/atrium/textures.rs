@@ -355,9 +355,9 @@ fn leaf(canvas: &mut Canvas, base: Vec2, direction: Vec2, length: f32, width: f3
         let f = (s / length).clamp(0.0, 1.0);
         // sin(pi) is a hair below zero in f32: clamp before the power.
         let half = width * 0.5 * (std::f32::consts::PI * f).sin().max(0.0).powf(0.7);
-        // Beyond the ends, the distance to the tip or the base point.
-        let outside = (-s).max(s - length).max(0.0);
-        (t.abs() - half).max(outside)
+        // Intersection with the slab between the base and the tip (negative inside it), so
+        // that nothing leaks past the ends.
+        (t.abs() - half).max((-s).max(s - length))
     };
     let color = move |p: Vec2, _d: f32| -> Rgba {
         let (s, t) = local(p);
@@ -431,9 +431,17 @@ mod tests {
     #[test]
     fn leaves_cover_a_good_part_of_the_card() {
         let texture = leaves(3);
-        let opaque = texture.image.pixels().filter(|p| p[3] >= 128).count();
-        let fraction = opaque as f32 / (SMALL * SMALL) as f32;
+        let alpha = |p: &image::Rgba<u8>| p[3];
+        let solid = texture.image.pixels().filter(|p| alpha(p) == 255).count();
+        let rim = texture
+            .image
+            .pixels()
+            .filter(|p| (1..255).contains(&alpha(p)))
+            .count();
+        let fraction = solid as f32 / (SMALL * SMALL) as f32;
         assert!((0.2..0.8).contains(&fraction), "{fraction}");
+        // Leaves are solid with an antialiased rim, not translucent.
+        assert!(rim * 4 < solid, "{rim} rim texels for {solid} solid ones");
         assert_eq!(leaves(3).image, texture.image);
     }
 }
