@@ -12,6 +12,7 @@ pub mod none;
 pub mod params;
 pub mod registry;
 pub mod sampling;
+pub mod smaa;
 pub mod ssaa;
 
 use glam::Vec2;

@@ -19,6 +19,11 @@ pub const SHADERS: &[(&str, &str)] = &[
         include_str!("../../shaders/msaa_debug.wgsl"),
     ),
     ("ssaa.wgsl", include_str!("../../shaders/ssaa.wgsl")),
+    ("smaa.wgsl", include_str!("../../shaders/smaa.wgsl")),
+    (
+        "smaa_modes.wgsl",
+        include_str!("../../shaders/smaa_modes.wgsl"),
+    ),
 ];
 
 /// The source of `shaders/<name>`.
