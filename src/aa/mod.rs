@@ -7,12 +7,15 @@
 //! data ([`params::Param`]) so that the CLI, the viewer and sidecar files handle every
 //! technique the same way. Adding a technique means adding one module and one registry entry.
 
+pub mod color;
+pub mod fxaa;
 pub mod msaa;
 pub mod none;
 pub mod params;
 pub mod registry;
 pub mod sampling;
 pub mod ssaa;
+pub mod taa;
 
 use glam::Vec2;
 
