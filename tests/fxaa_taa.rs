@@ -265,21 +265,25 @@ fn other_view(scene: &Scene, frame: u64, size: (u32, u32)) -> FrameCamera {
 fn taa_forgets_its_history_on_a_cut_a_resize_and_a_settings_change() {
     let gpu = common::gpu();
     let scene = common::flat_chart(5.0);
-    // A fresh TAA at frame `frame` of the other view: what a reset must reproduce exactly.
+    // A fresh TAA at one frame: what a reset must reproduce exactly.
     let fresh = |settings: &[(&str, &str)], camera: FrameCamera| {
         let mut g = graph(&gpu, &scene, vec![technique(&gpu, "taa", settings)]);
         render(&mut g, camera, true);
         outputs(&gpu, &mut g).remove(0)
     };
     let mut g = graph(&gpu, &scene, vec![technique(&gpu, "taa", &[])]);
+    let step = |g: &mut FrameGraph, camera: FrameCamera, reset: bool| {
+        render(g, camera, reset);
+        outputs(&gpu, g).remove(0)
+    };
+    let mut settled = None;
     for f in 0..10 {
-        render(&mut g, still(&scene, f, SIZE), f == 0);
+        settled = Some(step(&mut g, still(&scene, f, SIZE), f == 0));
     }
-    let settled = outputs(&gpu, &mut g).remove(0);
+    let settled = settled.expect("frames ran");
 
-    // Camera cut.
-    render(&mut g, other_view(&scene, 10, SIZE), true);
-    let cut = outputs(&gpu, &mut g).remove(0);
+    // A cut the caller does not flag: the frame's previous pose is not the history's pose.
+    let cut = step(&mut g, other_view(&scene, 10, SIZE), false);
     let expected = fresh(&[], other_view(&scene, 10, SIZE));
     assert_eq!(mean_error(&cut, &expected), 0.0, "history survived the cut");
     assert!(
@@ -287,31 +291,41 @@ fn taa_forgets_its_history_on_a_cut_a_resize_and_a_settings_change() {
         "the cut did not change the view"
     );
 
-    // Resize (no reset flag: the size change alone must drop the history).
-    let small = (240, 135);
-    render(&mut g, other_view(&scene, 11, small), false);
-    let resized = outputs(&gpu, &mut g).remove(0);
+    // A continuing camera keeps its history...
+    let kept = step(&mut g, other_view(&scene, 11, SIZE), false);
+    let alone = fresh(&[], other_view(&scene, 11, SIZE));
+    assert!(mean_error(&kept, &alone) > 0.01, "the history was not used");
+    // ...unless the caller flags a reset.
+    let flagged = step(&mut g, other_view(&scene, 12, SIZE), true);
+    let expected = fresh(&[], other_view(&scene, 12, SIZE));
     assert_eq!(
-        mean_error(&resized, &fresh(&[], other_view(&scene, 11, small))),
+        mean_error(&flagged, &expected),
+        0.0,
+        "history survived the flagged reset"
+    );
+
+    // Resize.
+    let small = (240, 135);
+    let resized = step(&mut g, other_view(&scene, 13, small), false);
+    let expected = fresh(&[], other_view(&scene, 13, small));
+    assert_eq!(
+        mean_error(&resized, &expected),
         0.0,
         "history survived the resize"
     );
 
-    // Settings change (no reset flag either).
-    render(&mut g, other_view(&scene, 12, small), false);
+    // Settings change.
+    step(&mut g, other_view(&scene, 14, small), false);
     aa::set_param(
         g.slots_mut()[0].technique.as_mut(),
         "rectify",
         aa::params::parse_value("clip"),
     )
     .expect("clip is a rectification");
-    render(&mut g, other_view(&scene, 13, small), false);
-    let changed = outputs(&gpu, &mut g).remove(0);
+    let changed = step(&mut g, other_view(&scene, 15, small), false);
+    let expected = fresh(&[("rectify", "clip")], other_view(&scene, 15, small));
     assert_eq!(
-        mean_error(
-            &changed,
-            &fresh(&[("rectify", "clip")], other_view(&scene, 13, small))
-        ),
+        mean_error(&changed, &expected),
         0.0,
         "history survived the settings change"
     );

@@ -14,7 +14,9 @@
 //! textures, linear colour).
 //!
 //! The history is dropped when the frame asks for it (camera cut, scene change, first frame),
-//! when the size changes and when a setting changes, so frame N of a sequence depends only on
+//! when the camera does not continue the previous frame (an unflagged cut: the frame's
+//! previous pose is not the pose the history was made with, or frames were skipped), when
+//! the size changes and when a setting changes, so frame N of a sequence depends only on
 //! frames 0..=N since the last reset. The jitter offset is a function of the frame number, which
 //! keeps headless renders reproducible. Structural options (history filter, rectification,
 //! luminance weighting, velocity dilation, debug output) are override constants with one cached
@@ -35,6 +37,7 @@ use super::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu, shader};
 use crate::graph::{MemoryItem, PassContext};
+use crate::scene::camera::FrameCamera;
 use crate::scene::renderer::SceneTargets;
 
 /// Format of the accumulated history.
@@ -282,6 +285,8 @@ pub struct Taa {
     history: Option<History>,
     /// A setting changed since the last frame: the next frame starts a new history.
     reset_pending: bool,
+    /// The camera of the frame the history holds, to recognise a discontinuous camera.
+    last_camera: Option<FrameCamera>,
     debug_enabled: bool,
     debug: Option<TaaDebug>,
 }
@@ -369,6 +374,7 @@ impl Taa {
             pipelines: HashMap::new(),
             history: None,
             reset_pending: true,
+            last_camera: None,
             debug_enabled: false,
             debug: None,
         }
@@ -519,6 +525,16 @@ impl Taa {
     }
 }
 
+/// Whether `next` continues the sequence whose last frame had camera `last`: the next frame
+/// number with `last`'s pose as its previous pose (so the motion vectors lead back into the
+/// history), or the same frame again (a paused viewer, timing repeats). Anything else is a
+/// camera cut, also when the caller did not flag it.
+fn continues(last: &FrameCamera, next: &FrameCamera) -> bool {
+    let same = next.frame == last.frame && next.pose == last.pose;
+    let following = next.frame == last.frame + 1 && next.prev_pose == last.pose;
+    (same || following) && next.size == last.size
+}
+
 impl Technique for Taa {
     fn id(&self) -> &'static str {
         "taa"
@@ -556,8 +572,14 @@ impl Technique for Taa {
             self.ensure_debug(ctx, size);
         }
         let pipeline = self.resolve_pipeline(ctx, debug);
-        let reset = ctx.frame.reset_history || self.reset_pending;
+        let camera = ctx.frame.camera;
+        let reset = ctx.frame.reset_history
+            || self.reset_pending
+            || !self
+                .last_camera
+                .is_some_and(|last| continues(&last, &camera));
         self.reset_pending = false;
+        self.last_camera = Some(camera);
         let Some(history) = &mut self.history else {
             return;
         };
@@ -845,6 +867,22 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn a_camera_continues_on_the_next_frame_from_its_own_pose_or_on_a_repeat() {
+        let rig = crate::scene::CameraRig::default();
+        let at = |frame| FrameCamera::from_rig(&rig, frame, (64, 36));
+        assert!(continues(&at(4), &at(5)));
+        assert!(continues(&at(5), &at(5)));
+        assert!(!continues(&at(4), &at(6)), "a skipped frame");
+        assert!(!continues(&at(5), &at(4)), "going back");
+        let mut moved = at(5);
+        moved.prev_pose.distance += 1.0;
+        assert!(!continues(&at(4), &moved), "a cut");
+        let mut resized = at(5);
+        resized.size = (32, 18);
+        assert!(!continues(&at(4), &resized), "a resize");
     }
 
     #[test]
