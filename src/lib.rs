@@ -7,10 +7,15 @@
 //! - [`aa`]: the technique trait, the registry and one module per technique;
 //! - [`graph`]: the frame graph that shares scene renders between techniques, with timings
 //!   and memory reports;
+//! - [`spec`]: reproducible render descriptions and the headless runner;
+//! - [`export`]: PNG files with their render record;
+//! - [`cli`]: the command-line subcommands.
 
 pub mod aa;
+pub mod cli;
 pub mod export;
 
 pub mod gpu;
 pub mod graph;
 pub mod scene;
+pub mod spec;

@@ -1,1 +1,16 @@
-fn main() {}
+//! The `aa-lab` binary: parses the command line and hands over to the library. Without a
+//! subcommand it opens the viewer; errors are printed once, with their causes, and exit 1.
+
+use clap::Parser;
+
+fn main() -> std::process::ExitCode {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    let cli = aa_lab::cli::Cli::parse();
+    match aa_lab::cli::run(cli) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}

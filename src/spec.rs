@@ -126,7 +126,12 @@ pub struct RunOptions<'a> {
 pub fn frame_camera(spec: &RenderSpec, scene: &Scene, frame: u64) -> FrameCamera {
     let size = (spec.width, spec.height);
     match spec.camera {
-        Some(pose) => FrameCamera { pose, prev_pose: pose, frame, size },
+        Some(pose) => FrameCamera {
+            pose,
+            prev_pose: pose,
+            frame,
+            size,
+        },
         None => FrameCamera::from_rig(&scene.camera, frame, size),
     }
 }
@@ -146,7 +151,12 @@ pub fn build_graph(gpu: &Gpu, scene: &Scene, spec: &RenderSpec) -> Result<FrameG
 }
 
 /// Renders a spec headless and reads every output back.
-pub fn run(gpu: &Gpu, scene: &Scene, spec: &RenderSpec, options: &RunOptions<'_>) -> Result<RenderOutput, RenderError> {
+pub fn run(
+    gpu: &Gpu,
+    scene: &Scene,
+    spec: &RenderSpec,
+    options: &RunOptions<'_>,
+) -> Result<RenderOutput, RenderError> {
     let mut graph = build_graph(gpu, scene, spec)?;
     for slot in graph.slots_mut() {
         slot.technique.set_debug_views(options.debug_views);
@@ -155,8 +165,15 @@ pub fn run(gpu: &Gpu, scene: &Scene, spec: &RenderSpec, options: &RunOptions<'_>
     let first = if temporal { 0 } else { spec.frame };
     let total = spec.frame - first + 1;
     for frame in first..=spec.frame {
-        let info = FrameInfo { camera: frame_camera(spec, scene, frame), reset_history: frame == first };
-        let scope = if frame == spec.frame { FrameScope::All } else { FrameScope::TemporalOnly };
+        let info = FrameInfo {
+            camera: frame_camera(spec, scene, frame),
+            reset_history: frame == first,
+        };
+        let scope = if frame == spec.frame {
+            FrameScope::All
+        } else {
+            FrameScope::TemporalOnly
+        };
         graph.render(&info, scope)?;
         if let Some(progress) = options.progress {
             // Keep the queue short so progress reflects finished work.
@@ -169,22 +186,37 @@ pub fn run(gpu: &Gpu, scene: &Scene, spec: &RenderSpec, options: &RunOptions<'_>
     for slot in graph.slots() {
         let id = slot.technique.id().to_owned();
         if let Some(output) = slot.output() {
-            images.push(TechniqueImage { id: id.clone(), view: None, image: read_texture_rgba8(gpu, output)? });
+            images.push(TechniqueImage {
+                id: id.clone(),
+                view: None,
+                image: read_texture_rgba8(gpu, output)?,
+            });
         }
         for view in slot.technique.debug_views() {
-            images.push(TechniqueImage { id: id.clone(), view: Some(view.name), image: read_texture_rgba8(gpu, view.texture)? });
+            images.push(TechniqueImage {
+                id: id.clone(),
+                view: Some(view.name),
+                image: read_texture_rgba8(gpu, view.texture)?,
+            });
         }
     }
     let notes = graph
         .slots()
         .iter()
-        .filter_map(|s| s.technique.path_note().map(|n| (s.technique.id().to_owned(), n)))
+        .filter_map(|s| {
+            s.technique
+                .path_note()
+                .map(|n| (s.technique.id().to_owned(), n))
+        })
         .collect();
     let scene_renders = graph.scene_renders_last_frame();
     let memory = graph.memory_report();
     let mut timings = graph.timings().cloned();
     if options.timing_repeats > 0 {
-        let info = FrameInfo { camera: frame_camera(spec, scene, spec.frame), reset_history: false };
+        let info = FrameInfo {
+            camera: frame_camera(spec, scene, spec.frame),
+            reset_history: false,
+        };
         let mut repeats = Vec::new();
         for _ in 0..options.timing_repeats {
             graph.render(&info, FrameScope::All)?;
@@ -193,5 +225,11 @@ pub fn run(gpu: &Gpu, scene: &Scene, spec: &RenderSpec, options: &RunOptions<'_>
         }
         timings = FrameTimings::median(&repeats).or(timings);
     }
-    Ok(RenderOutput { images, notes, timings, memory, scene_renders })
+    Ok(RenderOutput {
+        images,
+        notes,
+        timings,
+        memory,
+        scene_renders,
+    })
 }

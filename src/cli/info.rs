@@ -61,17 +61,30 @@ pub fn techniques(json: bool, verbose: bool) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&rows)?);
         return Ok(());
     }
-    println!("techniques on {} ({}):", gpu.caps.adapter_name, gpu.caps.backend);
+    println!(
+        "techniques on {} ({}):",
+        gpu.caps.adapter_name, gpu.caps.backend
+    );
     for row in &rows {
         let status = if row["available"] == true {
             "available".to_owned()
         } else {
-            format!("unavailable: {}", row["reason"].as_str().unwrap_or_default())
+            format!(
+                "unavailable: {}",
+                row["reason"].as_str().unwrap_or_default()
+            )
         };
-        println!("  {:<10} {:<12} {status}", row["id"].as_str().unwrap_or_default(), row["name"].as_str().unwrap_or_default());
+        println!(
+            "  {:<10} {:<12} {status}",
+            row["id"].as_str().unwrap_or_default(),
+            row["name"].as_str().unwrap_or_default()
+        );
         if verbose {
             println!("      {}", row["summary"].as_str().unwrap_or_default());
-            if let Some(presets) = row["settings"]["presets"].as_array().filter(|p| !p.is_empty()) {
+            if let Some(presets) = row["settings"]["presets"]
+                .as_array()
+                .filter(|p| !p.is_empty())
+            {
                 let names: Vec<&str> = presets.iter().filter_map(|p| p.as_str()).collect();
                 println!("      presets: {}", names.join(", "));
             }

@@ -84,7 +84,7 @@ impl RenderArgs {
     pub fn default_args() -> Self {
         let cli = <Cli as clap::Parser>::parse_from(["aa-lab", "render"]);
         match cli.command {
-            Some(super::Command::Render(args)) => args,
+            Some(super::Command::Render(args)) => *args,
             _ => unreachable!("`aa-lab render` parses as the render command"),
         }
     }
@@ -95,7 +95,11 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let (w, h) = text
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("`{text}` is not WIDTHxHEIGHT (e.g. 1280x720)"))?;
-    let parse = |s: &str| s.trim().parse::<u32>().map_err(|_| format!("`{s}` in `{text}` is not a whole number"));
+    let parse = |s: &str| {
+        s.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("`{s}` in `{text}` is not a whole number"))
+    };
     Ok((parse(w)?, parse(h)?))
 }
 
@@ -123,13 +127,20 @@ fn technique_ids(gpu: &Gpu, list: &str) -> anyhow::Result<Vec<String>> {
 }
 
 /// The `--ssaa-*` and `--msaa-resolve` flags as parameter settings per technique id.
-fn shorthand_settings(args: &RenderArgs, ids: &[String]) -> anyhow::Result<Vec<(String, String, ParamValue)>> {
+fn shorthand_settings(
+    args: &RenderArgs,
+    ids: &[String],
+) -> anyhow::Result<Vec<(String, String, ParamValue)>> {
     let mut out = Vec::new();
-    let jittered = args.ssaa_pattern.is_some() || args.ssaa_samples.is_some() || args.ssaa_filter.is_some();
+    let jittered =
+        args.ssaa_pattern.is_some() || args.ssaa_samples.is_some() || args.ssaa_filter.is_some();
     if args.ssaa_factor.is_some() && jittered {
-        bail!("--ssaa-factor selects the ordered grid; --ssaa-pattern/--ssaa-samples/--ssaa-filter select jittered sampling: give one or the other");
+        bail!(
+            "--ssaa-factor selects the ordered grid; --ssaa-pattern/--ssaa-samples/--ssaa-filter select jittered sampling: give one or the other"
+        );
     }
-    let mut ssaa = |key: &str, value: ParamValue| out.push(("ssaa".to_owned(), key.to_owned(), value));
+    let mut ssaa =
+        |key: &str, value: ParamValue| out.push(("ssaa".to_owned(), key.to_owned(), value));
     if let Some(k) = args.ssaa_factor {
         ssaa("mode", ParamValue::Choice("ordered".into()));
         ssaa("factor", ParamValue::Int(i64::from(k)));
@@ -147,22 +158,39 @@ fn shorthand_settings(args: &RenderArgs, ids: &[String]) -> anyhow::Result<Vec<(
         ssaa("filter", ParamValue::Choice(f.clone()));
     }
     if !out.is_empty() && !ids.iter().any(|id| id == "ssaa") {
-        bail!("--ssaa-* options apply to the ssaa technique, which is not among --technique {}", ids.join(","));
+        bail!(
+            "--ssaa-* options apply to the ssaa technique, which is not among --technique {}",
+            ids.join(",")
+        );
     }
     if let Some(resolve) = &args.msaa_resolve {
         let msaa: Vec<&String> = ids.iter().filter(|id| id.starts_with("msaa")).collect();
         if msaa.is_empty() {
-            bail!("--msaa-resolve applies to MSAA techniques, and none is among --technique {}", ids.join(","));
+            bail!(
+                "--msaa-resolve applies to MSAA techniques, and none is among --technique {}",
+                ids.join(",")
+            );
         }
         for id in msaa {
-            out.push((id.clone(), "resolve".to_owned(), ParamValue::Choice(resolve.clone())));
+            out.push((
+                id.clone(),
+                "resolve".to_owned(),
+                ParamValue::Choice(resolve.clone()),
+            ));
         }
     }
     for item in &args.set {
-        let (target, value) = item.split_once('=').with_context(|| format!("--set {item}: expected TECHNIQUE.KEY=VALUE"))?;
-        let (id, key) = target.split_once('.').with_context(|| format!("--set {item}: expected TECHNIQUE.KEY=VALUE"))?;
+        let (target, value) = item
+            .split_once('=')
+            .with_context(|| format!("--set {item}: expected TECHNIQUE.KEY=VALUE"))?;
+        let (id, key) = target
+            .split_once('.')
+            .with_context(|| format!("--set {item}: expected TECHNIQUE.KEY=VALUE"))?;
         if !ids.iter().any(|i| i == id) {
-            bail!("--set {item}: {id} is not among --technique {}", ids.join(","));
+            bail!(
+                "--set {item}: {id} is not among --technique {}",
+                ids.join(",")
+            );
         }
         out.push((id.to_owned(), key.to_owned(), parse_value(value)));
     }
@@ -178,7 +206,9 @@ fn spec_from_args(gpu: &Gpu, args: &RenderArgs, scene_name: &str) -> anyhow::Res
     for id in &ids {
         let mut technique = aa::create(gpu, id)?;
         for preset in &args.preset {
-            let (target, name) = preset.split_once('=').with_context(|| format!("--preset {preset}: expected TECHNIQUE=PRESET"))?;
+            let (target, name) = preset
+                .split_once('=')
+                .with_context(|| format!("--preset {preset}: expected TECHNIQUE=PRESET"))?;
             if target == id {
                 technique.apply_preset(name)?;
             }
@@ -188,13 +218,19 @@ fn spec_from_args(gpu: &Gpu, args: &RenderArgs, scene_name: &str) -> anyhow::Res
                 aa::set_param(technique.as_mut(), key, value.clone())?;
             }
         }
-        techniques.push(TechniqueSpec { id: id.clone(), settings: aa::param_map(technique.as_ref()) });
+        techniques.push(TechniqueSpec {
+            id: id.clone(),
+            settings: aa::param_map(technique.as_ref()),
+        });
     }
     for preset in &args.preset {
         if let Some((target, _)) = preset.split_once('=')
             && !ids.iter().any(|i| i == target)
         {
-            bail!("--preset {preset}: {target} is not among --technique {}", ids.join(","));
+            bail!(
+                "--preset {preset}: {target} is not among --technique {}",
+                ids.join(",")
+            );
         }
     }
     Ok(RenderSpec {
@@ -213,17 +249,31 @@ fn spec_from_args(gpu: &Gpu, args: &RenderArgs, scene_name: &str) -> anyhow::Res
 
 /// Loads a spec from a sidecar JSON or the record inside an aa-lab PNG.
 pub fn load_spec(path: &Path) -> anyhow::Result<RenderSpec> {
-    let is_png = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    let is_png = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
     let text = if is_png {
-        read_record(path)?.with_context(|| format!("{} has no aa-lab record (it was not written by aa-lab)", path.display()))?
+        read_record(path)?.with_context(|| {
+            format!(
+                "{} has no aa-lab record (it was not written by aa-lab)",
+                path.display()
+            )
+        })?
     } else {
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?
     };
-    serde_json::from_str(&text).with_context(|| format!("{} is not a valid aa-lab render record", path.display()))
+    serde_json::from_str(&text)
+        .with_context(|| format!("{} is not a valid aa-lab render record", path.display()))
 }
 
-fn output_paths(out: &Path, scene: &str, images: &[spec::TechniqueImage]) -> anyhow::Result<Vec<PathBuf>> {
-    let names_file = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
+fn output_paths(
+    out: &Path,
+    scene: &str,
+    images: &[spec::TechniqueImage],
+) -> anyhow::Result<Vec<PathBuf>> {
+    let names_file = out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
     if names_file {
         if images.len() != 1 {
             bail!(
@@ -233,11 +283,13 @@ fn output_paths(out: &Path, scene: &str, images: &[spec::TechniqueImage]) -> any
             );
         }
         if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
-            std::fs::create_dir_all(parent).with_context(|| format!("cannot create directory {}", parent.display()))?;
+            std::fs::create_dir_all(parent)
+                .with_context(|| format!("cannot create directory {}", parent.display()))?;
         }
         return Ok(vec![out.to_owned()]);
     }
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create output directory {}", out.display()))?;
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("cannot create output directory {}", out.display()))?;
     Ok(images
         .iter()
         .map(|i| {
@@ -278,13 +330,19 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     };
     spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
     spec.build = Some(spec::build_id());
-    let options = SceneOptions { density: spec.density, seed: spec.seed };
+    let options = SceneOptions {
+        density: spec.density,
+        seed: spec.seed,
+    };
     let scene = source::load(&spec.scene, &options)?;
     for warning in &scene.warnings {
         eprintln!("warning: {warning}");
     }
     if args.strict && !scene.warnings.is_empty() {
-        bail!("{} scene warning(s) and --strict was given", scene.warnings.len());
+        bail!(
+            "{} scene warning(s) and --strict was given",
+            scene.warnings.len()
+        );
     }
     let loaded = started.elapsed();
 
@@ -309,7 +367,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     for (image, path) in output.images.iter().zip(&paths) {
         let existed = path.exists();
         export::write_png(path, &image.image, Some(&record))?;
-        println!("{}{}", if existed { "overwrote " } else { "wrote " }, path.display());
+        println!(
+            "{}{}",
+            if existed { "overwrote " } else { "wrote " },
+            path.display()
+        );
     }
     for (id, note) in &output.notes {
         println!("{id}: {note}");
@@ -337,7 +399,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
 
 fn print_timings(gpu: &Gpu, timings: Option<&crate::graph::FrameTimings>) {
     let Some(timings) = timings else {
-        println!("no GPU timings: {} has no timestamp queries", gpu.caps.adapter_name);
+        println!(
+            "no GPU timings: {} has no timestamp queries",
+            gpu.caps.adapter_name
+        );
         return;
     };
     println!("GPU time per pass (ms, median of 5 frames):");

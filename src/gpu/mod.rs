@@ -101,10 +101,27 @@ impl Gpu {
     }
 
     async fn headless_async() -> Result<Self, GpuError> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all());
-        let mut adapters = instance.enumerate_adapters(backends).await;
+        // Vulkan/Metal/DX12 first; OpenGL (whose EGL probing also prints noise about missing
+        // displays) only when none of those has an adapter, or when WGPU_BACKEND asks for it.
+        let enumerate = |backends: wgpu::Backends| {
+            let descriptor = wgpu::InstanceDescriptor {
+                backends,
+                ..wgpu::InstanceDescriptor::new_without_display_handle_from_env()
+            };
+            let instance = wgpu::Instance::new(descriptor);
+            async move { instance.enumerate_adapters(backends).await }
+        };
+        let mut adapters = match wgpu::Backends::from_env() {
+            Some(backends) => enumerate(backends).await,
+            None => {
+                let primary = enumerate(wgpu::Backends::PRIMARY).await;
+                if primary.is_empty() {
+                    enumerate(wgpu::Backends::GL).await
+                } else {
+                    primary
+                }
+            }
+        };
         if let Ok(wanted) = std::env::var("WGPU_ADAPTER_NAME") {
             let wanted = wanted.to_lowercase();
             adapters.retain(|a| a.get_info().name.to_lowercase().contains(&wanted));

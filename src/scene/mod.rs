@@ -4,7 +4,10 @@
 
 pub mod camera;
 pub mod model;
+pub mod obj;
+pub mod procedural;
 pub mod renderer;
+pub mod source;
 
 pub use model::{
     AlphaMode, CameraRig, DirectionalLight, Material, Mesh, Scene, Spin, TextureImage, Vertex,

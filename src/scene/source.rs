@@ -33,7 +33,9 @@ pub fn load(spec: &str, options: &SceneOptions) -> Result<Scene, SceneError> {
         return Ok(scene);
     }
     let path = Path::new(spec);
-    let is_obj = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+    let is_obj = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
     if !is_obj && !path.exists() {
         return Err(SceneError::Unknown(spec.to_owned()));
     }
