@@ -7,6 +7,8 @@
 //! data ([`params::Param`]) so that the CLI, the viewer and sidecar files handle every
 //! technique the same way. Adding a technique means adding one module and one registry entry.
 
+pub mod color;
+pub mod fxaa;
 pub mod msaa;
 pub mod none;
 pub mod params;
@@ -14,6 +16,7 @@ pub mod registry;
 pub mod sampling;
 pub mod smaa;
 pub mod ssaa;
+pub mod taa;
 
 use glam::Vec2;
 

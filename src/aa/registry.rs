@@ -3,9 +3,11 @@
 //! how to create it. Adding a technique is one entry here plus its module.
 
 use super::Technique;
+use super::fxaa::Fxaa;
 use super::msaa::Msaa;
 use super::none::NoAa;
 use super::ssaa::Ssaa;
+use super::taa::Taa;
 use crate::gpu::{Capabilities, Gpu};
 
 /// One registry entry.
@@ -95,6 +97,18 @@ pub fn registry() -> Vec<TechniqueInfo> {
             create: |gpu| Box::new(Msaa::new(gpu, 16)),
         },
         TechniqueInfo {
+            id: "fxaa",
+            name: "FXAA",
+            summary: "Fast Approximate Antialiasing (Lottes, NVIDIA; the FXAA 3.11 quality path): one \
+                 post pass over the finished image finds luma edges, follows each to its ends and \
+                 blends across it. About the cost of a blur and independent of scene complexity, \
+                 but it only sees the final pixels: it cannot recover sub-pixel geometry, it softens \
+                 textures and text with contrast, and a still image's stair steps become a slight \
+                 crawl in motion.",
+            availability: always,
+            create: |gpu| Box::new(Fxaa::new(gpu)),
+        },
+        TechniqueInfo {
             id: "smaa",
             name: "SMAA 1x",
             summary: "Morphological antialiasing of the finished image: edges are found by luma (or colour or \
@@ -126,6 +140,18 @@ pub fn registry() -> Vec<TechniqueInfo> {
                  twice at the two positions instead.",
             availability: always,
             create: |gpu| Box::new(super::smaa::Smaa::new(gpu, super::smaa::Mode::S2x)),
+        },
+        TechniqueInfo {
+            id: "taa",
+            name: "TAA",
+            summary: "Temporal antialiasing (after Karis 2014 and Salvi 2016): every frame renders one \
+                 sample per pixel at a different sub-pixel jitter and blends it into a reprojected \
+                 history, so a still image converges towards many samples per pixel for the cost of \
+                 one post pass. It handles edges, textures and specular shimmer alike, but needs \
+                 motion vectors, blurs slightly under motion, and can ghost or smear where the \
+                 history cannot be matched (disocclusions, transparency, fast-changing shading).",
+            availability: always,
+            create: |gpu| Box::new(Taa::new(gpu)),
         },
     ]
 }
