@@ -31,13 +31,28 @@ fn frame(scene: &Scene, size: (u32, u32)) -> FrameInfo {
 
 /// Renders one frame of `techniques` and returns each output's red channel, row-major.
 fn render(gpu: &Gpu, scene: &Scene, techniques: Vec<Box<dyn Technique>>) -> Vec<Vec<u8>> {
+    render_frames(gpu, scene, techniques, 0)
+}
+
+/// Renders frames 0..=`last` of `techniques` (temporal ones converge on the still chart) and
+/// returns each output's red channel of the last frame, row-major.
+fn render_frames(
+    gpu: &Gpu,
+    scene: &Scene,
+    techniques: Vec<Box<dyn Technique>>,
+    last: u64,
+) -> Vec<Vec<u8>> {
     let mut graph = FrameGraph::new(gpu.clone(), scene);
     for t in techniques {
         graph.add(t);
     }
-    graph
-        .render(&frame(scene, SIZE), FrameScope::All)
-        .expect("frame renders");
+    for n in 0..=last {
+        let info = FrameInfo {
+            camera: FrameCamera::from_rig(&scene.camera, n, SIZE),
+            reset_history: n == 0,
+        };
+        graph.render(&info, FrameScope::All).expect("frame renders");
+    }
     graph.finish();
     graph
         .slots()
@@ -204,10 +219,12 @@ fn every_technique_differs_from_no_aa_on_edges_and_matches_it_on_flat_areas() {
         .filter(|i| (i.availability)(&gpu.caps).is_ok())
         .map(|i| i.id)
         .collect();
-    let images = render(
+    // Sixteen frames, so that temporal techniques have accumulated their jitter sequence.
+    let images = render_frames(
         &gpu,
         &scene,
         ids.iter().map(|id| technique(&gpu, id, &[])).collect(),
+        16,
     );
     let none = &images[ids
         .iter()
