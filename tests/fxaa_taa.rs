@@ -9,6 +9,8 @@ use aa_lab::aa::{self, FrameInfo, Technique};
 use aa_lab::gpu::{Gpu, read_texture_rgba8};
 use aa_lab::graph::{FrameGraph, FrameScope};
 use aa_lab::scene::camera::{FrameCamera, OrbitPose};
+use aa_lab::scene::procedural::SceneOptions;
+use aa_lab::scene::source::load;
 use aa_lab::scene::{Scene, Spin};
 use glam::Vec3;
 use image::RgbaImage;
@@ -37,23 +39,38 @@ fn still(scene: &Scene, frame: u64, size: (u32, u32)) -> FrameCamera {
     FrameCamera::from_rig(&scene.camera, frame, size)
 }
 
-/// Runs `cameras` in order (the first frame resets the history) and returns every technique's
-/// output after the last one.
+/// Runs `cameras` in order (the first frame resets the history; earlier frames run only the
+/// temporal techniques, as `spec::run` does) and returns every technique's output after the
+/// last one.
 fn run(gpu: &Gpu, graph: &mut FrameGraph, cameras: &[FrameCamera]) -> Vec<RgbaImage> {
     for (i, camera) in cameras.iter().enumerate() {
-        render(graph, *camera, i == 0);
+        let scope = if i + 1 == cameras.len() {
+            FrameScope::All
+        } else {
+            FrameScope::TemporalOnly
+        };
+        render_scope(graph, *camera, i == 0, scope);
     }
     outputs(gpu, graph)
 }
 
 fn render(graph: &mut FrameGraph, camera: FrameCamera, reset_history: bool) {
+    render_scope(graph, camera, reset_history, FrameScope::All);
+}
+
+fn render_scope(
+    graph: &mut FrameGraph,
+    camera: FrameCamera,
+    reset_history: bool,
+    scope: FrameScope,
+) {
     graph
         .render(
             &FrameInfo {
                 camera,
                 reset_history,
             },
-            FrameScope::All,
+            scope,
         )
         .unwrap_or_else(|e| panic!("{e}"));
 }
@@ -220,6 +237,29 @@ fn fxaa_lowers_the_error_against_the_reference() {
             fxaa < 0.9 * none,
             "slant {slant}: FXAA error {fxaa:.3} vs No AA {none:.3}"
         );
+    }
+}
+
+#[test]
+fn fxaa_and_taa_approach_the_reference_on_the_builtin_chart_and_hairball() {
+    let gpu = common::gpu();
+    for name in ["chart", "hairball"] {
+        let scene = load(name, &SceneOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        let (reference, images) = with_reference(
+            &gpu,
+            &scene,
+            vec![
+                technique(&gpu, "none", &[]),
+                technique(&gpu, "fxaa", &[]),
+                technique(&gpu, "taa", &[]),
+            ],
+            33,
+            (480, 270),
+        );
+        let [none, fxaa, taa] = [0, 1, 2].map(|i| mean_error(&images[i], &reference));
+        println!("{name} 480x270: No AA {none:.3}, FXAA {fxaa:.3}, TAA (32 frames) {taa:.3}");
+        assert!(fxaa < none, "{name}: FXAA {fxaa:.3} vs No AA {none:.3}");
+        assert!(taa < 0.5 * none, "{name}: TAA {taa:.3} vs No AA {none:.3}");
     }
 }
 
