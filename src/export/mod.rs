@@ -1,6 +1,9 @@
-//! Writing results: PNG images with their reproducibility record embedded, and (later) sheets,
-//! reports and charts.
+//! Writing results: PNG images with their reproducibility record embedded, error heatmaps with
+//! legends, bench reports (JSON and Markdown) and charts.
 
+pub mod charts;
+pub mod heatmap;
 pub mod png;
+pub mod report;
 
 pub use self::png::{ExportError, write_png};

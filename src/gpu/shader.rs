@@ -19,6 +19,14 @@ pub const SHADERS: &[(&str, &str)] = &[
         include_str!("../../shaders/msaa_debug.wgsl"),
     ),
     ("ssaa.wgsl", include_str!("../../shaders/ssaa.wgsl")),
+    (
+        "metrics_ssim.wgsl",
+        include_str!("../../shaders/metrics_ssim.wgsl"),
+    ),
+    (
+        "metrics_copy.wgsl",
+        include_str!("../../shaders/metrics_copy.wgsl"),
+    ),
 ];
 
 /// The source of `shaders/<name>`.
