@@ -604,12 +604,12 @@ impl Bench<'_> {
                             label: label.clone(),
                             count: *count,
                             ms: Summary::of(ms),
-                            fragment_invocations: statistics.as_ref().map(|st| {
+                            fragment_invocations: statistics.as_ref().and_then(|st| {
                                 st.passes
                                     .iter()
                                     .filter(|p| p.label == *label)
                                     .map(|p| p.fragment_invocations)
-                                    .sum()
+                                    .reduce(|a, b| a + b)
                             }),
                         })
                         .collect(),

@@ -1,7 +1,7 @@
-//! PNG charts for reports, drawn with plotters on its bitmap backend. Text uses fonts embedded
-//! in the binary (Ubuntu Light and Hack from `epaint_default_fonts`, registered with plotters'
-//! `ab_glyph` renderer on first use), so charts render identically on machines without
-//! fontconfig or any system font.
+//! PNG charts for reports, drawn with plotters on its bitmap backend. Text uses a font embedded
+//! in the binary (Ubuntu Light from `epaint_default_fonts`, registered with plotters' `ab_glyph`
+//! renderer on first use as its default `sans-serif` family), so charts render identically on
+//! machines without fontconfig or any system font.
 //!
 //! Two chart kinds cover the reports: horizontal bar charts ([`BarChart`]: one row per
 //! technique, bars grouped or stacked by series, each labelled with its value) and line charts
@@ -12,13 +12,12 @@ use std::sync::OnceLock;
 
 use plotters::prelude::*;
 use plotters::style::FontStyle;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::png::ExportError;
 
 /// Family name the sans-serif UI font is registered under (plotters' default family).
 pub const SANS: &str = "sans-serif";
-/// Family name the monospace font is registered under.
-pub const MONO: &str = "monospace";
 
 /// Errors of drawing charts and heatmaps.
 #[derive(Debug, thiserror::Error)]
@@ -53,15 +52,12 @@ pub fn register_fonts() -> Result<(), String> {
     static REGISTERED: OnceLock<Result<(), String>> = OnceLock::new();
     REGISTERED
         .get_or_init(|| {
-            for (family, bytes) in [
-                (SANS, epaint_default_fonts::UBUNTU_LIGHT),
-                ("serif", epaint_default_fonts::UBUNTU_LIGHT),
-                (MONO, epaint_default_fonts::HACK_REGULAR),
-            ] {
-                plotters::style::register_font(family, FontStyle::Normal, bytes)
-                    .map_err(|_| format!("the embedded {family} font is not a valid font"))?;
-            }
-            Ok(())
+            plotters::style::register_font(
+                SANS,
+                FontStyle::Normal,
+                epaint_default_fonts::UBUNTU_LIGHT,
+            )
+            .map_err(|_| "the embedded Ubuntu Light font is not a valid font".to_owned())
         })
         .clone()
 }
@@ -126,6 +122,36 @@ fn drawing_error<E: std::error::Error + Send + Sync>(
     move |e| ChartError::draw(path, e)
 }
 
+/// Axis numbers without trailing zeros (`2000`, `0.25`).
+pub fn format_number(value: f64) -> String {
+    let text = format!("{value:.3}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    if text == "-0" {
+        "0".to_owned()
+    } else {
+        text.to_owned()
+    }
+}
+
+/// Draws a row of legend entries (colour box and name per series) at height `y` of `area`.
+fn draw_legend<'n, DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    names: impl Iterator<Item = &'n str>,
+    y: i32,
+) -> Result<(), plotters::drawing::DrawingAreaErrorKind<DB::ErrorType>> {
+    let mut x = 20;
+    for (i, name) in names.enumerate() {
+        area.draw(&Rectangle::new(
+            [(x, y - 7), (x + 16, y + 7)],
+            series_color(i).filled(),
+        ))?;
+        let style = TextStyle::from((SANS, 16).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
+        area.draw(&Text::new(name.to_owned(), (x + 22, y), style))?;
+        x += 22 + 9 * name.chars().count() as i32 + 28;
+    }
+    Ok(())
+}
+
 /// Draws a [`BarChart`] to a PNG file.
 pub fn draw_bars(path: &Path, chart: &BarChart<'_>) -> Result<(), ChartError> {
     register_fonts().map_err(|e| ChartError::draw(path, e))?;
@@ -151,11 +177,22 @@ pub fn draw_bars(path: &Path, chart: &BarChart<'_>) -> Result<(), ChartError> {
         BarLayout::Grouped => chart.series.len(),
         BarLayout::Stacked => 1,
     };
-    let height = (110 + rows * (18 + 16 * bar_rows) + 30 * usize::from(chart.series.len() > 1))
-        .clamp(260, 1400) as u32;
+    let legend = chart.series.len() > 1;
+    let header: u32 = if legend { 76 } else { 48 };
+    let height = (header + 70 + (rows * (18 + 16 * bar_rows)) as u32).clamp(240, 1400);
     let root = BitMapBackend::new(path, (960, height)).into_drawing_area();
     let err = drawing_error(path);
     root.fill(&WHITE).map_err(&err)?;
+    let (top, body) = root.split_vertically(header);
+    top.draw(&Text::new(
+        chart.title.to_owned(),
+        (16, 12),
+        (SANS, 24).into_font(),
+    ))
+    .map_err(&err)?;
+    if legend {
+        draw_legend(&top, chart.series.iter().map(|s| s.name.as_str()), 48).map_err(&err)?;
+    }
     let label_width = chart
         .categories
         .iter()
@@ -164,20 +201,22 @@ pub fn draw_bars(path: &Path, chart: &BarChart<'_>) -> Result<(), ChartError> {
         .unwrap_or(4) as u32
         * 9
         + 20;
-    let mut ctx = ChartBuilder::on(&root)
-        .caption(chart.title, (SANS, 24))
+    let mut ctx = ChartBuilder::on(&body)
         .margin(16)
+        .margin_top(4)
         .x_label_area_size(44)
         .y_label_area_size(label_width.clamp(80, 320))
         .build_cartesian_2d(lo..hi, 0.0..rows as f64)
         .map_err(&err)?;
+    let number = |v: &f64| format_number(*v);
     ctx.configure_mesh()
         .disable_y_mesh()
         .y_labels(0)
+        .x_label_formatter(&number)
         .x_desc(chart.value_label)
         .axis_desc_style((SANS, 17))
         .label_style((SANS, 15))
-        .light_line_style(RGBColor(235, 235, 235))
+        .light_line_style(RGBColor(238, 238, 238))
         .draw()
         .map_err(&err)?;
     let slot = 0.78 / bar_rows as f64;
@@ -206,8 +245,10 @@ pub fn draw_bars(path: &Path, chart: &BarChart<'_>) -> Result<(), ChartError> {
                 [(start, y0), (end.max(start), y0 - slot)],
                 color.filled(),
             ));
-            let show_label = chart.layout == BarLayout::Grouped || s + 1 == chart.series.len();
-            if show_label {
+            let last_of_row = chart.series[s + 1..]
+                .iter()
+                .all(|o| !o.values.get(row).is_some_and(|v| v.is_finite()));
+            if chart.layout == BarLayout::Grouped || last_of_row {
                 let shown = if chart.layout == BarLayout::Stacked {
                     row_total(row)
                 } else {
@@ -216,18 +257,15 @@ pub fn draw_bars(path: &Path, chart: &BarChart<'_>) -> Result<(), ChartError> {
                 labels.push((end.max(start), y0 - slot * 0.5, shown));
             }
         }
-        let drawn = ctx.draw_series(bars).map_err(&err)?;
-        if chart.series.len() > 1 {
-            drawn.label(series.name.clone()).legend(move |(x, y)| {
-                Rectangle::new([(x, y - 6), (x + 14, y + 6)], color.filled())
-            });
-        }
+        ctx.draw_series(bars).map_err(&err)?;
         for (x, y, value) in labels {
-            let at = ctx.backend_coord(&(x, y));
+            let at = ctx.backend_coord(&(x.min(hi), y));
+            let style =
+                TextStyle::from((SANS, 14).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
             root.draw(&Text::new(
                 format!("{value:.*}", chart.decimals),
-                (at.0 + 5, at.1 - 7),
-                (MONO, 13).into_font(),
+                (at.0 + 5, at.1),
+                style,
             ))
             .map_err(&err)?;
         }
@@ -235,20 +273,8 @@ pub fn draw_bars(path: &Path, chart: &BarChart<'_>) -> Result<(), ChartError> {
     for (row, name) in chart.categories.iter().enumerate() {
         let at = ctx.backend_coord(&(lo, (rows - row) as f64 - 0.5));
         let style =
-            TextStyle::from((SANS, 16).into_font()).pos(plotters::style::text_anchor::Pos::new(
-                plotters::style::text_anchor::HPos::Right,
-                plotters::style::text_anchor::VPos::Center,
-            ));
+            TextStyle::from((SANS, 16).into_font()).pos(Pos::new(HPos::Right, VPos::Center));
         root.draw(&Text::new(name.clone(), (at.0 - 8, at.1), style))
-            .map_err(&err)?;
-    }
-    if chart.series.len() > 1 {
-        ctx.configure_series_labels()
-            .position(SeriesLabelPosition::LowerRight)
-            .background_style(WHITE.mix(0.9))
-            .border_style(RGBColor(180, 180, 180))
-            .label_font((SANS, 15))
-            .draw()
             .map_err(&err)?;
     }
     root.present().map_err(&err)?;
@@ -295,25 +321,36 @@ pub fn draw_lines(path: &Path, chart: &LineChart<'_>) -> Result<(), ChartError> 
     let (x_lo, x_hi) = points().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
     let (y_lo, y_hi) = points().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
     let x_pad = ((x_hi - x_lo) * 0.05).max(1e-9);
-    let root = BitMapBackend::new(path, (960, 620)).into_drawing_area();
+    let root = BitMapBackend::new(path, (960, 640)).into_drawing_area();
     let err = drawing_error(path);
     root.fill(&WHITE).map_err(&err)?;
-    let mut builder = ChartBuilder::on(&root);
+    let (top, body) = root.split_vertically(76);
+    top.draw(&Text::new(
+        chart.title.to_owned(),
+        (16, 12),
+        (SANS, 24).into_font(),
+    ))
+    .map_err(&err)?;
+    draw_legend(&top, chart.lines.iter().map(|l| l.name.as_str()), 48).map_err(&err)?;
+    let mut builder = ChartBuilder::on(&body);
     builder
-        .caption(chart.title, (SANS, 24))
         .margin(16)
+        .margin_top(4)
         .x_label_area_size(48)
         .y_label_area_size(72);
     let x_range = (x_lo - x_pad)..(x_hi + x_pad);
+    let number = |v: &f64| format_number(*v);
     macro_rules! finish {
         ($ctx:expr) => {{
             let mut ctx = $ctx;
             ctx.configure_mesh()
                 .x_desc(chart.x_label)
                 .y_desc(chart.y_label)
+                .x_label_formatter(&number)
+                .y_label_formatter(&number)
                 .axis_desc_style((SANS, 17))
                 .label_style((SANS, 15))
-                .light_line_style(RGBColor(235, 235, 235))
+                .light_line_style(RGBColor(238, 238, 238))
                 .draw()
                 .map_err(&err)?;
             for (i, line) in chart.lines.iter().enumerate() {
@@ -325,21 +362,10 @@ pub fn draw_lines(path: &Path, chart: &LineChart<'_>) -> Result<(), ChartError> 
                     .filter(|p| p.0.is_finite() && p.1.is_finite() && (!chart.log_y || p.1 > 0.0))
                     .collect();
                 ctx.draw_series(LineSeries::new(pts.clone(), color.stroke_width(3)))
-                    .map_err(&err)?
-                    .label(line.name.clone())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(3))
-                    });
+                    .map_err(&err)?;
                 ctx.draw_series(pts.into_iter().map(|p| Circle::new(p, 4, color.filled())))
                     .map_err(&err)?;
             }
-            ctx.configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .background_style(WHITE.mix(0.9))
-                .border_style(RGBColor(180, 180, 180))
-                .label_font((SANS, 15))
-                .draw()
-                .map_err(&err)?;
         }};
     }
     if chart.log_y {

@@ -10,7 +10,7 @@ use std::sync::OnceLock;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::charts::{ChartError, MONO, SANS, register_fonts};
+use super::charts::{ChartError, SANS, register_fonts};
 use super::png::write_png;
 use crate::metrics::Plane;
 
@@ -106,7 +106,7 @@ pub fn render_heatmap(plane: &Plane, style: &HeatmapStyle<'_>) -> Result<image::
                 i if i == ticks - 1 => HPos::Right,
                 _ => HPos::Center,
             };
-            let text = TextStyle::from((MONO, 13).into_font()).pos(Pos::new(anchor, VPos::Top));
+            let text = TextStyle::from((SANS, 14).into_font()).pos(Pos::new(anchor, VPos::Top));
             root.draw(&Text::new(
                 tick_text(lo + t * span),
                 (x as i32, bar.3 as i32 + 4),

@@ -283,7 +283,7 @@ mod tests {
     fn srgb_encoding_end_points() {
         assert_eq!(encode_srgb(0.0), 0);
         assert_eq!(encode_srgb(1.0), 255);
-        assert_eq!(encode_srgb(0.214_041_14), 128);
+        assert_eq!(encode_srgb(0.215_861), 128);
         assert_eq!(encode_srgb(-1.0), 0);
     }
 }
