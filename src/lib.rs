@@ -8,6 +8,8 @@
 //! - [`graph`]: the frame graph that shares scene renders between techniques, with timings
 //!   and memory reports;
 //! - [`spec`]: reproducible render descriptions and the headless runner;
+//! - [`metrics`]: SSIM, PSNR, MAE, FLIP (CPU and GPU), flicker, chart ground truth, timing
+//!   summaries;
 //! - [`export`]: PNG files with their render record;
 //! - [`cli`]: the command-line subcommands.
 
@@ -17,5 +19,6 @@ pub mod export;
 
 pub mod gpu;
 pub mod graph;
+pub mod metrics;
 pub mod scene;
 pub mod spec;

@@ -2,12 +2,16 @@
 //! `techniques` run headless on the same engine. Parsing is clap's; each subcommand lives in
 //! its own file and returns `anyhow::Result` (errors are printed once, by `main`).
 
+mod bench;
+mod compare;
 mod info;
 mod render;
 mod sheet;
 
 use clap::{Parser, Subcommand};
 
+pub use bench::{BenchArgs, Sweep};
+pub use compare::CompareArgs;
 pub use render::RenderArgs;
 
 /// Compare real-time antialiasing techniques on the same frame.
@@ -26,6 +30,11 @@ pub enum Command {
     Render(Box<RenderArgs>),
     /// Lay zoomed crops of several techniques side by side in one labelled PNG.
     Sheet(Box<sheet::SheetArgs>),
+    /// Score an image against a reference: SSIM, PSNR, MAE and FLIP, optionally a heatmap.
+    Compare(CompareArgs),
+    /// Measure every technique's GPU time, memory, shading work, image quality and flicker,
+    /// and write report.json, report.md and charts.
+    Bench(BenchArgs),
     /// Print what the GPU adapter can do (sample counts, timestamps, limits).
     Info {
         /// Print JSON instead of text.
@@ -48,6 +57,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Sheet(args)) => sheet::run(&args),
+        Some(Command::Compare(args)) => compare::run(&args),
+        Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Info { json }) => info::info(json),
         Some(Command::Techniques { json, verbose }) => info::techniques(json, verbose),
         None => render::run(&RenderArgs::default_args()),

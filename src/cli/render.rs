@@ -122,7 +122,7 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
 
 /// The technique ids of a `--technique` list; `all` expands to every technique this adapter
 /// can run, and the unavailable ones are reported on stderr.
-fn technique_ids(gpu: &Gpu, list: &str) -> anyhow::Result<Vec<String>> {
+pub(super) fn technique_ids(gpu: &Gpu, list: &str) -> anyhow::Result<Vec<String>> {
     let mut ids = Vec::new();
     for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         if item == "all" {

@@ -1,8 +1,12 @@
 //! Writing results: PNG images with their reproducibility record embedded, labelled comparison
-//! sheets of zoomed crops, and text rendering for them.
+//! sheets of zoomed crops, text rendering for them, error heatmaps with legends, bench reports
+//! (JSON and Markdown) and charts.
 
+pub mod charts;
+pub mod heatmap;
 pub mod png;
 pub mod sheet;
 pub mod text;
+pub mod report;
 
 pub use self::png::{ExportError, write_png};

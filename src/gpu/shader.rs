@@ -30,6 +30,14 @@ pub const SHADERS: &[(&str, &str)] = &[
         "smaa_modes.wgsl",
         include_str!("../../shaders/smaa_modes.wgsl"),
     ),
+    (
+        "metrics_ssim.wgsl",
+        include_str!("../../shaders/metrics_ssim.wgsl"),
+    ),
+    (
+        "metrics_copy.wgsl",
+        include_str!("../../shaders/metrics_copy.wgsl"),
+    ),
 ];
 
 /// The source of `shaders/<name>`.

@@ -4,12 +4,15 @@
 //! distinct input once (No AA, FXAA and SMAA 1x share one 1x render; TAA and SMAA T2x share a
 //! jittered render when their offsets agree), (3) runs each technique's passes into its own
 //! output texture, all in one command encoder with a GPU timer around every pass. The same
-//! graph serves the viewer and the headless CLI.
+//! graph serves the viewer and the headless CLI. Optionally (off by default) every render pass
+//! also counts its fragment-shader invocations ([`FrameGraph::set_pipeline_statistics`]).
 
 mod memory;
+mod statistics;
 mod timing;
 
 pub use memory::{MemoryItem, MemoryReport, TechniqueMemory};
+pub use statistics::{FrameStatistics, PassInvocations};
 pub use timing::{FrameTimings, PassTiming};
 
 use std::collections::HashMap;
@@ -18,7 +21,8 @@ use crate::aa::{FrameInfo, SceneInput, Technique};
 use crate::gpu::{self, Gpu, fullscreen::Fullscreen};
 use crate::scene::Scene;
 use crate::scene::camera::ViewParams;
-use crate::scene::renderer::{RasterOptions, SceneRenderer, SceneTargets, TargetDesc};
+use crate::scene::renderer::{PassQueries, RasterOptions, SceneRenderer, SceneTargets, TargetDesc};
+use statistics::StatisticsRecorder;
 
 /// Errors of a frame.
 #[derive(Debug, thiserror::Error)]
@@ -82,6 +86,7 @@ pub struct PassContext<'a> {
     profiler: &'a wgpu_profiler::GpuProfiler,
     technique_id: &'static str,
     scene_renders: &'a mut usize,
+    statistics: &'a mut StatisticsRecorder,
 }
 
 impl PassContext<'_> {
@@ -99,6 +104,7 @@ impl PassContext<'_> {
     ) {
         let label = self.label(pass);
         let query = self.profiler.begin_pass_query(label.clone(), self.encoder);
+        let statistics = self.statistics.allocate(&label);
         {
             let mut render_pass = self.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(&label),
@@ -108,7 +114,13 @@ impl PassContext<'_> {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
+            if let Some((set, index)) = statistics {
+                render_pass.begin_pipeline_statistics_query(set, index);
+            }
             record(&mut render_pass);
+            if statistics.is_some() {
+                render_pass.end_pipeline_statistics_query();
+            }
         }
         self.profiler.end_query(self.encoder, query);
     }
@@ -181,15 +193,13 @@ impl PassContext<'_> {
         raster: RasterOptions,
     ) {
         let label = self.label(pass);
-        let query = self.profiler.begin_pass_query(label, self.encoder);
-        self.scene.render(
-            self.gpu,
-            self.encoder,
-            targets,
-            view,
-            raster,
-            query.render_pass_timestamp_writes(),
-        );
+        let query = self.profiler.begin_pass_query(label.clone(), self.encoder);
+        let queries = PassQueries {
+            timestamp_writes: query.render_pass_timestamp_writes(),
+            statistics: self.statistics.allocate(&label),
+        };
+        self.scene
+            .render_queried(self.gpu, self.encoder, targets, view, raster, queries);
         self.profiler.end_query(self.encoder, query);
         *self.scene_renders += 1;
     }
@@ -209,6 +219,7 @@ pub struct FrameGraph {
     size: (u32, u32),
     timings: Option<FrameTimings>,
     scene_renders: usize,
+    statistics: StatisticsRecorder,
 }
 
 impl FrameGraph {
@@ -242,6 +253,7 @@ impl FrameGraph {
             size: (0, 0),
             timings: None,
             scene_renders: 0,
+            statistics: StatisticsRecorder::new(),
         }
     }
 
@@ -293,6 +305,21 @@ impl FrameGraph {
     /// GPU timings of the most recent frame whose queries have come back.
     pub fn timings(&self) -> Option<&FrameTimings> {
         self.timings.as_ref()
+    }
+
+    /// Turns fragment-invocation counting on or off (see `graph::statistics`); returns whether
+    /// it is on, which needs the adapter's `PIPELINE_STATISTICS_QUERY`. While on, `render`
+    /// waits for each frame's counts.
+    pub fn set_pipeline_statistics(&mut self, enabled: bool) -> bool {
+        let enabled = enabled && self.gpu.caps.pipeline_statistics;
+        self.statistics.set_enabled(enabled);
+        enabled
+    }
+
+    /// Fragment-shader invocations per pass of the last frame, when counting is on and the
+    /// frame's passes fitted the query set.
+    pub fn pipeline_statistics(&self) -> Option<&FrameStatistics> {
+        self.statistics.last()
     }
 
     fn check_size(&self, size: (u32, u32)) -> Result<(), GraphError> {
@@ -393,18 +420,24 @@ impl FrameGraph {
             label: Some("frame"),
         });
         self.scene_renders = 0;
+        self.statistics.begin_frame(&device);
         // 2. One scene render per distinct input.
         for (input, desc, index) in &self.inputs_used {
             let targets = &self.input_pool[desc][*index];
             let view = camera.params(input.offset(), input.mip_bias());
-            let query = self.profiler.begin_pass_query(input.label(), &mut encoder);
-            self.scene.render(
+            let label = input.label();
+            let query = self.profiler.begin_pass_query(label.clone(), &mut encoder);
+            let queries = PassQueries {
+                timestamp_writes: query.render_pass_timestamp_writes(),
+                statistics: self.statistics.allocate(&label),
+            };
+            self.scene.render_queried(
                 &self.gpu,
                 &mut encoder,
                 targets,
                 &view,
                 input.raster(),
-                query.render_pass_timestamp_writes(),
+                queries,
             );
             self.profiler.end_query(&mut encoder, query);
             self.scene_renders += 1;
@@ -438,10 +471,12 @@ impl FrameGraph {
                 profiler: &self.profiler,
                 technique_id: slot.technique.id(),
                 scene_renders: &mut self.scene_renders,
+                statistics: &mut self.statistics,
             };
             slot.technique.encode(&mut ctx, input, output);
         }
         self.profiler.resolve_queries(&mut encoder);
+        self.statistics.resolve(&mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
         // The profiler only fails to end a frame when scopes were left open, which the
         // closures above make impossible; a dropped frame just means no timings.
@@ -452,6 +487,9 @@ impl FrameGraph {
         if let Some(err) = oom.or(validation) {
             return Err(GraphError::Device(err.to_string()));
         }
+        self.statistics
+            .finish_frame(&device)
+            .map_err(GraphError::Device)?;
         self.collect_timings();
         Ok(())
     }
@@ -487,6 +525,16 @@ impl FrameGraph {
                     .collect();
                 Some((*input, users, targets))
             })
+            .collect()
+    }
+
+    /// The distinct scene inputs of the last frame, in the order they were rendered (the order
+    /// of their passes among the frame's non-technique passes in timings and statistics), each
+    /// with the ids of the techniques that read it.
+    pub fn scene_inputs_last_frame(&self) -> Vec<(SceneInput, Vec<&'static str>)> {
+        self.input_users()
+            .into_iter()
+            .map(|(input, users, _)| (input, users))
             .collect()
     }
 

@@ -151,6 +151,15 @@ pub struct PipelineKey {
     pub cull_back: bool,
 }
 
+/// Queries recorded around one scene render pass.
+#[derive(Default)]
+pub struct PassQueries<'a> {
+    /// Timestamps at the pass's start and end (per-pass GPU time).
+    pub timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'a>>,
+    /// A pipeline-statistics query set and the index to record into.
+    pub statistics: Option<(&'a wgpu::QuerySet, u32)>,
+}
+
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct ViewUniform {
@@ -695,6 +704,24 @@ impl SceneRenderer {
         raster: RasterOptions,
         timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
+        let queries = PassQueries {
+            timestamp_writes,
+            statistics: None,
+        };
+        self.render_queried(gpu, encoder, targets, view, raster, queries);
+    }
+
+    /// [`SceneRenderer::render`] with queries around the pass: timestamps, and a
+    /// pipeline-statistics query (the frame graph's fragment-invocation counts).
+    pub fn render_queried(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &SceneTargets,
+        view: &ViewParams,
+        raster: RasterOptions,
+        queries: PassQueries<'_>,
+    ) {
         let uniform = ViewUniform {
             view_proj: mat(view.view_proj),
             unjittered_view_proj: mat(view.unjittered_view_proj),
@@ -772,10 +799,13 @@ impl SceneRenderer {
                 }),
                 stencil_ops: None,
             }),
-            timestamp_writes,
+            timestamp_writes: queries.timestamp_writes,
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        if let Some((set, index)) = queries.statistics {
+            pass.begin_pipeline_statistics_query(set, index);
+        }
         pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
         pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
         pass.set_bind_group(0, &view_bind_group, &[view_offset]);
@@ -792,6 +822,9 @@ impl SceneRenderer {
                 draw.base_vertex,
                 0..1,
             );
+        }
+        if queries.statistics.is_some() {
+            pass.end_pipeline_statistics_query();
         }
     }
 }

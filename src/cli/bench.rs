@@ -1,0 +1,838 @@
+//! `aa-lab bench`: for every scene x size (or every point of a sweep), runs all chosen
+//! techniques together in one frame graph and measures each one: GPU time per pass and in total
+//! (median and 95th percentile over the timed frames), cost relative to No AA and to a
+//! full-screen copy pass, memory, fragment-shader invocations, image quality against a 64-sample
+//! SSAA reference (SSIM, PSNR, MAE, FLIP; against the exact coverage too on `chart`) and the
+//! flicker ratio. Writes `report.json`, `report.md`, charts and reproducibility sidecars.
+//!
+//! Per run, in order:
+//! 1. timing: `--warmup` + `--frames` frames along a slow camera track ([`SlowTrack`]), every
+//!    technique each frame, the GPU drained after each so every frame's timings are collected;
+//!    the last `--flicker-frames` outputs of each technique go into a [`ChangeMeter`];
+//! 2. one more frame with pipeline-statistics queries on (fragment invocations; untimed);
+//! 3. the reference (SSAA 8x8) on those same flicker frames, for the flicker ratio;
+//! 4. quality: `spec::run` of frame `--quality-frame` of the scene's own camera path (exactly
+//!    what `aa-lab render --from <run>.spec.json` reproduces) and of the reference, scored
+//!    with every metric.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use super::render::{parse_size, technique_ids};
+use crate::aa::{self, FrameInfo, ParamValue, SceneInput};
+use crate::export::heatmap::{HeatmapStyle, write_heatmap};
+use crate::export::report::{
+    self, BenchReport, BenchSettings, InputReport, Invocations, MemorySummary, PassReport,
+    RunReport, TechniqueReport,
+};
+use crate::export::write_png;
+use crate::gpu::{Gpu, read_texture_rgba8};
+use crate::graph::{FrameGraph, FrameScope, FrameStatistics, FrameTimings};
+use crate::metrics::coverage::chart_truth;
+use crate::metrics::floor::{COPY_FLOOR_ID, CopyFloor};
+use crate::metrics::temporal::{ChangeMeter, SlowTrack, flicker_ratio};
+use crate::metrics::{Comparison, Metric, Summary, compare_with_maps};
+use crate::scene::Scene;
+use crate::scene::procedural::{SceneOptions, chart_layout};
+use crate::scene::source;
+use crate::spec::{self, RenderSpec, RunOptions, TechniqueSpec};
+
+/// Image sizes of `--sweep resolution`: 720p to 4K.
+pub const RESOLUTION_SWEEP: [(u32, u32); 4] =
+    [(1280, 720), (1920, 1080), (2560, 1440), (3840, 2160)];
+/// Hairball densities of `--sweep density`: about 100k to 2.1M triangles.
+pub const DENSITY_SWEEP: [f32; 5] = [0.34, 1.0, 2.0, 4.0, 7.0];
+/// Camera motion per frame of the timing and flicker track, pixels.
+pub const TRACK_STEP_PX: f32 = 0.25;
+/// Ordered-grid factor of the reference: 8 x 8 = 64 samples per pixel.
+pub const REFERENCE_FACTOR: u32 = 8;
+
+/// What a sweep varies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Sweep {
+    /// Image size from 1280x720 to 3840x2160.
+    Resolution,
+    /// Hairball triangle count from about 100k to 2.1M.
+    Density,
+}
+
+/// Arguments of `aa-lab bench`.
+#[derive(Debug, clap::Args)]
+pub struct BenchArgs {
+    /// Comma-separated scenes (hairball, atrium, chart or .obj paths).
+    #[arg(long, default_value = "hairball,atrium")]
+    pub scene: String,
+    /// Comma-separated technique ids, or `all` (every technique this adapter can run).
+    #[arg(long, short, default_value = "all")]
+    pub technique: String,
+    /// Comma-separated image sizes, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720")]
+    pub size: String,
+    /// Timed frames per run.
+    #[arg(long, default_value_t = 60)]
+    pub frames: u32,
+    /// Untimed frames before the timed ones (shader compilation, caches, temporal history).
+    #[arg(long, default_value_t = 3)]
+    pub warmup: u32,
+    /// Timed frames (the last ones) read back for the flicker ratio; 0 skips flicker.
+    #[arg(long, default_value_t = 4)]
+    pub flicker_frames: u32,
+    /// Frame of each scene's camera path whose images are scored against the reference.
+    #[arg(long, default_value_t = 16)]
+    pub quality_frame: u64,
+    /// Measure cost only: no reference renders, no image metrics, no flicker.
+    #[arg(long)]
+    pub no_quality: bool,
+    /// Scaling sweep (cost only): `resolution` (720p to 4K) or `density` (hairball, about
+    /// 100k to 2.1M triangles).
+    #[arg(long, value_enum)]
+    pub sweep: Option<Sweep>,
+    /// Built-in scene density (hairball triangle scale).
+    #[arg(long, default_value_t = 1.0)]
+    pub density: f32,
+    /// Built-in scene seed.
+    #[arg(long, default_value_t = SceneOptions::default().seed)]
+    pub seed: u64,
+    /// Output directory for report.json, report.md, charts and sidecars.
+    #[arg(long, short, default_value = "report")]
+    pub out: PathBuf,
+    /// Also write the scored images, the reference and FLIP heatmaps (PNG, with records).
+    #[arg(long)]
+    pub images: bool,
+}
+
+/// One run to measure.
+#[derive(Clone, Debug)]
+struct RunPlan {
+    scene: String,
+    density: f32,
+    size: (u32, u32),
+}
+
+fn plan(args: &BenchArgs) -> anyhow::Result<Vec<RunPlan>> {
+    let scenes: Vec<String> = args
+        .scene
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(str::to_owned)
+        .collect();
+    if scenes.is_empty() {
+        bail!("no scene given; use --scene with hairball, atrium, chart or an .obj path");
+    }
+    let sizes: Vec<(u32, u32)> = match args.sweep {
+        Some(Sweep::Resolution) => RESOLUTION_SWEEP.to_vec(),
+        _ => args
+            .size
+            .split(',')
+            .map(|s| parse_size(s.trim()).map_err(anyhow::Error::msg))
+            .collect::<anyhow::Result<_>>()?,
+    };
+    if let Some(&(w, h)) = sizes.iter().find(|(w, h)| *w == 0 || *h == 0) {
+        bail!("--size {w}x{h}: width and height must be at least 1");
+    }
+    let mut runs = Vec::new();
+    match args.sweep {
+        Some(Sweep::Density) => {
+            if scenes.iter().any(|s| s != "hairball") {
+                eprintln!("--sweep density varies the hairball only; other scenes are skipped");
+            }
+            for &density in &DENSITY_SWEEP {
+                for &size in &sizes {
+                    runs.push(RunPlan {
+                        scene: "hairball".to_owned(),
+                        density,
+                        size,
+                    });
+                }
+            }
+        }
+        _ => {
+            for scene in &scenes {
+                for &size in &sizes {
+                    runs.push(RunPlan {
+                        scene: scene.clone(),
+                        density: args.density,
+                        size,
+                    });
+                }
+            }
+        }
+    }
+    Ok(runs)
+}
+
+/// Settings of every technique, validated by creating it once.
+fn technique_specs(gpu: &Gpu, ids: &[String]) -> anyhow::Result<Vec<TechniqueSpec>> {
+    ids.iter()
+        .map(|id| {
+            let technique = aa::create(gpu, id)?;
+            Ok(TechniqueSpec {
+                id: id.clone(),
+                settings: aa::param_map(technique.as_ref()),
+            })
+        })
+        .collect()
+}
+
+/// The reference: SSAA, ordered grid, 8 x 8.
+fn reference_spec(gpu: &Gpu) -> anyhow::Result<TechniqueSpec> {
+    let mut ssaa = aa::create(gpu, "ssaa")?;
+    aa::set_param(ssaa.as_mut(), "mode", ParamValue::Choice("ordered".into()))?;
+    aa::set_param(
+        ssaa.as_mut(),
+        "factor",
+        ParamValue::Int(i64::from(REFERENCE_FACTOR)),
+    )?;
+    Ok(TechniqueSpec {
+        id: "ssaa".to_owned(),
+        settings: aa::param_map(ssaa.as_ref()),
+    })
+}
+
+/// Per-frame samples of one technique.
+#[derive(Default)]
+struct TechniqueSamples {
+    input_label: Option<String>,
+    post_process: bool,
+    own: Vec<f64>,
+    input: Vec<f64>,
+    /// Per pass label, in first-seen order: passes per frame and ms per frame.
+    passes: Vec<(String, usize, Vec<f64>)>,
+}
+
+/// Per-frame samples of one shared input, keyed by label and users.
+struct InputSamples {
+    label: String,
+    users: Vec<String>,
+    ms: Vec<f64>,
+    invocations: Option<u64>,
+}
+
+/// Everything the timing loop collects.
+struct TimingSamples {
+    techniques: Vec<(String, TechniqueSamples)>,
+    inputs: Vec<InputSamples>,
+    frame: Vec<f64>,
+    floor: Vec<f64>,
+}
+
+impl TimingSamples {
+    fn new(ids: &[&'static str]) -> Self {
+        Self {
+            techniques: ids
+                .iter()
+                .map(|id| ((*id).to_owned(), TechniqueSamples::default()))
+                .collect(),
+            inputs: Vec::new(),
+            frame: Vec::new(),
+            floor: Vec::new(),
+        }
+    }
+
+    /// Adds one frame: `inputs` are the graph's scene inputs in render order.
+    fn add(&mut self, timings: &FrameTimings, inputs: &[(SceneInput, Vec<&'static str>)]) {
+        let input_ms: Vec<f64> = timings
+            .passes
+            .iter()
+            .filter(|p| p.technique().is_none())
+            .map(|p| p.ms)
+            .collect();
+        self.frame.push(
+            timings
+                .passes
+                .iter()
+                .filter(|p| p.technique() != Some(COPY_FLOOR_ID))
+                .map(|p| p.ms)
+                .sum(),
+        );
+        self.floor.push(timings.technique_ms(COPY_FLOOR_ID));
+        for (n, (input, readers)) in inputs.iter().enumerate() {
+            let ms = input_ms.get(n).copied().unwrap_or(f64::NAN);
+            let users: Vec<String> = readers
+                .iter()
+                .filter(|u| **u != COPY_FLOOR_ID)
+                .map(|u| (*u).to_owned())
+                .collect();
+            let label = input.label();
+            match self
+                .inputs
+                .iter_mut()
+                .find(|i| i.label == label && i.users == users)
+            {
+                Some(existing) => existing.ms.push(ms),
+                None => self.inputs.push(InputSamples {
+                    label,
+                    users,
+                    ms: vec![ms],
+                    invocations: None,
+                }),
+            }
+            for user in readers {
+                if let Some((_, t)) = self.techniques.iter_mut().find(|(id, _)| id == user) {
+                    t.input.push(ms);
+                    t.input_label = Some(input.label());
+                    t.post_process = input.sample_count() == 1;
+                }
+            }
+        }
+        for (id, samples) in &mut self.techniques {
+            samples.own.push(timings.technique_ms(id));
+            let mut frame_passes: Vec<(String, usize, f64)> = Vec::new();
+            for pass in timings.technique_passes(id) {
+                match frame_passes.iter_mut().find(|(l, _, _)| *l == pass.label) {
+                    Some(entry) => {
+                        entry.1 += 1;
+                        entry.2 += pass.ms;
+                    }
+                    None => frame_passes.push((pass.label.clone(), 1, pass.ms)),
+                }
+            }
+            for (label, count, ms) in frame_passes {
+                match samples.passes.iter_mut().find(|(l, _, _)| *l == label) {
+                    Some(entry) => entry.2.push(ms),
+                    None => samples.passes.push((label, count, vec![ms])),
+                }
+            }
+        }
+    }
+
+    /// Records the statistics frame's invocations on the shared inputs.
+    fn add_statistics(
+        &mut self,
+        statistics: &FrameStatistics,
+        inputs: &[(SceneInput, Vec<&'static str>)],
+    ) {
+        let counts: Vec<u64> = statistics
+            .passes
+            .iter()
+            .filter(|p| p.technique().is_none())
+            .map(|p| p.fragment_invocations)
+            .collect();
+        for ((input, users), count) in inputs.iter().zip(counts) {
+            let users: Vec<String> = users
+                .iter()
+                .filter(|u| **u != COPY_FLOOR_ID)
+                .map(|u| (*u).to_owned())
+                .collect();
+            if let Some(i) = self
+                .inputs
+                .iter_mut()
+                .find(|i| i.label == input.label() && i.users == users)
+            {
+                i.invocations = Some(count);
+            }
+        }
+    }
+}
+
+/// The progress bar of the whole bench.
+fn progress_bar(total: u64) -> ProgressBar {
+    let bar = ProgressBar::new(total);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] [{bar:32}] {pos}/{len} steps, eta {eta}  {msg}",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> "),
+    );
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    bar
+}
+
+struct Bench<'a> {
+    gpu: &'a Gpu,
+    args: &'a BenchArgs,
+    techniques: Vec<TechniqueSpec>,
+    reference: TechniqueSpec,
+    quality: bool,
+    bar: ProgressBar,
+}
+
+/// Steps one run advances the progress bar by.
+fn run_steps(args: &BenchArgs, quality: bool) -> u64 {
+    let timing = u64::from(args.warmup + args.frames) + 1;
+    if quality {
+        timing + u64::from(args.flicker_frames.min(args.frames)) + args.quality_frame + 2
+    } else {
+        timing
+    }
+}
+
+impl Bench<'_> {
+    fn spec(&self, run: &RunPlan, techniques: Vec<TechniqueSpec>) -> RenderSpec {
+        RenderSpec {
+            scene: run.scene.clone(),
+            density: run.density,
+            seed: self.args.seed,
+            width: run.size.0,
+            height: run.size.1,
+            frame: self.args.quality_frame,
+            camera: None,
+            techniques,
+            adapter: Some(format!(
+                "{} ({})",
+                self.gpu.caps.adapter_name, self.gpu.caps.backend
+            )),
+            build: Some(spec::build_id()),
+        }
+    }
+
+    fn message(&self, run: &RunPlan, phase: &str) {
+        self.bar.set_message(format!(
+            "{} {}x{}{}: {phase}",
+            run.scene,
+            run.size.0,
+            run.size.1,
+            if (run.density - 1.0).abs() > 1e-6 {
+                format!(" density {}", run.density)
+            } else {
+                String::new()
+            }
+        ));
+    }
+
+    /// Reads every technique's current output into its change meter.
+    fn read_outputs(
+        &self,
+        graph: &FrameGraph,
+        meters: &mut [(String, ChangeMeter)],
+    ) -> anyhow::Result<()> {
+        for slot in graph.slots() {
+            let id = slot.technique.id();
+            let (Some(output), Some((_, meter))) =
+                (slot.output(), meters.iter_mut().find(|(m, _)| m == id))
+            else {
+                continue;
+            };
+            meter.push(&read_texture_rgba8(self.gpu, output)?);
+        }
+        Ok(())
+    }
+
+    fn run(&self, run: &RunPlan) -> anyhow::Result<RunReport> {
+        let args = self.args;
+        self.message(run, "building the scene");
+        let options = SceneOptions {
+            density: run.density,
+            seed: args.seed,
+        };
+        let scene = source::load(&run.scene, &options)?;
+        for warning in &scene.warnings {
+            self.bar.println(format!("warning: {warning}"));
+        }
+        let spec = self.spec(run, self.techniques.clone());
+        let reference_spec = self.spec(run, vec![self.reference.clone()]);
+        let track = SlowTrack::new(&scene.camera, run.size, TRACK_STEP_PX);
+        let flicker_frames = if self.quality {
+            args.flicker_frames.min(args.frames)
+        } else {
+            0
+        };
+
+        // 1. Timing along the slow track, with the copy floor alongside.
+        let mut graph = spec::build_graph(self.gpu, &scene, &spec)?;
+        graph.add(Box::new(CopyFloor::new(self.gpu)));
+        let ids: Vec<&'static str> = graph
+            .slots()
+            .iter()
+            .map(|s| s.technique.id())
+            .filter(|id| *id != COPY_FLOOR_ID)
+            .collect();
+        let mut samples = TimingSamples::new(&ids);
+        let mut meters: Vec<(String, ChangeMeter)> = ids
+            .iter()
+            .map(|id| ((*id).to_owned(), ChangeMeter::new()))
+            .collect();
+        let total_frames = u64::from(args.warmup + args.frames);
+        let flicker_from = total_frames - u64::from(flicker_frames);
+        for frame in 0..total_frames {
+            self.message(
+                run,
+                if frame < u64::from(args.warmup) {
+                    "warm-up"
+                } else {
+                    "timed frames"
+                },
+            );
+            let info = FrameInfo {
+                camera: track.camera(frame),
+                reset_history: frame == 0,
+            };
+            graph.render(&info, FrameScope::All)?;
+            graph.finish();
+            if frame >= u64::from(args.warmup) {
+                let timings = graph.timings().with_context(|| {
+                    format!(
+                        "{} returned no GPU timings (timestamp queries unsupported?)",
+                        self.gpu.caps.adapter_name
+                    )
+                })?;
+                samples.add(timings, &graph.scene_inputs_last_frame());
+            }
+            if frame >= flicker_from {
+                self.read_outputs(&graph, &mut meters)?;
+            }
+            self.bar.inc(1);
+        }
+        // 2. Fragment invocations on one more (untimed) frame; a frame with more passes than
+        // the query set held is rendered again.
+        self.message(run, "pipeline statistics");
+        let mut statistics = None;
+        if graph.set_pipeline_statistics(true) {
+            for _ in 0..2 {
+                let info = FrameInfo {
+                    camera: track.camera(total_frames),
+                    reset_history: false,
+                };
+                graph.render(&info, FrameScope::All)?;
+                if let Some(s) = graph.pipeline_statistics() {
+                    statistics = Some(s.clone());
+                    break;
+                }
+            }
+            graph.set_pipeline_statistics(false);
+        }
+        if let Some(s) = &statistics {
+            samples.add_statistics(s, &graph.scene_inputs_last_frame());
+        }
+        self.bar.inc(1);
+        let memory = graph.memory_report();
+        let scene_renders = graph.scene_renders_last_frame();
+        let slot_info: Vec<(String, Option<SceneInput>)> = graph
+            .slots()
+            .iter()
+            .map(|s| {
+                let info = FrameInfo {
+                    camera: track.camera(total_frames),
+                    reset_history: false,
+                };
+                (s.technique.id().to_owned(), s.technique.scene_input(&info))
+            })
+            .collect();
+        drop(graph);
+
+        // 3. The reference over the flicker frames.
+        let mut reference_meter = ChangeMeter::new();
+        if flicker_frames > 0 {
+            self.message(run, "reference for flicker");
+            let mut reference = spec::build_graph(self.gpu, &scene, &reference_spec)?;
+            for frame in flicker_from..total_frames {
+                let info = FrameInfo {
+                    camera: track.camera(frame),
+                    reset_history: frame == flicker_from,
+                };
+                reference.render(&info, FrameScope::All)?;
+                reference.finish();
+                if let Some(output) = reference.slots().first().and_then(|s| s.output()) {
+                    reference_meter.push(&read_texture_rgba8(self.gpu, output)?);
+                }
+                self.bar.inc(1);
+            }
+        }
+
+        // 4. Quality on the scene's own camera path.
+        let scores = if self.quality {
+            self.quality(run, &scene, &spec, &reference_spec)?
+        } else {
+            Vec::new()
+        };
+
+        let none_total = samples
+            .techniques
+            .iter()
+            .find(|(id, _)| id == "none")
+            .map(|(_, s)| Summary::of(&sum_samples(&s.own, &s.input)).median);
+        let floor_ms = Summary::of(&samples.floor);
+        let pixels = f64::from(run.size.0) * f64::from(run.size.1);
+        let techniques = samples
+            .techniques
+            .iter()
+            .zip(&self.techniques)
+            .map(|((id, s), technique_spec)| {
+                let total = Summary::of(&sum_samples(&s.own, &s.input));
+                let own = Summary::of(&s.own);
+                let input_label = s.input_label.clone().or_else(|| {
+                    slot_info
+                        .iter()
+                        .find(|(i, _)| i == id)
+                        .and_then(|(_, input)| input.map(|x| x.label()))
+                });
+                let post_process = s.input_label.is_some() && s.post_process && id != "none";
+                let invocations = statistics.as_ref().map(|st| {
+                    let own = st.technique_invocations(id);
+                    let input = samples
+                        .inputs
+                        .iter()
+                        .find(|i| i.users.iter().any(|u| u == id))
+                        .and_then(|i| i.invocations)
+                        .unwrap_or(0);
+                    Invocations {
+                        own,
+                        input,
+                        total: own + input,
+                        per_pixel: (own + input) as f64 / pixels,
+                    }
+                });
+                let memory = memory
+                    .techniques
+                    .iter()
+                    .find(|m| m.technique == *id)
+                    .map(|m| MemorySummary {
+                        standalone_bytes: m.standalone_bytes(),
+                        own_bytes: m.own_bytes(),
+                        input_bytes: m.input_bytes(),
+                    });
+                let (quality, truth) = scores
+                    .iter()
+                    .find(|(i, _, _)| i == id)
+                    .map_or((None, None), |(_, q, t)| (Some(*q), *t));
+                let meter = meters.iter().find(|(m, _)| m == id).map(|(_, m)| m);
+                TechniqueReport {
+                    id: id.clone(),
+                    name: aa::registry::info(id).map_or_else(|| id.clone(), |i| i.name.to_owned()),
+                    input: input_label,
+                    post_process,
+                    settings: technique_spec.settings.clone(),
+                    passes: s
+                        .passes
+                        .iter()
+                        .map(|(label, count, ms)| PassReport {
+                            label: label.clone(),
+                            count: *count,
+                            ms: Summary::of(ms),
+                            fragment_invocations: statistics.as_ref().and_then(|st| {
+                                st.passes
+                                    .iter()
+                                    .filter(|p| p.label == *label)
+                                    .map(|p| p.fragment_invocations)
+                                    .reduce(|a, b| a + b)
+                            }),
+                        })
+                        .collect(),
+                    own_ms: own,
+                    input_ms: Summary::of(&s.input),
+                    relative_to_none: none_total.filter(|n| *n > 0.0).map(|n| total.median / n),
+                    floor_multiple: (post_process && floor_ms.median > 0.0)
+                        .then(|| own.median / floor_ms.median),
+                    total_ms: total,
+                    memory,
+                    fragment_invocations: invocations,
+                    quality,
+                    truth,
+                    mean_change: meter.and_then(ChangeMeter::mean_change),
+                    flicker_ratio: meter.and_then(|m| flicker_ratio(m, &reference_meter)),
+                }
+            })
+            .collect();
+        let floor_bytes = memory
+            .techniques
+            .iter()
+            .find(|m| m.technique == COPY_FLOOR_ID)
+            .map_or(0, |m| m.own_bytes());
+        Ok(RunReport {
+            scene: scene.name.clone(),
+            density: run.density,
+            triangles: scene.triangle_count(),
+            width: run.size.0,
+            height: run.size.1,
+            spec,
+            reference_spec,
+            scene_renders_per_frame: scene_renders,
+            frame_ms: Summary::of(&samples.frame),
+            floor_ms,
+            inputs: samples
+                .inputs
+                .iter()
+                .map(|i| InputReport {
+                    label: i.label.clone(),
+                    users: i.users.clone(),
+                    ms: Summary::of(&i.ms),
+                    fragment_invocations: i.invocations,
+                })
+                .collect(),
+            techniques,
+            reference_change: reference_meter.mean_change(),
+            memory_total_bytes: memory.total_bytes - floor_bytes,
+        })
+    }
+
+    /// Renders the quality frame of every technique and the reference and scores them; on the
+    /// chart also against the exact coverage. Returns (id, vs reference, vs truth).
+    fn quality(
+        &self,
+        run: &RunPlan,
+        scene: &Scene,
+        spec: &RenderSpec,
+        reference_spec: &RenderSpec,
+    ) -> anyhow::Result<Vec<(String, Comparison, Option<Comparison>)>> {
+        self.message(run, "quality frame");
+        let base = self.bar.position();
+        let progress = |done: u64, _total: u64| self.bar.set_position(base + done);
+        let options = RunOptions {
+            debug_views: false,
+            timing_repeats: 0,
+            progress: Some(&progress),
+        };
+        let output = spec::run(self.gpu, scene, spec, &options)?;
+        self.bar.set_position(base + spec.frame + 1);
+        self.message(run, "reference frame");
+        let reference = spec::run(self.gpu, scene, reference_spec, &RunOptions::default())?;
+        self.bar.inc(1);
+        let reference_image = reference
+            .images
+            .into_iter()
+            .next()
+            .context("the reference produced no image")?
+            .image;
+        let truth = (scene.name == "chart").then(|| chart_truth(&chart_layout(), run.size));
+        let key = format!("{}-{}x{}", run.scene, run.size.0, run.size.1);
+        if self.args.images {
+            let record = serde_json::to_string_pretty(reference_spec)?;
+            write_png(
+                &self.args.out.join(format!("{key}-reference.png")),
+                &reference_image,
+                Some(&record),
+            )?;
+        }
+        let mut scores = Vec::new();
+        for image in output.images.iter().filter(|i| i.view.is_none()) {
+            self.message(run, &format!("metrics of {}", image.id));
+            let (quality, maps) = compare_with_maps(&reference_image, &image.image)?;
+            let truth_score = truth
+                .as_ref()
+                .map(|t| -> anyhow::Result<Comparison> {
+                    let (_, maps) = compare_with_maps(&t.image, &image.image)?;
+                    Ok(maps.pool(Some(&t.mask)))
+                })
+                .transpose()?;
+            if self.args.images {
+                let record = serde_json::to_string_pretty(spec)?;
+                write_png(
+                    &self.args.out.join(format!("{key}-{}.png", image.id)),
+                    &image.image,
+                    Some(&record),
+                )?;
+                let sidecar = serde_json::json!({
+                    "heatmap": { "metric": Metric::Flip, "technique": image.id, "scores": quality },
+                    "spec": spec,
+                    "reference": reference_spec,
+                });
+                write_heatmap(
+                    &self.args.out.join(format!("{key}-{}-flip.png", image.id)),
+                    &maps.error_map(Metric::Flip),
+                    &HeatmapStyle {
+                        legend: Metric::Flip.legend(),
+                        range: (0.0, 1.0),
+                    },
+                    Some(&serde_json::to_string_pretty(&sidecar)?),
+                )?;
+            }
+            scores.push((image.id.clone(), quality, truth_score));
+        }
+        Ok(scores)
+    }
+}
+
+fn sum_samples(a: &[f64], b: &[f64]) -> Vec<f64> {
+    if b.is_empty() {
+        return a.to_vec();
+    }
+    a.iter().zip(b).map(|(x, y)| x + y).collect()
+}
+
+fn write_sidecars(out: &Path, run: &RunReport) -> anyhow::Result<()> {
+    for (suffix, spec) in [("spec", &run.spec), ("reference.spec", &run.reference_spec)] {
+        let path = out.join(format!("{}.{suffix}.json", run.key()));
+        std::fs::write(&path, serde_json::to_string_pretty(spec)?)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// Runs `aa-lab bench`.
+pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let started_unix = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    if args.frames == 0 {
+        bail!("--frames must be at least 1");
+    }
+    let runs = plan(args)?;
+    let gpu = Gpu::headless()?;
+    if !gpu.caps.timestamps {
+        bail!(
+            "{} has no timestamp queries, so GPU time per pass cannot be measured",
+            gpu.caps.adapter_name
+        );
+    }
+    let ids = technique_ids(&gpu, &args.technique)?;
+    let quality = !args.no_quality && args.sweep.is_none();
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create output directory {}", args.out.display()))?;
+    let bench = Bench {
+        gpu: &gpu,
+        args,
+        techniques: technique_specs(&gpu, &ids)?,
+        reference: reference_spec(&gpu)?,
+        quality,
+        bar: progress_bar(runs.len() as u64 * run_steps(args, quality)),
+    };
+    let mut reports = Vec::new();
+    for run in &runs {
+        let report = bench.run(run)?;
+        write_sidecars(&args.out, &report)?;
+        reports.push(report);
+    }
+    bench.bar.finish_and_clear();
+    let report = BenchReport {
+        schema: report::SCHEMA,
+        build: spec::build_id(),
+        adapter: gpu.caps.clone(),
+        command: std::env::args().collect::<Vec<_>>().join(" "),
+        started_unix,
+        wall_seconds: started.elapsed().as_secs_f64(),
+        settings: BenchSettings {
+            techniques: ids,
+            frames: args.frames,
+            warmup: args.warmup,
+            flicker_frames: if quality {
+                args.flicker_frames.min(args.frames)
+            } else {
+                0
+            },
+            track_step_px: TRACK_STEP_PX,
+            quality_frame: args.quality_frame,
+            quality,
+            reference: bench.reference.clone(),
+            sweep: args.sweep.map(|s| match s {
+                Sweep::Resolution => "resolution".to_owned(),
+                Sweep::Density => "density".to_owned(),
+            }),
+        },
+        runs: reports,
+    };
+    let json = args.out.join("report.json");
+    std::fs::write(&json, serde_json::to_string_pretty(&report)?)
+        .with_context(|| format!("cannot write {}", json.display()))?;
+    let md = args.out.join("report.md");
+    std::fs::write(&md, report::markdown(&report))
+        .with_context(|| format!("cannot write {}", md.display()))?;
+    let charts = report::write_charts(&report, &args.out)?;
+    println!("wrote {} and {}", json.display(), md.display());
+    for chart in charts {
+        println!("wrote {}", chart.display());
+    }
+    println!(
+        "bench finished in {:.1} s ({} run(s), {} technique(s), {} timed frames each)",
+        report.wall_seconds,
+        report.runs.len(),
+        report.settings.techniques.len(),
+        args.frames
+    );
+    Ok(())
+}

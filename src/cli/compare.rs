@@ -1,0 +1,202 @@
+//! `aa-lab compare REFERENCE TEST`: scores a test image against a reference with SSIM, PSNR,
+//! MAE and FLIP (see `metrics`), as text or JSON, and optionally writes a heatmap of one
+//! metric's per-pixel map. `--gpu` also runs the compute-shader path and prints its numbers
+//! next to the CPU reference's.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, bail};
+
+use crate::export::heatmap::{HeatmapStyle, write_heatmap};
+use crate::export::png::{read_image, read_record};
+use crate::gpu::Gpu;
+use crate::metrics::gpu::{GpuMetrics, upload_image};
+use crate::metrics::{Comparison, Metric, MetricsError, compare_with_maps};
+
+/// Arguments of `aa-lab compare`.
+#[derive(Debug, clap::Args)]
+pub struct CompareArgs {
+    /// The reference image (e.g. a 64-sample SSAA render).
+    pub reference: PathBuf,
+    /// The image to score.
+    pub test: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Write a heatmap (with legend) of one metric's per-pixel map to this PNG.
+    #[arg(long, value_name = "OUT.png")]
+    pub heatmap: Option<PathBuf>,
+    /// The metric the heatmap shows: ssim (as 1 - SSIM), flip or mae.
+    #[arg(long, default_value = "flip", value_parser = parse_metric)]
+    pub metric: Metric,
+    /// Also compute SSIM, MAE and PSNR with the GPU compute path.
+    #[arg(long)]
+    pub gpu: bool,
+}
+
+fn parse_metric(text: &str) -> Result<Metric, String> {
+    Metric::from_name(text).ok_or_else(|| {
+        let names: Vec<&str> = Metric::ALL.iter().map(|m| m.name()).collect();
+        format!(
+            "`{text}` is not a metric with a map; choose one of {}",
+            names.join(", ")
+        )
+    })
+}
+
+/// The GPU path's numbers, when asked for.
+#[derive(serde::Serialize)]
+struct GpuScores {
+    ssim: f64,
+    psnr: f64,
+    mae: f64,
+    adapter: String,
+}
+
+#[derive(serde::Serialize)]
+struct CompareOutput<'a> {
+    reference: &'a Path,
+    test: &'a Path,
+    width: u32,
+    height: u32,
+    #[serde(flatten)]
+    scores: Comparison,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    gpu: Option<GpuScores>,
+}
+
+fn gpu_scores(reference: &image::RgbaImage, test: &image::RgbaImage) -> anyhow::Result<GpuScores> {
+    let gpu = Gpu::headless()?;
+    let a = upload_image(&gpu, reference, "compare reference");
+    let b = upload_image(&gpu, test, "compare test");
+    let scores = GpuMetrics::new(&gpu).compare(&gpu, &a, &b)?;
+    Ok(GpuScores {
+        ssim: scores.ssim,
+        psnr: scores.psnr(),
+        mae: scores.mae,
+        adapter: gpu.caps.adapter_name.clone(),
+    })
+}
+
+/// The heatmap's colour range: SSIM and FLIP span their full 0..1 scale so heatmaps compare
+/// across images; absolute error spans 0 to the largest error (at least 1).
+fn heatmap_range(metric: Metric, map: &crate::metrics::Plane) -> (f32, f32) {
+    match metric {
+        Metric::Ssim | Metric::Flip => (0.0, 1.0),
+        Metric::Mae => (0.0, map.range().1.max(1.0).ceil()),
+    }
+}
+
+/// Runs `aa-lab compare`.
+pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    let reference = read_image(&args.reference)?;
+    let test = read_image(&args.test)?;
+    let (comparison, maps) = match compare_with_maps(&reference, &test) {
+        Ok(result) => result,
+        Err(MetricsError::SizeMismatch {
+            reference: r,
+            test: t,
+        }) => bail!(
+            "cannot compare: {} is {}x{} but {} is {}x{}; both images must have the same size",
+            args.reference.display(),
+            r.0,
+            r.1,
+            args.test.display(),
+            t.0,
+            t.1
+        ),
+        Err(err) => {
+            return Err(err).with_context(|| {
+                format!(
+                    "cannot compare {} with {}",
+                    args.reference.display(),
+                    args.test.display()
+                )
+            });
+        }
+    };
+    let gpu = args
+        .gpu
+        .then(|| gpu_scores(&reference, &test))
+        .transpose()?;
+    if let Some(path) = &args.heatmap {
+        let map = maps.error_map(args.metric);
+        let record = |p: &Path| {
+            read_record(p)
+                .ok()
+                .flatten()
+                .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok())
+        };
+        let sidecar = serde_json::json!({
+            "compare": {
+                "reference": args.reference,
+                "test": args.test,
+                "metric": args.metric,
+                "scores": comparison,
+                "reference_record": record(&args.reference),
+                "test_record": record(&args.test),
+            },
+            "build": crate::spec::build_id(),
+        });
+        write_heatmap(
+            path,
+            &map,
+            &HeatmapStyle {
+                legend: args.metric.legend(),
+                range: heatmap_range(args.metric, &map),
+            },
+            Some(&serde_json::to_string_pretty(&sidecar)?),
+        )?;
+        eprintln!("wrote {}", path.display());
+    }
+    let output = CompareOutput {
+        reference: &args.reference,
+        test: &args.test,
+        width: reference.width(),
+        height: reference.height(),
+        scores: comparison,
+        gpu,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&output)?);
+        return Ok(());
+    }
+    println!(
+        "{} vs reference {} ({}x{})",
+        args.test.display(),
+        args.reference.display(),
+        output.width,
+        output.height
+    );
+    let gpu = output.gpu.as_ref();
+    let with_gpu = |cpu: String, value: Option<String>| match value {
+        Some(v) => format!("{cpu:<12} (GPU {v})"),
+        None => cpu,
+    };
+    println!(
+        "SSIM  {}  luma, 11x11 Gaussian window, 1 = identical",
+        with_gpu(
+            format!("{:.5}", comparison.ssim),
+            gpu.map(|g| format!("{:.5}", g.ssim))
+        )
+    );
+    println!(
+        "PSNR  {}  R'G'B'",
+        with_gpu(
+            format!("{:.3} dB", comparison.psnr),
+            gpu.map(|g| format!("{:.3} dB", g.psnr))
+        )
+    );
+    println!(
+        "MAE   {}  R'G'B', 0..255",
+        with_gpu(
+            format!("{:.4}", comparison.mae),
+            gpu.map(|g| format!("{:.4}", g.mae))
+        )
+    );
+    println!("FLIP  {:.5}  mean, 0 = indistinguishable", comparison.flip);
+    if let Some(g) = gpu {
+        println!("GPU path on {}", g.adapter);
+    }
+    Ok(())
+}

@@ -1,0 +1,711 @@
+//! The bench report: the data model `aa-lab bench` fills in (serialised as `report.json`, its
+//! schema documented in `docs/bench-report.md`), the Markdown rendering (`report.md`, tables in
+//! the shape of the thesis' figures) and the charts (PNG, through [`super::charts`]).
+//!
+//! Every number carries its meaning in the field name and docs: `*_ms` are GPU milliseconds
+//! from timestamp queries, summarised over the timed frames as median and 95th percentile;
+//! a technique's `total_ms` is its own passes plus the scene render it reads (the cost of
+//! running it alone), while `inputs` lists each shared scene render once (what the frame graph
+//! actually spends when techniques run together).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::charts::{
+    BarChart, BarLayout, BarSeries, ChartError, Line, LineChart, draw_bars, draw_lines,
+};
+use crate::aa::ParamMap;
+use crate::gpu::Capabilities;
+use crate::metrics::{Comparison, Summary};
+use crate::spec::RenderSpec;
+
+/// Schema identifier written into every report.
+pub const SCHEMA: &str = "aa-lab-bench/1";
+
+/// A whole bench run.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct BenchReport {
+    /// [`SCHEMA`].
+    pub schema: &'static str,
+    /// aa-lab version and commit.
+    pub build: String,
+    /// The adapter's capability report.
+    pub adapter: Capabilities,
+    /// The command line that produced the report.
+    pub command: String,
+    /// Seconds since the Unix epoch when the bench started.
+    pub started_unix: u64,
+    /// Wall-clock seconds the whole bench took (scene generation, warm-up, references and
+    /// metrics included).
+    pub wall_seconds: f64,
+    /// What was measured and how.
+    pub settings: BenchSettings,
+    /// One entry per scene x size (x density).
+    pub runs: Vec<RunReport>,
+}
+
+/// Settings of a bench.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct BenchSettings {
+    /// Technique ids, in report order.
+    pub techniques: Vec<String>,
+    /// Timed frames per run.
+    pub frames: u32,
+    /// Untimed frames before them.
+    pub warmup: u32,
+    /// Frames read back for the flicker ratio (the last timed ones).
+    pub flicker_frames: u32,
+    /// Camera motion per frame of the timing and flicker sequence, in pixels at the orbit
+    /// target's distance.
+    pub track_step_px: f32,
+    /// Frame of the scene's own camera path whose images are scored (temporal techniques run
+    /// frames 0..=N of it).
+    pub quality_frame: u64,
+    /// Whether image quality and flicker were measured.
+    pub quality: bool,
+    /// The reference technique and its settings (SSAA, ordered grid, factor 8: 64 samples).
+    pub reference: crate::spec::TechniqueSpec,
+    /// `resolution` or `density` for a scaling sweep.
+    pub sweep: Option<String>,
+}
+
+/// GPU time of one scene render the frame graph shares between techniques.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct InputReport {
+    /// Its label (`scene 1x`, `scene msaa4`, `scene 1x jittered`).
+    pub label: String,
+    /// Technique ids that read it.
+    pub users: Vec<String>,
+    /// GPU milliseconds per frame.
+    pub ms: Summary,
+    /// Fragment-shader invocations of the render.
+    pub fragment_invocations: Option<u64>,
+}
+
+/// GPU time of a technique's passes that share a label (SSAA's tiles, for instance).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PassReport {
+    /// `technique/pass`.
+    pub label: String,
+    /// Passes with this label per frame.
+    pub count: usize,
+    /// Their summed GPU milliseconds per frame.
+    pub ms: Summary,
+    /// Their summed fragment-shader invocations.
+    pub fragment_invocations: Option<u64>,
+}
+
+/// Fragment-shader invocations of a technique.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct Invocations {
+    /// In its own passes.
+    pub own: u64,
+    /// In the scene render it reads.
+    pub input: u64,
+    /// Both.
+    pub total: u64,
+    /// `total` per output pixel.
+    pub per_pixel: f64,
+}
+
+/// Memory of a technique, bytes.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct MemorySummary {
+    /// Everything it needs to run alone: input targets, private resources, output.
+    pub standalone_bytes: u64,
+    /// Private resources and output.
+    pub own_bytes: u64,
+    /// The scene input's targets.
+    pub input_bytes: u64,
+}
+
+/// Everything measured for one technique in one run.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct TechniqueReport {
+    /// Registry id.
+    pub id: String,
+    /// Display name.
+    pub name: String,
+    /// The scene input it reads (label), `None` when it renders the scene itself.
+    pub input: Option<String>,
+    /// Post-process technique: reads a one-sample render (shared or jittered) and filters it.
+    pub post_process: bool,
+    /// Its settings.
+    pub settings: ParamMap,
+    /// Its own passes.
+    pub passes: Vec<PassReport>,
+    /// Its own passes per frame.
+    pub own_ms: Summary,
+    /// The scene render it reads, per frame.
+    pub input_ms: Summary,
+    /// Own passes plus input, per frame: its cost when run alone.
+    pub total_ms: Summary,
+    /// `total_ms.median` over No AA's.
+    pub relative_to_none: Option<f64>,
+    /// Own passes' median over the full-screen copy floor's median (post-process only).
+    pub floor_multiple: Option<f64>,
+    /// Memory.
+    pub memory: Option<MemorySummary>,
+    /// Fragment-shader invocations.
+    pub fragment_invocations: Option<Invocations>,
+    /// Scores against the 64-sample SSAA reference on the quality frame.
+    pub quality: Option<Comparison>,
+    /// Scores against the analytic ground truth (`chart` only), over the test elements.
+    pub truth: Option<Comparison>,
+    /// Mean absolute luma change per frame over the flicker frames.
+    pub mean_change: Option<f64>,
+    /// `mean_change` over the reference's.
+    pub flicker_ratio: Option<f64>,
+}
+
+/// One scene at one size (and density).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct RunReport {
+    /// Scene name.
+    pub scene: String,
+    /// Scene density (hairball triangle scale).
+    pub density: f32,
+    /// Triangles per scene render.
+    pub triangles: usize,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// The quality frame's render spec: `aa-lab render --from` on it reproduces the images
+    /// that were scored.
+    pub spec: RenderSpec,
+    /// The reference's render spec.
+    pub reference_spec: RenderSpec,
+    /// Scene renders the graph records per frame (shared inputs plus techniques' own).
+    pub scene_renders_per_frame: usize,
+    /// Every pass of the techniques together per frame (shared inputs counted once; the copy
+    /// floor excluded).
+    pub frame_ms: Summary,
+    /// The full-screen copy pass.
+    pub floor_ms: Summary,
+    /// Shared scene renders.
+    pub inputs: Vec<InputReport>,
+    /// Per technique.
+    pub techniques: Vec<TechniqueReport>,
+    /// The reference's mean absolute luma change per frame over the flicker frames.
+    pub reference_change: Option<f64>,
+    /// The graph's memory, shared inputs once, scene included, bytes.
+    pub memory_total_bytes: u64,
+}
+
+impl RunReport {
+    /// `scene-WxH` (plus `-dN` for non-default densities), used in file names.
+    pub fn key(&self) -> String {
+        let mut key = format!("{}-{}x{}", self.scene, self.width, self.height);
+        if (self.density - 1.0).abs() > 1e-6 {
+            key += &format!("-d{}", self.density);
+        }
+        key
+    }
+
+    /// The technique with an id.
+    pub fn technique(&self, id: &str) -> Option<&TechniqueReport> {
+        self.techniques.iter().find(|t| t.id == id)
+    }
+}
+
+/// Milliseconds with a precision that suits their size.
+pub fn fmt_ms(ms: f64) -> String {
+    if !ms.is_finite() {
+        "-".to_owned()
+    } else if ms >= 100.0 {
+        format!("{ms:.0}")
+    } else if ms >= 10.0 {
+        format!("{ms:.1}")
+    } else if ms >= 0.1 {
+        format!("{ms:.2}")
+    } else {
+        format!("{ms:.3}")
+    }
+}
+
+fn mib(bytes: u64) -> String {
+    format!("{:.1}", bytes as f64 / (1024.0 * 1024.0))
+}
+
+fn opt(value: Option<f64>, decimals: usize) -> String {
+    match value {
+        Some(v) if v.is_finite() => format!("{v:.decimals$}"),
+        Some(v) if v.is_infinite() => "inf".to_owned(),
+        _ => "-".to_owned(),
+    }
+}
+
+/// Ids of every technique that appears in any run, in first-seen order, with names.
+fn technique_columns(report: &BenchReport) -> Vec<(String, String)> {
+    let mut columns: Vec<(String, String)> = Vec::new();
+    for t in report.runs.iter().flat_map(|r| &r.techniques) {
+        if !columns.iter().any(|(id, _)| *id == t.id) {
+            columns.push((t.id.clone(), t.name.clone()));
+        }
+    }
+    columns
+}
+
+/// A table with one row per run and one column per technique.
+fn run_by_technique_table(
+    out: &mut String,
+    report: &BenchReport,
+    cell: impl Fn(&RunReport, &TechniqueReport) -> String,
+) {
+    let columns = technique_columns(report);
+    out.push_str("| scene | size |");
+    for (_, name) in &columns {
+        let _ = write!(out, " {name} |");
+    }
+    out.push_str("\n|---|---|");
+    out.push_str(&"---:|".repeat(columns.len()));
+    out.push('\n');
+    for run in &report.runs {
+        let density = if (run.density - 1.0).abs() > 1e-6 {
+            format!(
+                " (density {}, {} k tris)",
+                run.density,
+                run.triangles / 1000
+            )
+        } else {
+            String::new()
+        };
+        let _ = write!(
+            out,
+            "| {}{density} | {}x{} |",
+            run.scene, run.width, run.height
+        );
+        for (id, _) in &columns {
+            let text = run
+                .technique(id)
+                .map_or_else(|| "-".to_owned(), |t| cell(run, t));
+            let _ = write!(out, " {text} |");
+        }
+        out.push('\n');
+    }
+    out.push('\n');
+}
+
+/// Renders the report as Markdown.
+pub fn markdown(report: &BenchReport) -> String {
+    let mut out = String::new();
+    let s = &report.settings;
+    let _ = writeln!(out, "# aa-lab bench report\n");
+    let _ = writeln!(
+        out,
+        "- command: `{}`\n- build: {}\n- adapter: {} ({}, {}; driver {})\n- wall time: {:.0} s ({:.1} min)\n- frames: {} timed after {} warm-up, per run\n",
+        report.command,
+        report.build,
+        report.adapter.adapter_name,
+        report.adapter.backend,
+        report.adapter.device_type,
+        report.adapter.driver,
+        report.wall_seconds,
+        report.wall_seconds / 60.0,
+        s.frames,
+        s.warmup
+    );
+    out.push_str(
+        "## What the numbers mean\n\n\
+         - **GPU ms** come from timestamp queries around every pass, summarised over the timed frames \
+         (median; p95 in report.json). All techniques run together in one frame graph, so a scene render that \
+         several techniques read is rendered once per frame.\n\
+         - A technique's **total** is its own passes plus the scene render it reads: what it would cost alone. \
+         The **shared-input** tables give each scene render once, which is what the frame actually spends.\n\
+         - **x No AA** divides a technique's total by No AA's total. **x floor** divides a post-process \
+         technique's own passes by a full-screen copy pass (read every pixel, write every pixel), the least \
+         any post-process pass can cost here.\n",
+    );
+    let _ = writeln!(
+        out,
+        "- The timed frames follow a slow camera track ({} px per frame at the orbit target), so every \
+         frame shows nearly the same view; temporal techniques accumulate history over it.",
+        s.track_step_px
+    );
+    if s.quality {
+        let _ = writeln!(
+            out,
+            "- **SSIM, PSNR, MAE, FLIP** score frame {} of each scene's own camera path (temporal techniques run \
+             frames 0..={} of it) against a 64-sample ordered-grid SSAA render of the same frame. SSIM is on BT.601 \
+             luma with an 11x11 Gaussian window; PSNR and MAE on sRGB-encoded R'G'B' (MAE in 0..255); FLIP is the \
+             mean of NVIDIA's LDR-FLIP map.\n\
+             - **Flicker** is a technique's mean frame-to-frame luma change over the last {} timed frames divided \
+             by the reference's over the same frames (1 = as stable as the reference).",
+            s.quality_frame, s.quality_frame, s.flicker_frames
+        );
+    }
+    out.push_str(
+        "- **Fragment invocations** come from pipeline-statistics queries (one extra, untimed frame).\n\n",
+    );
+
+    out.push_str("## GPU time per frame, technique alone (ms, median)\n\nThe shape of the thesis' figures 4.3 and 4.4 (there: FPS on a Galaxy S8).\n\n");
+    run_by_technique_table(&mut out, report, |_, t| fmt_ms(t.total_ms.median));
+    out.push_str("## Cost relative to No AA (total / No AA total)\n\n");
+    run_by_technique_table(&mut out, report, |_, t| opt(t.relative_to_none, 2));
+    out.push_str("## Post-process passes as multiples of the full-screen copy floor\n\n");
+    let _ = writeln!(
+        out,
+        "| scene | size | copy floor ms | techniques (own passes ms, x floor) |\n|---|---|---:|---|"
+    );
+    for run in &report.runs {
+        let cells: Vec<String> = run
+            .techniques
+            .iter()
+            .filter(|t| t.post_process)
+            .map(|t| {
+                format!(
+                    "{} {} ms ({}x)",
+                    t.name,
+                    fmt_ms(t.own_ms.median),
+                    opt(t.floor_multiple, 1)
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            out,
+            "| {} | {}x{} | {} | {} |",
+            run.scene,
+            run.width,
+            run.height,
+            fmt_ms(run.floor_ms.median),
+            cells.join("; ")
+        );
+    }
+    out.push('\n');
+    out.push_str("## Shared scene renders (ms per frame, each rendered once)\n\n| scene | size | input | read by | median ms | p95 ms | fragment invocations |\n|---|---|---|---|---:|---:|---:|\n");
+    for run in &report.runs {
+        for input in &run.inputs {
+            let _ = writeln!(
+                out,
+                "| {} | {}x{} | {} | {} | {} | {} | {} |",
+                run.scene,
+                run.width,
+                run.height,
+                input.label,
+                input.users.join(", "),
+                fmt_ms(input.ms.median),
+                fmt_ms(input.ms.p95),
+                input
+                    .fragment_invocations
+                    .map_or_else(|| "-".to_owned(), |n| n.to_string())
+            );
+        }
+        let _ = writeln!(
+            out,
+            "| {} | {}x{} | **whole frame** | all | {} | {} | |",
+            run.scene,
+            run.width,
+            run.height,
+            fmt_ms(run.frame_ms.median),
+            fmt_ms(run.frame_ms.p95)
+        );
+    }
+    out.push('\n');
+    if s.quality {
+        out.push_str("## SSIM against the 64-sample SSAA reference\n\nThe shape of the thesis' figures 4.7 and 4.8 (there: against a 16-sample reference).\n\n");
+        run_by_technique_table(&mut out, report, |_, t| opt(t.quality.map(|q| q.ssim), 4));
+        out.push_str("## FLIP (mean error, lower is better)\n\n");
+        run_by_technique_table(&mut out, report, |_, t| opt(t.quality.map(|q| q.flip), 4));
+        out.push_str("## PSNR (dB) / MAE (0..255)\n\n");
+        run_by_technique_table(&mut out, report, |_, t| {
+            format!(
+                "{} / {}",
+                opt(t.quality.map(|q| q.psnr), 2),
+                opt(t.quality.map(|q| q.mae), 2)
+            )
+        });
+        if report
+            .runs
+            .iter()
+            .any(|r| r.techniques.iter().any(|t| t.truth.is_some()))
+        {
+            out.push_str(
+                "## Against the analytic ground truth (chart test elements): SSIM / FLIP\n\n",
+            );
+            run_by_technique_table(&mut out, report, |_, t| {
+                format!(
+                    "{} / {}",
+                    opt(t.truth.map(|q| q.ssim), 4),
+                    opt(t.truth.map(|q| q.flip), 4)
+                )
+            });
+        }
+        out.push_str(
+            "## Temporal stability: flicker ratio (technique change / reference change)\n\n",
+        );
+        run_by_technique_table(&mut out, report, |_, t| opt(t.flicker_ratio, 2));
+    }
+    out.push_str("## Shading work: fragment-shader invocations per output pixel (input + own passes)\n\nThe counterpart of the thesis' figure 4.5 (fragment instructions per frame).\n\n");
+    run_by_technique_table(&mut out, report, |_, t| {
+        opt(t.fragment_invocations.map(|f| f.per_pixel), 2)
+    });
+    out.push_str("## Memory to run alone (MiB: input targets, private resources, output)\n\n");
+    run_by_technique_table(&mut out, report, |_, t| {
+        t.memory
+            .map_or_else(|| "-".to_owned(), |m| mib(m.standalone_bytes))
+    });
+    scaling_markdown(&mut out, report);
+    out.push_str("## Per-pass detail\n\n");
+    for run in &report.runs {
+        let _ = writeln!(
+            out,
+            "### {} {}x{} ({} triangles, {} scene renders per frame)\n\n| pass | count | median ms | p95 ms | fragment invocations |\n|---|---:|---:|---:|---:|",
+            run.scene, run.width, run.height, run.triangles, run.scene_renders_per_frame
+        );
+        for t in &run.techniques {
+            for p in &t.passes {
+                let _ = writeln!(
+                    out,
+                    "| {} | {} | {} | {} | {} |",
+                    p.label,
+                    p.count,
+                    fmt_ms(p.ms.median),
+                    fmt_ms(p.ms.p95),
+                    p.fragment_invocations
+                        .map_or_else(|| "-".to_owned(), |n| n.to_string())
+                );
+            }
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// One point of a scaling curve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScalingPoint {
+    /// Megapixels or millions of triangles.
+    pub x: f64,
+    /// Median total ms.
+    pub total_ms: f64,
+    /// Median total minus No AA's median total: what antialiasing adds.
+    pub overhead_ms: f64,
+}
+
+/// Scaling curves of one scene: per technique (id, name), its points in x order. `by` picks
+/// the x axis: `resolution` (megapixels) or `density` (millions of triangles).
+pub fn scaling_curves(
+    report: &BenchReport,
+    scene: &str,
+    by: &str,
+) -> Vec<(String, String, Vec<ScalingPoint>)> {
+    let mut runs: Vec<&RunReport> = report.runs.iter().filter(|r| r.scene == scene).collect();
+    let x_of = |r: &RunReport| match by {
+        "density" => r.triangles as f64 / 1e6,
+        _ => f64::from(r.width) * f64::from(r.height) / 1e6,
+    };
+    runs.sort_by(|a, b| x_of(a).total_cmp(&x_of(b)));
+    technique_columns(report)
+        .into_iter()
+        .map(|(id, name)| {
+            let points = runs
+                .iter()
+                .filter_map(|r| {
+                    let t = r.technique(&id)?;
+                    let none = r.technique("none").map_or(0.0, |n| n.total_ms.median);
+                    Some(ScalingPoint {
+                        x: x_of(r),
+                        total_ms: t.total_ms.median,
+                        overhead_ms: t.total_ms.median - none,
+                    })
+                })
+                .collect();
+            (id, name, points)
+        })
+        .collect()
+}
+
+fn scenes(report: &BenchReport) -> Vec<String> {
+    let mut scenes: Vec<String> = Vec::new();
+    for r in &report.runs {
+        if !scenes.contains(&r.scene) {
+            scenes.push(r.scene.clone());
+        }
+    }
+    scenes
+}
+
+fn scaling_markdown(out: &mut String, report: &BenchReport) {
+    let Some(by) = report.settings.sweep.as_deref() else {
+        return;
+    };
+    let unit = if by == "density" {
+        "M triangles"
+    } else {
+        "megapixels"
+    };
+    for scene in scenes(report) {
+        let curves = scaling_curves(report, &scene, by);
+        let Some(xs) = curves
+            .first()
+            .map(|c| c.2.iter().map(|p| p.x).collect::<Vec<_>>())
+        else {
+            continue;
+        };
+        let _ = writeln!(
+            out,
+            "## Scaling with {by}: {scene} (median ms, technique alone; overhead over No AA in brackets)\n"
+        );
+        out.push_str("| technique |");
+        for x in &xs {
+            let _ = write!(out, " {x:.2} {unit} |");
+        }
+        out.push_str(" growth of overhead |\n|---|");
+        out.push_str(&"---:|".repeat(xs.len() + 1));
+        out.push('\n');
+        for (_, name, points) in &curves {
+            let _ = write!(out, "| {name} |");
+            for p in points {
+                let _ = write!(out, " {} ({}) |", fmt_ms(p.total_ms), fmt_ms(p.overhead_ms));
+            }
+            let growth = match (points.first(), points.last()) {
+                (Some(a), Some(b)) if a.overhead_ms > 0.0 && points.len() > 1 => {
+                    format!("x{:.2}", b.overhead_ms / a.overhead_ms)
+                }
+                _ => "-".to_owned(),
+            };
+            let _ = writeln!(out, " {growth} |");
+        }
+        if let (Some(first), Some(last)) = (xs.first(), xs.last()) {
+            let _ = writeln!(
+                out,
+                "\n{unit} grew x{:.2} from the first to the last point.\n",
+                last / first
+            );
+        }
+    }
+}
+
+/// Writes the report's charts into `dir` and returns their paths: per run, GPU time per
+/// technique (scene input and own passes stacked); per scene, SSIM per technique (one series
+/// per size); per scene of a sweep, the scaling curves (total and overhead over No AA).
+pub fn write_charts(report: &BenchReport, dir: &Path) -> Result<Vec<PathBuf>, ChartError> {
+    let mut written = Vec::new();
+    for run in &report.runs {
+        let names: Vec<String> = run.techniques.iter().map(|t| t.name.clone()).collect();
+        let series = vec![
+            BarSeries {
+                name: "scene render it reads".to_owned(),
+                values: run.techniques.iter().map(|t| t.input_ms.median).collect(),
+            },
+            BarSeries {
+                name: "its own passes".to_owned(),
+                values: run.techniques.iter().map(|t| t.own_ms.median).collect(),
+            },
+        ];
+        let path = dir.join(format!("time-{}.png", run.key()));
+        let title = format!(
+            "GPU time per frame, {} {}x{} ({})",
+            run.scene, run.width, run.height, report.adapter.adapter_name
+        );
+        draw_bars(
+            &path,
+            &BarChart {
+                title: &title,
+                value_label: "GPU milliseconds per frame (median), technique alone",
+                categories: &names,
+                series: &series,
+                layout: BarLayout::Stacked,
+                range: None,
+                decimals: if run.techniques.iter().any(|t| t.total_ms.median >= 100.0) {
+                    0
+                } else {
+                    2
+                },
+            },
+        )?;
+        written.push(path);
+    }
+    if report.settings.quality {
+        for scene in scenes(report) {
+            let runs: Vec<&RunReport> = report.runs.iter().filter(|r| r.scene == scene).collect();
+            let columns = technique_columns(report);
+            let names: Vec<String> = columns.iter().map(|(_, n)| n.clone()).collect();
+            let series: Vec<BarSeries> = runs
+                .iter()
+                .map(|r| BarSeries {
+                    name: format!("{}x{}", r.width, r.height),
+                    values: columns
+                        .iter()
+                        .map(|(id, _)| {
+                            r.technique(id)
+                                .and_then(|t| t.quality)
+                                .map_or(f64::NAN, |q| q.ssim)
+                        })
+                        .collect(),
+                })
+                .collect();
+            let lowest = series
+                .iter()
+                .flat_map(|s| s.values.iter().copied())
+                .filter(|v| v.is_finite())
+                .fold(1.0, f64::min);
+            let floor = ((lowest - 0.05) * 10.0).floor() / 10.0;
+            let path = dir.join(format!("ssim-{scene}.png"));
+            let title = format!("SSIM against 64-sample SSAA, {scene}");
+            draw_bars(
+                &path,
+                &BarChart {
+                    title: &title,
+                    value_label: "mean SSIM (luma), 1 = identical to the reference",
+                    categories: &names,
+                    series: &series,
+                    layout: BarLayout::Grouped,
+                    range: Some((floor.clamp(0.0, 0.9), 1.0)),
+                    decimals: 3,
+                },
+            )?;
+            written.push(path);
+        }
+    }
+    if let Some(by) = report.settings.sweep.as_deref() {
+        let x_label = if by == "density" {
+            "millions of triangles"
+        } else {
+            "megapixels"
+        };
+        for scene in scenes(report) {
+            let curves = scaling_curves(report, &scene, by);
+            for (kind, title, log_y) in [
+                ("total", "GPU ms per frame, technique alone", true),
+                ("overhead", "GPU ms added over No AA", false),
+            ] {
+                let lines: Vec<Line> = curves
+                    .iter()
+                    .filter(|(id, _, _)| kind == "total" || id != "none")
+                    .map(|(_, name, points)| Line {
+                        name: name.clone(),
+                        points: points
+                            .iter()
+                            .map(|p| {
+                                (
+                                    p.x,
+                                    if kind == "total" {
+                                        p.total_ms
+                                    } else {
+                                        p.overhead_ms
+                                    },
+                                )
+                            })
+                            .collect(),
+                    })
+                    .collect();
+                let path = dir.join(format!("scaling-{by}-{scene}-{kind}.png"));
+                let title = format!("{title}: {scene}, {by} sweep");
+                draw_lines(
+                    &path,
+                    &LineChart {
+                        title: &title,
+                        x_label,
+                        y_label: "GPU ms (median)",
+                        lines: &lines,
+                        log_y,
+                    },
+                )?;
+                written.push(path);
+            }
+        }
+    }
+    Ok(written)
+}
