@@ -9,9 +9,11 @@
 //!   and memory reports;
 //! - [`spec`]: reproducible render descriptions and the headless runner;
 //! - [`export`]: PNG files with their render record;
-//! - [`cli`]: the command-line subcommands.
+//! - [`cli`]: the command-line subcommands;
+//! - [`app`]: the viewer (eframe/egui on the same frame graph).
 
 pub mod aa;
+pub mod app;
 pub mod cli;
 pub mod export;
 

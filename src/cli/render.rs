@@ -14,8 +14,6 @@ use crate::scene::procedural::SceneOptions;
 use crate::scene::source::{self, DEFAULT_SCENE};
 use crate::spec::{self, RenderSpec, RunOptions, TechniqueSpec};
 
-use super::Cli;
-
 /// Arguments of `aa-lab render`.
 #[derive(Debug, clap::Args)]
 pub struct RenderArgs {
@@ -77,17 +75,6 @@ pub struct RenderArgs {
     /// Treat scene warnings (a missing texture replaced by a checker) as errors.
     #[arg(long)]
     pub strict: bool,
-}
-
-impl RenderArgs {
-    /// The arguments of a plain `aa-lab render`.
-    pub fn default_args() -> Self {
-        let cli = <Cli as clap::Parser>::parse_from(["aa-lab", "render"]);
-        match cli.command {
-            Some(super::Command::Render(args)) => args,
-            _ => unreachable!("`aa-lab render` parses as the render command"),
-        }
-    }
 }
 
 /// Parses `WIDTHxHEIGHT`.

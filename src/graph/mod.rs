@@ -10,7 +10,7 @@ mod memory;
 mod timing;
 
 pub use memory::{MemoryItem, MemoryReport, TechniqueMemory};
-pub use timing::{FrameTimings, PassTiming};
+pub use timing::{FrameTimings, PassTiming, median_of_sorted};
 
 use std::collections::HashMap;
 
@@ -208,6 +208,7 @@ pub struct FrameGraph {
     slot_inputs: Vec<Option<usize>>,
     size: (u32, u32),
     timings: Option<FrameTimings>,
+    timings_serial: u64,
     scene_renders: usize,
 }
 
@@ -241,6 +242,7 @@ impl FrameGraph {
             slot_inputs: Vec::new(),
             size: (0, 0),
             timings: None,
+            timings_serial: 0,
             scene_renders: 0,
         }
     }
@@ -293,6 +295,12 @@ impl FrameGraph {
     /// GPU timings of the most recent frame whose queries have come back.
     pub fn timings(&self) -> Option<&FrameTimings> {
         self.timings.as_ref()
+    }
+
+    /// How many frames' timings have come back so far: a live view reads
+    /// [`FrameGraph::timings`] again when this number changes.
+    pub fn timings_serial(&self) -> u64 {
+        self.timings_serial
     }
 
     fn check_size(&self, size: (u32, u32)) -> Result<(), GraphError> {
@@ -462,6 +470,7 @@ impl FrameGraph {
         let period = self.gpu.queue.get_timestamp_period();
         while let Some(results) = self.profiler.process_finished_frame(period) {
             self.timings = Some(FrameTimings::from_profiler(&results));
+            self.timings_serial += 1;
         }
     }
 

@@ -1,0 +1,627 @@
+//! Export: one action writes, into the export folder, the full frame of every enabled
+//! technique (lossless PNG carrying its render record, plus the debug view on screen), the
+//! magnifier sheet (every pane with its label and figures) and a sidecar JSON that
+//! `aa-lab render --from` reproduces. Existing files are never overwritten: the whole set
+//! takes the next free name (`atrium-f120-2-...`). The magnifier sheet can also be copied to
+//! the clipboard.
+//!
+//! The frames are read back asynchronously, then a worker thread encodes and writes the files,
+//! so the window keeps running while a large export is written.
+
+use std::path::{Path, PathBuf};
+use std::sync::{Once, mpsc};
+
+use plotters::prelude::*;
+use plotters::style::{FontStyle, register_font};
+
+use super::app::{AaLabApp, Level};
+use super::magnifier::Source;
+use super::quality::{error_map, heatmap};
+use super::readback::{PendingImage, Region};
+use crate::export::write_png;
+use crate::spec::{RenderSpec, TechniqueSpec};
+
+/// Font family the sheet's text is drawn with.
+const SHEET_FONT: &str = "aa-lab sans";
+/// Margin and gaps of the sheet, in pixels.
+const SHEET_MARGIN: u32 = 16;
+const SHEET_GAP: u32 = 12;
+const TITLE_HEIGHT: u32 = 24;
+const CAPTION_HEIGHT: u32 = 22;
+const HEADER_HEIGHT: u32 = 28;
+const SHEET_BACKGROUND: [u8; 3] = [24, 24, 24];
+
+/// One pane of a magnifier sheet.
+#[derive(Clone, Debug)]
+pub struct SheetPane {
+    /// Slot letter (A..D, R).
+    pub letter: String,
+    /// Slot colour.
+    pub color: [u8; 3],
+    /// Technique name (and debug view).
+    pub title: String,
+    /// Figures under the pane.
+    pub caption: String,
+    /// The lens region, unzoomed.
+    pub pixels: image::RgbaImage,
+}
+
+/// A magnifier sheet: panes side by side, nearest-neighbour zoomed.
+#[derive(Clone, Debug)]
+pub struct Sheet {
+    /// First line (scene, frame, lens).
+    pub header: String,
+    /// Panes, left to right.
+    pub panes: Vec<SheetPane>,
+    /// Zoom factor.
+    pub zoom: u32,
+    /// Draw lines between magnified pixels.
+    pub grid: bool,
+}
+
+fn register_fonts() {
+    static FONTS: Once = Once::new();
+    FONTS.call_once(|| {
+        if register_font(
+            SHEET_FONT,
+            FontStyle::Normal,
+            epaint_default_fonts::UBUNTU_LIGHT,
+        )
+        .is_err()
+        {
+            log::warn!("the sheet font could not be loaded; sheets will have no text");
+        }
+    });
+}
+
+/// Renders a sheet to an image.
+pub fn compose_sheet(sheet: &Sheet) -> image::RgbaImage {
+    register_fonts();
+    let zoom = sheet.zoom.max(1);
+    let pane_w = |p: &SheetPane| p.pixels.width() * zoom;
+    let content_w: u32 = sheet.panes.iter().map(pane_w).sum::<u32>()
+        + SHEET_GAP * sheet.panes.len().saturating_sub(1) as u32;
+    let pane_h = sheet
+        .panes
+        .iter()
+        .map(|p| p.pixels.height() * zoom)
+        .max()
+        .unwrap_or(0);
+    let width = (content_w + 2 * SHEET_MARGIN).max(480);
+    let height = HEADER_HEIGHT + TITLE_HEIGHT + pane_h + CAPTION_HEIGHT + 2 * SHEET_MARGIN;
+    let mut rgb: Vec<u8> = SHEET_BACKGROUND
+        .iter()
+        .copied()
+        .cycle()
+        .take((width * height * 3) as usize)
+        .collect();
+    let top = SHEET_MARGIN + HEADER_HEIGHT + TITLE_HEIGHT;
+    let mut x = SHEET_MARGIN;
+    let mut boxes = Vec::new();
+    for pane in &sheet.panes {
+        for (px, py, p) in pane.pixels.enumerate_pixels() {
+            for dy in 0..zoom {
+                for dx in 0..zoom {
+                    let grid_line = sheet.grid
+                        && zoom >= 4
+                        && (dx == 0 || dy == 0)
+                        && (px > 0 || dx > 0)
+                        && (py > 0 || dy > 0);
+                    let (sx, sy) = (x + px * zoom + dx, top + py * zoom + dy);
+                    let i = ((sy * width + sx) * 3) as usize;
+                    for c in 0..3 {
+                        rgb[i + c] = if grid_line {
+                            (u16::from(p[c]) * 5 / 8) as u8
+                        } else {
+                            p[c]
+                        };
+                    }
+                }
+            }
+        }
+        boxes.push((x, pane_w(pane)));
+        x += pane_w(pane) + SHEET_GAP;
+    }
+    if let Ok(backend) = BitMapBackend::<plotters::backend::RGBPixel>::with_buffer_and_format(
+        &mut rgb,
+        (width, height),
+    ) {
+        let area = backend.into_drawing_area();
+        const LIGHT: RGBColor = RGBColor(230, 230, 230);
+        const DIM: RGBColor = RGBColor(170, 170, 170);
+        let font = |size: u32, color: &'static RGBColor| {
+            TextStyle::from((SHEET_FONT, size).into_font()).color(color)
+        };
+        let _ = area.draw_text(
+            &sheet.header,
+            &font(15, &LIGHT),
+            (SHEET_MARGIN as i32, SHEET_MARGIN as i32),
+        );
+        for (pane, (x, w)) in sheet.panes.iter().zip(&boxes) {
+            let y = (SHEET_MARGIN + HEADER_HEIGHT) as i32;
+            let [r, g, b] = pane.color;
+            let _ = area.draw(&Rectangle::new(
+                [(*x as i32, y), (*x as i32 + 20, y + 18)],
+                RGBColor(r, g, b).filled(),
+            ));
+            let _ = area.draw_text(&pane.letter, &font(14, &BLACK), (*x as i32 + 6, y + 1));
+            let _ = area.draw_text(&pane.title, &font(14, &LIGHT), (*x as i32 + 26, y + 1));
+            let _ = area.draw_text(
+                &fit_text(&pane.caption, *w),
+                &font(12, &DIM),
+                (*x as i32, (top + pane_h + 5) as i32),
+            );
+        }
+        let _ = area.present();
+    }
+    image::RgbaImage::from_fn(width, height, |x, y| {
+        let i = ((y * width + x) * 3) as usize;
+        image::Rgba([rgb[i], rgb[i + 1], rgb[i + 2], 255])
+    })
+}
+
+/// Shortens a caption to roughly fit `width` pixels of 12-pixel text.
+fn fit_text(text: &str, width: u32) -> String {
+    let max_chars = (width / 6).max(8) as usize;
+    if text.chars().count() <= max_chars {
+        text.to_owned()
+    } else {
+        let mut cut: String = text.chars().take(max_chars.saturating_sub(1)).collect();
+        cut.push('…');
+        cut
+    }
+}
+
+/// The first name `stem`, `stem-2`, `stem-3`... for which none of the set's files exist.
+pub fn free_stem(dir: &Path, stem: &str, suffixes: &[String]) -> String {
+    (1..)
+        .map(|n| {
+            if n == 1 {
+                stem.to_owned()
+            } else {
+                format!("{stem}-{n}")
+            }
+        })
+        .find(|candidate| {
+            suffixes
+                .iter()
+                .all(|s| !dir.join(format!("{candidate}{s}")).exists())
+        })
+        .unwrap_or_else(|| stem.to_owned())
+}
+
+/// What an export writes once the pixels are in.
+struct Plan {
+    dir: PathBuf,
+    stem: String,
+    record: String,
+    sheet: Option<Sheet>,
+}
+
+/// An export in progress.
+enum Job {
+    /// Frames being read back: (file suffix, readback).
+    Reading {
+        pending: Vec<(String, PendingImage)>,
+        done: Vec<(String, image::RgbaImage)>,
+        plan: Plan,
+    },
+    /// Files being written by the worker.
+    Writing(mpsc::Receiver<Result<Vec<PathBuf>, String>>),
+}
+
+/// Export jobs and the export-folder dialog.
+#[derive(Default)]
+pub struct ExportState {
+    job: Option<Job>,
+    folder_dialog: Option<mpsc::Receiver<Option<PathBuf>>>,
+    /// Files written by the last export.
+    pub last: Vec<PathBuf>,
+}
+
+impl ExportState {
+    /// Whether an export runs.
+    pub fn running(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Advances the job; returns notices for the user.
+    pub fn poll(&mut self) -> Vec<(Level, String)> {
+        let mut notices = Vec::new();
+        match self.job.take() {
+            None => {}
+            Some(Job::Reading {
+                mut pending,
+                mut done,
+                plan,
+            }) => {
+                let mut failed = None;
+                pending.retain(|(suffix, p)| match p.try_take() {
+                    Ok(Some(image)) => {
+                        done.push((suffix.clone(), image));
+                        false
+                    }
+                    Ok(None) => true,
+                    Err(err) => {
+                        failed = Some(err.to_string());
+                        false
+                    }
+                });
+                if let Some(err) = failed {
+                    notices.push((Level::Error, format!("export failed: {err}")));
+                } else if pending.is_empty() {
+                    self.job = Some(Job::Writing(write_in_background(plan, done)));
+                } else {
+                    self.job = Some(Job::Reading {
+                        pending,
+                        done,
+                        plan,
+                    });
+                }
+            }
+            Some(Job::Writing(receiver)) => match receiver.try_recv() {
+                Ok(Ok(paths)) => {
+                    let dir = paths
+                        .first()
+                        .and_then(|p| p.parent())
+                        .map_or_else(String::new, |d| d.display().to_string());
+                    notices.push((
+                        Level::Info,
+                        format!("Exported {} files to {dir}", paths.len()),
+                    ));
+                    self.last = paths;
+                }
+                Ok(Err(err)) => notices.push((Level::Error, err)),
+                Err(mpsc::TryRecvError::Empty) => self.job = Some(Job::Writing(receiver)),
+                Err(mpsc::TryRecvError::Disconnected) => notices.push((
+                    Level::Error,
+                    "export failed: the writer thread stopped".to_owned(),
+                )),
+            },
+        }
+        notices
+    }
+
+    /// The folder picked in the dialog, once the user has answered.
+    fn picked_folder(&mut self) -> Option<Option<PathBuf>> {
+        let receiver = self.folder_dialog.as_ref()?;
+        match receiver.try_recv() {
+            Ok(picked) => {
+                self.folder_dialog = None;
+                Some(picked)
+            }
+            Err(mpsc::TryRecvError::Empty) => None,
+            Err(mpsc::TryRecvError::Disconnected) => {
+                self.folder_dialog = None;
+                Some(None)
+            }
+        }
+    }
+}
+
+fn write_in_background(
+    plan: Plan,
+    images: Vec<(String, image::RgbaImage)>,
+) -> mpsc::Receiver<Result<Vec<PathBuf>, String>> {
+    let (sender, receiver) = mpsc::channel();
+    let spawned = std::thread::Builder::new()
+        .name("aa-lab export".to_owned())
+        .spawn({
+            let sender = sender.clone();
+            move || {
+                let _ = sender.send(write_files(&plan, &images));
+            }
+        });
+    if let Err(err) = spawned {
+        let _ = sender.send(Err(format!("export failed: cannot start a thread: {err}")));
+    }
+    receiver
+}
+
+/// Writes the PNGs, the sheet and the sidecar under the first free stem.
+fn write_files(plan: &Plan, images: &[(String, image::RgbaImage)]) -> Result<Vec<PathBuf>, String> {
+    std::fs::create_dir_all(&plan.dir).map_err(|e| {
+        format!(
+            "cannot create the export folder {}: {e}",
+            plan.dir.display()
+        )
+    })?;
+    let mut suffixes: Vec<String> = images.iter().map(|(s, _)| format!("-{s}.png")).collect();
+    suffixes.push(".json".to_owned());
+    if plan.sheet.is_some() {
+        suffixes.push("-magnifier.png".to_owned());
+    }
+    let stem = free_stem(&plan.dir, &plan.stem, &suffixes);
+    let mut written = Vec::new();
+    for (suffix, image) in images {
+        let path = plan.dir.join(format!("{stem}-{suffix}.png"));
+        write_png(&path, image, Some(&plan.record)).map_err(|e| e.to_string())?;
+        written.push(path);
+    }
+    if let Some(sheet) = &plan.sheet {
+        let path = plan.dir.join(format!("{stem}-magnifier.png"));
+        write_png(&path, &compose_sheet(sheet), Some(&plan.record)).map_err(|e| e.to_string())?;
+        written.push(path);
+    }
+    let sidecar = plan.dir.join(format!("{stem}.json"));
+    std::fs::write(&sidecar, &plan.record)
+        .map_err(|e| format!("cannot write {}: {e}", sidecar.display()))?;
+    written.push(sidecar);
+    Ok(written)
+}
+
+impl AaLabApp {
+    /// The render record of the displayed frame: `aa-lab render --from` reproduces it.
+    pub fn current_spec(&self) -> Option<RenderSpec> {
+        let engine = self.engine.as_ref()?;
+        let camera = engine.displayed()?;
+        let scene = self.scene.as_ref()?;
+        let techniques = engine
+            .entries()
+            .iter()
+            .filter(|e| e.enabled && engine.output(e.id).is_some())
+            .map(|e| TechniqueSpec {
+                id: e.id.to_owned(),
+                settings: engine.param_map(e.id),
+            })
+            .collect();
+        Some(RenderSpec {
+            scene: scene.spec.clone(),
+            density: 1.0,
+            seed: crate::scene::procedural::SceneOptions::default().seed,
+            width: camera.size.0,
+            height: camera.size.1,
+            frame: camera.frame,
+            camera: Some(camera.pose),
+            techniques,
+            adapter: Some(format!(
+                "{} ({})",
+                engine.caps().adapter_name,
+                engine.caps().backend
+            )),
+            build: Some(crate::spec::build_id()),
+        })
+    }
+
+    /// The magnifier sheet of the current lens, once its crops are read.
+    pub(super) fn magnifier_sheet(&self) -> Option<Sheet> {
+        let lens = self.lens()?;
+        let mut panes = Vec::new();
+        let reference = self.magnifier.crop(Source::Reference);
+        for source in self.magnifier_sources() {
+            let crop = self.magnifier.crop(source)?;
+            let (x0, y0) = (lens.x - crop.region.x, lens.y - crop.region.y);
+            let pixels = if self.settings.magnifier.difference && source != Source::Reference {
+                let map = error_map(
+                    self.settings.magnifier.metric,
+                    &crop.image,
+                    &reference?.image,
+                )?;
+                let colors = heatmap(&map, crop.region.width, (x0, y0, lens.width, lens.height));
+                image::RgbaImage::from_fn(lens.width, lens.height, |x, y| {
+                    let c = colors.pixels[(y * lens.width + x) as usize];
+                    image::Rgba([c.r(), c.g(), c.b(), 255])
+                })
+            } else {
+                image::imageops::crop_imm(&crop.image, x0, y0, lens.width, lens.height).to_image()
+            };
+            let (letter, color, title) = self.source_label(source);
+            panes.push(SheetPane {
+                letter: letter.to_owned(),
+                color: [color.r(), color.g(), color.b()],
+                title,
+                caption: self.pane_figures(source),
+                pixels,
+            });
+        }
+        let scene = self.scene.as_ref().map_or("", |s| s.name.as_str());
+        let frame = self
+            .engine
+            .as_ref()
+            .and_then(|e| e.displayed())
+            .map_or(0, |c| c.frame);
+        let (w, h) = self.viewport.render_size;
+        let mode = if self.settings.magnifier.difference {
+            format!(" · {} vs reference", self.settings.magnifier.metric.label())
+        } else {
+            String::new()
+        };
+        Some(Sheet {
+            header: format!(
+                "{scene} · frame {frame} · {w}×{h} · lens {}×{} at ({}, {}) · {}×{mode} · {}",
+                lens.width,
+                lens.height,
+                lens.x,
+                lens.y,
+                self.settings.magnifier.zoom,
+                crate::spec::build_id()
+            ),
+            panes,
+            zoom: self.settings.magnifier.zoom,
+            grid: self.settings.magnifier.pixel_grid,
+        })
+    }
+
+    /// Starts an export of the displayed frame (see the module docs).
+    pub(super) fn start_export(&mut self, _ctx: &egui::Context) {
+        if self.export.running() {
+            return;
+        }
+        let Some(spec) = self.current_spec() else {
+            self.notify(
+                Level::Warning,
+                "Nothing to export yet: no frame has been rendered.",
+            );
+            return;
+        };
+        let Ok(record) = serde_json::to_string_pretty(&spec) else {
+            self.notify(
+                Level::Error,
+                "export failed: the render record could not be written",
+            );
+            return;
+        };
+        let Some(engine) = &self.engine else { return };
+        let mut pending = Vec::new();
+        for entry in engine.entries().iter().filter(|e| e.enabled) {
+            if let Some(output) = engine.output(entry.id) {
+                pending.push((
+                    entry.id.to_owned(),
+                    PendingImage::start(
+                        &self.gpu.device,
+                        &self.gpu.queue,
+                        &output.texture,
+                        Region::whole(&output.texture),
+                    ),
+                ));
+            }
+            if let (Some(view), Some(image)) = (&entry.debug_view, engine.image(entry.id))
+                && image
+                    .texture
+                    .usage()
+                    .contains(wgpu::TextureUsages::COPY_SRC)
+                && engine
+                    .output(entry.id)
+                    .is_some_and(|o| o.texture != image.texture)
+            {
+                pending.push((
+                    format!("{}-{view}", entry.id),
+                    PendingImage::start(
+                        &self.gpu.device,
+                        &self.gpu.queue,
+                        &image.texture,
+                        Region::whole(&image.texture),
+                    ),
+                ));
+            }
+        }
+        let scene = self.scene.as_ref().map_or("scene", |s| s.name.as_str());
+        let plan = Plan {
+            dir: self.settings.export_dir.clone(),
+            stem: format!("{scene}-f{}", spec.frame),
+            record,
+            sheet: self
+                .settings
+                .show_magnifier
+                .then(|| self.magnifier_sheet())
+                .flatten(),
+        };
+        self.export.job = Some(Job::Reading {
+            pending,
+            done: Vec::new(),
+            plan,
+        });
+    }
+
+    /// Copies the magnifier sheet to the clipboard.
+    pub(super) fn copy_sheet(&mut self, ctx: &egui::Context) {
+        match self.magnifier_sheet() {
+            Some(sheet) => {
+                let image = compose_sheet(&sheet);
+                let size = [image.width() as usize, image.height() as usize];
+                ctx.copy_image(egui::ColorImage::from_rgba_unmultiplied(
+                    size,
+                    image.as_raw(),
+                ));
+                self.notify(
+                    Level::Info,
+                    format!(
+                        "Copied the magnifier sheet ({}×{}) to the clipboard",
+                        size[0], size[1]
+                    ),
+                );
+            }
+            None => self.notify(
+                Level::Warning,
+                "The magnifier has no pixels yet: show the magnifier and wait for the first frame.",
+            ),
+        }
+    }
+
+    /// Asks for the export folder on a helper thread.
+    pub(super) fn pick_export_dir(&mut self, ctx: &egui::Context) {
+        if self.export.folder_dialog.is_some() {
+            return;
+        }
+        let (sender, receiver) = mpsc::channel();
+        let ctx = ctx.clone();
+        let start = self.settings.export_dir.clone();
+        let spawned = std::thread::Builder::new()
+            .name("aa-lab folder dialog".to_owned())
+            .spawn(move || {
+                let picked = rfd::FileDialog::new()
+                    .set_title("Export folder")
+                    .set_directory(&start)
+                    .pick_folder();
+                let _ = sender.send(picked);
+                ctx.request_repaint();
+            });
+        match spawned {
+            Ok(_) => self.export.folder_dialog = Some(receiver),
+            Err(err) => self.notify(Level::Error, format!("cannot open a folder dialog: {err}")),
+        }
+    }
+
+    /// Applies a folder picked in the dialog.
+    pub(super) fn poll_export_dir(&mut self) {
+        if let Some(Some(dir)) = self.export.picked_folder() {
+            self.notify(Level::Info, format!("Exports go to {}", dir.display()));
+            self.settings.export_dir = dir;
+        }
+    }
+
+    /// Points exports at a folder (tests use a temporary one).
+    pub fn set_export_dir(&mut self, dir: PathBuf) {
+        self.settings.export_dir = dir;
+    }
+
+    /// Files written by the last finished export.
+    pub fn last_export(&self) -> &[PathBuf] {
+        &self.export.last
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn free_stem_never_reuses_a_taken_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let suffixes = vec!["-none.png".to_owned(), ".json".to_owned()];
+        assert_eq!(free_stem(dir.path(), "atrium-f3", &suffixes), "atrium-f3");
+        std::fs::write(dir.path().join("atrium-f3.json"), "{}").unwrap();
+        assert_eq!(free_stem(dir.path(), "atrium-f3", &suffixes), "atrium-f3-2");
+        std::fs::write(dir.path().join("atrium-f3-2-none.png"), "").unwrap();
+        assert_eq!(free_stem(dir.path(), "atrium-f3", &suffixes), "atrium-f3-3");
+    }
+
+    #[test]
+    fn sheet_has_every_pane_zoomed() {
+        let pane = |v: u8| SheetPane {
+            letter: "A".to_owned(),
+            color: [255, 160, 40],
+            title: "No AA".to_owned(),
+            caption: "SSIM 0.9".to_owned(),
+            pixels: image::RgbaImage::from_pixel(4, 3, image::Rgba([v, v, v, 255])),
+        };
+        let sheet = Sheet {
+            header: "test".to_owned(),
+            panes: vec![pane(10), pane(200)],
+            zoom: 8,
+            grid: false,
+        };
+        let image = compose_sheet(&sheet);
+        let top = SHEET_MARGIN + HEADER_HEIGHT + TITLE_HEIGHT;
+        assert_eq!(image.height(), top + 3 * 8 + CAPTION_HEIGHT + SHEET_MARGIN);
+        assert_eq!(
+            image.get_pixel(SHEET_MARGIN + 5, top + 5).0,
+            [10, 10, 10, 255]
+        );
+        let second = SHEET_MARGIN + 4 * 8 + SHEET_GAP;
+        assert_eq!(
+            image.get_pixel(second + 31, top + 23).0,
+            [200, 200, 200, 255]
+        );
+    }
+}
