@@ -29,7 +29,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Render a scene through one or more techniques to PNG files.
-    Render(RenderArgs),
+    Render(Box<RenderArgs>),
     /// Print what the GPU adapter can do (sample counts, timestamps, limits).
     Info {
         /// Print JSON instead of text.

@@ -637,7 +637,7 @@ impl SceneRenderer {
             // coverage fraction, not an image alpha.
             write_mask: wgpu::ColorWrites::COLOR,
         };
-        let motion_target = key.motion.then(|| wgpu::ColorTargetState {
+        let motion_target = key.motion.then_some(wgpu::ColorTargetState {
             format: MOTION_FORMAT,
             blend: None,
             write_mask: wgpu::ColorWrites::ALL,

@@ -45,7 +45,7 @@ impl Rng {
 
     /// Uniform integer in 0..n (n > 0), by multiply-shift (bias below 2^-32 for small n).
     pub(crate) fn below(&mut self, n: usize) -> usize {
-        ((self.next_u64() >> 32) * n as u64 >> 32) as usize
+        (((self.next_u64() >> 32) * n as u64) >> 32) as usize
     }
 
     /// A uniformly distributed unit vector (Archimedes: uniform height, uniform azimuth).
