@@ -7,10 +7,8 @@
 //! running), so an idle viewer costs nothing.
 
 use std::path::PathBuf;
-use std::sync::{Arc, mpsc};
+use std::sync::mpsc;
 use std::time::{Duration, Instant};
-
-use egui::mutex::RwLock;
 
 use super::camera::CameraController;
 use super::engine::Engine;
@@ -82,8 +80,8 @@ pub struct SceneInfo {
 /// The viewer application.
 pub struct AaLabApp {
     pub(super) settings: Settings,
+    /// eframe's device (the window); the engine renders on its own device.
     pub(super) gpu: Gpu,
-    pub(super) renderer: Arc<RwLock<egui_wgpu::Renderer>>,
     pub(super) engine: Option<Engine>,
     pub(super) scene: Option<SceneInfo>,
     pub(super) loader: SceneLoader,
@@ -130,7 +128,6 @@ impl AaLabApp {
         let mut app = Self {
             settings,
             gpu,
-            renderer: Arc::clone(&state.renderer),
             engine: None,
             scene: None,
             loader: SceneLoader::default(),
@@ -341,12 +338,18 @@ impl AaLabApp {
         match &mut self.engine {
             Some(engine) => engine.set_scene(scene),
             None => {
-                let mut engine = Engine::new(
-                    self.gpu.clone(),
-                    Arc::clone(&self.renderer),
+                let mut engine = match Engine::new(
+                    &self.gpu.adapter,
+                    ctx,
                     scene,
                     self.settings.reference_samples,
-                );
+                ) {
+                    Ok(engine) => engine,
+                    Err(err) => {
+                        self.notify(Level::Error, err.to_string());
+                        return;
+                    }
+                };
                 let mut problems = Vec::new();
                 for (id, map) in &self.settings.technique_settings {
                     if let Err(err) = engine.apply_param_map(id, map) {
@@ -410,9 +413,6 @@ impl AaLabApp {
         });
         for path in dropped {
             self.load_scene(ctx, &path.display().to_string());
-        }
-        if let Some(engine) = &self.engine {
-            engine.poll();
         }
         self.poll_export_dir();
         let finished = self.export.poll();
@@ -513,32 +513,43 @@ impl AaLabApp {
             || (self.camera.playing && (engine.animated() || engine.temporal_enabled()))
     }
 
-    fn engine_frame(&mut self) -> bool {
+    /// Publishes a finished engine frame and starts the next one when the engine is free.
+    /// Returns whether more frames are wanted.
+    fn engine_frame(&mut self, ctx: &egui::Context) -> bool {
         let size = self.viewport.render_size;
         let want_reference = self.reference_wanted();
         let Some(engine) = &mut self.engine else {
             return false;
         };
-        if size.0 == 0 || size.1 == 0 {
-            return true;
-        }
-        let (camera, cut) = self.camera.next_frame(size);
-        match engine.render(camera, cut, want_reference) {
-            Ok(report) => {
-                self.clock.tick(report.outputs_changed);
-                if report.outputs_changed {
-                    self.magnifier.outputs_changed();
-                }
-                if report.reference_changed || report.outputs_changed {
-                    self.quality.invalidate();
-                }
-                report.busy
-            }
+        let mut errors = Vec::new();
+        let publication = match engine.poll(ctx) {
+            Ok(publication) => publication,
             Err(err) => {
-                self.notify(Level::Error, err.to_string());
-                false
+                errors.push(err.to_string());
+                Default::default()
+            }
+        };
+        if size.0 > 0 && size.1 > 0 && !engine.busy() {
+            let (camera, cut) = self.camera.next_frame(size);
+            if let Err(err) = engine.submit(camera, cut, want_reference) {
+                errors.push(err.to_string());
             }
         }
+        let more = engine.reference_incomplete();
+        self.clock.tick(publication.outputs);
+        if publication.outputs || publication.reference {
+            self.magnifier.outputs_changed();
+            self.quality.invalidate();
+        }
+        for err in errors {
+            self.notify(Level::Error, err);
+        }
+        more
+    }
+
+    /// Whether the engine has a frame in flight.
+    pub fn rendering(&self) -> bool {
+        self.engine.as_ref().is_some_and(Engine::busy)
     }
 }
 
@@ -576,7 +587,7 @@ impl eframe::App for AaLabApp {
         if ctx.input(|i| i.key_pressed(egui::Key::Escape)) {
             self.help_open = false;
         }
-        let busy = self.engine_frame();
+        let more = self.engine_frame(&ctx);
         self.update_quality(&ctx);
         self.update_magnifier(&ctx);
 
@@ -599,9 +610,11 @@ impl eframe::App for AaLabApp {
         let pending_jobs = self.loading()
             || self.export.running()
             || self.file_dialog.is_some()
-            || self.magnifier.waiting()
             || self.quality.waiting();
-        if busy || self.time_changes_image() || self.viewport.resized {
+        if self.rendering() {
+            // The GPU waiter wakes the UI when the frame is done; this is a fallback.
+            ctx.request_repaint_after(Duration::from_millis(250));
+        } else if more || self.time_changes_image() || self.viewport.resized {
             ctx.request_repaint();
         } else if pending_jobs {
             ctx.request_repaint_after(Duration::from_millis(30));

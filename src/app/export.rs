@@ -5,8 +5,8 @@
 //! takes the next free name (`atrium-f120-2-...`). The magnifier sheet can also be copied to
 //! the clipboard.
 //!
-//! The frames are read back asynchronously, then a worker thread encodes and writes the files,
-//! so the window keeps running while a large export is written.
+//! The frames are the engine's published CPU copies (the bytes on screen); a worker thread
+//! encodes and writes the files, so the window keeps running while a large export is written.
 
 use std::path::{Path, PathBuf};
 use std::sync::{Once, mpsc};
@@ -14,10 +14,10 @@ use std::sync::{Once, mpsc};
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 
+use std::sync::Arc;
+
 use super::app::{AaLabApp, Level};
-use super::magnifier::Source;
-use super::quality::{error_map, heatmap};
-use super::readback::{PendingImage, Region};
+use super::magnifier::{Source, crop, lens_heatmap};
 use crate::export::write_png;
 use crate::spec::{RenderSpec, TechniqueSpec};
 
@@ -190,30 +190,20 @@ pub fn free_stem(dir: &Path, stem: &str, suffixes: &[String]) -> String {
         .unwrap_or_else(|| stem.to_owned())
 }
 
-/// What an export writes once the pixels are in.
+/// What an export writes.
 struct Plan {
     dir: PathBuf,
     stem: String,
     record: String,
+    /// (file suffix, pixels) of every frame.
+    images: Vec<(String, Arc<image::RgbaImage>)>,
     sheet: Option<Sheet>,
-}
-
-/// An export in progress.
-enum Job {
-    /// Frames being read back: (file suffix, readback).
-    Reading {
-        pending: Vec<(String, PendingImage)>,
-        done: Vec<(String, image::RgbaImage)>,
-        plan: Plan,
-    },
-    /// Files being written by the worker.
-    Writing(mpsc::Receiver<Result<Vec<PathBuf>, String>>),
 }
 
 /// Export jobs and the export-folder dialog.
 #[derive(Default)]
 pub struct ExportState {
-    job: Option<Job>,
+    job: Option<mpsc::Receiver<Result<Vec<PathBuf>, String>>>,
     folder_dialog: Option<mpsc::Receiver<Option<PathBuf>>>,
     /// Files written by the last export.
     pub last: Vec<PathBuf>,
@@ -225,61 +215,33 @@ impl ExportState {
         self.job.is_some()
     }
 
-    /// Advances the job; returns notices for the user.
+    /// Collects a finished export; returns notices for the user.
     pub fn poll(&mut self) -> Vec<(Level, String)> {
-        let mut notices = Vec::new();
-        match self.job.take() {
-            None => {}
-            Some(Job::Reading {
-                mut pending,
-                mut done,
-                plan,
-            }) => {
-                let mut failed = None;
-                pending.retain(|(suffix, p)| match p.try_take() {
-                    Ok(Some(image)) => {
-                        done.push((suffix.clone(), image));
-                        false
-                    }
-                    Ok(None) => true,
-                    Err(err) => {
-                        failed = Some(err.to_string());
-                        false
-                    }
-                });
-                if let Some(err) = failed {
-                    notices.push((Level::Error, format!("export failed: {err}")));
-                } else if pending.is_empty() {
-                    self.job = Some(Job::Writing(write_in_background(plan, done)));
-                } else {
-                    self.job = Some(Job::Reading {
-                        pending,
-                        done,
-                        plan,
-                    });
-                }
+        let Some(receiver) = &self.job else {
+            return Vec::new();
+        };
+        let notice = match receiver.try_recv() {
+            Ok(Ok(paths)) => {
+                let dir = paths
+                    .first()
+                    .and_then(|p| p.parent())
+                    .map_or_else(String::new, |d| d.display().to_string());
+                let notice = (
+                    Level::Info,
+                    format!("Exported {} files to {dir}", paths.len()),
+                );
+                self.last = paths;
+                notice
             }
-            Some(Job::Writing(receiver)) => match receiver.try_recv() {
-                Ok(Ok(paths)) => {
-                    let dir = paths
-                        .first()
-                        .and_then(|p| p.parent())
-                        .map_or_else(String::new, |d| d.display().to_string());
-                    notices.push((
-                        Level::Info,
-                        format!("Exported {} files to {dir}", paths.len()),
-                    ));
-                    self.last = paths;
-                }
-                Ok(Err(err)) => notices.push((Level::Error, err)),
-                Err(mpsc::TryRecvError::Empty) => self.job = Some(Job::Writing(receiver)),
-                Err(mpsc::TryRecvError::Disconnected) => notices.push((
-                    Level::Error,
-                    "export failed: the writer thread stopped".to_owned(),
-                )),
-            },
-        }
-        notices
+            Ok(Err(err)) => (Level::Error, err),
+            Err(mpsc::TryRecvError::Empty) => return Vec::new(),
+            Err(mpsc::TryRecvError::Disconnected) => (
+                Level::Error,
+                "export failed: the writer thread stopped".to_owned(),
+            ),
+        };
+        self.job = None;
+        vec![notice]
     }
 
     /// The folder picked in the dialog, once the user has answered.
@@ -299,17 +261,14 @@ impl ExportState {
     }
 }
 
-fn write_in_background(
-    plan: Plan,
-    images: Vec<(String, image::RgbaImage)>,
-) -> mpsc::Receiver<Result<Vec<PathBuf>, String>> {
+fn write_in_background(plan: Plan) -> mpsc::Receiver<Result<Vec<PathBuf>, String>> {
     let (sender, receiver) = mpsc::channel();
     let spawned = std::thread::Builder::new()
         .name("aa-lab export".to_owned())
         .spawn({
             let sender = sender.clone();
             move || {
-                let _ = sender.send(write_files(&plan, &images));
+                let _ = sender.send(write_files(&plan));
             }
         });
     if let Err(err) = spawned {
@@ -319,7 +278,8 @@ fn write_in_background(
 }
 
 /// Writes the PNGs, the sheet and the sidecar under the first free stem.
-fn write_files(plan: &Plan, images: &[(String, image::RgbaImage)]) -> Result<Vec<PathBuf>, String> {
+fn write_files(plan: &Plan) -> Result<Vec<PathBuf>, String> {
+    let images = &plan.images;
     std::fs::create_dir_all(&plan.dir).map_err(|e| {
         format!(
             "cannot create the export folder {}: {e}",
@@ -383,27 +343,27 @@ impl AaLabApp {
         })
     }
 
-    /// The magnifier sheet of the current lens, once its crops are read.
+    /// The magnifier sheet of the current lens (what the magnifier panel shows).
     pub(super) fn magnifier_sheet(&self) -> Option<Sheet> {
         let lens = self.lens()?;
+        let metric = self.settings.magnifier.metric;
+        let reference = self.source_image(Source::Reference);
         let mut panes = Vec::new();
-        let reference = self.magnifier.crop(Source::Reference);
         for source in self.magnifier_sources() {
-            let crop = self.magnifier.crop(source)?;
-            let (x0, y0) = (lens.x - crop.region.x, lens.y - crop.region.y);
-            let pixels = if self.settings.magnifier.difference && source != Source::Reference {
-                let map = error_map(
-                    self.settings.magnifier.metric,
-                    &crop.image,
-                    &reference?.image,
-                )?;
-                let colors = heatmap(&map, crop.region.width, (x0, y0, lens.width, lens.height));
-                image::RgbaImage::from_fn(lens.width, lens.height, |x, y| {
-                    let c = colors.pixels[(y * lens.width + x) as usize];
-                    image::Rgba([c.r(), c.g(), c.b(), 255])
-                })
-            } else {
-                image::imageops::crop_imm(&crop.image, x0, y0, lens.width, lens.height).to_image()
+            let Some(image) = self.source_image(source) else {
+                continue;
+            };
+            let pixels = match reference {
+                Some(reference)
+                    if self.settings.magnifier.difference && source != Source::Reference =>
+                {
+                    let (colors, _) = lens_heatmap(metric, &image.pixels, &reference.pixels, lens)?;
+                    image::RgbaImage::from_fn(lens.width, lens.height, |x, y| {
+                        let c = colors.pixels[(y * lens.width + x) as usize];
+                        image::Rgba([c.r(), c.g(), c.b(), 255])
+                    })
+                }
+                _ => crop(&image.pixels, lens),
             };
             let (letter, color, title) = self.source_label(source);
             panes.push(SheetPane {
@@ -414,6 +374,9 @@ impl AaLabApp {
                 pixels,
             });
         }
+        if panes.is_empty() {
+            return None;
+        }
         let scene = self.scene.as_ref().map_or("", |s| s.name.as_str());
         let frame = self
             .engine
@@ -422,7 +385,7 @@ impl AaLabApp {
             .map_or(0, |c| c.frame);
         let (w, h) = self.viewport.render_size;
         let mode = if self.settings.magnifier.difference {
-            format!(" · {} vs reference", self.settings.magnifier.metric.label())
+            format!(" · {} vs reference", metric.label())
         } else {
             String::new()
         };
@@ -462,37 +425,16 @@ impl AaLabApp {
             return;
         };
         let Some(engine) = &self.engine else { return };
-        let mut pending = Vec::new();
+        let mut images = Vec::new();
         for entry in engine.entries().iter().filter(|e| e.enabled) {
-            if let Some(output) = engine.output(entry.id) {
-                pending.push((
-                    entry.id.to_owned(),
-                    PendingImage::start(
-                        &self.gpu.device,
-                        &self.gpu.queue,
-                        &output.texture,
-                        Region::whole(&output.texture),
-                    ),
-                ));
-            }
+            let Some(output) = engine.output(entry.id) else {
+                continue;
+            };
+            images.push((entry.id.to_owned(), Arc::clone(&output.pixels)));
             if let (Some(view), Some(image)) = (&entry.debug_view, engine.image(entry.id))
-                && image
-                    .texture
-                    .usage()
-                    .contains(wgpu::TextureUsages::COPY_SRC)
-                && engine
-                    .output(entry.id)
-                    .is_some_and(|o| o.texture != image.texture)
+                && !Arc::ptr_eq(&image.pixels, &output.pixels)
             {
-                pending.push((
-                    format!("{}-{view}", entry.id),
-                    PendingImage::start(
-                        &self.gpu.device,
-                        &self.gpu.queue,
-                        &image.texture,
-                        Region::whole(&image.texture),
-                    ),
-                ));
+                images.push((format!("{}-{view}", entry.id), Arc::clone(&image.pixels)));
             }
         }
         let scene = self.scene.as_ref().map_or("scene", |s| s.name.as_str());
@@ -500,17 +442,14 @@ impl AaLabApp {
             dir: self.settings.export_dir.clone(),
             stem: format!("{scene}-f{}", spec.frame),
             record,
+            images,
             sheet: self
                 .settings
                 .show_magnifier
                 .then(|| self.magnifier_sheet())
                 .flatten(),
         };
-        self.export.job = Some(Job::Reading {
-            pending,
-            done: Vec::new(),
-            plan,
-        });
+        self.export.job = Some(write_in_background(plan));
     }
 
     /// Copies the magnifier sheet to the clipboard.

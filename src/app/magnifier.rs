@@ -3,18 +3,17 @@
 //! pixel grid, a crosshair linked across panes and the pixel values under the cursor. In
 //! difference mode each pane shows its error against the reference as a heatmap.
 //!
-//! Panes draw straight from the GPU textures (nearest sampler, integer zoom, pixel-aligned),
-//! so they show the very pixels of the frame. Pixel values and heatmaps need the numbers on
-//! the CPU: the lens region plus a margin (for windowed metrics) is read back asynchronously
-//! whenever the lens moves or the images change, and the heatmaps are recomputed from those
-//! crops.
+//! Panes draw the published textures (nearest sampler, integer zoom, pixel-aligned), so they
+//! show the very pixels of the frame; pixel values and heatmaps come from the same published
+//! images on the CPU. Heatmaps are recomputed when the lens, the images or the metric change,
+//! from the lens region plus a margin so that windowed metrics see the pixels' neighbourhood.
 
 use egui::{Color32, Rect, Sense, Stroke, StrokeKind, TextureHandle, pos2, vec2};
 
 use super::app::AaLabApp;
-use super::engine::{EguiImage, ReferenceState};
+use super::engine::{Published, ReferenceState};
 use super::quality::{self, heatmap};
-use super::readback::{PendingImage, Region};
+use super::readback::Region;
 use super::settings::{DiffMetric, MagnifierSettings};
 use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, SLOT_LETTERS};
 
@@ -58,29 +57,12 @@ pub enum Source {
     Reference,
 }
 
-/// The CPU copy of a pane's lens region with its margin.
-pub struct Crop {
-    /// What it shows.
-    pub source: Source,
-    /// The region read (lens plus margin, clipped to the frame).
-    pub region: Region,
-    /// The pixels.
-    pub image: image::RgbaImage,
-}
-
-impl Crop {
-    /// The pixel at a frame position, if inside.
-    pub fn pixel(&self, x: u32, y: u32) -> Option<[u8; 4]> {
-        let (lx, ly) = (x.checked_sub(self.region.x)?, y.checked_sub(self.region.y)?);
-        self.image.get_pixel_checked(lx, ly).map(|p| p.0)
-    }
-}
-
-/// Identifies one set of crops: same region, same images.
+/// Identifies one set of heatmaps: same lens, same images, same metric.
 #[derive(Clone, Debug, PartialEq)]
-struct CropKey {
-    region: Region,
+struct HeatKey {
+    lens: Region,
     generation: u64,
+    metric: DiffMetric,
     sources: Vec<Source>,
 }
 
@@ -92,16 +74,12 @@ pub struct MagnifierState {
     /// The frame pixel under the pointer in a pane.
     pub hover: Option<(u32, u32)>,
     generation: u64,
-    wanted: Option<CropKey>,
-    pending: Vec<(Source, PendingImage)>,
-    have: Option<CropKey>,
-    crops: Vec<Crop>,
-    heat_key: Option<(CropKey, DiffMetric)>,
+    heat_key: Option<HeatKey>,
     heatmaps: Vec<(Source, TextureHandle, f64)>,
 }
 
 impl MagnifierState {
-    /// Forgets crops and heatmaps (new scene).
+    /// Forgets the heatmaps (new scene).
     pub fn clear(&mut self) {
         *self = Self {
             lens_side: self.lens_side,
@@ -110,14 +88,9 @@ impl MagnifierState {
         };
     }
 
-    /// The images changed: crops must be read again.
+    /// The images changed: heatmaps must be computed again.
     pub fn outputs_changed(&mut self) {
         self.generation += 1;
-    }
-
-    /// A readback is in flight.
-    pub fn waiting(&self) -> bool {
-        !self.pending.is_empty()
     }
 
     /// Steps the zoom through [`ZOOM_STEPS`].
@@ -129,16 +102,43 @@ impl MagnifierState {
         let next = (index + steps).clamp(0, ZOOM_STEPS.len() as i32 - 1) as usize;
         settings.zoom = ZOOM_STEPS[next];
     }
+}
 
-    /// The crops, once read for the current lens and images.
-    pub fn crops(&self) -> &[Crop] {
-        &self.crops
+/// The lens plus [`MARGIN`] pixels around it, inside a `size` frame.
+pub fn with_margin(lens: Region, size: (u32, u32)) -> Option<Region> {
+    Region {
+        x: lens.x.saturating_sub(MARGIN),
+        y: lens.y.saturating_sub(MARGIN),
+        width: lens.width + 2 * MARGIN,
+        height: lens.height + 2 * MARGIN,
     }
+    .clipped(size)
+}
 
-    /// The crop of one source.
-    pub fn crop(&self, source: Source) -> Option<&Crop> {
-        self.crops.iter().find(|c| c.source == source)
+/// Pixels of `region` of an image.
+pub fn crop(image: &image::RgbaImage, region: Region) -> image::RgbaImage {
+    image::imageops::crop_imm(image, region.x, region.y, region.width, region.height).to_image()
+}
+
+/// The heatmap of `test` against `reference` in the lens, computed on the lens plus margin:
+/// the colours and the mean error in the lens.
+pub fn lens_heatmap(
+    metric: DiffMetric,
+    test: &image::RgbaImage,
+    reference: &image::RgbaImage,
+    lens: Region,
+) -> Option<(egui::ColorImage, f64)> {
+    let area = with_margin(lens, test.dimensions())?;
+    let map = quality::error_map(metric, &crop(test, area), &crop(reference, area))?;
+    let window = (lens.x - area.x, lens.y - area.y, lens.width, lens.height);
+    let colors = heatmap(&map, area.width, window);
+    let mut sum = 0.0;
+    for y in window.1..window.1 + window.3 {
+        for x in window.0..window.0 + window.2 {
+            sum += f64::from(map[(y * area.width + x) as usize]);
+        }
     }
+    Some((colors, sum / f64::from((lens.width * lens.height).max(1))))
 }
 
 impl AaLabApp {
@@ -156,7 +156,8 @@ impl AaLabApp {
         sources
     }
 
-    fn source_image(&self, source: Source) -> Option<&EguiImage> {
+    /// The published image of a pane.
+    pub(super) fn source_image(&self, source: Source) -> Option<&Published> {
         let engine = self.engine.as_ref()?;
         match source {
             Source::Technique(_, id) => engine.image(id),
@@ -173,109 +174,45 @@ impl AaLabApp {
         )
     }
 
-    /// Starts and collects the readbacks of the lens region; recomputes heatmaps.
+    /// Recomputes the difference heatmaps when the lens, the images or the metric changed.
     pub(super) fn update_magnifier(&mut self, ctx: &egui::Context) {
-        if !self.settings.show_magnifier {
+        if !self.settings.show_magnifier || !self.settings.magnifier.difference {
             return;
         }
         let Some(lens) = self.lens() else { return };
         let size = self.viewport.render_size;
-        let region = Region {
-            x: lens.x.saturating_sub(MARGIN),
-            y: lens.y.saturating_sub(MARGIN),
-            width: lens.width + 2 * MARGIN,
-            height: lens.height + 2 * MARGIN,
-        };
-        let Some(region) = region.clipped(size) else {
-            return;
-        };
+        let metric = self.settings.magnifier.metric;
         let sources: Vec<Source> = self
             .magnifier_sources()
             .into_iter()
             .filter(|s| self.source_image(*s).is_some_and(|i| i.size() == size))
             .collect();
-        let key = CropKey {
-            region,
+        let key = HeatKey {
+            lens,
             generation: self.magnifier.generation,
+            metric,
             sources: sources.clone(),
         };
-        if self.magnifier.wanted.as_ref() != Some(&key) && self.magnifier.pending.is_empty() {
-            let gpu = self.gpu.clone();
-            let mut pending = Vec::new();
-            for source in &sources {
-                let Some(image) = self.source_image(*source) else {
-                    continue;
-                };
-                let texture = &image.texture;
-                if texture.usage().contains(wgpu::TextureUsages::COPY_SRC) {
-                    pending.push((
-                        *source,
-                        PendingImage::start(&gpu.device, &gpu.queue, texture, region),
-                    ));
-                }
-            }
-            self.magnifier.pending = pending;
-            self.magnifier.wanted = Some(key);
-        }
-        if !self.magnifier.pending.is_empty() {
-            let mut done = Vec::new();
-            let mut failed = None;
-            for (source, pending) in &self.magnifier.pending {
-                match pending.try_take() {
-                    Ok(Some(image)) => done.push(Crop {
-                        source: *source,
-                        region: pending.region(),
-                        image,
-                    }),
-                    Ok(None) => {}
-                    Err(err) => failed = Some(err.to_string()),
-                }
-            }
-            if let Some(err) = failed {
-                self.magnifier.pending.clear();
-                self.notify(super::app::Level::Error, err);
-            } else if done.len() == self.magnifier.pending.len() {
-                self.magnifier.pending.clear();
-                self.magnifier.crops = done;
-                self.magnifier.have = self.magnifier.wanted.clone();
-            }
-        }
-        self.update_heatmaps(ctx, lens);
-    }
-
-    fn update_heatmaps(&mut self, ctx: &egui::Context, lens: Region) {
-        let metric = self.settings.magnifier.metric;
-        if !self.settings.magnifier.difference {
-            return;
-        }
-        let Some(have) = self.magnifier.have.clone() else {
-            return;
-        };
-        let key = (have, metric);
         if self.magnifier.heat_key.as_ref() == Some(&key) {
             return;
         }
-        let Some(reference) = self.magnifier.crop(Source::Reference) else {
-            self.magnifier.heatmaps.clear();
-            return;
-        };
         let mut maps = Vec::new();
-        for crop in self.magnifier.crops() {
-            if crop.source == Source::Reference {
-                continue;
+        if let Some(reference) = self.source_image(Source::Reference) {
+            for source in sources.iter().filter(|s| **s != Source::Reference) {
+                let Some(test) = self.source_image(*source) else {
+                    continue;
+                };
+                if let Some((colors, mean)) =
+                    lens_heatmap(metric, &test.pixels, &reference.pixels, lens)
+                {
+                    let handle = ctx.load_texture(
+                        format!("magnifier heatmap {source:?}"),
+                        colors,
+                        egui::TextureOptions::NEAREST,
+                    );
+                    maps.push((*source, handle, mean));
+                }
             }
-            let Some(map) = quality::error_map(metric, &crop.image, &reference.image) else {
-                continue;
-            };
-            let (x0, y0) = (lens.x - crop.region.x, lens.y - crop.region.y);
-            let colors = heatmap(&map, crop.region.width, (x0, y0, lens.width, lens.height));
-            let mean = map.iter().sum::<f32>() as f64 / map.len().max(1) as f64;
-            let handle = ctx.load_texture(
-                format!("magnifier heatmap {:?}", crop.source),
-                colors,
-                egui::TextureOptions::NEAREST,
-            );
-            maps.push((crop.source, handle, mean));
         }
         self.magnifier.heatmaps = maps;
         self.magnifier.heat_key = Some(key);
@@ -292,6 +229,8 @@ impl AaLabApp {
                     .inner_margin(egui::Margin::symmetric(10, 6)),
             )
             .show(ui, |ui| {
+                // Keep the panel at its set height (panels otherwise shrink to their content).
+                ui.set_min_height(ui.available_height());
                 self.magnifier_header(ui);
                 ui.add_space(4.0);
                 self.magnifier_panes(ui);
@@ -490,7 +429,7 @@ impl AaLabApp {
                     (lens.y + lens.height) as f32 / size.1 as f32,
                 ),
             );
-            painter.image(image.nearest, rect, uv, Color32::WHITE);
+            painter.image(image.id(), rect, uv, Color32::WHITE);
         } else {
             let text = match source {
                 Source::Reference => "reference: waiting for the camera to stop",
@@ -582,7 +521,11 @@ impl AaLabApp {
             for source in sources {
                 let (letter, color, _) = self.source_label(*source);
                 ui.label(style::badge(letter, color));
-                match self.magnifier.crop(*source).and_then(|c| c.pixel(x, y)) {
+                let pixel = self
+                    .source_image(*source)
+                    .and_then(|i| i.pixels.get_pixel_checked(x, y))
+                    .map(|p| p.0);
+                match pixel {
                     Some([r, g, b, _]) => {
                         let (swatch, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
                         ui.painter()

@@ -56,8 +56,8 @@ impl AaLabApp {
                 });
             }
             None => {
-                ui.weak("idle: nothing changes, so nothing renders")
-                    .on_hover_text("The viewer renders only when the view, the settings or time change. Press Space to play or turn on auto-rotation to measure continuously.");
+                ui.weak("techniques idle: their view has not changed")
+                    .on_hover_text("Techniques render only when the view, their settings or time change (the reference keeps accumulating meanwhile). Turn on Orbit, or drag the view, to measure frame rates continuously.");
             }
         });
         let frame_points = self.clock.points();

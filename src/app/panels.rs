@@ -189,7 +189,7 @@ impl AaLabApp {
                     go = Some(bookmark.pose);
                 }
                 if ui
-                    .small_button("✖")
+                    .small_button("×")
                     .on_hover_text("Delete this bookmark")
                     .clicked()
                 {
@@ -221,9 +221,9 @@ impl AaLabApp {
                     self.compare_strip(ui);
                     ui.separator();
                     let (icon, tip) = if self.camera.playing {
-                        ("⏸", "Pause time")
+                        ("Pause", "Pause time")
                     } else {
-                        ("▶", "Resume time")
+                        ("Play", "Resume time")
                     };
                     if ui
                         .button(icon)
@@ -233,7 +233,7 @@ impl AaLabApp {
                         self.camera.playing = !self.camera.playing;
                     }
                     if ui
-                        .button("⏭")
+                        .button("Step")
                         .on_hover_text(shortcut_hint(&ctx, Action::Step, "Step one frame"))
                         .clicked()
                     {
@@ -242,7 +242,7 @@ impl AaLabApp {
                     }
                     let mut auto = self.camera.auto_rotate;
                     if ui
-                        .toggle_value(&mut auto, "🔄 Orbit")
+                        .toggle_value(&mut auto, "Orbit")
                         .on_hover_text(shortcut_hint(&ctx, Action::AutoRotate, "Auto-rotate along the scene's camera path"))
                         .changed()
                     {
@@ -250,7 +250,7 @@ impl AaLabApp {
                         self.settings.auto_rotate = auto;
                     }
                     if ui
-                        .button("⌂")
+                        .button("Reset view")
                         .on_hover_text(shortcut_hint(&ctx, Action::ResetView, "Reset the view"))
                         .clicked()
                     {
@@ -268,7 +268,7 @@ impl AaLabApp {
                         .response
                         .on_hover_text("Render resolution");
                     ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                        let label = if self.export.running() { "Exporting…" } else { "📷 Export" };
+                        let label = if self.export.running() { "Exporting…" } else { "Export" };
                         if ui
                             .add_enabled(!self.export.running(), Button::new(label))
                             .on_hover_text(shortcut_hint(
@@ -308,7 +308,12 @@ impl AaLabApp {
                 .on_hover_text(format!("Compared technique {}: {name}", SLOT_LETTERS[slot]));
             ui.label(name);
         }
-        if compared.len() >= 2 && ui.small_button("⇄").on_hover_text("Swap A and B").clicked() {
+        if compared.len() >= 2
+            && ui
+                .small_button("swap A/B")
+                .on_hover_text("Swap A and B")
+                .clicked()
+        {
             let (a, b) = (compared[0].to_owned(), compared[1].to_owned());
             let mut order: Vec<String> = compared.iter().map(|s| (*s).to_owned()).collect();
             order[0] = b;
@@ -364,11 +369,16 @@ impl AaLabApp {
                         ui.label(RichText::new(format!("pixel ({x}, {y})")).small().monospace());
                     }
                     ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                        if let Some((fps, ms)) = self.clock.fps(std::time::Duration::from_secs(2)) {
+                        let window = std::time::Duration::from_secs(2);
+                        if let Some((fps, ms)) = self.clock.fps(window) {
                             ui.label(RichText::new(format!("{fps:.1} FPS · {}", style::ms(ms))).small().monospace())
-                                .on_hover_text("Frames per second over the last 2 s of frames that rendered techniques, and the median time between them");
-                            ui.separator();
+                                .on_hover_text("Rendered frames per second over the last 2 s (frames in which the techniques produced new images), and the median time between them.");
                         }
+                        if self.rendering() {
+                            ui.add(egui::Spinner::new().size(11.0))
+                                .on_hover_text("A frame is being rendered; the interface keeps responding meanwhile.");
+                        }
+                        ui.separator();
                         if let Some(notice) = self.notices.last() {
                             let color = match notice.level {
                                 Level::Info => ui.visuals().text_color(),

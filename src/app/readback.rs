@@ -115,11 +115,6 @@ impl PendingImage {
         }
     }
 
-    /// The region being read.
-    pub fn region(&self) -> Region {
-        self.region
-    }
-
     /// The pixels once the GPU has delivered them (the caller polls the device), `Ok(None)`
     /// while still in flight.
     pub fn try_take(&self) -> Result<Option<image::RgbaImage>, ReadbackError> {

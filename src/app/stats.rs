@@ -22,58 +22,58 @@ fn median(values: &VecDeque<f64>) -> Option<f64> {
     Some(median_of_sorted(&sorted))
 }
 
-/// UI frame times.
+/// Rendered frames over time (UI frames that only redraw the interface do not count).
 #[derive(Debug)]
 pub struct FrameClock {
     start: Instant,
-    last: Option<Instant>,
-    /// (seconds since start, frame milliseconds, engine frame rendered).
-    samples: VecDeque<(f64, f64, bool)>,
+    /// Seconds of the previous rendered frame, unless the app idled since.
+    last_rendered: Option<f64>,
+    /// (seconds, ms since the previous rendered frame) of recent rendered frames.
+    rendered: VecDeque<(f64, f64)>,
 }
 
 impl Default for FrameClock {
     fn default() -> Self {
         Self {
             start: Instant::now(),
-            last: None,
-            samples: VecDeque::new(),
+            last_rendered: None,
+            rendered: VecDeque::new(),
         }
     }
 }
 
 impl FrameClock {
-    /// Records the start of a UI frame; `rendered` says whether the engine rendered in it.
+    /// Records a UI frame; `rendered` says whether it published newly rendered techniques.
     pub fn tick(&mut self, rendered: bool) {
-        let now = Instant::now();
-        if let Some(last) = self.last {
-            let t = now.duration_since(self.start).as_secs_f64();
-            let ms = now.duration_since(last).as_secs_f64() * 1000.0;
-            self.samples.push_back((t, ms, rendered));
-            while self
-                .samples
-                .front()
-                .is_some_and(|(s, _, _)| t - s > PLOT_SECONDS)
-            {
-                self.samples.pop_front();
+        let t = self.start.elapsed().as_secs_f64();
+        if rendered {
+            if let Some(previous) = self.last_rendered {
+                self.rendered.push_back((t, (t - previous) * 1000.0));
             }
+            self.last_rendered = Some(t);
         }
-        self.last = Some(now);
+        while self
+            .rendered
+            .front()
+            .is_some_and(|(s, _)| t - s > PLOT_SECONDS)
+        {
+            self.rendered.pop_front();
+        }
     }
 
-    /// Forgets the gap after an idle period (the app sleeps when nothing changes).
+    /// The app went idle: the next rendered frame starts a new interval.
     pub fn idle(&mut self) {
-        self.last = None;
+        self.last_rendered = None;
     }
 
-    /// Frames per second over the last `window` of frames that rendered, and the median
-    /// frame time in ms.
+    /// Rendered frames per second over the last `window`, and the median interval in ms.
     pub fn fps(&self, window: Duration) -> Option<(f64, f64)> {
-        let end = self.samples.back()?.0;
+        let end = self.rendered.back()?.0;
         let recent: VecDeque<f64> = self
-            .samples
+            .rendered
             .iter()
-            .filter(|(t, _, rendered)| *rendered && end - t <= window.as_secs_f64())
-            .map(|(_, ms, _)| *ms)
+            .filter(|(t, _)| end - t <= window.as_secs_f64())
+            .map(|(_, ms)| *ms)
             .collect();
         let total: f64 = recent.iter().sum();
         (total > 0.0).then(|| {
@@ -84,13 +84,9 @@ impl FrameClock {
         })
     }
 
-    /// (seconds, ms) points of the frames that rendered, for the plot.
+    /// (seconds, ms) points of the rendered frames, for the plot.
     pub fn points(&self) -> Vec<[f64; 2]> {
-        self.samples
-            .iter()
-            .filter(|(_, _, rendered)| *rendered)
-            .map(|(t, ms, _)| [*t, *ms])
-            .collect()
+        self.rendered.iter().map(|(t, ms)| [*t, *ms]).collect()
     }
 }
 
@@ -216,15 +212,20 @@ mod tests {
     }
 
     #[test]
-    fn fps_counts_only_rendering_frames() {
+    fn fps_counts_rendered_frames_and_ui_frames_apart() {
         let mut clock = FrameClock::default();
         assert!(clock.fps(Duration::from_secs(1)).is_none());
         clock.tick(true);
         std::thread::sleep(Duration::from_millis(5));
+        clock.tick(false);
+        std::thread::sleep(Duration::from_millis(5));
         clock.tick(true);
-        let (fps, ms) = clock.fps(Duration::from_secs(5)).expect("one frame");
-        assert!(fps > 1.0 && fps < 1000.0, "{fps}");
-        assert!(ms >= 4.0, "{ms}");
+        let (fps, ms) = clock.fps(Duration::from_secs(5)).expect("one interval");
+        assert!(fps > 1.0 && fps < 100.0, "{fps}");
+        assert!(ms >= 9.0, "{ms}");
+        assert_eq!(clock.points().len(), 1);
+        clock.idle();
+        clock.tick(true);
         assert_eq!(clock.points().len(), 1);
     }
 }

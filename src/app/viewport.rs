@@ -2,8 +2,8 @@
 //! the four layouts (single, wipe, A/B flip, 2x2 grid), the magnifier lens drawn over them,
 //! and the mouse: orbit, pan and zoom the camera, drag the lens or the wipe divider.
 //!
-//! Images are drawn with the nearest-sampler texture ids at integer physical-pixel positions
-//! and their own size, never scaled: in "fit" mode the render size is the tile's physical
+//! Images are drawn with nearest sampling at integer physical-pixel positions and their own
+//! size, never scaled: in "fit" mode the render size is the tile's physical
 //! size, so each image fills its tile exactly; with a fixed resolution the image is centred
 //! and cropped. The render size decided here is used by the next frame's render; while it
 //! differs from the displayed image (a resize in progress) frames keep coming.
@@ -11,7 +11,7 @@
 use egui::{Color32, CursorIcon, Pos2, Rect, Sense, Stroke, StrokeKind, Vec2, pos2, vec2};
 
 use super::app::AaLabApp;
-use super::engine::EguiImage;
+use super::engine::Published;
 use super::magnifier::lens_region;
 use super::settings::{Layout, Resolution};
 use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, SLOT_LETTERS, VIEWPORT_BG};
@@ -145,7 +145,7 @@ impl AaLabApp {
                     _ => shown.first().copied(),
                 };
                 let image = what.and_then(|w| self.shown_image(w));
-                let size = image.map_or(self.viewport.render_size, EguiImage::size);
+                let size = image.map_or(self.viewport.render_size, Published::size);
                 let size_points = vec2(size.0 as f32, size.1 as f32) / ppp;
                 // Centred; an image larger than its tile (fixed resolution) is cropped evenly.
                 let origin = snap(tile_rect.min + (tile_rect.size() - size_points) * 0.5, ppp);
@@ -159,7 +159,7 @@ impl AaLabApp {
                     self.paint_wipe(&painter, &tile, size_points, &shown, ppp);
                 } else if let (Some(what), Some(image)) = (what, image) {
                     painter.image(
-                        image.nearest,
+                        image.id(),
                         Rect::from_min_size(origin, size_points),
                         Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
                         Color32::WHITE,
@@ -211,7 +211,7 @@ impl AaLabApp {
         }
     }
 
-    fn shown_image(&self, shown: Shown) -> Option<&EguiImage> {
+    fn shown_image(&self, shown: Shown) -> Option<&Published> {
         let engine = self.engine.as_ref()?;
         match shown {
             Shown::Technique(_, id) => engine.image(id),
@@ -275,7 +275,7 @@ impl AaLabApp {
                 Rect::from_min_max(pos2(x, tile.rect.min.y), tile.rect.max)
             };
             painter.with_clip_rect(clip.intersect(tile.rect)).image(
-                image.nearest,
+                image.id(),
                 image_rect,
                 uv,
                 Color32::WHITE,
@@ -294,13 +294,15 @@ impl AaLabApp {
             11.0,
             Stroke::new(1.0, Color32::from_white_alpha(200)),
         );
-        painter.text(
-            handle,
-            egui::Align2::CENTER_CENTER,
-            "◀▶",
-            egui::FontId::proportional(9.0),
-            Color32::WHITE,
-        );
+        for dir in [-1.0f32, 1.0] {
+            let tip = handle + vec2(dir * 7.0, 0.0);
+            let base = handle + vec2(dir * 2.0, 0.0);
+            painter.add(egui::Shape::convex_polygon(
+                vec![tip, base + vec2(0.0, -4.0), base + vec2(0.0, 4.0)],
+                Color32::WHITE,
+                Stroke::NONE,
+            ));
+        }
         self.tile_label(painter, tile.rect.min + vec2(8.0, 8.0), shown[0]);
         let label_width = 8.0
             + painter
