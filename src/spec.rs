@@ -90,6 +90,8 @@ pub enum RenderError {
 pub struct TechniqueImage {
     /// Technique id.
     pub id: String,
+    /// Technique label with its defining settings (`SSAA 16x`).
+    pub label: String,
     /// Debug view name, `None` for the technique's output.
     pub view: Option<&'static str>,
     /// The pixels, sRGB-encoded RGBA8.
@@ -185,18 +187,23 @@ pub fn run(
     let mut images = Vec::new();
     for slot in graph.slots() {
         let id = slot.technique.id().to_owned();
+        let label = slot.technique.label();
         if let Some(output) = slot.output() {
+            let image = read_texture_rgba8(gpu, output)?;
             images.push(TechniqueImage {
                 id: id.clone(),
+                label: label.clone(),
                 view: None,
-                image: read_texture_rgba8(gpu, output)?,
+                image,
             });
         }
         for view in slot.technique.debug_views() {
+            let image = read_texture_rgba8(gpu, view.texture)?;
             images.push(TechniqueImage {
                 id: id.clone(),
+                label: label.clone(),
                 view: Some(view.name),
-                image: read_texture_rgba8(gpu, view.texture)?,
+                image,
             });
         }
     }

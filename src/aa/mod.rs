@@ -7,12 +7,16 @@
 //! data ([`params::Param`]) so that the CLI, the viewer and sidecar files handle every
 //! technique the same way. Adding a technique means adding one module and one registry entry.
 
+pub mod color;
+pub mod fxaa;
 pub mod msaa;
 pub mod none;
 pub mod params;
 pub mod registry;
 pub mod sampling;
+pub mod smaa;
 pub mod ssaa;
+pub mod taa;
 
 use glam::Vec2;
 
@@ -227,6 +231,11 @@ pub trait Technique {
     /// Which code path runs on this adapter when there is a choice (SMAA S2x without 2x MSAA).
     fn path_note(&self) -> Option<String> {
         None
+    }
+
+    /// Short name for labels, including the settings that change what it is (`SSAA 16x`).
+    fn label(&self) -> String {
+        registry::info(self.id()).map_or_else(|| self.id().to_owned(), |info| info.name.to_owned())
     }
 }
 

@@ -3,9 +3,11 @@
 //! how to create it. Adding a technique is one entry here plus its module.
 
 use super::Technique;
+use super::fxaa::Fxaa;
 use super::msaa::Msaa;
 use super::none::NoAa;
 use super::ssaa::Ssaa;
+use super::taa::Taa;
 use crate::gpu::{Capabilities, Gpu};
 
 /// One registry entry.
@@ -93,6 +95,63 @@ pub fn registry() -> Vec<TechniqueInfo> {
             summary: MSAA_SUMMARY,
             availability: |caps| msaa_availability(caps, 16),
             create: |gpu| Box::new(Msaa::new(gpu, 16)),
+        },
+        TechniqueInfo {
+            id: "fxaa",
+            name: "FXAA",
+            summary: "Fast Approximate Antialiasing (Lottes, NVIDIA; the FXAA 3.11 quality path): one \
+                 post pass over the finished image finds luma edges, follows each to its ends and \
+                 blends across it. About the cost of a blur and independent of scene complexity, \
+                 but it only sees the final pixels: it cannot recover sub-pixel geometry, it softens \
+                 textures and text with contrast, and a still image's stair steps become a slight \
+                 crawl in motion.",
+            availability: always,
+            create: |gpu| Box::new(Fxaa::new(gpu)),
+        },
+        TechniqueInfo {
+            id: "smaa",
+            name: "SMAA 1x",
+            summary: "Morphological antialiasing of the finished image: edges are found by luma (or colour or \
+                 depth), the shape of each staircase is recognised (L, Z and U patterns, 45-degree diagonals, sharp corners) \
+                 and every edge pixel is blended with its neighbour by the area the reconstructed edge line covers, read from \
+                 precomputed tables. Smooth, sharp edges for about the cost of three fullscreen passes and no extra scene \
+                 memory, but it cannot recover detail the single sample missed (sub-pixel geometry still breaks up and \
+                 flickers) and it may soften text and fine texture.",
+            availability: always,
+            create: |gpu| Box::new(super::smaa::Smaa::new(gpu, super::smaa::Mode::X1)),
+        },
+        TechniqueInfo {
+            id: "smaa-t2x",
+            name: "SMAA T2x",
+            summary: "SMAA 1x on a render jittered by a quarter pixel, alternating between two offsets, mixed \
+                 with the previous frame found through motion vectors (half weight, less where the pixel's speed \
+                 changed). Two samples per pixel over two frames recover some sub-pixel detail and steady \
+                 crawling edges for the cost of SMAA plus one resolve pass, but fast motion and disocclusions \
+                 fall back to SMAA 1x and the jitter can shimmer where the history is rejected.",
+            availability: always,
+            create: |gpu| Box::new(super::smaa::Smaa::new(gpu, super::smaa::Mode::T2x)),
+        },
+        TechniqueInfo {
+            id: "smaa-s2x",
+            name: "SMAA S2x",
+            summary: "SMAA 1x on each sample of a two-sample render at the standard 2x MSAA positions, averaged: \
+                 MSAA's real sub-pixel coverage plus SMAA's gradients, better than either alone on thin geometry, \
+                 at the cost of a 2x render and two SMAA runs. Without 2x MSAA on the adapter it renders the scene \
+                 twice at the two positions instead.",
+            availability: always,
+            create: |gpu| Box::new(super::smaa::Smaa::new(gpu, super::smaa::Mode::S2x)),
+        },
+        TechniqueInfo {
+            id: "taa",
+            name: "TAA",
+            summary: "Temporal antialiasing (after Karis 2014 and Salvi 2016): every frame renders one \
+                 sample per pixel at a different sub-pixel jitter and blends it into a reprojected \
+                 history, so a still image converges towards many samples per pixel for the cost of \
+                 one post pass. It handles edges, textures and specular shimmer alike, but needs \
+                 motion vectors, blurs slightly under motion, and can ghost or smear where the \
+                 history cannot be matched (disocclusions, transparency, fast-changing shading).",
+            availability: always,
+            create: |gpu| Box::new(Taa::new(gpu)),
         },
     ]
 }

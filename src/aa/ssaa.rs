@@ -100,7 +100,12 @@ impl TilePlan {
     /// Plans tiles whose supersampled side stays within `max_side`.
     pub fn new(size: (u32, u32), factor: u32, max_side: u32) -> Self {
         let per_axis = |extent: u32| {
-            let count = (extent * factor).div_ceil(max_side).max(1);
+            // The fewest tiles whose supersampled side fits; rounding the tile size up can
+            // overshoot, so add tiles until it does not (a tile is at least one pixel).
+            let mut count = (extent * factor).div_ceil(max_side).max(1);
+            while count < extent && extent.div_ceil(count) * factor > max_side {
+                count += 1;
+            }
             extent.div_ceil(count)
         };
         Self {
@@ -747,6 +752,15 @@ impl Technique for Ssaa {
             _ => return Err(ParamError::unknown_key("ssaa", key, &self.params())),
         }
         Ok(())
+    }
+
+    fn label(&self) -> String {
+        let s = &self.settings;
+        if s.ordered {
+            format!("SSAA {}x", s.samples_per_pixel())
+        } else {
+            format!("SSAA {}x {}", s.samples_per_pixel(), s.pattern.name())
+        }
     }
 
     fn path_note(&self) -> Option<String> {

@@ -4,6 +4,7 @@
 
 mod info;
 mod render;
+mod sheet;
 
 use clap::{Parser, Subcommand};
 
@@ -30,6 +31,8 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene through one or more techniques to PNG files.
     Render(Box<RenderArgs>),
+    /// Lay zoomed crops of several techniques side by side in one labelled PNG.
+    Sheet(Box<sheet::SheetArgs>),
     /// Print what the GPU adapter can do (sample counts, timestamps, limits).
     Info {
         /// Print JSON instead of text.
@@ -51,6 +54,7 @@ pub enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Sheet(args)) => sheet::run(&args),
         Some(Command::Info { json }) => info::info(json),
         Some(Command::Techniques { json, verbose }) => info::techniques(json, verbose),
         None => Ok(crate::app::run(crate::app::LaunchOptions {

@@ -14,31 +14,12 @@ use crate::scene::procedural::SceneOptions;
 use crate::scene::source::{self, DEFAULT_SCENE};
 use crate::spec::{self, RenderSpec, RunOptions, TechniqueSpec};
 
-/// Arguments of `aa-lab render`.
+/// Which techniques to run and how they are set up; shared by `render` and `sheet`.
 #[derive(Debug, clap::Args)]
-pub struct RenderArgs {
-    /// Built-in scene (hairball, atrium, chart) or path to an .obj file.
-    #[arg(long, default_value = DEFAULT_SCENE)]
-    pub scene: String,
-    /// Built-in scene density (hairball: 1 is about 300k triangles, 7 over 2M).
-    #[arg(long, default_value_t = 1.0)]
-    pub density: f32,
-    /// Built-in scene random seed.
-    #[arg(long, default_value_t = SceneOptions::default().seed)]
-    pub seed: u64,
+pub struct TechniqueArgs {
     /// Comma-separated technique ids, or `all` (see `aa-lab techniques`).
     #[arg(long, short, default_value = "none")]
     pub technique: String,
-    /// Image size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
-    pub size: (u32, u32),
-    /// Frame of the deterministic camera path (temporal techniques run frames 0..=N).
-    #[arg(long, default_value_t = 0)]
-    pub frame: u64,
-    /// Output: a .png file for a single image, otherwise a directory that receives
-    /// <scene>-<technique>.png per technique.
-    #[arg(long, short, default_value = "out")]
-    pub out: PathBuf,
     /// SSAA ordered grid: k x k samples per pixel (8 gives the 64-sample reference).
     #[arg(long, value_name = "K")]
     pub ssaa_factor: Option<u32>,
@@ -60,6 +41,44 @@ pub struct RenderArgs {
     /// Set any parameter: TECHNIQUE.KEY=VALUE (repeatable), e.g. msaa4.alpha_to_coverage=on.
     #[arg(long = "set", value_name = "TECHNIQUE.KEY=VALUE")]
     pub set: Vec<String>,
+}
+
+/// Which scene and frame to render; shared by `render` and `sheet`.
+#[derive(Clone, Debug, clap::Args)]
+pub struct SceneArgs {
+    /// Built-in scene (hairball, atrium, chart) or path to an .obj file.
+    #[arg(long, default_value = DEFAULT_SCENE)]
+    pub scene: String,
+    /// Built-in scene density (hairball: 1 is about 300k triangles, 7 over 2M).
+    #[arg(long, default_value_t = 1.0)]
+    pub density: f32,
+    /// Built-in scene random seed.
+    #[arg(long, default_value_t = SceneOptions::default().seed)]
+    pub seed: u64,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Frame of the deterministic camera path (temporal techniques run frames 0..=N).
+    #[arg(long, default_value_t = 0)]
+    pub frame: u64,
+    /// Treat scene warnings (a missing texture replaced by a checker) as errors.
+    #[arg(long)]
+    pub strict: bool,
+}
+
+/// Arguments of `aa-lab render`.
+#[derive(Debug, clap::Args)]
+pub struct RenderArgs {
+    /// Scene, size and frame.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Techniques and their settings.
+    #[command(flatten)]
+    pub techniques: TechniqueArgs,
+    /// Output: a .png file for a single image, otherwise a directory that receives
+    /// <scene>-<technique>.png per technique.
+    #[arg(long, short, default_value = "out")]
+    pub out: PathBuf,
     /// Print GPU milliseconds per pass (median of 5 extra renders of the frame).
     #[arg(long)]
     pub timings: bool,
@@ -69,12 +88,10 @@ pub struct RenderArgs {
     /// Also write each technique's debug views (<scene>-<technique>-<view>.png).
     #[arg(long)]
     pub debug_views: bool,
-    /// Reproduce a render from a sidecar JSON or from a PNG aa-lab wrote.
+    /// Reproduce a render from a sidecar JSON or from a PNG aa-lab wrote (scene, size, frame,
+    /// camera and every technique setting come from the record).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "technique", "size", "frame", "density", "seed"])]
     pub from: Option<PathBuf>,
-    /// Treat scene warnings (a missing texture replaced by a checker) as errors.
-    #[arg(long)]
-    pub strict: bool,
 }
 
 /// Parses `WIDTHxHEIGHT`.
@@ -115,7 +132,7 @@ fn technique_ids(gpu: &Gpu, list: &str) -> anyhow::Result<Vec<String>> {
 
 /// The `--ssaa-*` and `--msaa-resolve` flags as parameter settings per technique id.
 fn shorthand_settings(
-    args: &RenderArgs,
+    args: &TechniqueArgs,
     ids: &[String],
 ) -> anyhow::Result<Vec<(String, String, ParamValue)>> {
     let mut out = Vec::new();
@@ -186,7 +203,7 @@ fn shorthand_settings(
 
 /// Builds the spec of a command line: techniques created once to resolve presets and validate
 /// every setting, then stored as full settings maps.
-fn spec_from_args(gpu: &Gpu, args: &RenderArgs, scene_name: &str) -> anyhow::Result<RenderSpec> {
+pub fn technique_specs(gpu: &Gpu, args: &TechniqueArgs) -> anyhow::Result<Vec<TechniqueSpec>> {
     let ids = technique_ids(gpu, &args.technique)?;
     let settings = shorthand_settings(args, &ids)?;
     let mut techniques = Vec::new();
@@ -220,18 +237,47 @@ fn spec_from_args(gpu: &Gpu, args: &RenderArgs, scene_name: &str) -> anyhow::Res
             );
         }
     }
-    Ok(RenderSpec {
-        scene: scene_name.to_owned(),
-        density: args.density,
-        seed: args.seed,
-        width: args.size.0,
-        height: args.size.1,
-        frame: args.frame,
+    Ok(techniques)
+}
+
+/// The spec of a scene given on the command line with already resolved techniques.
+pub fn spec_for_scene(scene: &SceneArgs, techniques: Vec<TechniqueSpec>) -> RenderSpec {
+    // Store OBJ paths absolute so a record reproduces from any directory.
+    let name = match std::fs::canonicalize(&scene.scene) {
+        Ok(p) if p.is_file() => p.display().to_string(),
+        _ => scene.scene.clone(),
+    };
+    RenderSpec {
+        scene: name,
+        density: scene.density,
+        seed: scene.seed,
+        width: scene.size.0,
+        height: scene.size.1,
+        frame: scene.frame,
         camera: None,
         techniques,
         adapter: None,
-        build: None,
-    })
+        build: Some(spec::build_id()),
+    }
+}
+
+/// Loads the scene of a spec, printing its warnings; `strict` turns warnings into an error.
+pub fn load_scene(spec: &RenderSpec, strict: bool) -> anyhow::Result<crate::scene::Scene> {
+    let options = SceneOptions {
+        density: spec.density,
+        seed: spec.seed,
+    };
+    let scene = source::load(&spec.scene, &options)?;
+    for warning in &scene.warnings {
+        eprintln!("warning: {warning}");
+    }
+    if strict && !scene.warnings.is_empty() {
+        bail!(
+            "{} scene warning(s) and --strict was given",
+            scene.warnings.len()
+        );
+    }
+    Ok(scene)
 }
 
 /// Loads a spec from a sidecar JSON or the record inside an aa-lab PNG.
@@ -306,31 +352,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let gpu = Gpu::headless()?;
     let mut spec = match &args.from {
         Some(path) => load_spec(path)?,
-        None => {
-            // Store OBJ paths absolute so a record reproduces from any directory.
-            let scene = match std::fs::canonicalize(&args.scene) {
-                Ok(p) if p.is_file() => p.display().to_string(),
-                _ => args.scene.clone(),
-            };
-            spec_from_args(&gpu, args, &scene)?
-        }
+        None => spec_for_scene(&args.scene, technique_specs(&gpu, &args.techniques)?),
     };
     spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
     spec.build = Some(spec::build_id());
-    let options = SceneOptions {
-        density: spec.density,
-        seed: spec.seed,
-    };
-    let scene = source::load(&spec.scene, &options)?;
-    for warning in &scene.warnings {
-        eprintln!("warning: {warning}");
-    }
-    if args.strict && !scene.warnings.is_empty() {
-        bail!(
-            "{} scene warning(s) and --strict was given",
-            scene.warnings.len()
-        );
-    }
+    let scene = load_scene(&spec, args.scene.strict)?;
     let loaded = started.elapsed();
 
     let bar = progress_bar(spec.frame + 1);

@@ -19,6 +19,17 @@ pub const SHADERS: &[(&str, &str)] = &[
         include_str!("../../shaders/msaa_debug.wgsl"),
     ),
     ("ssaa.wgsl", include_str!("../../shaders/ssaa.wgsl")),
+    ("fxaa.wgsl", include_str!("../../shaders/fxaa.wgsl")),
+    ("taa.wgsl", include_str!("../../shaders/taa.wgsl")),
+    (
+        "taa_debug.wgsl",
+        include_str!("../../shaders/taa_debug.wgsl"),
+    ),
+    ("smaa.wgsl", include_str!("../../shaders/smaa.wgsl")),
+    (
+        "smaa_modes.wgsl",
+        include_str!("../../shaders/smaa_modes.wgsl"),
+    ),
 ];
 
 /// The source of `shaders/<name>`.

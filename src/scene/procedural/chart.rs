@@ -157,11 +157,14 @@ impl ZonePlate {
 /// Everything drawn on the chart, in chart units (x right, y up, z = 0).
 ///
 /// To compute exact ground truth for an image of W x H pixels rendered with the chart's
-/// camera: pixel (i, j) (row j from the top) covers the chart square from
-/// [`ChartLayout::chart_point`]`((i, j))` to `chart_point((i + 1, j + 1))`. Its black
-/// coverage is the sum over `polygons` of the area of polygon ∩ pixel divided by the pixel's
-/// area (the polygons never overlap), and its linear value is `1 - coverage`, except inside
-/// the zone plate, whose value is the area-average of [`ZonePlate::intensity`].
+/// camera (frame 0; the camera never moves): pixel (i, j) (column i, row j from the top)
+/// covers the chart square between `chart_point((W, H), Vec2::new(i, j))` and
+/// `chart_point((W, H), Vec2::new(i + 1, j + 1))` (see [`ChartLayout::chart_point`]).
+/// Its black coverage is the sum over `polygons` of the area of (polygon ∩ pixel square)
+/// divided by the square's area (the polygons never overlap), and its linear value is
+/// `1 - coverage`; inside the zone plate the value is the area average of
+/// [`ZonePlate::intensity`] instead (the rendered plate additionally goes through 8-bit
+/// texels and the renderer's mip filtering). Encode to sRGB to compare with a render.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ChartLayout {
     /// Lower-left corner of the chart.

@@ -23,11 +23,11 @@ use crate::scene::{CameraRig, DirectionalLight, Material, Scene};
 /// Sides of each tube's cross-section.
 const SIDES: u32 = 3;
 /// Points along each curve (segments + 1).
-const POINTS: usize = 25;
+const POINTS: usize = 33;
 /// Length of one walk step (world units; the ball has radius 1).
-const STEP: f32 = 0.075;
-/// Curves at density 1: 2084 * 24 * 3 * 2 = 300,096 triangles.
-const BASE_CURVES: f64 = 2084.0;
+const STEP: f32 = 0.06;
+/// Curves at density 1: 1563 * 32 * 3 * 2 = 300,096 triangles.
+const BASE_CURVES: f64 = 1563.0;
 /// Inner and outer radius of the shell the walks keep to.
 const SHELL: (f32, f32) = (0.55, 0.95);
 /// Tube radius range (world units): 0.3 to 1.7 px wide at the ball's centre at 720p.
@@ -65,7 +65,9 @@ fn walk(rng: &mut Rng, path: &mut Vec<Vec3>) {
     let mut bend = Vec3::ZERO;
     for _ in 0..POINTS {
         path.push(p);
-        bend = bend * 0.8 + rng.unit_vector() * 0.25;
+        // A slowly wandering bend: the heading turns about 6 degrees a step on average, in a
+        // direction that persists for several steps, so curves sweep rather than zigzag.
+        bend = bend * 0.88 + rng.unit_vector() * 0.12;
         let r = p.length();
         let radial = p / r.max(1e-6);
         let pull = if r > SHELL.1 {

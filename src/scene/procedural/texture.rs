@@ -24,14 +24,33 @@ pub(crate) fn opaque(rgb: Vec3) -> Rgba {
     [rgb.x, rgb.y, rgb.z, 1.0]
 }
 
-/// sRGB-encoded byte of a linear value in 0..1 (values outside are clamped).
-pub(crate) fn encode_srgb(linear: f32) -> u8 {
-    const STEPS: usize = 1 << 14;
+/// `x.floor()` for |x| < 2^31, without a libm call: the baseline x86-64 target has no
+/// rounding instruction, and per-texel noise calls floor millions of times.
+pub(crate) fn floor(x: f32) -> f32 {
+    let truncated = x as i32 as f32;
+    if truncated > x {
+        truncated - 1.0
+    } else {
+        truncated
+    }
+}
+
+/// Distance from `x` to the nearest integer (0..0.5).
+pub(crate) fn distance_to_integer(x: f32) -> f32 {
+    (x - floor(x + 0.5)).abs()
+}
+
+/// Entries of the linear-to-sRGB table: 2^14 steps keep every output within half a code
+/// of the exact curve except in the darkest few codes, where it is within one.
+const SRGB_STEPS: usize = 1 << 14;
+
+/// The linear-to-sRGB encoding table, built on first use.
+fn srgb_table() -> &'static [u8] {
     static TABLE: OnceLock<Vec<u8>> = OnceLock::new();
-    let table = TABLE.get_or_init(|| {
-        (0..STEPS)
+    TABLE.get_or_init(|| {
+        (0..SRGB_STEPS)
             .map(|i| {
-                let c = i as f32 / (STEPS - 1) as f32;
+                let c = i as f32 / (SRGB_STEPS - 1) as f32;
                 let s = if c <= 0.003_130_8 {
                     12.92 * c
                 } else {
@@ -40,8 +59,46 @@ pub(crate) fn encode_srgb(linear: f32) -> u8 {
                 (s * 255.0).round() as u8
             })
             .collect()
-    });
-    table[(linear.clamp(0.0, 1.0) * (STEPS - 1) as f32 + 0.5) as usize]
+    })
+}
+
+/// Encodes with a table from [`srgb_table`]; values outside 0..1 (and NaN) are clamped.
+fn encode_with(table: &[u8], linear: f32) -> u8 {
+    table[(linear.clamp(0.0, 1.0) * (SRGB_STEPS - 1) as f32 + 0.5) as usize]
+}
+
+/// sRGB-encoded byte of a linear value in 0..1 (values outside are clamped).
+pub(crate) fn encode_srgb(linear: f32) -> u8 {
+    encode_with(srgb_table(), linear)
+}
+
+/// One texel as stored: sRGB-encoded colour, linear alpha.
+fn encode_pixel(table: &[u8], rgba: Rgba, dst: &mut [u8]) {
+    dst[0] = encode_with(table, rgba[0]);
+    dst[1] = encode_with(table, rgba[1]);
+    dst[2] = encode_with(table, rgba[2]);
+    dst[3] = (rgba[3].clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+}
+
+/// A texture whose texel at (x, y) (centres at half-integers) is `f(x, y)`, encoded as it
+/// is computed: textures that need no painting on top skip the linear canvas, which halves
+/// their cost (the canvas is 16 bytes a texel of memory traffic).
+pub(crate) fn texture_from_fn(
+    size: u32,
+    label: &str,
+    mut f: impl FnMut(f32, f32) -> Rgba,
+) -> TextureImage {
+    let mut image = image::RgbaImage::new(size, size);
+    let table = srgb_table();
+    for (y, row) in image.chunks_exact_mut(size as usize * 4).enumerate() {
+        for (x, dst) in row.chunks_exact_mut(4).enumerate() {
+            encode_pixel(table, f(x as f32 + 0.5, y as f32 + 0.5), dst);
+        }
+    }
+    TextureImage {
+        label: label.to_owned(),
+        image,
+    }
 }
 
 /// A square RGBA image in linear light being painted.
@@ -145,11 +202,9 @@ impl Canvas {
     /// The finished texture, sRGB-encoded.
     pub(crate) fn into_texture(self, label: &str) -> TextureImage {
         let mut image = image::RgbaImage::new(self.size, self.size);
-        for (dst, src) in image.chunks_exact_mut(4).zip(&self.pixels) {
-            dst[0] = encode_srgb(src[0]);
-            dst[1] = encode_srgb(src[1]);
-            dst[2] = encode_srgb(src[2]);
-            dst[3] = (src[3].clamp(0.0, 1.0) * 255.0).round() as u8;
+        let table = srgb_table();
+        for (dst, &src) in image.chunks_exact_mut(4).zip(&self.pixels) {
+            encode_pixel(table, src, dst);
         }
         TextureImage {
             label: label.to_owned(),
@@ -167,50 +222,100 @@ pub(crate) fn hash2(seed: u64, x: i32, y: i32) -> f32 {
     (h & 0xFF_FFFF) as f32 / 0xFF_FFFF as f32
 }
 
-/// Tileable value noise: random values on an integer lattice that wraps every `period`
-/// cells, smoothly interpolated.
-#[derive(Clone, Copy, Debug)]
+/// One octave of tileable value noise: random values on a `period x period` lattice that
+/// wraps, smoothly (smoothstep) interpolated.
+struct Lattice {
+    period: usize,
+    values: Vec<f32>,
+}
+
+/// Where a pixel centre falls between lattice lines along one axis: the two lattice
+/// indices and the smoothstep weight of the second.
+fn lattice_steps(size: usize, period: usize) -> Vec<(usize, usize, f32)> {
+    let mask = period - 1;
+    (0..size)
+        .map(|x| {
+            let p = (x as f32 + 0.5) * period as f32 / size as f32;
+            let cell = floor(p);
+            let f = p - cell;
+            let i = cell as usize & mask;
+            (i, (i + 1) & mask, f * f * (3.0 - 2.0 * f))
+        })
+        .collect()
+}
+
+impl Lattice {
+    fn new(seed: u64, period: usize) -> Self {
+        let values = (0..period * period)
+            .map(|i| hash2(seed, (i % period) as i32, (i / period) as i32))
+            .collect();
+        Self { period, values }
+    }
+
+    /// Adds `weight * fold(noise)` at every pixel centre of a `size x size` tile to `out`.
+    /// Interpolation is separable: each image row first blends two lattice rows, then each
+    /// pixel blends two entries of that blended row.
+    fn accumulate(&self, size: usize, weight: f32, fold: impl Fn(f32) -> f32, out: &mut [f32]) {
+        let steps = lattice_steps(size, self.period);
+        let mut row = vec![0.0; self.period];
+        for (y, &(y0, y1, sy)) in steps.iter().enumerate() {
+            let (a, b) = (
+                &self.values[y0 * self.period..],
+                &self.values[y1 * self.period..],
+            );
+            for (i, r) in row.iter_mut().enumerate() {
+                *r = a[i] + (b[i] - a[i]) * sy;
+            }
+            for (o, &(x0, x1, sx)) in out[y * size..(y + 1) * size].iter_mut().zip(&steps) {
+                *o += weight * fold(row[x0] + (row[x1] - row[x0]) * sx);
+            }
+        }
+    }
+}
+
+/// Tileable fractal value noise: octave k has `period << k` lattice cells across the tile
+/// and weight 2^-k. Generated as whole fields (one value per texel), which costs a couple of
+/// nanoseconds per texel and octave.
 pub(crate) struct Noise {
-    seed: u64,
-    period: i32,
+    octaves: Vec<Lattice>,
 }
 
 impl Noise {
-    /// Noise wrapping every `period` lattice cells.
-    pub(crate) fn new(seed: u64, period: u32) -> Self {
+    /// Noise of `octaves` octaves whose first has `period` cells across the tile (rounded up
+    /// to a power of two).
+    pub(crate) fn new(seed: u64, period: u32, octaves: u32) -> Self {
+        let base = period.max(1).next_power_of_two() as usize;
         Self {
-            seed,
-            period: period.max(1) as i32,
+            octaves: (0..octaves.max(1))
+                .map(|k| Lattice::new(seed.wrapping_add(u64::from(k)), base << k))
+                .collect(),
         }
     }
 
-    fn lattice(&self, x: i32, y: i32, period: i32) -> f32 {
-        hash2(self.seed, x.rem_euclid(period), y.rem_euclid(period))
-    }
-
-    /// Noise in 0..1 at `p` in lattice units, with the lattice wrapping every `period` cells.
-    fn sample(&self, p: Vec2, period: i32) -> f32 {
-        let cell = p.floor();
-        let f = p - cell;
-        let s = f * f * (Vec2::splat(3.0) - 2.0 * f);
-        let (x, y) = (cell.x as i32, cell.y as i32);
-        let top = self.lattice(x, y, period) * (1.0 - s.x) + self.lattice(x + 1, y, period) * s.x;
-        let bottom =
-            self.lattice(x, y + 1, period) * (1.0 - s.x) + self.lattice(x + 1, y + 1, period) * s.x;
-        top * (1.0 - s.y) + bottom * s.y
-    }
-
-    /// Fractal sum of `octaves` octaves at `uv` in 0..1 (tiles with period 1), normalised to
-    /// 0..1. Octave k has `period << k` cells across the tile.
-    pub(crate) fn fbm(&self, uv: Vec2, octaves: u32) -> f32 {
-        let (mut sum, mut weight, mut total) = (0.0, 1.0, 0.0);
-        for k in 0..octaves {
-            let period = self.period << k;
-            sum += weight * self.sample(uv * period as f32, period);
-            total += weight;
+    /// Weighted sum of `fold(octave)` at every texel of a `size x size` tile (row-major),
+    /// normalised by the weights.
+    fn field(&self, size: u32, fold: impl Fn(f32) -> f32 + Copy) -> Vec<f32> {
+        let size = size as usize;
+        let mut out = vec![0.0; size * size];
+        let mut weight = 1.0;
+        for octave in &self.octaves {
+            octave.accumulate(size, weight, fold, &mut out);
             weight *= 0.5;
         }
-        sum / total
+        let total = 2.0 - 2.0 * weight;
+        out.iter_mut().for_each(|v| *v /= total);
+        out
+    }
+
+    /// Fractal noise in 0..1 at every texel of a `size x size` tile.
+    pub(crate) fn fbm(&self, size: u32) -> Vec<f32> {
+        self.field(size, |v| v)
+    }
+
+    /// Turbulence (sum of folded octaves |2n - 1|) in 0..1 at every texel: sharp creases
+    /// where an octave crosses its mean, the classic ingredient of marble veins.
+    pub(crate) fn turbulence(&self, size: u32) -> Vec<f32> {
+        self.field(size, |v| (2.0 * v - 1.0).abs())
     }
 }
 
@@ -236,6 +341,9 @@ pub(crate) struct TextBlock {
     /// Horizontal scale of glyphs and vertical strokes (0.5 for a texture that will be
     /// stretched 2:1 across its surface).
     pub(crate) x_scale: f32,
+    /// Lines run to the full width (an inscription) instead of a ragged margin with a short
+    /// last line (a paragraph).
+    pub(crate) full_lines: bool,
     /// Ink colour.
     pub(crate) ink: Rgba,
     /// Colour drawn one pixel below each stroke first (a carved or embossed look), if any.
@@ -252,18 +360,21 @@ impl TextBlock {
             let top = self.origin.y + line as f32 * self.line_pitch;
             // Ragged right margin; the last line of a paragraph stops short.
             let end = self.width
-                * if line + 1 == self.lines {
+                * if self.full_lines {
+                    1.0
+                } else if line + 1 == self.lines {
                     rng.range(0.3, 0.7)
                 } else {
                     rng.range(0.85, 1.0)
                 };
             let mut x = 0.0;
             loop {
-                let letters = 1 + rng.below(8);
-                let word = letters as f32 * (w + stroke) - stroke;
-                if x + word > end {
+                // The longest word that still fits, then a random length up to it.
+                let fits = ((end - x + stroke) / (w + stroke)).floor() as usize;
+                if fits == 0 {
                     break;
                 }
+                let letters = 1 + rng.below(fits.min(8));
                 for _ in 0..letters {
                     self.glyph(canvas, rng, Vec2::new(self.origin.x + x, top), w, h, stroke);
                     x += w + stroke;
@@ -323,18 +434,15 @@ pub(crate) fn diamond_mesh(
     // Wire centre lines satisfy x + y = k * pitch and x - y = k * pitch (pixels).
     let pitch = size as f32 / cells as f32;
     let half = wire * 0.5;
-    let canvas = Canvas::from_fn(size, |x, y| {
-        let distance = |s: f32| {
-            let t = s / pitch;
-            (t - t.round()).abs() * pitch * std::f32::consts::FRAC_1_SQRT_2
-        };
+    texture_from_fn(size, label, |x, y| {
+        let distance =
+            |s: f32| distance_to_integer(s / pitch) * pitch * std::f32::consts::FRAC_1_SQRT_2;
         let d = distance(x + y).min(distance(x - y));
         let coverage = (half - d + 0.5).clamp(0.0, 1.0);
         let shade = 1.0 - 0.4 * (d / half.max(0.5)).min(1.0).powi(2);
         let rgb = color * shade;
         [rgb.x, rgb.y, rgb.z, coverage]
-    });
-    canvas.into_texture(label)
+    })
 }
 
 #[cfg(test)]
@@ -367,15 +475,24 @@ mod tests {
     }
 
     #[test]
-    fn noise_tiles_and_stays_in_range() {
-        let noise = Noise::new(3, 4);
-        for i in 0..50 {
-            let p = Vec2::new(i as f32 * 0.137, i as f32 * 0.071);
-            let v = noise.fbm(p, 3);
-            assert!((0.0..=1.0).contains(&v));
-            assert!((v - noise.fbm(p + Vec2::X, 3)).abs() < 1e-4);
-            assert!((v - noise.fbm(p + Vec2::Y, 3)).abs() < 1e-4);
+    fn noise_fields_tile_and_stay_in_range() {
+        let noise = Noise::new(3, 4, 3);
+        let size = 64;
+        for field in [noise.fbm(size), noise.turbulence(size)] {
+            assert!(field.iter().all(|v| (0.0..=1.0).contains(v)));
+            // Across the tile's edge the field changes no more than between neighbours
+            // inside it: it wraps without a seam.
+            let at = |x: u32, y: u32| field[(y * size + x) as usize];
+            let step = (0..size)
+                .map(|y| (at(1, y) - at(0, y)).abs())
+                .fold(0.0, f32::max);
+            let seam = (0..size)
+                .map(|y| (at(0, y) - at(size - 1, y)).abs())
+                .fold(0.0, f32::max);
+            assert!(seam <= 2.0 * step + 1e-6, "{seam} {step}");
         }
+        let mean = noise.fbm(size).iter().sum::<f32>() / (size * size) as f32;
+        assert!((0.3..0.7).contains(&mean), "{mean}");
     }
 
     #[test]

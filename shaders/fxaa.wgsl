@@ -1,0 +1,250 @@
+// FXAA 3.11, quality path (after Timothy Lottes, NVIDIA 2011), on the sRGB-encoded LDR image.
+//
+// Per pixel:
+//  1. Local contrast: luma of the pixel and its four direct neighbours. When their range is
+//     below max(edge_threshold_min, edge_threshold * brightest luma), the pixel is returned
+//     unchanged (flat regions cost one early exit and stay exact).
+//  2. Edge orientation from second differences of the 3x3 lumas (horizontal edges have a
+//     strong vertical second difference), and which side of the pixel the edge lies on (the
+//     neighbour across the steeper gradient).
+//  3. From the point half a pixel towards that neighbour, walk both ways along the edge with
+//     bilinear luma reads (each read averages the two rows across the edge) until the average
+//     departs from the local average by a quarter of the gradient. The step lengths come from
+//     the quality preset (override constants STEP_0..STEP_11, STEP_COUNT of them); the last step
+//     is taken without a read, as a guess that the edge runs on.
+//  4. The nearer end decides the blend: pixels near the end of a staircase step move up to half
+//     a pixel across the edge, provided the luma at that end falls on the other side of the
+//     local average. A sub-pixel term from the 3x3 low-pass (weighted by `subpix`) handles
+//     isolated features that have no edge span.
+//  5. One bilinear read at the pixel centre moved across the edge by that offset.
+//
+// The image is read through an Rgba8Unorm view, so the values (and the bilinear blends) are the
+// encoded ones FXAA is tuned for, and written through an Rgba8Unorm view of the output.
+// fs_fxaa writes the antialiased image; fs_mask writes the debug mask of the same analysis.
+
+struct FxaaParams {
+    // xy: size of one pixel in UV, z: subpix (0 off .. 1 softest), w: unused.
+    rcp_frame_subpix: vec4<f32>,
+    // x: edge_threshold, y: edge_threshold_min.
+    thresholds: vec4<f32>,
+}
+
+@group(0) @binding(0) var image: texture_2d<f32>;
+@group(0) @binding(1) var bilinear: sampler;
+@group(0) @binding(2) var<uniform> params: FxaaParams;
+
+// Luma from the green channel instead of BT.601 weights.
+override GREEN_AS_LUMA: bool = false;
+// Number of search steps of the preset (at most 12) and their lengths in pixels; the defaults
+// are quality preset 12.
+override STEP_COUNT: u32 = 5u;
+override STEP_0: f32 = 1.0;
+override STEP_1: f32 = 1.5;
+override STEP_2: f32 = 2.0;
+override STEP_3: f32 = 4.0;
+override STEP_4: f32 = 12.0;
+override STEP_5: f32 = 0.0;
+override STEP_6: f32 = 0.0;
+override STEP_7: f32 = 0.0;
+override STEP_8: f32 = 0.0;
+override STEP_9: f32 = 0.0;
+override STEP_10: f32 = 0.0;
+override STEP_11: f32 = 0.0;
+
+fn step_length(i: u32) -> f32 {
+    switch i {
+        case 0u: { return STEP_0; }
+        case 1u: { return STEP_1; }
+        case 2u: { return STEP_2; }
+        case 3u: { return STEP_3; }
+        case 4u: { return STEP_4; }
+        case 5u: { return STEP_5; }
+        case 6u: { return STEP_6; }
+        case 7u: { return STEP_7; }
+        case 8u: { return STEP_8; }
+        case 9u: { return STEP_9; }
+        case 10u: { return STEP_10; }
+        default: { return STEP_11; }
+    }
+}
+
+fn luma_of(encoded: vec3<f32>) -> f32 {
+    if GREEN_AS_LUMA {
+        return encoded.g;
+    }
+    return dot(encoded, vec3<f32>(0.299, 0.587, 0.114));
+}
+
+fn luma_at(pixel: vec2<i32>) -> f32 {
+    let last = vec2<i32>(textureDimensions(image)) - 1;
+    return luma_of(textureLoad(image, clamp(pixel, vec2<i32>(0), last), 0).rgb);
+}
+
+fn luma_between(uv: vec2<f32>) -> f32 {
+    return luma_of(textureSampleLevel(image, bilinear, uv, 0.0).rgb);
+}
+
+struct Analysis {
+    // The antialiased colour (encoded).
+    colour: vec4<f32>,
+    // Luma of the pixel.
+    luma: f32,
+    // The contrast test found an edge (false: early exit, colour unchanged).
+    edge: bool,
+    // The edge runs horizontally (blend vertically).
+    horizontal: bool,
+    // Distance the read moved across the edge, in pixels (0 .. 0.5, up to 1 for sub-pixel).
+    offset: f32,
+}
+
+fn analyse(position: vec2<f32>) -> Analysis {
+    let pixel = vec2<i32>(position);
+    let texel = params.rcp_frame_subpix.xy;
+    let uv = (floor(position) + 0.5) * texel;
+    let centre = textureLoad(image, pixel, 0);
+
+    var result: Analysis;
+    result.colour = vec4<f32>(centre.rgb, 1.0);
+    result.luma = luma_of(centre.rgb);
+    result.edge = false;
+    result.horizontal = false;
+    result.offset = 0.0;
+
+    // 1. Local contrast of the cross.
+    let luma_m = result.luma;
+    var luma_n = luma_at(pixel + vec2<i32>(0, -1));
+    var luma_s = luma_at(pixel + vec2<i32>(0, 1));
+    let luma_w = luma_at(pixel + vec2<i32>(-1, 0));
+    let luma_e = luma_at(pixel + vec2<i32>(1, 0));
+    let brightest = max(max(max(luma_n, luma_s), max(luma_w, luma_e)), luma_m);
+    let darkest = min(min(min(luma_n, luma_s), min(luma_w, luma_e)), luma_m);
+    let range = brightest - darkest;
+    if range < max(params.thresholds.y, brightest * params.thresholds.x) {
+        return result;
+    }
+    result.edge = true;
+
+    // 2. Orientation from second differences over the 3x3 block.
+    let luma_nw = luma_at(pixel + vec2<i32>(-1, -1));
+    let luma_ne = luma_at(pixel + vec2<i32>(1, -1));
+    let luma_sw = luma_at(pixel + vec2<i32>(-1, 1));
+    let luma_se = luma_at(pixel + vec2<i32>(1, 1));
+    let across_vertical = abs(luma_nw + luma_sw - 2.0 * luma_w)
+        + 2.0 * abs(luma_n + luma_s - 2.0 * luma_m)
+        + abs(luma_ne + luma_se - 2.0 * luma_e);
+    let across_horizontal = abs(luma_nw + luma_ne - 2.0 * luma_n)
+        + 2.0 * abs(luma_w + luma_e - 2.0 * luma_m)
+        + abs(luma_sw + luma_se - 2.0 * luma_s);
+    let horizontal = across_vertical >= across_horizontal;
+    result.horizontal = horizontal;
+
+    // Sub-pixel amount: how far the pixel stands out of the 3x3 low-pass, relative to the range.
+    let low_pass = (2.0 * (luma_n + luma_s + luma_w + luma_e)
+        + (luma_nw + luma_ne + luma_sw + luma_se)) / 12.0;
+    let contrast = saturate(abs(low_pass - luma_m) / range);
+    let eased = (3.0 - 2.0 * contrast) * contrast * contrast;
+    let subpix_offset = eased * eased * params.rcp_frame_subpix.z;
+
+    // The two neighbours across the edge: north/south for a horizontal edge, else west/east.
+    if !horizontal {
+        luma_n = luma_w;
+        luma_s = luma_e;
+    }
+    let gradient_n = luma_n - luma_m;
+    let gradient_s = luma_s - luma_m;
+    let towards_n = abs(gradient_n) >= abs(gradient_s);
+    let gradient = max(abs(gradient_n), abs(gradient_s));
+    var across = select(texel.x, texel.y, horizontal);
+    var local_average = 0.5 * (luma_s + luma_m);
+    if towards_n {
+        across = -across;
+        local_average = 0.5 * (luma_n + luma_m);
+    }
+
+    // 3. Walk along the edge from the point half a pixel across it.
+    var on_edge = uv;
+    if horizontal {
+        on_edge.y += 0.5 * across;
+    } else {
+        on_edge.x += 0.5 * across;
+    }
+    let along = select(vec2<f32>(0.0, texel.y), vec2<f32>(texel.x, 0.0), horizontal);
+    let end_threshold = 0.25 * gradient;
+    var pos_n = on_edge - along * STEP_0;
+    var pos_p = on_edge + along * STEP_0;
+    var end_n = luma_between(pos_n) - local_average;
+    var end_p = luma_between(pos_p) - local_average;
+    var done_n = abs(end_n) >= end_threshold;
+    var done_p = abs(end_p) >= end_threshold;
+    for (var i = 1u; i < STEP_COUNT; i++) {
+        if !done_n {
+            pos_n -= along * step_length(i);
+        }
+        if !done_p {
+            pos_p += along * step_length(i);
+        }
+        if (done_n && done_p) || i + 1u == STEP_COUNT {
+            break;
+        }
+        if !done_n {
+            end_n = luma_between(pos_n) - local_average;
+            done_n = abs(end_n) >= end_threshold;
+        }
+        if !done_p {
+            end_p = luma_between(pos_p) - local_average;
+            done_p = abs(end_p) >= end_threshold;
+        }
+    }
+
+    // 4. The nearer end decides; it must have crossed to the other side of the local average.
+    var distance_n = uv.y - pos_n.y;
+    var distance_p = pos_p.y - uv.y;
+    if horizontal {
+        distance_n = uv.x - pos_n.x;
+        distance_p = pos_p.x - uv.x;
+    }
+    let nearer_n = distance_n < distance_p;
+    let nearest = min(distance_n, distance_p);
+    let span_offset = 0.5 - nearest / (distance_n + distance_p);
+    let centre_below = luma_m - local_average < 0.0;
+    let good_n = (end_n < 0.0) != centre_below;
+    let good_p = (end_p < 0.0) != centre_below;
+    let good = select(good_p, good_n, nearer_n);
+    let offset = max(select(0.0, span_offset, good), subpix_offset);
+    result.offset = offset;
+
+    // 5. Read across the edge.
+    var read_at = uv;
+    if horizontal {
+        read_at.y += offset * across;
+    } else {
+        read_at.x += offset * across;
+    }
+    result.colour = vec4<f32>(textureSampleLevel(image, bilinear, read_at, 0.0).rgb, 1.0);
+    return result;
+}
+
+struct Varying {
+    @builtin(position) position: vec4<f32>,
+    @location(0) uv: vec2<f32>,
+}
+
+@fragment
+fn fs_fxaa(in: Varying) -> @location(0) vec4<f32> {
+    return analyse(in.position.xy).colour;
+}
+
+// Debug mask: the image's luma dimmed; pixels that pass the contrast test painted orange
+// (horizontal edge, blended vertically) or blue (vertical edge, blended horizontally), the
+// more saturated the further FXAA moved the read.
+@fragment
+fn fs_mask(in: Varying) -> @location(0) vec4<f32> {
+    let a = analyse(in.position.xy);
+    let base = vec3<f32>(a.luma * 0.35);
+    if !a.edge {
+        return vec4<f32>(base, 1.0);
+    }
+    let hue = select(vec3<f32>(0.15, 0.55, 1.0), vec3<f32>(1.0, 0.55, 0.1), a.horizontal);
+    let strength = 0.35 + 0.65 * saturate(a.offset * 2.0);
+    return vec4<f32>(mix(base, hue, strength), 1.0);
+}

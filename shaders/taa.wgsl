@@ -1,0 +1,244 @@
+// Temporal antialiasing resolve, after Brian Karis ("High Quality Temporal Supersampling",
+// SIGGRAPH 2014) and Marco Salvi ("An Excursion in Temporal Supersampling", GDC 2016).
+//
+// Every frame the scene is rendered with a different sub-pixel jitter (Halton 2,3), and this
+// pass blends that one-sample image into an accumulated history:
+//  1. Neighbourhood: the 3x3 current colours around the pixel give the colour box (min/max,
+//     mean and variance), and the nearest surface among them (reverse-Z: largest depth) gives
+//     the motion vector, so silhouettes carry the foreground's motion.
+//  2. Reprojection: the history is read at uv - motion (the motion vectors hold no jitter) with
+//     a bilinear tap or a five-tap bilinear-optimised Catmull-Rom filter (sharper; fewer taps
+//     than the 4x4 cubic by dropping its corners). History that falls off screen, or a reset
+//     (camera cut, resize, new settings), leaves the current frame alone.
+//  3. Rectification: the history is forced into the current neighbourhood's colour box, which
+//     removes ghosts of content that has moved away: per-channel RGB clamp, clipping towards
+//     the box centre in YCoCg, or clipping to the variance box mean +/- gamma * sigma in YCoCg
+//     (intersected with min/max).
+//  4. Blend: the current frame gets `current_weight`, optionally weighed by 1 / (1 + luminance)
+//     against the history's so a lone bright sample does not flicker.
+// Colour is linear (the sRGB input decodes on load, the sRGB output encodes on store); the
+// history is Rgba16Float. fs_resolve writes output and history; fs_resolve_debug also writes
+// the history-rejection mask (through an Rgba8Unorm view: the mask colours are display values).
+
+struct TaaParams {
+    // xy: image size in pixels, zw: one pixel in UV.
+    size: vec4<f32>,
+    // x: current frame weight, y: variance-clip gamma, z: 1 when the history must be ignored.
+    blend: vec4<f32>,
+}
+
+@group(0) @binding(0) var current: texture_2d<f32>;
+@group(0) @binding(1) var depth: texture_depth_2d;
+@group(0) @binding(2) var motion: texture_2d<f32>;
+@group(0) @binding(3) var history: texture_2d<f32>;
+@group(0) @binding(4) var bilinear: sampler;
+@group(0) @binding(5) var<uniform> params: TaaParams;
+
+// 0: bilinear history, 1: five-tap Catmull-Rom.
+override HISTORY_FILTER: u32 = 1u;
+// 0: none (ghosts), 1: RGB min/max clamp, 2: YCoCg clip towards the box centre,
+// 3: YCoCg variance clip.
+override RECTIFY: u32 = 3u;
+// Karis' 1 / (1 + luminance) weighting of the blend.
+override LUMA_WEIGHT: bool = true;
+// Motion of the nearest pixel of the 3x3 neighbourhood (else the pixel's own).
+override CLOSEST_VELOCITY: bool = true;
+
+fn luminance(c: vec3<f32>) -> f32 {
+    return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
+}
+
+fn rgb_to_ycocg(c: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(
+        0.25 * c.r + 0.5 * c.g + 0.25 * c.b,
+        0.5 * c.r - 0.5 * c.b,
+        -0.25 * c.r + 0.5 * c.g - 0.25 * c.b,
+    );
+}
+
+fn ycocg_to_rgb(c: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(c.x + c.y - c.z, c.x + c.z, c.x - c.y - c.z);
+}
+
+// The space the neighbourhood box is built in.
+fn to_box_space(c: vec3<f32>) -> vec3<f32> {
+    if RECTIFY >= 2u {
+        return rgb_to_ycocg(c);
+    }
+    return c;
+}
+
+fn clip_towards_center(colour: vec3<f32>, center: vec3<f32>, extent: vec3<f32>) -> vec3<f32> {
+    let offset = colour - center;
+    let units = abs(offset / max(extent, vec3<f32>(1e-6)));
+    let largest = max(units.x, max(units.y, units.z));
+    if largest > 1.0 {
+        return center + offset / largest;
+    }
+    return colour;
+}
+
+fn catmull_rom_weights(t: vec2<f32>) -> array<vec2<f32>, 4> {
+    let t2 = t * t;
+    let t3 = t2 * t;
+    return array<vec2<f32>, 4>(
+        -0.5 * t3 + t2 - 0.5 * t,
+        1.5 * t3 - 2.5 * t2 + 1.0,
+        -1.5 * t3 + 2.0 * t2 + 0.5 * t,
+        0.5 * t3 - 0.5 * t2,
+    );
+}
+
+fn history_at(uv: vec2<f32>) -> vec3<f32> {
+    if HISTORY_FILTER == 0u {
+        return textureSampleLevel(history, bilinear, uv, 0.0).rgb;
+    }
+    // Texel whose centre is at or left/above the sample point, and the fraction past it.
+    let position = uv * params.size.xy - 0.5;
+    let base = floor(position);
+    let w = catmull_rom_weights(position - base);
+    let middle = w[1] + w[2];
+    let texel = params.size.zw;
+    let at_before = (base - 0.5) * texel;
+    let at_middle = (base + 0.5 + w[2] / middle) * texel;
+    let at_after = (base + 2.5) * texel;
+    let weights = array<f32, 5>(
+        middle.x * w[0].y,
+        w[0].x * middle.y,
+        middle.x * middle.y,
+        w[3].x * middle.y,
+        middle.x * w[3].y,
+    );
+    let taps = array<vec2<f32>, 5>(
+        vec2<f32>(at_middle.x, at_before.y),
+        vec2<f32>(at_before.x, at_middle.y),
+        at_middle,
+        vec2<f32>(at_after.x, at_middle.y),
+        vec2<f32>(at_middle.x, at_after.y),
+    );
+    var sum = vec3<f32>(0.0);
+    var total = 0.0;
+    for (var i = 0u; i < 5u; i++) {
+        sum += weights[i] * textureSampleLevel(history, bilinear, taps[i], 0.0).rgb;
+        total += weights[i];
+    }
+    // The cubic's negative lobes can overshoot below zero next to sharp edges.
+    return max(sum / total, vec3<f32>(0.0));
+}
+
+struct Resolved {
+    colour: vec3<f32>,
+    // How far rectification moved the history (0 kept .. 1 replaced).
+    rectified: f32,
+    // The history was not used at all (reset, or reprojected off screen).
+    rejected: bool,
+}
+
+fn resolve(position: vec2<f32>) -> Resolved {
+    let pixel = vec2<i32>(position);
+    let last = vec2<i32>(params.size.xy) - 1;
+    let centre = textureLoad(current, pixel, 0).rgb;
+
+    // 1. Neighbourhood colour box and nearest surface.
+    var low = vec3<f32>(1e9);
+    var high = vec3<f32>(-1e9);
+    var sum = vec3<f32>(0.0);
+    var sum_squares = vec3<f32>(0.0);
+    var nearest = pixel;
+    var nearest_depth = textureLoad(depth, pixel, 0);
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let p = clamp(pixel + vec2<i32>(dx, dy), vec2<i32>(0), last);
+            let c = to_box_space(textureLoad(current, p, 0).rgb);
+            low = min(low, c);
+            high = max(high, c);
+            sum += c;
+            sum_squares += c * c;
+            if CLOSEST_VELOCITY {
+                let d = textureLoad(depth, p, 0);
+                if d > nearest_depth {
+                    nearest_depth = d;
+                    nearest = p;
+                }
+            }
+        }
+    }
+
+    // 2. Reprojection.
+    let uv = (floor(position) + 0.5) * params.size.zw;
+    let previous = uv - textureLoad(motion, nearest, 0).xy;
+    let off_screen = any(previous < vec2<f32>(0.0)) || any(previous > vec2<f32>(1.0));
+    if params.blend.z > 0.5 || off_screen {
+        return Resolved(centre, 1.0, true);
+    }
+    let reprojected = history_at(previous);
+
+    // 3. Rectification.
+    var kept = reprojected;
+    if RECTIFY == 1u {
+        kept = clamp(reprojected, low, high);
+    } else if RECTIFY >= 2u {
+        var box_low = low;
+        var box_high = high;
+        if RECTIFY == 3u {
+            let mean = sum / 9.0;
+            let sigma = sqrt(max(sum_squares / 9.0 - mean * mean, vec3<f32>(0.0)));
+            box_low = max(mean - params.blend.y * sigma, low);
+            box_high = min(mean + params.blend.y * sigma, high);
+        }
+        let clipped = clip_towards_center(
+            rgb_to_ycocg(reprojected),
+            0.5 * (box_low + box_high),
+            0.5 * (box_high - box_low),
+        );
+        kept = ycocg_to_rgb(clipped);
+    }
+
+    // 4. Blend.
+    let alpha = params.blend.x;
+    var colour: vec3<f32>;
+    if LUMA_WEIGHT {
+        let w_current = alpha / (1.0 + luminance(centre));
+        let w_history = (1.0 - alpha) / (1.0 + luminance(kept));
+        colour = (centre * w_current + kept * w_history) / (w_current + w_history);
+    } else {
+        colour = mix(kept, centre, alpha);
+    }
+    let moved = length(kept - reprojected);
+    return Resolved(colour, saturate(moved * 4.0), false);
+}
+
+struct Varying {
+    @builtin(position) position: vec4<f32>,
+    @location(0) uv: vec2<f32>,
+}
+
+struct ResolveOutput {
+    @location(0) colour: vec4<f32>,
+    @location(1) history: vec4<f32>,
+}
+
+@fragment
+fn fs_resolve(in: Varying) -> ResolveOutput {
+    let r = resolve(in.position.xy);
+    return ResolveOutput(vec4<f32>(r.colour, 1.0), vec4<f32>(r.colour, 1.0));
+}
+
+struct ResolveDebugOutput {
+    @location(0) colour: vec4<f32>,
+    @location(1) history: vec4<f32>,
+    @location(2) rejection: vec4<f32>,
+}
+
+// History-rejection mask: the result's luminance dimmed, red where the history was dropped
+// (reset or off screen), yellow where rectification moved it, brighter the further.
+@fragment
+fn fs_resolve_debug(in: Varying) -> ResolveDebugOutput {
+    let r = resolve(in.position.xy);
+    let base = vec3<f32>(0.3 * sqrt(luminance(r.colour)));
+    var mask = mix(base, vec3<f32>(1.0, 0.85, 0.1), r.rectified);
+    if r.rejected {
+        mask = vec3<f32>(0.9, 0.1, 0.1);
+    }
+    return ResolveDebugOutput(vec4<f32>(r.colour, 1.0), vec4<f32>(r.colour, 1.0), vec4<f32>(mask, 1.0));
+}

@@ -1,0 +1,237 @@
+//! SMAA, enhanced subpixel morphological antialiasing, after Jorge Jimenez, Jose I.
+//! Echevarria, Tiago Sousa and Diego Gutierrez, "SMAA: Enhanced Subpixel Morphological
+//! Antialiasing", Computer Graphics Forum (Eurographics 2012). This is aa-lab's own
+//! implementation of the paper's ideas and parameters.
+//!
+//! SMAA finds the edges of the finished image, recognises the shape of each staircase (L, Z
+//! and U patterns along horizontal and vertical edges, 45-degree diagonals, sharp corners),
+//! estimates the true edge line behind it and blends each pixel with its neighbour by the area
+//! that line covers. Three modes share the same passes:
+//! - `smaa` (1x): on the shared one-sample render ([`passes`]);
+//! - `smaa-t2x`: on a render jittered a quarter pixel back and forth each frame, resolved with
+//!   the previous frame through motion vectors ([`temporal`]);
+//! - `smaa-s2x`: per sample of a two-sample render, averaged ([`multisample`]).
+//!
+//! The lookup tables are generated at first use from their rules ([`lut`]); the settings,
+//! presets and parameters live in [`settings`]; [`pipeline`] has the wgpu helpers. Only edge
+//! pixels run the blending-weight pass: the edge pass marks them in a stencil buffer that the
+//! weight pass tests. Debug views: the edges and the blending weights.
+
+pub mod lut;
+pub mod multisample;
+pub mod passes;
+pub mod pipeline;
+pub mod settings;
+pub mod temporal;
+
+pub use settings::{EdgeMode, Preset, SmaaSettings};
+
+use super::params::{Param, ParamError, ParamValue};
+use super::{DebugView, FrameInfo, SceneInput, Technique};
+use crate::gpu::Gpu;
+use crate::graph::{MemoryItem, PassContext};
+use crate::scene::renderer::SceneTargets;
+use multisample::Multisample;
+use passes::{Input, SmaaPasses};
+use temporal::Temporal;
+
+/// Which SMAA mode a technique runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// SMAA 1x.
+    X1,
+    /// SMAA T2x (temporal).
+    T2x,
+    /// SMAA S2x (two samples).
+    S2x,
+}
+
+impl Mode {
+    /// The technique id.
+    pub fn id(self) -> &'static str {
+        match self {
+            Self::X1 => "smaa",
+            Self::T2x => "smaa-t2x",
+            Self::S2x => "smaa-s2x",
+        }
+    }
+}
+
+enum State {
+    X1,
+    T2x(Box<Temporal>),
+    S2x(Box<Multisample>),
+}
+
+/// An SMAA technique in one of its modes.
+pub struct Smaa {
+    mode: Mode,
+    settings: SmaaSettings,
+    passes: SmaaPasses,
+    state: State,
+    debug_enabled: bool,
+}
+
+impl Smaa {
+    /// SMAA in `mode` with the default (High) settings.
+    pub fn new(gpu: &Gpu, mode: Mode) -> Self {
+        let passes = SmaaPasses::new(gpu);
+        let state = match mode {
+            Mode::X1 => State::X1,
+            Mode::T2x => State::T2x(Box::new(Temporal::new(&gpu.device, &passes))),
+            Mode::S2x => State::S2x(Box::new(Multisample::new(&gpu.device, &gpu.caps, &passes))),
+        };
+        Self {
+            mode,
+            settings: SmaaSettings::default(),
+            passes,
+            state,
+            debug_enabled: false,
+        }
+    }
+
+    /// The current settings.
+    pub fn settings(&self) -> &SmaaSettings {
+        &self.settings
+    }
+
+    /// Replaces the settings (T2x drops its history on the next frame when they differ).
+    pub fn set_settings(&mut self, settings: SmaaSettings) {
+        self.settings = settings;
+    }
+}
+
+impl Technique for Smaa {
+    fn id(&self) -> &'static str {
+        self.mode.id()
+    }
+
+    fn scene_input(&self, frame: &FrameInfo) -> Option<SceneInput> {
+        match &self.state {
+            State::X1 => Some(SceneInput::Shared1x),
+            State::T2x(_) => Some(SceneInput::jittered(
+                temporal::jitter(frame.camera.frame),
+                0.0,
+            )),
+            State::S2x(multisample) => multisample.scene_input(),
+        }
+    }
+
+    fn temporal(&self) -> bool {
+        self.mode == Mode::T2x
+    }
+
+    fn encode(
+        &mut self,
+        ctx: &mut PassContext<'_>,
+        input: Option<&SceneTargets>,
+        output: &wgpu::Texture,
+    ) {
+        let settings = self.settings;
+        match &mut self.state {
+            State::X1 => {
+                let Some(input) = input else { return };
+                let target = output.create_view(&Default::default());
+                let input = Input {
+                    color: &input.color,
+                    depth: &input.depth,
+                    motion: None,
+                };
+                self.passes
+                    .run(ctx, &settings, &input, &target, 0, glam::Vec2::ZERO, "");
+                if self.debug_enabled {
+                    self.passes.encode_debug(ctx);
+                }
+            }
+            State::T2x(temporal) => {
+                let Some(input) = input else { return };
+                temporal.encode(ctx, &mut self.passes, &settings, input, output);
+                if self.debug_enabled {
+                    self.passes.encode_debug(ctx);
+                }
+            }
+            State::S2x(multisample) => {
+                multisample.encode(
+                    ctx,
+                    &mut self.passes,
+                    &settings,
+                    input,
+                    output,
+                    self.debug_enabled,
+                );
+            }
+        }
+    }
+
+    fn memory(&self) -> Vec<MemoryItem> {
+        let id = self.id();
+        let mut items = self.passes.memory(id);
+        match &self.state {
+            State::X1 => {}
+            State::T2x(temporal) => items.extend(temporal.memory(id)),
+            State::S2x(multisample) => items.extend(multisample.memory(id)),
+        }
+        items
+    }
+
+    fn params(&self) -> Vec<Param> {
+        self.settings.params(self.mode == Mode::T2x)
+    }
+
+    fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
+        let temporal_only = key == "reprojection_weight_scale" && self.mode != Mode::T2x;
+        if temporal_only || !self.settings.set(key, value) {
+            return Err(ParamError::unknown_key(self.id(), key, &self.params()));
+        }
+        Ok(())
+    }
+
+    fn presets(&self) -> &'static [&'static str] {
+        Preset::NAMES
+    }
+
+    fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
+        self.settings.apply_preset_named(self.mode.id(), name)
+    }
+
+    fn set_debug_views(&mut self, enabled: bool) {
+        self.debug_enabled = enabled;
+    }
+
+    fn debug_views(&self) -> Vec<DebugView<'_>> {
+        let Some((edges, weights)) = self.passes.debug_textures().filter(|_| self.debug_enabled)
+        else {
+            return Vec::new();
+        };
+        vec![
+            DebugView {
+                name: "edges",
+                description: "Edges SMAA found (S2x: first sample): red on a pixel's left side, green on its top \
+                              side, yellow both.",
+                texture: edges,
+            },
+            DebugView {
+                name: "weights",
+                description: "Blending weights (S2x: first sample): red blends across the pixel's top edge, green \
+                              across its left edge, brighter is more (doubled).",
+                texture: weights,
+            },
+        ]
+    }
+
+    fn path_note(&self) -> Option<String> {
+        let s = &self.settings;
+        let preset = s.matching_preset().map_or_else(
+            || "custom settings".to_owned(),
+            |p| format!("{} preset", p.name()),
+        );
+        let mut note = format!(
+            "{preset}, {} edges, stencil early-out for the weight pass",
+            s.edge_mode.name()
+        );
+        if let State::S2x(multisample) = &self.state {
+            note = format!("{}; {note}", multisample.path().describe());
+        }
+        Some(note)
+    }
+}

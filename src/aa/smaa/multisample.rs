@@ -1,0 +1,314 @@
+//! SMAA S2x: SMAA 1x on each sample of a two-sample image at the standard 2x MSAA positions,
+//! then the average of the two results in linear light.
+//!
+//! Two paths give the per-sample images:
+//! - [`S2xPath::Msaa`]: where the adapter renders 2x MSAA, the frame graph's 2x render is read
+//!   sample by sample (`fs_extract_sample` copies one sample's colour and depth into
+//!   single-sample targets);
+//! - [`S2xPath::Renders`]: elsewhere (software Vulkan offers only 1x and 4x) the technique
+//!   renders the scene twice itself, each time with the projection shifted so that the pixel's
+//!   one sample sits at one of the 2x positions. That is the per-sample-shaded equivalent of
+//!   the MSAA render (MSAA shades once per pixel, so inside triangles it can differ slightly).
+//!
+//! Each sample's SMAA uses the area sub-tables of its position.
+
+use glam::Vec2;
+
+use super::passes::{Input, SmaaPasses};
+use super::pipeline::{self, Binding, PassDesc, Stencil, bind_group, cleared, view_as};
+use super::settings::SmaaSettings;
+use crate::aa::SceneInput;
+use crate::aa::sampling::standard_msaa_positions;
+use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Capabilities};
+use crate::graph::{MemoryItem, PassContext};
+use crate::scene::renderer::{RasterOptions, SceneTargets, TargetDesc};
+
+/// Where the two samples come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum S2xPath {
+    /// One 2x MSAA render, read per sample.
+    Msaa,
+    /// Two jittered single-sample renders (no 2x MSAA on the adapter).
+    Renders,
+}
+
+impl S2xPath {
+    /// The path an adapter supports.
+    pub fn for_adapter(caps: &Capabilities) -> Self {
+        if caps.supports_sample_count(2) {
+            Self::Msaa
+        } else {
+            Self::Renders
+        }
+    }
+
+    /// One line for `path_note`.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::Msaa => "SMAA on each sample of a 2x MSAA render, averaged",
+            Self::Renders => {
+                "2x MSAA is not supported here: SMAA on two jittered 1x renders at the 2x sample \
+                 positions (per-sample shading), averaged"
+            }
+        }
+    }
+}
+
+/// The two sample positions relative to the pixel centre (pixels, y down).
+pub fn sample_offsets() -> [Vec2; 2] {
+    let positions = standard_msaa_positions(2).unwrap_or_default();
+    let at = |i: usize| positions.get(i).copied().unwrap_or(Vec2::splat(0.5)) - Vec2::splat(0.5);
+    [at(0), at(1)]
+}
+
+struct Targets {
+    size: (u32, u32),
+    sample: SceneTargets,
+    results: [wgpu::Texture; 2],
+}
+
+/// The S2x state.
+pub struct Multisample {
+    path: S2xPath,
+    extract_layout: wgpu::BindGroupLayout,
+    extract: [wgpu::RenderPipeline; 2],
+    average_layout: wgpu::BindGroupLayout,
+    average: wgpu::RenderPipeline,
+    targets: Option<Targets>,
+}
+
+impl Multisample {
+    /// Builds the extraction and averaging pipelines for the adapter's path.
+    pub fn new(device: &wgpu::Device, caps: &Capabilities, passes: &SmaaPasses) -> Self {
+        let extract_layout = pipeline::layout(
+            device,
+            "smaa s2x extract",
+            &[
+                (5, Binding::MultisampledTexture),
+                (6, Binding::MultisampledDepth),
+            ],
+        );
+        let average_layout = pipeline::layout(
+            device,
+            "smaa s2x average",
+            &[(7, Binding::Texture), (8, Binding::Texture)],
+        );
+        let build =
+            |label: &str, entry_point: &str, layout, format, constants: &[(&str, f64)], stencil| {
+                passes.vertex.pipeline(
+                    device,
+                    &PassDesc {
+                        label,
+                        module: &passes.modes_module,
+                        entry_point,
+                        layout,
+                        format,
+                        constants,
+                        stencil,
+                    },
+                )
+            };
+        let extract = |sample: u32| {
+            build(
+                &format!("smaa s2x extract sample {sample}"),
+                "fs_extract_sample",
+                &extract_layout,
+                COLOR_FORMAT_ENCODED_VIEW,
+                &[("SAMPLE_INDEX", f64::from(sample))],
+                Stencil::WriteDepth,
+            )
+        };
+        Self {
+            path: S2xPath::for_adapter(caps),
+            extract: [extract(0), extract(1)],
+            average: build(
+                "smaa s2x average",
+                "fs_average",
+                &average_layout,
+                COLOR_FORMAT,
+                &[],
+                Stencil::None,
+            ),
+            extract_layout,
+            average_layout,
+            targets: None,
+        }
+    }
+
+    /// The path this adapter runs.
+    pub fn path(&self) -> S2xPath {
+        self.path
+    }
+
+    /// The scene render S2x reads: the 2x MSAA render, or none when it renders its own.
+    pub fn scene_input(&self) -> Option<SceneInput> {
+        match self.path {
+            S2xPath::Msaa => Some(SceneInput::Msaa {
+                samples: 2,
+                raster: RasterOptions::default(),
+            }),
+            S2xPath::Renders => None,
+        }
+    }
+
+    fn copy_sample(
+        &self,
+        ctx: &mut PassContext<'_>,
+        input: &SceneTargets,
+        targets: &Targets,
+        sample: usize,
+    ) {
+        let color = view_as(&input.color, COLOR_FORMAT_ENCODED_VIEW);
+        let depth = input.depth.create_view(&Default::default());
+        let group = bind_group(
+            &ctx.gpu.device,
+            "smaa s2x extract",
+            &self.extract_layout,
+            &[
+                (5, wgpu::BindingResource::TextureView(&color)),
+                (6, wgpu::BindingResource::TextureView(&depth)),
+            ],
+        );
+        let color_target = view_as(&targets.sample.color, COLOR_FORMAT_ENCODED_VIEW);
+        let depth_target = targets.sample.depth.create_view(&Default::default());
+        let pipeline = &self.extract[sample];
+        ctx.render_pass(
+            &format!("sample {sample} extract"),
+            &[Some(cleared(&color_target))],
+            Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth_target,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            |pass| {
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &group, &[]);
+                pass.draw(0..3, 0..1);
+            },
+        );
+    }
+
+    /// Records S2x into `output`; `input` is the 2x render on the MSAA path. The debug views
+    /// show the first sample when `debug` is set.
+    pub fn encode(
+        &mut self,
+        ctx: &mut PassContext<'_>,
+        passes: &mut SmaaPasses,
+        settings: &SmaaSettings,
+        input: Option<&SceneTargets>,
+        output: &wgpu::Texture,
+        debug: bool,
+    ) {
+        let size = ctx.frame.size();
+        if self.targets.as_ref().is_none_or(|t| t.size != size) {
+            let device = &ctx.gpu.device;
+            let result = |i: usize| {
+                pipeline::target(
+                    device,
+                    &format!("smaa s2x sample {i}"),
+                    size,
+                    COLOR_FORMAT,
+                    &[],
+                )
+            };
+            self.targets = Some(Targets {
+                size,
+                sample: SceneTargets::new(
+                    device,
+                    "smaa s2x sample",
+                    TargetDesc {
+                        size,
+                        sample_count: 1,
+                        motion: false,
+                    },
+                ),
+                results: [result(0), result(1)],
+            });
+        }
+        let Some(targets) = &self.targets else { return };
+        for (sample, offset) in sample_offsets().into_iter().enumerate() {
+            match (self.path, input) {
+                (S2xPath::Msaa, Some(input)) => self.copy_sample(ctx, input, targets, sample),
+                (S2xPath::Msaa, None) => return,
+                (S2xPath::Renders, _) => {
+                    // The sample at `offset` from the centre: the image moves by -offset.
+                    let view = ctx.frame.camera.params(-offset, 0.0);
+                    ctx.render_scene(
+                        &format!("sample {sample} scene"),
+                        &targets.sample,
+                        &view,
+                        RasterOptions::default(),
+                    );
+                }
+            }
+            let result = targets.results[sample].create_view(&Default::default());
+            let sample_input = Input {
+                color: &targets.sample.color,
+                depth: &targets.sample.depth,
+                motion: None,
+            };
+            passes.run(
+                ctx,
+                settings,
+                &sample_input,
+                &result,
+                sample,
+                offset,
+                &format!("sample {sample} "),
+            );
+            if debug && sample == 0 {
+                passes.encode_debug(ctx);
+            }
+        }
+        let views = targets
+            .results
+            .each_ref()
+            .map(|t| t.create_view(&Default::default()));
+        let group = bind_group(
+            &ctx.gpu.device,
+            "smaa s2x average",
+            &self.average_layout,
+            &[
+                (7, wgpu::BindingResource::TextureView(&views[0])),
+                (8, wgpu::BindingResource::TextureView(&views[1])),
+            ],
+        );
+        let target = output.create_view(&Default::default());
+        ctx.fullscreen_pass("average", &target, &self.average, &group);
+    }
+
+    /// Memory of the per-sample targets.
+    pub fn memory(&self, id: &str) -> Vec<MemoryItem> {
+        let Some(t) = &self.targets else {
+            return Vec::new();
+        };
+        let mut items: Vec<MemoryItem> = t
+            .sample
+            .textures()
+            .into_iter()
+            .map(|(name, texture)| MemoryItem::texture(format!("{id} sample {name}"), texture))
+            .collect();
+        for (i, r) in t.results.iter().enumerate() {
+            items.push(MemoryItem::texture(format!("{id} sample {i} result"), r));
+        }
+        items
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::aa::smaa::lut::subsample_indices;
+
+    #[test]
+    fn samples_sit_at_the_standard_2x_positions() {
+        assert_eq!(sample_offsets(), [Vec2::splat(0.25), Vec2::splat(-0.25)]);
+        // Both samples lie on the "\" diagonal through the centre, so "\" staircases keep the
+        // unshifted table and "/" staircases shift by half a step each way.
+        assert_eq!(subsample_indices(sample_offsets()[0]), [1, 1, 1, 0]);
+        assert_eq!(subsample_indices(sample_offsets()[1]), [2, 2, 2, 0]);
+    }
+}

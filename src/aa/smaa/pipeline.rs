@@ -1,0 +1,311 @@
+//! Small wgpu helpers shared by the SMAA passes: explicit bind-group layouts (the passes
+//! share one WGSL module per file, so layouts are spelled out rather than derived),
+//! fullscreen pipelines with an optional stencil state (the shared fullscreen helper has no
+//! depth-stencil), bind groups, private render targets and the lookup-table textures.
+
+use crate::gpu::shader;
+
+use super::lut;
+
+/// What one binding holds.
+#[derive(Clone, Copy, Debug)]
+pub enum Binding {
+    /// A uniform buffer.
+    Uniform,
+    /// A filterable float texture (sampled or loaded).
+    Texture,
+    /// A depth texture, loaded.
+    Depth,
+    /// A multisampled colour texture, loaded.
+    MultisampledTexture,
+    /// A multisampled depth texture, loaded.
+    MultisampledDepth,
+    /// A filtering sampler.
+    Sampler,
+}
+
+/// A bind-group layout for fragment-stage bindings.
+pub fn layout(
+    device: &wgpu::Device,
+    label: &str,
+    bindings: &[(u32, Binding)],
+) -> wgpu::BindGroupLayout {
+    let texture = |sample_type, multisampled| wgpu::BindingType::Texture {
+        sample_type,
+        view_dimension: wgpu::TextureViewDimension::D2,
+        multisampled,
+    };
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = bindings
+        .iter()
+        .map(|&(binding, kind)| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: match kind {
+                Binding::Uniform => wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                Binding::Texture => {
+                    texture(wgpu::TextureSampleType::Float { filterable: true }, false)
+                }
+                Binding::Depth => texture(wgpu::TextureSampleType::Depth, false),
+                Binding::MultisampledTexture => {
+                    texture(wgpu::TextureSampleType::Float { filterable: false }, true)
+                }
+                Binding::MultisampledDepth => texture(wgpu::TextureSampleType::Depth, true),
+                Binding::Sampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+            },
+            count: None,
+        })
+        .collect();
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &entries,
+    })
+}
+
+/// A bind group from `(binding, resource)` pairs.
+pub fn bind_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    resources: &[(u32, wgpu::BindingResource<'_>)],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+        .iter()
+        .map(|(binding, resource)| wgpu::BindGroupEntry {
+            binding: *binding,
+            resource: resource.clone(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
+/// How a fullscreen pass uses a stencil attachment.
+#[derive(Clone, Copy, Debug)]
+pub enum Stencil {
+    /// No depth-stencil attachment.
+    None,
+    /// Writes the reference value wherever a fragment survives (edge pass).
+    Mark,
+    /// Runs only where the stencil equals the reference value (weight pass).
+    Test,
+    /// Writes `@builtin(frag_depth)` into a depth attachment unconditionally.
+    WriteDepth,
+}
+
+/// Stencil format of the edge mask.
+pub const STENCIL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Stencil8;
+
+/// A fullscreen pipeline.
+pub struct PassDesc<'a> {
+    /// Label.
+    pub label: &'a str,
+    /// Module with the fragment entry point.
+    pub module: &'a wgpu::ShaderModule,
+    /// Entry point.
+    pub entry_point: &'a str,
+    /// Its bind-group layout (group 0).
+    pub layout: &'a wgpu::BindGroupLayout,
+    /// Colour target format.
+    pub format: wgpu::TextureFormat,
+    /// WGSL override constants.
+    pub constants: &'a [(&'a str, f64)],
+    /// Stencil use.
+    pub stencil: Stencil,
+}
+
+/// The shared fullscreen vertex stage (`shaders/fullscreen.wgsl`).
+pub struct Vertex(wgpu::ShaderModule);
+
+impl Vertex {
+    /// Compiles the vertex stage.
+    pub fn new(device: &wgpu::Device) -> Self {
+        Self(shader::module(device, "fullscreen.wgsl"))
+    }
+
+    /// Builds a fullscreen pipeline drawing one triangle.
+    pub fn pipeline(&self, device: &wgpu::Device, desc: &PassDesc<'_>) -> wgpu::RenderPipeline {
+        let face = |compare, pass_op| wgpu::StencilFaceState {
+            compare,
+            fail_op: wgpu::StencilOperation::Keep,
+            depth_fail_op: wgpu::StencilOperation::Keep,
+            pass_op,
+        };
+        let stencil = |compare, pass_op| wgpu::DepthStencilState {
+            format: STENCIL_FORMAT,
+            depth_write_enabled: None,
+            depth_compare: None,
+            stencil: wgpu::StencilState {
+                front: face(compare, pass_op),
+                back: face(compare, pass_op),
+                read_mask: 0xff,
+                write_mask: 0xff,
+            },
+            bias: Default::default(),
+        };
+        let depth_stencil = match desc.stencil {
+            Stencil::None => None,
+            Stencil::Mark => Some(stencil(
+                wgpu::CompareFunction::Always,
+                wgpu::StencilOperation::Replace,
+            )),
+            Stencil::Test => Some(stencil(
+                wgpu::CompareFunction::Equal,
+                wgpu::StencilOperation::Keep,
+            )),
+            Stencil::WriteDepth => Some(wgpu::DepthStencilState {
+                format: crate::gpu::DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+        };
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(desc.label),
+            bind_group_layouts: &[Some(desc.layout)],
+            immediate_size: 0,
+        });
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(desc.label),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &self.0,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: desc.module,
+                entry_point: Some(desc.entry_point),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: desc.constants,
+                    ..Default::default()
+                },
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: desc.format,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+}
+
+/// A single-sample 2D render target that passes can also read.
+pub fn target(
+    device: &wgpu::Device,
+    label: &str,
+    size: (u32, u32),
+    format: wgpu::TextureFormat,
+    view_formats: &[wgpu::TextureFormat],
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size.0,
+            height: size.1,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats,
+    })
+}
+
+/// A view of a texture in another (compatible) format.
+pub fn view_as(texture: &wgpu::Texture, format: wgpu::TextureFormat) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        format: Some(format),
+        ..Default::default()
+    })
+}
+
+/// A colour attachment cleared to zero.
+pub fn cleared(view: &wgpu::TextureView) -> wgpu::RenderPassColorAttachment<'_> {
+    wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            store: wgpu::StoreOp::Store,
+        },
+    }
+}
+
+/// The lookup tables on the GPU.
+pub struct LutTextures {
+    /// Area table, Rg8Unorm, sampled bilinearly.
+    pub area: wgpu::Texture,
+    /// Search table, R8Unorm, loaded texel by texel.
+    pub search: wgpu::Texture,
+}
+
+impl LutTextures {
+    /// Uploads the (cached) generated tables.
+    pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        let tables = lut::tables();
+        let upload = |label: &str,
+                      size: (u32, u32),
+                      format: wgpu::TextureFormat,
+                      texel: u32,
+                      data: &[u8]| {
+            let texture = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: size.0,
+                    height: size.1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                view_formats: &[],
+            });
+            queue.write_texture(
+                texture.as_image_copy(),
+                data,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(size.0 * texel),
+                    rows_per_image: Some(size.1),
+                },
+                texture.size(),
+            );
+            texture
+        };
+        Self {
+            area: upload(
+                "smaa area table",
+                lut::AREA_SIZE,
+                wgpu::TextureFormat::Rg8Unorm,
+                2,
+                &tables.area,
+            ),
+            search: upload(
+                "smaa search table",
+                lut::SEARCH_SIZE,
+                wgpu::TextureFormat::R8Unorm,
+                1,
+                &tables.search,
+            ),
+        }
+    }
+}

@@ -1,0 +1,207 @@
+//! SMAA T2x: SMAA 1x on a render jittered by a quarter pixel diagonally, alternating between
+//! two offsets frame by frame, then a temporal resolve with the previous frame's SMAA result.
+//!
+//! The jitter of frame N is [`JITTER`]`[N % 2]`, an offset of the image in pixels (the sample
+//! sits at the pixel centre minus it); the area sub-tables follow the sample position
+//! (`lut::subsample_indices`). The resolve (`fs_resolve` in `shaders/smaa_modes.wgsl`) fetches
+//! the previous result where the motion vector says the pixel was and mixes it in with weight
+//! 1/2, lowered where the pixel's speed changed between the frames (velocity weighting; the
+//! speed travels in the results' alpha). The history is dropped on `reset_history`, on a
+//! resize and whenever a setting changes, so frame N depends only on frames 0..=N.
+
+use glam::Vec2;
+
+use super::passes::{Input, SmaaPasses};
+use super::pipeline::{self, Binding, PassDesc, Stencil, bind_group};
+use super::settings::SmaaSettings;
+use crate::gpu::COLOR_FORMAT;
+use crate::graph::{MemoryItem, PassContext};
+use crate::scene::renderer::SceneTargets;
+
+/// Image offsets of even and odd frames, in pixels (x right, y down): the paper's jitter
+/// (-1/4, 1/4) and (1/4, -1/4) is given in projection space, whose y points up. The samples
+/// land on the standard 2x MSAA positions (3/4, 3/4) and (1/4, 1/4).
+pub const JITTER: [Vec2; 2] = [Vec2::new(-0.25, -0.25), Vec2::new(0.25, 0.25)];
+
+/// The jitter of a frame.
+pub fn jitter(frame: u64) -> Vec2 {
+    JITTER[(frame % 2) as usize]
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ResolveParams {
+    history: f32,
+    weight_scale: f32,
+    pad: [f32; 2],
+}
+
+struct History {
+    size: (u32, u32),
+    settings: SmaaSettings,
+    current: wgpu::Texture,
+    previous: wgpu::Texture,
+    valid: bool,
+}
+
+/// The T2x state: resolve pipeline and the two frames.
+pub struct Temporal {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+    params: wgpu::Buffer,
+    history: Option<History>,
+}
+
+impl Temporal {
+    /// Builds the resolve pipeline.
+    pub fn new(device: &wgpu::Device, passes: &SmaaPasses) -> Self {
+        let layout = pipeline::layout(
+            device,
+            "smaa t2x resolve",
+            &[
+                (0, Binding::Uniform),
+                (1, Binding::Texture),
+                (2, Binding::Texture),
+                (3, Binding::Texture),
+                (4, Binding::Sampler),
+            ],
+        );
+        let pipeline = passes.vertex.pipeline(
+            device,
+            &PassDesc {
+                label: "smaa t2x resolve",
+                module: &passes.modes_module,
+                entry_point: "fs_resolve",
+                layout: &layout,
+                format: COLOR_FORMAT,
+                constants: &[],
+                stencil: Stencil::None,
+            },
+        );
+        Self {
+            layout,
+            pipeline,
+            params: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("smaa t2x resolve params"),
+                size: std::mem::size_of::<ResolveParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            history: None,
+        }
+    }
+
+    /// Records one T2x frame: SMAA of the jittered `input`, then the resolve into `output`.
+    pub fn encode(
+        &mut self,
+        ctx: &mut PassContext<'_>,
+        passes: &mut SmaaPasses,
+        settings: &SmaaSettings,
+        input: &SceneTargets,
+        output: &wgpu::Texture,
+    ) {
+        // Jittered inputs always carry motion vectors.
+        let Some(motion) = input.motion.as_ref() else {
+            return;
+        };
+        let size = input.desc.size;
+        let device = ctx.gpu.device.clone();
+        let history = match self.history.take() {
+            Some(h) if h.size == size => History {
+                valid: h.valid && h.settings == *settings && !ctx.frame.reset_history,
+                settings: *settings,
+                ..h
+            },
+            _ => History {
+                size,
+                settings: *settings,
+                current: pipeline::target(&device, "smaa t2x current", size, COLOR_FORMAT, &[]),
+                previous: pipeline::target(&device, "smaa t2x previous", size, COLOR_FORMAT, &[]),
+                valid: false,
+            },
+        };
+        let current = history.current.create_view(&Default::default());
+        passes.run(
+            ctx,
+            settings,
+            &Input {
+                color: &input.color,
+                depth: &input.depth,
+                motion: Some(motion),
+            },
+            &current,
+            0,
+            -jitter(ctx.frame.camera.frame),
+            "",
+        );
+        let params = ResolveParams {
+            history: f32::from(u8::from(history.valid)),
+            weight_scale: settings.reprojection_weight_scale,
+            pad: [0.0; 2],
+        };
+        ctx.gpu
+            .queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        let previous = history.previous.create_view(&Default::default());
+        let motion = motion.create_view(&Default::default());
+        use wgpu::BindingResource::{Sampler, TextureView};
+        let group = bind_group(
+            &device,
+            "smaa t2x resolve",
+            &self.layout,
+            &[
+                (0, self.params.as_entire_binding()),
+                (1, TextureView(&current)),
+                (2, TextureView(&previous)),
+                (3, TextureView(&motion)),
+                (4, Sampler(&passes.sampler)),
+            ],
+        );
+        let target = output.create_view(&Default::default());
+        ctx.fullscreen_pass("resolve", &target, &self.pipeline, &group);
+        // This frame's result is the next frame's history.
+        self.history = Some(History {
+            current: history.previous,
+            previous: history.current,
+            valid: true,
+            ..history
+        });
+    }
+
+    /// Memory of the two frames.
+    pub fn memory(&self, id: &str) -> Vec<MemoryItem> {
+        let mut items = vec![MemoryItem::buffer(
+            format!("{id} resolve params"),
+            &self.params,
+        )];
+        if let Some(h) = &self.history {
+            items.push(MemoryItem::texture(
+                format!("{id} current frame"),
+                &h.current,
+            ));
+            items.push(MemoryItem::texture(
+                format!("{id} previous frame"),
+                &h.previous,
+            ));
+        }
+        items
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::aa::smaa::lut::subsample_indices;
+
+    #[test]
+    fn jitter_alternates_between_the_two_diagonal_offsets() {
+        assert_eq!(jitter(0), Vec2::new(-0.25, -0.25));
+        assert_eq!(jitter(1), Vec2::new(0.25, 0.25));
+        assert_eq!(jitter(10), jitter(0));
+        assert_eq!(JITTER[0] + JITTER[1], Vec2::ZERO);
+        // The samples sit at the 2x MSAA positions, which gives the paper's sub-sample
+        // indices (1, 1, 1, 0) and (2, 2, 2, 0).
+        assert_eq!(subsample_indices(-jitter(0)), [1, 1, 1, 0]);
+        assert_eq!(subsample_indices(-jitter(1)), [2, 2, 2, 0]);
+    }
+}

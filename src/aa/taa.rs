@@ -1,0 +1,909 @@
+//! TAA (temporal antialiasing) after Brian Karis, "High Quality Temporal Supersampling"
+//! (SIGGRAPH 2014) and Marco Salvi, "An Excursion in Temporal Supersampling" (GDC 2016), with
+//! the bilinear-optimised Catmull-Rom history filter described by Jorge Jimenez and Michal
+//! Drobot.
+//!
+//! Each frame reads the shared jittered render (`SceneInput::jittered`): the projection is
+//! shifted by the next offset of a Halton(2,3) sequence of 8 or 16 samples, so over a cycle
+//! every pixel is sampled at that many places, and textures get a negative mip bias to stay as
+//! sharp as the accumulated image. The resolve (`shaders/taa.wgsl`, one fullscreen pass with
+//! two targets) reprojects the history with the renderer's motion vectors (camera and object
+//! motion, without jitter; taken from the nearest pixel of the 3x3 neighbourhood), rectifies it
+//! against the current neighbourhood's colours (clamp, YCoCg clip or variance clip) and blends
+//! it with the current sample, writing the output and the next history (ping-pong Rgba16Float
+//! textures, linear colour).
+//!
+//! The history is dropped when the frame asks for it (camera cut, scene change, first frame),
+//! when the camera does not continue the previous frame (an unflagged cut: the frame's
+//! previous pose is not the pose the history was made with, or frames were skipped), when
+//! the size changes and when a setting changes, so frame N of a sequence depends only on
+//! frames 0..=N since the last reset. The jitter offset is a function of the frame number, which
+//! keeps headless renders reproducible. Structural options (history filter, rectification,
+//! luminance weighting, velocity dilation, debug output) are override constants with one cached
+//! pipeline each; the weights are uniforms.
+//!
+//! Debug views: `velocity` (motion vectors), `rejection` (where the history was rectified or
+//! dropped) and `jitter` (the sample pattern inside one pixel).
+
+use std::collections::HashMap;
+
+use glam::Vec2;
+
+use super::fxaa::{bilinear_clamp_sampler, encoded_view};
+use super::msaa::debug_texture;
+use super::params::{Param, ParamError, ParamValue, as_bool, as_choice, as_f32};
+use super::sampling::halton;
+use super::{DebugView, FrameInfo, SceneInput, Technique};
+use crate::gpu::fullscreen::FragmentDesc;
+use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu, shader};
+use crate::graph::{MemoryItem, PassContext};
+use crate::scene::camera::FrameCamera;
+use crate::scene::renderer::SceneTargets;
+
+/// Format of the accumulated history.
+pub const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Jitter sequence lengths offered.
+pub const SAMPLE_COUNT_NAMES: &[&str] = &["8", "16"];
+/// Longest jitter sequence (the jitter debug view's uniform holds this many positions).
+const MAX_SAMPLES: usize = 16;
+/// Speed in pixels per frame that the velocity view shows at half brightness.
+const VELOCITY_HALF_SPEED: f32 = 2.0;
+
+/// The jitter offset of a frame, in pixels (content moves by it; the pixel's sample sits at
+/// its centre minus the offset): element `frame mod samples` + 1 of Halton(2,3), centred, so
+/// offsets lie in [-0.5, 0.5). Index 0 of the sequence (the origin) is skipped.
+pub fn jitter_offset(frame: u64, samples: u32) -> Vec2 {
+    let index = (frame % u64::from(samples.max(1))) as u32 + 1;
+    Vec2::new(halton(index, 2), halton(index, 3)) - Vec2::splat(0.5)
+}
+
+/// How the reprojected history is read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum HistoryFilter {
+    /// One bilinear tap (cheap, blurs a little more every frame the camera moves).
+    Bilinear,
+    /// Five-tap bilinear-optimised Catmull-Rom (keeps the history sharp under motion).
+    CatmullRom,
+}
+
+impl HistoryFilter {
+    const ALL: [Self; 2] = [Self::Bilinear, Self::CatmullRom];
+    /// Names as the `history_filter` parameter offers them.
+    pub const NAMES: &'static [&'static str] = &["bilinear", "catmull-rom"];
+}
+
+/// How the history is made consistent with the current frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Rectify {
+    /// Not at all: moving content leaves ghost trails (for comparison).
+    None,
+    /// Per-channel clamp to the 3x3 neighbourhood's RGB min/max.
+    Clamp,
+    /// Clip towards the centre of the neighbourhood's YCoCg min/max box (Karis).
+    Clip,
+    /// Clip to the YCoCg variance box mean +/- gamma sigma, within min/max (Salvi).
+    Variance,
+}
+
+impl Rectify {
+    const ALL: [Self; 4] = [Self::None, Self::Clamp, Self::Clip, Self::Variance];
+    /// Names as the `rectify` parameter offers them.
+    pub const NAMES: &'static [&'static str] = &["none", "clamp", "clip", "variance"];
+}
+
+/// Looks a name up in parallel `names` / `values` tables.
+fn by_name<T: Copy>(values: &[T], names: &[&str], name: &str) -> Option<T> {
+    names.iter().position(|n| *n == name).map(|i| values[i])
+}
+
+/// The name of a value in parallel `values` / `names` tables.
+fn name_of<T: PartialEq>(values: &[T], names: &[&'static str], value: &T) -> &'static str {
+    values
+        .iter()
+        .position(|v| v == value)
+        .map_or("", |i| names[i])
+}
+
+/// TAA settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TaaSettings {
+    /// Length of the Halton jitter sequence (8 or 16).
+    pub samples: u32,
+    /// History filter.
+    pub history_filter: HistoryFilter,
+    /// History rectification.
+    pub rectify: Rectify,
+    /// Width of the variance box in standard deviations.
+    pub gamma: f32,
+    /// Share of the current frame in the blend (before luminance weighting).
+    pub current_weight: f32,
+    /// Karis' 1 / (1 + luminance) weighting of the blend.
+    pub luma_weight: bool,
+    /// Take the motion of the nearest pixel of the 3x3 neighbourhood.
+    pub closest_velocity: bool,
+    /// Texture mip bias of the jittered render.
+    pub mip_bias: f32,
+}
+
+impl Default for TaaSettings {
+    fn default() -> Self {
+        Self {
+            samples: 8,
+            history_filter: HistoryFilter::CatmullRom,
+            rectify: Rectify::Variance,
+            gamma: 1.0,
+            current_weight: 0.1,
+            luma_weight: true,
+            closest_velocity: true,
+            mip_bias: -0.5,
+        }
+    }
+}
+
+/// Preset names, in the order a UI offers them.
+pub const PRESET_NAMES: &[&str] = &["default", "fast", "karis", "salvi", "unrectified"];
+
+impl TaaSettings {
+    /// The settings of a preset from [`PRESET_NAMES`].
+    pub fn preset(name: &str) -> Option<Self> {
+        let default = Self::default();
+        Some(match name {
+            "default" => default,
+            // The cheapest variant: bilinear history, RGB clamp, the pixel's own motion.
+            "fast" => Self {
+                history_filter: HistoryFilter::Bilinear,
+                rectify: Rectify::Clamp,
+                closest_velocity: false,
+                ..default
+            },
+            // Karis 2014: YCoCg clip, a small current weight with luminance weighting.
+            "karis" => Self {
+                rectify: Rectify::Clip,
+                current_weight: 0.04,
+                ..default
+            },
+            // Salvi 2016: variance clipping with gamma 1.
+            "salvi" => Self {
+                rectify: Rectify::Variance,
+                gamma: 1.0,
+                ..default
+            },
+            // No rectification: shows the ghosting that rectification exists to remove.
+            "unrectified" => Self {
+                rectify: Rectify::None,
+                ..default
+            },
+            _ => return None,
+        })
+    }
+
+    fn constants(&self) -> [(&'static str, f64); 4] {
+        [
+            (
+                "HISTORY_FILTER",
+                f64::from(u8::from(self.history_filter == HistoryFilter::CatmullRom)),
+            ),
+            (
+                "RECTIFY",
+                Rectify::ALL
+                    .iter()
+                    .position(|r| *r == self.rectify)
+                    .unwrap_or(0) as f64,
+            ),
+            ("LUMA_WEIGHT", f64::from(u8::from(self.luma_weight))),
+            (
+                "CLOSEST_VELOCITY",
+                f64::from(u8::from(self.closest_velocity)),
+            ),
+        ]
+    }
+}
+
+/// Everything a resolve pipeline is specialised on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct PipelineKey {
+    history_filter: HistoryFilter,
+    rectify: Rectify,
+    luma_weight: bool,
+    closest_velocity: bool,
+    debug: bool,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct TaaUniform {
+    size: [f32; 4],
+    blend: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct DebugUniform {
+    size: [f32; 4],
+    samples: [[f32; 4]; MAX_SAMPLES],
+}
+
+/// The two history textures and which holds the latest result.
+struct History {
+    textures: [wgpu::Texture; 2],
+    latest: usize,
+    /// False until a frame has been resolved into `textures[latest]`.
+    valid: bool,
+}
+
+impl History {
+    fn new(device: &wgpu::Device, size: (u32, u32)) -> Self {
+        let texture = |label: &str| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: size.0,
+                    height: size.1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: HISTORY_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+        };
+        Self {
+            textures: [texture("taa history a"), texture("taa history b")],
+            latest: 0,
+            valid: false,
+        }
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (self.textures[0].width(), self.textures[0].height())
+    }
+}
+
+/// Debug-view targets and the passes that fill the velocity and jitter views.
+struct TaaDebug {
+    rejection: wgpu::Texture,
+    velocity: wgpu::Texture,
+    jitter: wgpu::Texture,
+    uniform: wgpu::Buffer,
+    velocity_pipeline: wgpu::RenderPipeline,
+    jitter_pipeline: wgpu::RenderPipeline,
+}
+
+/// The TAA technique.
+pub struct Taa {
+    settings: TaaSettings,
+    device: wgpu::Device,
+    module: wgpu::ShaderModule,
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    sampler: wgpu::Sampler,
+    uniform: wgpu::Buffer,
+    pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
+    history: Option<History>,
+    /// A setting changed since the last frame: the next frame starts a new history.
+    reset_pending: bool,
+    /// The camera of the frame the history holds, to recognise a discontinuous camera.
+    last_camera: Option<FrameCamera>,
+    debug_enabled: bool,
+    debug: Option<TaaDebug>,
+}
+
+fn layout_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty,
+        count: None,
+    }
+}
+
+fn texture_binding(sample_type: wgpu::TextureSampleType) -> wgpu::BindingType {
+    wgpu::BindingType::Texture {
+        sample_type,
+        view_dimension: wgpu::TextureViewDimension::D2,
+        multisampled: false,
+    }
+}
+
+fn color_attachment(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+            store: wgpu::StoreOp::Store,
+        },
+    })
+}
+
+impl Taa {
+    /// TAA with default settings.
+    pub fn new(gpu: &Gpu) -> Self {
+        Self::with_settings(gpu, TaaSettings::default())
+    }
+
+    /// TAA with the given settings.
+    pub fn with_settings(gpu: &Gpu, settings: TaaSettings) -> Self {
+        let device = &gpu.device;
+        // An explicit layout: every pipeline variant shares it, whatever bindings its override
+        // constants leave unused.
+        let float = wgpu::TextureSampleType::Float { filterable: true };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("taa resolve"),
+            entries: &[
+                layout_entry(0, texture_binding(float)),
+                layout_entry(1, texture_binding(wgpu::TextureSampleType::Depth)),
+                layout_entry(2, texture_binding(float)),
+                layout_entry(3, texture_binding(float)),
+                layout_entry(
+                    4,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                ),
+                layout_entry(
+                    5,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                ),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("taa resolve"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        Self {
+            settings,
+            module: shader::module(device, "taa.wgsl"),
+            sampler: bilinear_clamp_sampler(device, "taa history"),
+            uniform: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("taa params"),
+                size: std::mem::size_of::<TaaUniform>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            layout,
+            pipeline_layout,
+            device: device.clone(),
+            pipelines: HashMap::new(),
+            history: None,
+            reset_pending: true,
+            last_camera: None,
+            debug_enabled: false,
+            debug: None,
+        }
+    }
+
+    /// Current settings.
+    pub fn settings(&self) -> TaaSettings {
+        self.settings
+    }
+
+    /// Replaces the settings; the next frame starts a new history.
+    pub fn set_settings(&mut self, settings: TaaSettings) {
+        self.settings = settings;
+        self.reset_pending = true;
+    }
+
+    fn resolve_pipeline(&mut self, ctx: &PassContext<'_>, debug: bool) -> wgpu::RenderPipeline {
+        let s = &self.settings;
+        let key = PipelineKey {
+            history_filter: s.history_filter,
+            rectify: s.rectify,
+            luma_weight: s.luma_weight,
+            closest_velocity: s.closest_velocity,
+            debug,
+        };
+        if let Some(pipeline) = self.pipelines.get(&key) {
+            return pipeline.clone();
+        }
+        let targets: &[wgpu::TextureFormat] = if debug {
+            &[COLOR_FORMAT, HISTORY_FORMAT, COLOR_FORMAT_ENCODED_VIEW]
+        } else {
+            &[COLOR_FORMAT, HISTORY_FORMAT]
+        };
+        let entry_point = if debug {
+            "fs_resolve_debug"
+        } else {
+            "fs_resolve"
+        };
+        let pipeline = ctx.fullscreen.pipeline(
+            &self.device,
+            &FragmentDesc {
+                label: &format!("taa {entry_point} {key:?}"),
+                module: &self.module,
+                entry_point,
+                targets,
+                constants: &s.constants(),
+                layout: Some(&self.pipeline_layout),
+            },
+        );
+        self.pipelines.insert(key, pipeline.clone());
+        pipeline
+    }
+
+    fn ensure_debug(&mut self, ctx: &PassContext<'_>, size: (u32, u32)) {
+        if self
+            .debug
+            .as_ref()
+            .is_some_and(|d| (d.rejection.width(), d.rejection.height()) == size)
+        {
+            return;
+        }
+        let module = shader::module(&self.device, "taa_debug.wgsl");
+        let pipeline = |entry_point: &str| {
+            ctx.fullscreen.pipeline(
+                &self.device,
+                &FragmentDesc {
+                    label: &format!("taa {entry_point}"),
+                    module: &module,
+                    entry_point,
+                    targets: &[COLOR_FORMAT_ENCODED_VIEW],
+                    constants: &[],
+                    layout: None,
+                },
+            )
+        };
+        self.debug = Some(TaaDebug {
+            rejection: debug_texture(&self.device, "taa rejection", size),
+            velocity: debug_texture(&self.device, "taa velocity", size),
+            jitter: debug_texture(&self.device, "taa jitter", size),
+            uniform: self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("taa debug params"),
+                size: std::mem::size_of::<DebugUniform>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            velocity_pipeline: pipeline("fs_velocity"),
+            jitter_pipeline: pipeline("fs_jitter"),
+        });
+    }
+
+    /// Records the velocity and jitter views (the rejection view comes from the resolve).
+    fn encode_debug_views(&self, ctx: &mut PassContext<'_>, motion: &wgpu::Texture) {
+        let Some(debug) = &self.debug else { return };
+        let (width, height) = (debug.velocity.width(), debug.velocity.height());
+        let n = self.settings.samples.min(MAX_SAMPLES as u32);
+        let current = (ctx.frame.camera.frame % u64::from(n.max(1))) as u32;
+        let mut uniform = DebugUniform {
+            size: [width as f32, height as f32, VELOCITY_HALF_SPEED, n as f32],
+            samples: [[0.0; 4]; MAX_SAMPLES],
+        };
+        for (k, slot) in uniform.samples.iter_mut().enumerate().take(n as usize) {
+            let position = Vec2::splat(0.5) - jitter_offset(k as u64, n);
+            let state = match (k as u32).cmp(&current) {
+                std::cmp::Ordering::Less => 1.0,
+                std::cmp::Ordering::Equal => 2.0,
+                std::cmp::Ordering::Greater => 0.0,
+            };
+            *slot = [position.x, position.y, state, 0.0];
+        }
+        ctx.gpu
+            .queue
+            .write_buffer(&debug.uniform, 0, bytemuck::bytes_of(&uniform));
+        let motion_view = motion.create_view(&Default::default());
+        let velocity_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("taa velocity view"),
+            layout: &debug.velocity_pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&motion_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: debug.uniform.as_entire_binding(),
+                },
+            ],
+        });
+        let jitter_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("taa jitter view"),
+            layout: &debug.jitter_pipeline.get_bind_group_layout(0),
+            entries: &[wgpu::BindGroupEntry {
+                binding: 1,
+                resource: debug.uniform.as_entire_binding(),
+            }],
+        });
+        ctx.fullscreen_pass(
+            "debug velocity",
+            &encoded_view(&debug.velocity),
+            &debug.velocity_pipeline,
+            &velocity_group,
+        );
+        ctx.fullscreen_pass(
+            "debug jitter",
+            &encoded_view(&debug.jitter),
+            &debug.jitter_pipeline,
+            &jitter_group,
+        );
+    }
+}
+
+/// Whether `next` continues the sequence whose last frame had camera `last`: the next frame
+/// number with `last`'s pose as its previous pose (so the motion vectors lead back into the
+/// history), or the same frame again (a paused viewer, timing repeats). Anything else is a
+/// camera cut, also when the caller did not flag it.
+fn continues(last: &FrameCamera, next: &FrameCamera) -> bool {
+    let same = next.frame == last.frame && next.pose == last.pose;
+    let following = next.frame == last.frame + 1 && next.prev_pose == last.pose;
+    (same || following) && next.size == last.size
+}
+
+impl Technique for Taa {
+    fn id(&self) -> &'static str {
+        "taa"
+    }
+
+    fn scene_input(&self, frame: &FrameInfo) -> Option<SceneInput> {
+        Some(SceneInput::jittered(
+            jitter_offset(frame.camera.frame, self.settings.samples),
+            self.settings.mip_bias,
+        ))
+    }
+
+    fn temporal(&self) -> bool {
+        true
+    }
+
+    fn encode(
+        &mut self,
+        ctx: &mut PassContext<'_>,
+        input: Option<&SceneTargets>,
+        output: &wgpu::Texture,
+    ) {
+        let Some(input) = input else { return };
+        let Some(motion) = &input.motion else {
+            // Jittered inputs always carry motion vectors; without them show the frame as is.
+            ctx.copy_texture("copy (no motion vectors)", &input.color, output);
+            return;
+        };
+        let size = input.desc.size;
+        if self.history.as_ref().is_none_or(|h| h.size() != size) {
+            self.history = Some(History::new(&self.device, size));
+        }
+        let debug = self.debug_enabled;
+        if debug {
+            self.ensure_debug(ctx, size);
+        }
+        let pipeline = self.resolve_pipeline(ctx, debug);
+        let camera = ctx.frame.camera;
+        let reset = ctx.frame.reset_history
+            || self.reset_pending
+            || !self
+                .last_camera
+                .is_some_and(|last| continues(&last, &camera));
+        self.reset_pending = false;
+        self.last_camera = Some(camera);
+        let Some(history) = &mut self.history else {
+            return;
+        };
+        let reset = reset || !history.valid;
+        let uniform = TaaUniform {
+            size: [
+                size.0 as f32,
+                size.1 as f32,
+                1.0 / size.0 as f32,
+                1.0 / size.1 as f32,
+            ],
+            blend: [
+                self.settings.current_weight,
+                self.settings.gamma,
+                f32::from(u8::from(reset)),
+                0.0,
+            ],
+        };
+        ctx.gpu
+            .queue
+            .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
+
+        let read = history.latest;
+        let write = 1 - read;
+        let current_view = input.color.create_view(&Default::default());
+        let depth_view = input.depth.create_view(&Default::default());
+        let motion_view = motion.create_view(&Default::default());
+        let history_view = history.textures[read].create_view(&Default::default());
+        let texture = |binding, view| wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(view),
+        };
+        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("taa resolve"),
+            layout: &self.layout,
+            entries: &[
+                texture(0, &current_view),
+                texture(1, &depth_view),
+                texture(2, &motion_view),
+                texture(3, &history_view),
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::Sampler(&self.sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: self.uniform.as_entire_binding(),
+                },
+            ],
+        });
+        let output_view = output.create_view(&Default::default());
+        let next_view = history.textures[write].create_view(&Default::default());
+        let rejection_view = self
+            .debug
+            .as_ref()
+            .filter(|_| debug)
+            .map(|d| encoded_view(&d.rejection));
+        let mut attachments = vec![color_attachment(&output_view), color_attachment(&next_view)];
+        if let Some(view) = &rejection_view {
+            attachments.push(color_attachment(view));
+        }
+        ctx.render_pass("resolve", &attachments, None, |pass| {
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.draw(0..3, 0..1);
+        });
+        history.latest = write;
+        history.valid = true;
+        if debug {
+            self.encode_debug_views(ctx, motion);
+        }
+    }
+
+    fn memory(&self) -> Vec<MemoryItem> {
+        let mut items = vec![MemoryItem::buffer("taa params", &self.uniform)];
+        if let Some(h) = &self.history {
+            items.push(MemoryItem::texture("taa history a", &h.textures[0]));
+            items.push(MemoryItem::texture("taa history b", &h.textures[1]));
+        }
+        if let Some(d) = &self.debug {
+            items.push(MemoryItem::texture("taa rejection view", &d.rejection));
+            items.push(MemoryItem::texture("taa velocity view", &d.velocity));
+            items.push(MemoryItem::texture("taa jitter view", &d.jitter));
+            items.push(MemoryItem::buffer("taa debug params", &d.uniform));
+        }
+        items
+    }
+
+    fn params(&self) -> Vec<Param> {
+        let s = &self.settings;
+        vec![
+            Param::choice(
+                "samples",
+                "Jitter samples",
+                "Length of the Halton(2,3) jitter sequence: each pixel is sampled at this many \
+                 places in turn. 8 converges faster; 16 resolves finer detail on a still image.",
+                SAMPLE_COUNT_NAMES,
+                if s.samples == 16 { "16" } else { "8" },
+            ),
+            Param::choice(
+                "history_filter",
+                "History filter",
+                "How the previous result is read at the reprojected position: bilinear is cheap \
+                 but softens the image a little more every frame the camera moves; catmull-rom \
+                 (five bilinear taps) keeps it sharp.",
+                HistoryFilter::NAMES,
+                name_of(&HistoryFilter::ALL, HistoryFilter::NAMES, &s.history_filter),
+            ),
+            Param::choice(
+                "rectify",
+                "History rectification",
+                "How the history is made to agree with the current frame, which removes ghosts of \
+                 moved or uncovered content: none (ghost trails, for comparison); clamp to the RGB \
+                 range of the 3x3 neighbourhood; clip towards the neighbourhood's YCoCg box (Karis); \
+                 variance: clip to mean +/- gamma standard deviations (Salvi: tighter, less ghosting).",
+                Rectify::NAMES,
+                name_of(&Rectify::ALL, Rectify::NAMES, &s.rectify),
+            ),
+            Param::float(
+                "gamma",
+                "Variance gamma",
+                "Variance clipping only: half-width of the colour box in standard deviations. \
+                 Smaller rejects more history (less ghosting, more flicker); about 1 is usual.",
+                0.25,
+                3.0,
+                s.gamma,
+            ),
+            Param::float(
+                "current_weight",
+                "Current frame weight",
+                "Share of the new frame in each blend: small values (0.04) accumulate more samples \
+                 and look smoother but react slower; 1 turns the history off.",
+                0.01,
+                1.0,
+                s.current_weight,
+            ),
+            Param::bool(
+                "luma_weight",
+                "Luminance weighting",
+                "Weigh current frame and history by 1 / (1 + luminance) (Karis), so a single bright \
+                 sample cannot make a pixel flicker.",
+                s.luma_weight,
+            ),
+            Param::bool(
+                "closest_velocity",
+                "Nearest-surface velocity",
+                "Reproject with the motion of the nearest surface in the 3x3 neighbourhood instead \
+                 of the pixel's own, so antialiased silhouettes move with the foreground object.",
+                s.closest_velocity,
+            ),
+            Param::float(
+                "mip_bias",
+                "Texture mip bias",
+                "Texture level-of-detail bias of the jittered render: negative values pick sharper \
+                 mip levels, whose extra aliasing the accumulation averages away.",
+                -2.0,
+                0.0,
+                s.mip_bias,
+            ),
+        ]
+    }
+
+    fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
+        let mut s = self.settings;
+        match key {
+            "samples" => s.samples = if as_choice(value) == "16" { 16 } else { 8 },
+            "history_filter" => {
+                s.history_filter =
+                    by_name(&HistoryFilter::ALL, HistoryFilter::NAMES, as_choice(value))
+                        .unwrap_or(s.history_filter);
+            }
+            "rectify" => {
+                s.rectify =
+                    by_name(&Rectify::ALL, Rectify::NAMES, as_choice(value)).unwrap_or(s.rectify);
+            }
+            "gamma" => s.gamma = as_f32(value),
+            "current_weight" => s.current_weight = as_f32(value),
+            "luma_weight" => s.luma_weight = as_bool(value),
+            "closest_velocity" => s.closest_velocity = as_bool(value),
+            "mip_bias" => s.mip_bias = as_f32(value),
+            _ => return Err(ParamError::unknown_key("taa", key, &self.params())),
+        }
+        self.set_settings(s);
+        Ok(())
+    }
+
+    fn presets(&self) -> &'static [&'static str] {
+        PRESET_NAMES
+    }
+
+    fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
+        let settings = TaaSettings::preset(name).ok_or_else(|| ParamError::UnknownPreset {
+            technique: "taa".to_owned(),
+            name: name.to_owned(),
+            known: PRESET_NAMES.join(", "),
+        })?;
+        self.set_settings(settings);
+        Ok(())
+    }
+
+    fn set_debug_views(&mut self, enabled: bool) {
+        self.debug_enabled = enabled;
+    }
+
+    fn debug_views(&self) -> Vec<DebugView<'_>> {
+        match (&self.debug, self.debug_enabled) {
+            (Some(d), true) => vec![
+                DebugView {
+                    name: "velocity",
+                    description: "Motion vectors TAA reprojects with: hue is the direction (right red, \
+                         down yellow-green, left cyan, up violet), brightness the speed (half \
+                         brightness at 2 pixels per frame); black is static.",
+                    texture: &d.velocity,
+                },
+                DebugView {
+                    name: "rejection",
+                    description: "History rejection: red where the history was dropped (reset or \
+                         reprojected off screen), yellow where rectification pulled it towards the \
+                         current neighbourhood (brighter: further); elsewhere the dimmed result.",
+                    texture: &d.rejection,
+                },
+                DebugView {
+                    name: "jitter",
+                    description: "The jitter pattern inside one enlarged pixel: white samples already \
+                         accumulated in this cycle, red this frame's, grey still to come.",
+                    texture: &d.jitter,
+                },
+            ],
+            _ => Vec::new(),
+        }
+    }
+
+    fn path_note(&self) -> Option<String> {
+        let s = &self.settings;
+        let rectify = name_of(&Rectify::ALL, Rectify::NAMES, &s.rectify);
+        Some(format!(
+            "{} jitter samples, {} history, {rectify} rectification{}, current weight {}",
+            s.samples,
+            name_of(&HistoryFilter::ALL, HistoryFilter::NAMES, &s.history_filter),
+            if s.rectify == Rectify::Variance {
+                format!(" (gamma {})", s.gamma)
+            } else {
+                String::new()
+            },
+            s.current_weight
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn jitter_is_centred_halton_and_repeats() {
+        assert_eq!(jitter_offset(0, 8), Vec2::new(0.0, 1.0 / 3.0 - 0.5));
+        assert_eq!(jitter_offset(1, 8), Vec2::new(-0.25, 2.0 / 3.0 - 0.5));
+        for samples in [8u32, 16] {
+            let offsets: Vec<Vec2> = (0..u64::from(samples))
+                .map(|f| jitter_offset(f, samples))
+                .collect();
+            assert!(
+                offsets
+                    .iter()
+                    .all(|o| o.cmpge(Vec2::splat(-0.5)).all() && o.cmplt(Vec2::splat(0.5)).all())
+            );
+            // Distinct positions, no repeat within a cycle, then the cycle repeats.
+            for (i, a) in offsets.iter().enumerate() {
+                for b in &offsets[i + 1..] {
+                    assert!((*a - *b).length() > 1e-3);
+                }
+            }
+            assert_eq!(jitter_offset(u64::from(samples) + 3, samples), offsets[3]);
+            // Low discrepancy: the mean offset of a cycle is near the pixel centre.
+            let mean = offsets.iter().copied().sum::<Vec2>() / samples as f32;
+            assert!(mean.length() < 0.08, "{samples}: {mean}");
+            // Every quadrant of the pixel gets samples.
+            for quadrant in 0..4 {
+                let (sx, sy) = (quadrant % 2 == 0, quadrant / 2 == 0);
+                assert!(
+                    offsets
+                        .iter()
+                        .any(|o| (o.x < 0.0) == sx && (o.y < 0.0) == sy),
+                    "{samples} {quadrant}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_camera_continues_on_the_next_frame_from_its_own_pose_or_on_a_repeat() {
+        let rig = crate::scene::CameraRig::default();
+        let at = |frame| FrameCamera::from_rig(&rig, frame, (64, 36));
+        assert!(continues(&at(4), &at(5)));
+        assert!(continues(&at(5), &at(5)));
+        assert!(!continues(&at(4), &at(6)), "a skipped frame");
+        assert!(!continues(&at(5), &at(4)), "going back");
+        let mut moved = at(5);
+        moved.prev_pose.distance += 1.0;
+        assert!(!continues(&at(4), &moved), "a cut");
+        let mut resized = at(5);
+        resized.size = (32, 18);
+        assert!(!continues(&at(4), &resized), "a resize");
+    }
+
+    #[test]
+    fn presets_and_names_round_trip() {
+        for name in PRESET_NAMES {
+            assert!(TaaSettings::preset(name).is_some(), "{name}");
+        }
+        assert!(TaaSettings::preset("nope").is_none());
+        for (value, name) in Rectify::ALL.iter().zip(Rectify::NAMES) {
+            assert_eq!(by_name(&Rectify::ALL, Rectify::NAMES, name), Some(*value));
+            assert_eq!(name_of(&Rectify::ALL, Rectify::NAMES, value), *name);
+        }
+        let constants = TaaSettings::preset("fast").expect("preset").constants();
+        assert_eq!(
+            constants,
+            [
+                ("HISTORY_FILTER", 0.0),
+                ("RECTIFY", 1.0),
+                ("LUMA_WEIGHT", 1.0),
+                ("CLOSEST_VELOCITY", 0.0)
+            ]
+        );
+    }
+}

@@ -1,0 +1,234 @@
+//! `aa-lab sheet`: renders techniques and lays zoomed crops of chosen regions side by side in
+//! one labelled PNG. The `thesis` preset reproduces the thesis' five zoom categories (shape
+//! preservation, diagonals, textures, multiple edges, fine geometry) across the built-in scenes.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, bail};
+
+use super::render::{SceneArgs, TechniqueArgs, load_scene, spec_for_scene, technique_specs};
+use crate::export::sheet::{self, Cell, Rect, Row, Sheet};
+use crate::export::write_png;
+use crate::gpu::Gpu;
+use crate::spec::{self, RunOptions};
+
+/// Arguments of `aa-lab sheet`.
+#[derive(Debug, clap::Args)]
+pub struct SheetArgs {
+    /// Scene, size and frame (ignored for rows of a preset, which name their own scenes).
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Techniques and their settings (`--technique all` for every technique this adapter runs).
+    #[command(flatten)]
+    pub techniques: TechniqueArgs,
+    /// A curated set of rows: `thesis` (the five zoom categories across the built-in scenes).
+    #[arg(long)]
+    pub rows: Option<String>,
+    /// A region of --scene to show: LABEL=X,Y,W,H in pixels of the rendered image (repeatable).
+    #[arg(long, value_name = "LABEL=X,Y,W,H")]
+    pub region: Vec<String>,
+    /// Zoom factor of the crops (nearest neighbour).
+    #[arg(long, default_value_t = 5)]
+    pub zoom: u32,
+    /// Output PNG.
+    #[arg(long, short, default_value = "sheet.png")]
+    pub out: PathBuf,
+}
+
+/// A row of a curated sheet: a scene and a region given in pixels of a 1280x720 render
+/// (scaled to the requested size).
+struct CuratedRow {
+    label: &'static str,
+    scene: &'static str,
+    region: Rect,
+}
+
+const fn r(x: u32, y: u32, width: u32, height: u32) -> Rect {
+    Rect {
+        x,
+        y,
+        width,
+        height,
+    }
+}
+
+/// The thesis' five zoom categories, each where a built-in scene shows it best.
+const THESIS_ROWS: &[CuratedRow] = &[
+    CuratedRow {
+        label: "shape preservation",
+        scene: "chart",
+        region: r(144, 413, 64, 48),
+    },
+    CuratedRow {
+        label: "diagonals",
+        scene: "chart",
+        region: r(530, 230, 64, 48),
+    },
+    CuratedRow {
+        label: "textures",
+        scene: "atrium",
+        region: r(800, 420, 64, 48),
+    },
+    CuratedRow {
+        label: "multiple edges",
+        scene: "atrium",
+        region: r(130, 70, 64, 48),
+    },
+    CuratedRow {
+        label: "fine geometry",
+        scene: "hairball",
+        region: r(880, 330, 64, 48),
+    },
+];
+
+fn parse_region(text: &str) -> anyhow::Result<(String, Rect)> {
+    let (label, numbers) = text
+        .split_once('=')
+        .with_context(|| format!("--region {text}: expected LABEL=X,Y,W,H"))?;
+    let values: Vec<u32> = numbers
+        .split(',')
+        .map(|n| n.trim().parse::<u32>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("--region {text}: X,Y,W,H must be whole numbers"))?;
+    let [x, y, width, height] = values[..] else {
+        bail!("--region {text}: expected four numbers X,Y,W,H");
+    };
+    if width == 0 || height == 0 {
+        bail!("--region {text}: width and height must be at least 1");
+    }
+    Ok((
+        label.to_owned(),
+        Rect {
+            x,
+            y,
+            width,
+            height,
+        },
+    ))
+}
+
+fn scaled(rect: Rect, size: (u32, u32)) -> Rect {
+    let sx = f64::from(size.0) / 1280.0;
+    let sy = f64::from(size.1) / 720.0;
+    let scale = |v: u32, s: f64| ((f64::from(v) * s).round() as u32).max(1);
+    Rect {
+        x: scale(rect.x, sx),
+        y: scale(rect.y, sy),
+        width: scale(rect.width, sx),
+        height: scale(rect.height, sy),
+    }
+}
+
+/// Runs `aa-lab sheet`.
+pub fn run(args: &SheetArgs) -> anyhow::Result<()> {
+    let gpu = Gpu::headless()?;
+    let size = args.scene.size;
+    let rows: Vec<(String, String, Rect)> = match args.rows.as_deref() {
+        Some("thesis") => THESIS_ROWS
+            .iter()
+            .map(|c| {
+                (
+                    c.label.to_owned(),
+                    c.scene.to_owned(),
+                    scaled(c.region, size),
+                )
+            })
+            .collect(),
+        Some(other) => bail!("unknown --rows `{other}`; curated row sets: thesis"),
+        None if args.region.is_empty() => {
+            bail!("give --rows thesis or at least one --region LABEL=X,Y,W,H")
+        }
+        None => args
+            .region
+            .iter()
+            .map(|text| {
+                parse_region(text).map(|(label, rect)| (label, args.scene.scene.clone(), rect))
+            })
+            .collect::<anyhow::Result<_>>()?,
+    };
+    let mut scenes: Vec<String> = rows.iter().map(|(_, scene, _)| scene.clone()).collect();
+    scenes.dedup();
+
+    let techniques = technique_specs(&gpu, &args.techniques)?;
+    let mut columns = Vec::new();
+    let mut sheet_rows: Vec<Option<Row>> = rows.iter().map(|_| None).collect();
+    let mut record = None;
+    for scene_name in &scenes {
+        let scene_args = SceneArgs {
+            scene: scene_name.clone(),
+            ..args.scene.clone()
+        };
+        let mut spec = spec_for_scene(&scene_args, techniques.clone());
+        spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
+        let scene = load_scene(&spec, args.scene.strict)?;
+        eprintln!(
+            "rendering {} ({} techniques)...",
+            scene.name,
+            spec.techniques.len()
+        );
+        let output = spec::run(&gpu, &scene, &spec, &RunOptions::default())?;
+        columns = output
+            .images
+            .iter()
+            .filter(|i| i.view.is_none())
+            .map(|i| i.label.clone())
+            .collect();
+        for (i, (label, row_scene, rect)) in rows.iter().enumerate() {
+            if row_scene != scene_name {
+                continue;
+            }
+            let cells = output
+                .images
+                .iter()
+                .filter(|image| image.view.is_none())
+                .map(|image| Cell {
+                    image: sheet::crop_zoom(&image.image, *rect, args.zoom),
+                    caption: None,
+                })
+                .collect();
+            let detail = format!(
+                "{} {}x{} at {},{}",
+                scene.name, rect.width, rect.height, rect.x, rect.y
+            );
+            sheet_rows[i] = Some(Row {
+                label: label.clone(),
+                detail: Some(detail),
+                cells,
+            });
+        }
+        record.get_or_insert(spec);
+    }
+    let Some(record) = record else {
+        bail!("nothing to render")
+    };
+    let sheet = Sheet {
+        title: format!(
+            "aa-lab comparison: {}x{}, frame {}, {}x zoom",
+            size.0, size.1, args.scene.frame, args.zoom
+        ),
+        columns,
+        rows: sheet_rows.into_iter().flatten().collect(),
+        footer: Some(format!(
+            "{} on {}",
+            spec::build_id(),
+            record.adapter.clone().unwrap_or_default()
+        )),
+    };
+    let image = sheet::compose(&sheet);
+    if let Some(parent) = args.out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent)
+            .with_context(|| format!("cannot create directory {}", parent.display()))?;
+    }
+    let existed = args.out.exists();
+    write_png(
+        &args.out,
+        &image,
+        Some(&serde_json::to_string_pretty(&record)?),
+    )?;
+    println!(
+        "{}{}",
+        if existed { "overwrote " } else { "wrote " },
+        args.out.display()
+    );
+    Ok(())
+}

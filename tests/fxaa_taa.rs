@@ -1,0 +1,527 @@
+//! GPU tests of FXAA and TAA (software Vulkan in CI) on generated scenes whose content is known:
+//! both change edge pixels and leave flat regions alone, both move the image towards the
+//! 64-sample supersampled reference, TAA converges on a still camera, forgets its history on a
+//! camera cut, a resize or a settings change, and leaves no ghost trail behind moving content.
+
+mod common;
+
+use aa_lab::aa::{self, FrameInfo, Technique};
+use aa_lab::gpu::{Gpu, read_texture_rgba8};
+use aa_lab::graph::{FrameGraph, FrameScope};
+use aa_lab::scene::camera::{FrameCamera, OrbitPose};
+use aa_lab::scene::{Scene, Spin};
+use glam::Vec3;
+use image::RgbaImage;
+
+const SIZE: (u32, u32) = (320, 180);
+
+fn technique(gpu: &Gpu, id: &str, settings: &[(&str, &str)]) -> Box<dyn Technique> {
+    let mut t = aa::create(gpu, id).unwrap_or_else(|e| panic!("{e}"));
+    for (key, value) in settings {
+        aa::set_param(t.as_mut(), key, aa::params::parse_value(value))
+            .unwrap_or_else(|e| panic!("{e}"));
+    }
+    t
+}
+
+fn graph(gpu: &Gpu, scene: &Scene, techniques: Vec<Box<dyn Technique>>) -> FrameGraph {
+    let mut graph = FrameGraph::new(gpu.clone(), scene);
+    for t in techniques {
+        graph.add(t);
+    }
+    graph
+}
+
+/// Frame `frame` of the scene's own camera path (still for the flat chart).
+fn still(scene: &Scene, frame: u64, size: (u32, u32)) -> FrameCamera {
+    FrameCamera::from_rig(&scene.camera, frame, size)
+}
+
+/// Runs `cameras` in order (the first frame resets the history) and returns every technique's
+/// output after the last one.
+fn run(gpu: &Gpu, graph: &mut FrameGraph, cameras: &[FrameCamera]) -> Vec<RgbaImage> {
+    for (i, camera) in cameras.iter().enumerate() {
+        render(graph, *camera, i == 0);
+    }
+    outputs(gpu, graph)
+}
+
+fn render(graph: &mut FrameGraph, camera: FrameCamera, reset_history: bool) {
+    graph
+        .render(
+            &FrameInfo {
+                camera,
+                reset_history,
+            },
+            FrameScope::All,
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+}
+
+fn outputs(gpu: &Gpu, graph: &mut FrameGraph) -> Vec<RgbaImage> {
+    graph.finish();
+    graph
+        .slots()
+        .iter()
+        .map(|s| read_texture_rgba8(gpu, s.output().expect("output")).expect("readback"))
+        .collect()
+}
+
+/// Mean absolute difference over RGB, in 8-bit steps, over the whole image.
+fn mean_error(a: &RgbaImage, b: &RgbaImage) -> f64 {
+    window_error(a, b, (0, 0, a.width(), a.height()))
+}
+
+/// Mean absolute difference over RGB, in 8-bit steps, inside `(x, y, width, height)`.
+fn window_error(a: &RgbaImage, b: &RgbaImage, (x0, y0, w, h): (u32, u32, u32, u32)) -> f64 {
+    assert_eq!(a.dimensions(), b.dimensions());
+    let mut total = 0u64;
+    for y in y0..y0 + h {
+        for x in x0..x0 + w {
+            let (p, q) = (a.get_pixel(x, y), b.get_pixel(x, y));
+            total += (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>();
+        }
+    }
+    total as f64 / f64::from(3 * w * h)
+}
+
+/// The flat chart's slanted edge at 320x180 (its other edges are axis-aligned and fall exactly
+/// on pixel borders, where No AA is already exact and any filter can only add error).
+const SLANTED_EDGE: (u32, u32, u32, u32) = (112, 40, 78, 100);
+
+fn largest_channel_difference(a: &image::Rgba<u8>, b: &image::Rgba<u8>) -> u8 {
+    (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0)
+}
+
+/// Whether the (2r+1)^2 neighbourhood of (x, y) in `image` has one colour (never at the
+/// border).
+fn flat_within(image: &RgbaImage, x: u32, y: u32, r: u32) -> bool {
+    if x < r || y < r || x + r >= image.width() || y + r >= image.height() {
+        return false;
+    }
+    let centre = image.get_pixel(x, y);
+    (y - r..=y + r).all(|j| (x - r..=x + r).all(|i| image.get_pixel(i, j) == centre))
+}
+
+/// Counts, against the No AA image: flat pixels that moved by more than 1/255 (must be none)
+/// and edge pixels that changed at all.
+fn flat_and_edge_changes(no_aa: &RgbaImage, image: &RgbaImage) -> (Vec<(u32, u32, u8)>, usize) {
+    let mut flat_changes = Vec::new();
+    let mut edge_changes = 0;
+    for (x, y, p) in no_aa.enumerate_pixels() {
+        let d = largest_channel_difference(p, image.get_pixel(x, y));
+        if flat_within(no_aa, x, y, 1) {
+            if d > 1 {
+                flat_changes.push((x, y, d));
+            }
+        } else if d > 0 {
+            edge_changes += 1;
+        }
+    }
+    (flat_changes, edge_changes)
+}
+
+/// The 64-sample ordered-grid SSAA reference and the given techniques, at the scene's frame.
+fn with_reference(
+    gpu: &Gpu,
+    scene: &Scene,
+    techniques: Vec<Box<dyn Technique>>,
+    frames: u64,
+    size: (u32, u32),
+) -> (RgbaImage, Vec<RgbaImage>) {
+    let mut all = vec![technique(
+        gpu,
+        "ssaa",
+        &[("mode", "ordered"), ("factor", "8")],
+    )];
+    all.extend(techniques);
+    let mut graph = graph(gpu, scene, all);
+    let cameras: Vec<FrameCamera> = (0..frames).map(|f| still(scene, f, size)).collect();
+    let mut images = run(gpu, &mut graph, &cameras);
+    let reference = images.remove(0);
+    (reference, images)
+}
+
+#[test]
+fn fxaa_and_taa_change_edges_and_leave_flat_regions() {
+    let gpu = common::gpu();
+    let scene = common::flat_chart(5.0);
+    let mut graph = graph(
+        &gpu,
+        &scene,
+        vec![
+            technique(&gpu, "none", &[]),
+            technique(&gpu, "fxaa", &[]),
+            technique(&gpu, "taa", &[]),
+        ],
+    );
+    let cameras: Vec<FrameCamera> = (0..16).map(|f| still(&scene, f, SIZE)).collect();
+    let images = run(&gpu, &mut graph, &cameras);
+    for (name, image) in [("fxaa", &images[1]), ("taa", &images[2])] {
+        let (flat_changes, edge_changes) = flat_and_edge_changes(&images[0], image);
+        assert!(
+            flat_changes.is_empty(),
+            "{name} changed {} flat pixels, e.g. {:?}",
+            flat_changes.len(),
+            &flat_changes[..flat_changes.len().min(8)]
+        );
+        // The slanted edge alone crosses about 120 rows.
+        assert!(
+            edge_changes > 100,
+            "{name} changed only {edge_changes} edge pixels"
+        );
+    }
+}
+
+#[test]
+fn every_fxaa_quality_preset_and_luma_antialiases_the_edge() {
+    let gpu = common::gpu();
+    let scene = common::flat_chart(5.0);
+    let presets = aa::fxaa::QUALITY_NAMES;
+    let mut techniques = vec![
+        technique(&gpu, "none", &[]),
+        technique(&gpu, "fxaa", &[("luma", "green")]),
+    ];
+    techniques.extend(
+        presets
+            .iter()
+            .map(|q| technique(&gpu, "fxaa", &[("quality", q)])),
+    );
+    let (reference, images) = with_reference(&gpu, &scene, techniques, 1, SIZE);
+    let none = window_error(&images[0], &reference, SLANTED_EDGE);
+    for (name, image) in std::iter::once("green luma")
+        .chain(presets.iter().copied())
+        .zip(&images[1..])
+    {
+        let error = window_error(image, &reference, SLANTED_EDGE);
+        assert!(
+            error < none,
+            "FXAA {name}: error {error:.3} is not below No AA's {none:.3}"
+        );
+    }
+}
+
+#[test]
+fn fxaa_lowers_the_error_against_the_reference() {
+    let gpu = common::gpu();
+    for slant in [3.0, 20.0] {
+        let scene = common::flat_chart(slant);
+        let (reference, images) = with_reference(
+            &gpu,
+            &scene,
+            vec![technique(&gpu, "none", &[]), technique(&gpu, "fxaa", &[])],
+            1,
+            SIZE,
+        );
+        let none = window_error(&images[0], &reference, SLANTED_EDGE);
+        let fxaa = window_error(&images[1], &reference, SLANTED_EDGE);
+        println!("slant {slant}: No AA {none:.3}, FXAA {fxaa:.3}");
+        assert!(
+            fxaa < 0.9 * none,
+            "slant {slant}: FXAA error {fxaa:.3} vs No AA {none:.3}"
+        );
+    }
+}
+
+#[test]
+fn taa_converges_on_a_still_camera() {
+    let gpu = common::gpu();
+    let scene = common::flat_chart(5.0);
+    let (reference, images) = with_reference(
+        &gpu,
+        &scene,
+        vec![
+            technique(&gpu, "none", &[]),
+            technique(&gpu, "taa", &[]),
+            technique(
+                &gpu,
+                "taa",
+                &[("samples", "16"), ("history_filter", "bilinear")],
+            ),
+        ],
+        33,
+        SIZE,
+    );
+    let none = mean_error(&images[0], &reference);
+    for (name, image) in [("default", &images[1]), ("16 bilinear", &images[2])] {
+        let taa = mean_error(image, &reference);
+        println!("No AA {none:.3}, TAA {name} {taa:.3}");
+        assert!(
+            taa < 0.5 * none,
+            "TAA {name} after 32 frames: error {taa:.3} vs No AA {none:.3}"
+        );
+    }
+}
+
+/// A still camera looking at the flat chart from another place.
+fn other_view(scene: &Scene, frame: u64, size: (u32, u32)) -> FrameCamera {
+    let mut rig = scene.camera;
+    rig.target = Vec3::new(0.5, 0.2, 0.0);
+    rig.distance *= 0.7;
+    FrameCamera::from_rig(&rig, frame, size)
+}
+
+#[test]
+fn taa_forgets_its_history_on_a_cut_a_resize_and_a_settings_change() {
+    let gpu = common::gpu();
+    let scene = common::flat_chart(5.0);
+    // A fresh TAA at one frame: what a reset must reproduce exactly.
+    let fresh = |settings: &[(&str, &str)], camera: FrameCamera| {
+        let mut g = graph(&gpu, &scene, vec![technique(&gpu, "taa", settings)]);
+        render(&mut g, camera, true);
+        outputs(&gpu, &mut g).remove(0)
+    };
+    let mut g = graph(&gpu, &scene, vec![technique(&gpu, "taa", &[])]);
+    let step = |g: &mut FrameGraph, camera: FrameCamera, reset: bool| {
+        render(g, camera, reset);
+        outputs(&gpu, g).remove(0)
+    };
+    let mut settled = None;
+    for f in 0..10 {
+        settled = Some(step(&mut g, still(&scene, f, SIZE), f == 0));
+    }
+    let settled = settled.expect("frames ran");
+
+    // A cut the caller does not flag: the frame's previous pose is not the history's pose.
+    let cut = step(&mut g, other_view(&scene, 10, SIZE), false);
+    let expected = fresh(&[], other_view(&scene, 10, SIZE));
+    assert_eq!(mean_error(&cut, &expected), 0.0, "history survived the cut");
+    assert!(
+        mean_error(&cut, &settled) > 1.0,
+        "the cut did not change the view"
+    );
+
+    // A continuing camera keeps its history...
+    let kept = step(&mut g, other_view(&scene, 11, SIZE), false);
+    let alone = fresh(&[], other_view(&scene, 11, SIZE));
+    assert!(mean_error(&kept, &alone) > 0.01, "the history was not used");
+    // ...unless the caller flags a reset.
+    let flagged = step(&mut g, other_view(&scene, 12, SIZE), true);
+    let expected = fresh(&[], other_view(&scene, 12, SIZE));
+    assert_eq!(
+        mean_error(&flagged, &expected),
+        0.0,
+        "history survived the flagged reset"
+    );
+
+    // Resize.
+    let small = (240, 135);
+    let resized = step(&mut g, other_view(&scene, 13, small), false);
+    let expected = fresh(&[], other_view(&scene, 13, small));
+    assert_eq!(
+        mean_error(&resized, &expected),
+        0.0,
+        "history survived the resize"
+    );
+
+    // Settings change.
+    step(&mut g, other_view(&scene, 14, small), false);
+    aa::set_param(
+        g.slots_mut()[0].technique.as_mut(),
+        "rectify",
+        aa::params::parse_value("clip"),
+    )
+    .expect("clip is a rectification");
+    let changed = step(&mut g, other_view(&scene, 15, small), false);
+    let expected = fresh(&[("rectify", "clip")], other_view(&scene, 15, small));
+    assert_eq!(
+        mean_error(&changed, &expected),
+        0.0,
+        "history survived the settings change"
+    );
+}
+
+/// The camera of each frame number.
+type CameraPath<'a> = dyn Fn(u64) -> FrameCamera + 'a;
+
+/// A camera panning sideways at `speed` world units per frame (pure translation).
+fn panning(scene: &Scene, frame: u64, speed: f32, size: (u32, u32)) -> FrameCamera {
+    let pose = |f: u64| {
+        let mut pose = OrbitPose::at_frame(&scene.camera, 0);
+        pose.target.x += speed * f as f32;
+        pose
+    };
+    FrameCamera {
+        pose: pose(frame),
+        prev_pose: pose(frame.saturating_sub(1)),
+        frame,
+        size,
+    }
+}
+
+/// The flat chart with the black quad spinning about its own centre (object motion).
+fn spinning_chart() -> Scene {
+    let mut scene = common::flat_chart(5.0);
+    scene.meshes[0].spin = Some(Spin {
+        pivot: Vec3::new(0.6, 0.0, 0.0),
+        axis: Vec3::Z,
+        radians_per_frame: 0.03,
+    });
+    scene
+}
+
+/// How TAA (with `settings`) matches the current No AA frame after 12 frames of motion, over
+/// the pixels whose content changed during the last four frames: the largest difference among
+/// those at least two pixels from any edge now (where the jittered 3x3 neighbourhood is flat,
+/// so any old content left is a ghost), and the mean difference over all of them (edges
+/// included, where TAA legitimately differs from No AA by its antialiasing).
+fn trail(
+    gpu: &Gpu,
+    scene: &Scene,
+    camera: &CameraPath<'_>,
+    settings: &[(&str, &str)],
+) -> (u8, f64) {
+    const FRAMES: u64 = 12;
+    const LOOK_BACK: u64 = 4;
+    let mut g = graph(
+        gpu,
+        scene,
+        vec![technique(gpu, "none", &[]), technique(gpu, "taa", settings)],
+    );
+    let mut recent = Vec::new();
+    for f in 0..=FRAMES {
+        render(&mut g, camera(f), f == 0);
+        if f + LOOK_BACK >= FRAMES {
+            recent.push(outputs(gpu, &mut g));
+        }
+    }
+    let current = recent.last().expect("frames ran");
+    let (no_aa, taa) = (&current[0], &current[1]);
+    let (mut interior, mut changed, mut total) = (0, 0, 0u64);
+    let mut worst = 0;
+    for (x, y, p) in no_aa.enumerate_pixels() {
+        let moved = recent[..recent.len() - 1]
+            .iter()
+            .any(|earlier| earlier[0].get_pixel(x, y) != p);
+        if !moved {
+            continue;
+        }
+        let d = largest_channel_difference(p, taa.get_pixel(x, y));
+        changed += 1;
+        total += u64::from(d);
+        if flat_within(no_aa, x, y, 2) {
+            interior += 1;
+            worst = worst.max(d);
+        }
+    }
+    assert!(
+        interior > 200,
+        "only {interior} interior pixels changed: the test moves too little"
+    );
+    (worst, total as f64 / changed as f64)
+}
+
+#[test]
+fn taa_leaves_no_ghost_trail_behind_camera_or_object_motion() {
+    let gpu = common::gpu();
+    let chart = common::flat_chart(5.0);
+    let spinning = spinning_chart();
+    let pan = |f| panning(&chart, f, 0.03, SIZE);
+    let spin = |f| still(&spinning, f, SIZE);
+    let cases: [(&str, &Scene, &CameraPath<'_>); 2] = [
+        ("camera pan", &chart, &pan),
+        ("spinning object", &spinning, &spin),
+    ];
+    for (name, scene, camera) in cases {
+        // Without rectification the history keeps the old content: the measure sees ghosts.
+        let (ghost, ghost_mean) = trail(&gpu, scene, camera, &[("rectify", "none")]);
+        println!("{name}, none: worst {ghost}, mean {ghost_mean:.2}");
+        assert!(
+            ghost > 64,
+            "{name}: no ghost without rectification ({ghost})"
+        );
+        for rectify in ["clamp", "clip", "variance"] {
+            let (worst, mean) = trail(&gpu, scene, camera, &[("rectify", rectify)]);
+            println!("{name}, {rectify}: worst {worst}, mean {mean:.2}");
+            assert!(
+                worst <= 2,
+                "{name}, {rectify}: a trail pixel is off by {worst}/255"
+            );
+            assert!(
+                mean < 0.5 * ghost_mean,
+                "{name}, {rectify}: mean difference {mean:.2} vs {ghost_mean:.2} unrectified"
+            );
+        }
+    }
+}
+
+#[test]
+fn debug_views_have_the_output_size_and_show_something() {
+    let gpu = common::gpu();
+    let scene = common::flat_chart(5.0);
+    let mut techniques = vec![technique(&gpu, "fxaa", &[]), technique(&gpu, "taa", &[])];
+    for t in &mut techniques {
+        t.set_debug_views(true);
+    }
+    let mut g = graph(&gpu, &scene, techniques);
+    for f in 0..3 {
+        render(&mut g, panning(&scene, f, 0.02, SIZE), f == 0);
+    }
+    g.finish();
+    let mut names = Vec::new();
+    for slot in g.slots() {
+        for view in slot.technique.debug_views() {
+            let image = read_texture_rgba8(&gpu, view.texture).expect("readback");
+            assert_eq!(image.dimensions(), SIZE, "{}", view.name);
+            let lit = image
+                .pixels()
+                .filter(|p| p[0].max(p[1]).max(p[2]) > 100)
+                .count();
+            assert!(
+                lit > 50,
+                "{} view is nearly black ({lit} lit pixels)",
+                view.name
+            );
+            names.push(view.name);
+        }
+    }
+    assert_eq!(names, ["edges", "velocity", "rejection", "jitter"]);
+}
+
+#[test]
+fn settings_and_presets_are_data() {
+    let gpu = common::gpu();
+    for id in ["fxaa", "taa"] {
+        let mut t = technique(&gpu, id, &[]);
+        let params = t.params();
+        assert!(!params.is_empty());
+        // Every parameter accepts its own current value back.
+        for p in &params {
+            aa::set_param(t.as_mut(), p.key, p.value.clone()).unwrap_or_else(|e| panic!("{e}"));
+        }
+        assert_eq!(aa::param_map(t.as_ref()).len(), params.len());
+        for preset in t.presets() {
+            t.apply_preset(preset)
+                .unwrap_or_else(|e| panic!("{id} {preset}: {e}"));
+        }
+        let err = t
+            .apply_preset("nonsense")
+            .expect_err("unknown preset")
+            .to_string();
+        assert!(err.contains("default"), "{err}");
+        let err = aa::set_param(t.as_mut(), "bogus", aa::params::parse_value("1"))
+            .expect_err("unknown key")
+            .to_string();
+        assert!(err.contains(id), "{err}");
+        assert!(t.path_note().is_some());
+    }
+    let mut fxaa = technique(&gpu, "fxaa", &[("quality", "39"), ("subpix", "0.5")]);
+    assert!(
+        aa::set_param(fxaa.as_mut(), "quality", aa::params::parse_value("16")).is_err(),
+        "16 is not an FXAA preset"
+    );
+    fxaa.apply_preset("extreme").expect("Bevy preset");
+    let map = aa::param_map(fxaa.as_ref());
+    assert_eq!(map["quality"], aa::ParamValue::Choice("39".into()));
+    assert_eq!(map["edge_threshold"], aa::ParamValue::Float(0.031));
+    let taa = technique(&gpu, "taa", &[("samples", "16"), ("mip_bias", "-1")]);
+    let frame = FrameInfo {
+        camera: still(&common::flat_chart(0.0), 3, SIZE),
+        reset_history: false,
+    };
+    let input = taa.scene_input(&frame).expect("taa reads a scene render");
+    assert!(input.motion());
+    assert_eq!(input.mip_bias(), -1.0);
+    assert!((input.offset() - aa::taa::jitter_offset(3, 16)).length() < 1e-4);
+    assert!(taa.temporal());
+}
