@@ -188,6 +188,32 @@ impl AaLabApp {
         self.viewport.render_size
     }
 
+    /// Whether every compared technique shows an image rendered at the current size and no
+    /// frame is in flight (tests wait for this).
+    pub fn frame_ready(&self) -> bool {
+        let Some(engine) = &self.engine else {
+            return false;
+        };
+        let size = self.viewport.render_size;
+        let compared = self.compared();
+        !engine.busy()
+            && !compared.is_empty()
+            && compared
+                .iter()
+                .all(|id| engine.image(id).is_some_and(|i| i.size() == size))
+    }
+
+    /// The published output of a technique (the bytes on screen).
+    pub fn output_pixels(&self, id: &str) -> Option<std::sync::Arc<image::RgbaImage>> {
+        let engine = self.engine.as_ref()?;
+        engine.output(id).map(|p| std::sync::Arc::clone(&p.pixels))
+    }
+
+    /// Where technique A's image was drawn in the last frame (points).
+    pub fn image_rect(&self) -> Option<egui::Rect> {
+        self.viewport.image_rect
+    }
+
     /// Samples the displayed reference rests on (0 when there is none).
     pub fn reference_samples_done(&self) -> u32 {
         self.engine

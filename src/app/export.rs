@@ -1,176 +1,21 @@
 //! Export: one action writes, into the export folder, the full frame of every enabled
 //! technique (lossless PNG carrying its render record, plus the debug view on screen), the
-//! magnifier sheet (every pane with its label and figures) and a sidecar JSON that
-//! `aa-lab render --from` reproduces. Existing files are never overwritten: the whole set
-//! takes the next free name (`atrium-f120-2-...`). The magnifier sheet can also be copied to
-//! the clipboard.
+//! magnifier sheet (every pane with its label and figures, laid out by `export::sheet`) and a
+//! sidecar JSON that `aa-lab render --from` reproduces. Existing files are never overwritten:
+//! the whole set takes the next free name (`atrium-f120-2-...`). The magnifier sheet can also
+//! be copied to the clipboard.
 //!
 //! The frames are the engine's published CPU copies (the bytes on screen); a worker thread
 //! encodes and writes the files, so the window keeps running while a large export is written.
 
 use std::path::{Path, PathBuf};
-use std::sync::{Once, mpsc};
-
-use plotters::prelude::*;
-use plotters::style::{FontStyle, register_font};
-
-use std::sync::Arc;
+use std::sync::{Arc, mpsc};
 
 use super::app::{AaLabApp, Level};
 use super::magnifier::{Source, crop, lens_heatmap};
+use crate::export::sheet::{self, Cell, Row};
 use crate::export::write_png;
 use crate::spec::{RenderSpec, TechniqueSpec};
-
-/// Font family the sheet's text is drawn with.
-const SHEET_FONT: &str = "aa-lab sans";
-/// Margin and gaps of the sheet, in pixels.
-const SHEET_MARGIN: u32 = 16;
-const SHEET_GAP: u32 = 12;
-const TITLE_HEIGHT: u32 = 24;
-const CAPTION_HEIGHT: u32 = 22;
-const HEADER_HEIGHT: u32 = 28;
-const SHEET_BACKGROUND: [u8; 3] = [24, 24, 24];
-
-/// One pane of a magnifier sheet.
-#[derive(Clone, Debug)]
-pub struct SheetPane {
-    /// Slot letter (A..D, R).
-    pub letter: String,
-    /// Slot colour.
-    pub color: [u8; 3],
-    /// Technique name (and debug view).
-    pub title: String,
-    /// Figures under the pane.
-    pub caption: String,
-    /// The lens region, unzoomed.
-    pub pixels: image::RgbaImage,
-}
-
-/// A magnifier sheet: panes side by side, nearest-neighbour zoomed.
-#[derive(Clone, Debug)]
-pub struct Sheet {
-    /// First line (scene, frame, lens).
-    pub header: String,
-    /// Panes, left to right.
-    pub panes: Vec<SheetPane>,
-    /// Zoom factor.
-    pub zoom: u32,
-    /// Draw lines between magnified pixels.
-    pub grid: bool,
-}
-
-fn register_fonts() {
-    static FONTS: Once = Once::new();
-    FONTS.call_once(|| {
-        if register_font(
-            SHEET_FONT,
-            FontStyle::Normal,
-            epaint_default_fonts::UBUNTU_LIGHT,
-        )
-        .is_err()
-        {
-            log::warn!("the sheet font could not be loaded; sheets will have no text");
-        }
-    });
-}
-
-/// Renders a sheet to an image.
-pub fn compose_sheet(sheet: &Sheet) -> image::RgbaImage {
-    register_fonts();
-    let zoom = sheet.zoom.max(1);
-    let pane_w = |p: &SheetPane| p.pixels.width() * zoom;
-    let content_w: u32 = sheet.panes.iter().map(pane_w).sum::<u32>()
-        + SHEET_GAP * sheet.panes.len().saturating_sub(1) as u32;
-    let pane_h = sheet
-        .panes
-        .iter()
-        .map(|p| p.pixels.height() * zoom)
-        .max()
-        .unwrap_or(0);
-    let width = (content_w + 2 * SHEET_MARGIN).max(480);
-    let height = HEADER_HEIGHT + TITLE_HEIGHT + pane_h + CAPTION_HEIGHT + 2 * SHEET_MARGIN;
-    let mut rgb: Vec<u8> = SHEET_BACKGROUND
-        .iter()
-        .copied()
-        .cycle()
-        .take((width * height * 3) as usize)
-        .collect();
-    let top = SHEET_MARGIN + HEADER_HEIGHT + TITLE_HEIGHT;
-    let mut x = SHEET_MARGIN;
-    let mut boxes = Vec::new();
-    for pane in &sheet.panes {
-        for (px, py, p) in pane.pixels.enumerate_pixels() {
-            for dy in 0..zoom {
-                for dx in 0..zoom {
-                    let grid_line = sheet.grid
-                        && zoom >= 4
-                        && (dx == 0 || dy == 0)
-                        && (px > 0 || dx > 0)
-                        && (py > 0 || dy > 0);
-                    let (sx, sy) = (x + px * zoom + dx, top + py * zoom + dy);
-                    let i = ((sy * width + sx) * 3) as usize;
-                    for c in 0..3 {
-                        rgb[i + c] = if grid_line {
-                            (u16::from(p[c]) * 5 / 8) as u8
-                        } else {
-                            p[c]
-                        };
-                    }
-                }
-            }
-        }
-        boxes.push((x, pane_w(pane)));
-        x += pane_w(pane) + SHEET_GAP;
-    }
-    if let Ok(backend) = BitMapBackend::<plotters::backend::RGBPixel>::with_buffer_and_format(
-        &mut rgb,
-        (width, height),
-    ) {
-        let area = backend.into_drawing_area();
-        const LIGHT: RGBColor = RGBColor(230, 230, 230);
-        const DIM: RGBColor = RGBColor(170, 170, 170);
-        let font = |size: u32, color: &'static RGBColor| {
-            TextStyle::from((SHEET_FONT, size).into_font()).color(color)
-        };
-        let _ = area.draw_text(
-            &sheet.header,
-            &font(15, &LIGHT),
-            (SHEET_MARGIN as i32, SHEET_MARGIN as i32),
-        );
-        for (pane, (x, w)) in sheet.panes.iter().zip(&boxes) {
-            let y = (SHEET_MARGIN + HEADER_HEIGHT) as i32;
-            let [r, g, b] = pane.color;
-            let _ = area.draw(&Rectangle::new(
-                [(*x as i32, y), (*x as i32 + 20, y + 18)],
-                RGBColor(r, g, b).filled(),
-            ));
-            let _ = area.draw_text(&pane.letter, &font(14, &BLACK), (*x as i32 + 6, y + 1));
-            let _ = area.draw_text(&pane.title, &font(14, &LIGHT), (*x as i32 + 26, y + 1));
-            let _ = area.draw_text(
-                &fit_text(&pane.caption, *w),
-                &font(12, &DIM),
-                (*x as i32, (top + pane_h + 5) as i32),
-            );
-        }
-        let _ = area.present();
-    }
-    image::RgbaImage::from_fn(width, height, |x, y| {
-        let i = ((y * width + x) * 3) as usize;
-        image::Rgba([rgb[i], rgb[i + 1], rgb[i + 2], 255])
-    })
-}
-
-/// Shortens a caption to roughly fit `width` pixels of 12-pixel text.
-fn fit_text(text: &str, width: u32) -> String {
-    let max_chars = (width / 6).max(8) as usize;
-    if text.chars().count() <= max_chars {
-        text.to_owned()
-    } else {
-        let mut cut: String = text.chars().take(max_chars.saturating_sub(1)).collect();
-        cut.push('…');
-        cut
-    }
-}
 
 /// The first name `stem`, `stem-2`, `stem-3`... for which none of the set's files exist.
 pub fn free_stem(dir: &Path, stem: &str, suffixes: &[String]) -> String {
@@ -197,7 +42,8 @@ struct Plan {
     record: String,
     /// (file suffix, pixels) of every frame.
     images: Vec<(String, Arc<image::RgbaImage>)>,
-    sheet: Option<Sheet>,
+    /// The magnifier sheet, composed.
+    sheet: Option<image::RgbaImage>,
 }
 
 /// Export jobs and the export-folder dialog.
@@ -300,7 +146,7 @@ fn write_files(plan: &Plan) -> Result<Vec<PathBuf>, String> {
     }
     if let Some(sheet) = &plan.sheet {
         let path = plan.dir.join(format!("{stem}-magnifier.png"));
-        write_png(&path, &compose_sheet(sheet), Some(&plan.record)).map_err(|e| e.to_string())?;
+        write_png(&path, sheet, Some(&plan.record)).map_err(|e| e.to_string())?;
         written.push(path);
     }
     let sidecar = plan.dir.join(format!("{stem}.json"));
@@ -343,12 +189,15 @@ impl AaLabApp {
         })
     }
 
-    /// The magnifier sheet of the current lens (what the magnifier panel shows).
-    pub(super) fn magnifier_sheet(&self) -> Option<Sheet> {
+    /// The magnifier sheet of the current lens, composed: every pane as the magnifier shows it
+    /// (pixels, or heatmaps in difference mode), labelled, with its figures underneath.
+    pub(super) fn magnifier_sheet(&self) -> Option<image::RgbaImage> {
         let lens = self.lens()?;
+        let zoom = self.settings.magnifier.zoom;
         let metric = self.settings.magnifier.metric;
         let reference = self.source_image(Source::Reference);
-        let mut panes = Vec::new();
+        let mut columns = Vec::new();
+        let mut cells = Vec::new();
         for source in self.magnifier_sources() {
             let Some(image) = self.source_image(source) else {
                 continue;
@@ -365,16 +214,21 @@ impl AaLabApp {
                 }
                 _ => crop(&image.pixels, lens),
             };
-            let (letter, color, title) = self.source_label(source);
-            panes.push(SheetPane {
-                letter: letter.to_owned(),
-                color: [color.r(), color.g(), color.b()],
-                title,
-                caption: self.pane_figures(source),
-                pixels,
+            let whole = sheet::Rect {
+                x: 0,
+                y: 0,
+                width: lens.width,
+                height: lens.height,
+            };
+            let (letter, _, title) = self.source_label(source);
+            columns.push(format!("{letter} · {title}"));
+            let caption = self.pane_figures(source);
+            cells.push(Cell {
+                image: sheet::crop_zoom(&pixels, whole, zoom),
+                caption: (!caption.is_empty()).then_some(caption),
             });
         }
-        if panes.is_empty() {
+        if cells.is_empty() {
             return None;
         }
         let scene = self.scene.as_ref().map_or("", |s| s.name.as_str());
@@ -385,24 +239,27 @@ impl AaLabApp {
             .map_or(0, |c| c.frame);
         let (w, h) = self.viewport.render_size;
         let mode = if self.settings.magnifier.difference {
-            format!(" · {} vs reference", metric.label())
+            format!(", {} against the reference", metric.label().to_lowercase())
         } else {
             String::new()
         };
-        Some(Sheet {
-            header: format!(
-                "{scene} · frame {frame} · {w}×{h} · lens {}×{} at ({}, {}) · {}×{mode} · {}",
-                lens.width,
-                lens.height,
-                lens.x,
-                lens.y,
-                self.settings.magnifier.zoom,
-                crate::spec::build_id()
-            ),
-            panes,
-            zoom: self.settings.magnifier.zoom,
-            grid: self.settings.magnifier.pixel_grid,
-        })
+        Some(sheet::compose(&sheet::Sheet {
+            title: format!("{scene}, frame {frame}, {w}×{h}{mode}"),
+            columns,
+            rows: vec![Row {
+                label: format!("lens {zoom}×"),
+                detail: Some(format!(
+                    "{}×{} at ({}, {})",
+                    lens.width, lens.height, lens.x, lens.y
+                )),
+                cells,
+            }],
+            footer: Some(format!(
+                "{} on {}",
+                crate::spec::build_id(),
+                self.gpu.caps.adapter_name
+            )),
+        }))
     }
 
     /// Starts an export of the displayed frame (see the module docs).
@@ -455,8 +312,7 @@ impl AaLabApp {
     /// Copies the magnifier sheet to the clipboard.
     pub(super) fn copy_sheet(&mut self, ctx: &egui::Context) {
         match self.magnifier_sheet() {
-            Some(sheet) => {
-                let image = compose_sheet(&sheet);
+            Some(image) => {
                 let size = [image.width() as usize, image.height() as usize];
                 ctx.copy_image(egui::ColorImage::from_rgba_unmultiplied(
                     size,
@@ -533,34 +389,5 @@ mod tests {
         assert_eq!(free_stem(dir.path(), "atrium-f3", &suffixes), "atrium-f3-2");
         std::fs::write(dir.path().join("atrium-f3-2-none.png"), "").unwrap();
         assert_eq!(free_stem(dir.path(), "atrium-f3", &suffixes), "atrium-f3-3");
-    }
-
-    #[test]
-    fn sheet_has_every_pane_zoomed() {
-        let pane = |v: u8| SheetPane {
-            letter: "A".to_owned(),
-            color: [255, 160, 40],
-            title: "No AA".to_owned(),
-            caption: "SSIM 0.9".to_owned(),
-            pixels: image::RgbaImage::from_pixel(4, 3, image::Rgba([v, v, v, 255])),
-        };
-        let sheet = Sheet {
-            header: "test".to_owned(),
-            panes: vec![pane(10), pane(200)],
-            zoom: 8,
-            grid: false,
-        };
-        let image = compose_sheet(&sheet);
-        let top = SHEET_MARGIN + HEADER_HEIGHT + TITLE_HEIGHT;
-        assert_eq!(image.height(), top + 3 * 8 + CAPTION_HEIGHT + SHEET_MARGIN);
-        assert_eq!(
-            image.get_pixel(SHEET_MARGIN + 5, top + 5).0,
-            [10, 10, 10, 255]
-        );
-        let second = SHEET_MARGIN + 4 * 8 + SHEET_GAP;
-        assert_eq!(
-            image.get_pixel(second + 31, top + 23).0,
-            [200, 200, 200, 255]
-        );
     }
 }

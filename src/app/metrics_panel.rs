@@ -85,7 +85,14 @@ impl AaLabApp {
     }
 
     fn gpu_section(&mut self, ui: &mut egui::Ui) {
-        style::section(ui, "GPU time per frame");
+        ui.horizontal(|ui| {
+            style::section(ui, "GPU time per frame");
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                ui.checkbox(&mut self.settings.show_passes, "passes")
+                    .on_hover_text("List every pass of every technique");
+            });
+        });
+        let show_passes = self.settings.show_passes;
         let Some(engine) = &self.engine else { return };
         if !engine.caps().timestamps {
             ui.weak(format!(
@@ -155,7 +162,7 @@ impl AaLabApp {
                         "Own passes plus the scene render this technique reads.",
                     );
                     ui.end_row();
-                    for (pass, ms) in stats.technique_passes(id) {
+                    for (pass, ms) in stats.technique_passes(id).into_iter().filter(|_| show_passes) {
                         ui.label(RichText::new(format!("   {pass}")).small());
                         number(ui, style::ms(ms), "Median GPU time of this pass over the last 30 frames that ran it.");
                         ui.label("");

@@ -514,14 +514,8 @@ impl AaLabApp {
                 });
             });
             if let Some(reason) = &reason {
-                ui.add(
-                    egui::Label::new(
-                        RichText::new(reason)
-                            .small()
-                            .color(ui.visuals().weak_text_color()),
-                    )
-                    .wrap(),
-                );
+                ui.label(RichText::new("not available on this adapter").small().weak())
+                    .on_hover_text(reason);
             } else if enabled {
                 self.technique_settings(ui, id);
             }

@@ -194,6 +194,8 @@ pub struct Settings {
     pub show_metrics: bool,
     /// Magnifier shown.
     pub show_magnifier: bool,
+    /// The GPU table lists every pass, not only per technique.
+    pub show_passes: bool,
 }
 
 impl Default for Settings {
@@ -218,6 +220,7 @@ impl Default for Settings {
             show_techniques: true,
             show_metrics: true,
             show_magnifier: true,
+            show_passes: false,
         }
     }
 }

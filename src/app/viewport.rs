@@ -41,6 +41,8 @@ pub struct ViewportState {
     pub resized: bool,
     /// The frame pixel under the pointer.
     pub hover_pixel: Option<(u32, u32)>,
+    /// Where the first tile's image was drawn (screen points), clipped to its tile.
+    pub image_rect: Option<Rect>,
     drag: Option<Drag>,
 }
 
@@ -139,6 +141,7 @@ impl AaLabApp {
             }
             let shown = self.shown(&compared, ui.ctx());
             let mut tiles = Vec::new();
+            self.viewport.image_rect = None;
             for (i, tile_rect) in tiles_rects.iter().enumerate() {
                 let what = match self.settings.layout {
                     Layout::Grid => compared.get(i).map(|id| Shown::Technique(i, id)),
@@ -153,6 +156,7 @@ impl AaLabApp {
                     rect: *tile_rect,
                     origin,
                 };
+                let drawn = image.is_some();
                 tiles.push(tile);
                 let painter = ui.painter().with_clip_rect(*tile_rect);
                 if self.settings.layout == Layout::Wipe && shown.len() == 2 {
@@ -176,6 +180,10 @@ impl AaLabApp {
                 }
                 if self.settings.show_magnifier {
                     self.paint_lens(&painter, &tile, ppp);
+                }
+                if i == 0 && drawn {
+                    self.viewport.image_rect =
+                        Some(Rect::from_min_size(origin, size_points).intersect(*tile_rect));
                 }
             }
             self.viewport_input(ui, &response, &tiles, ppp);
@@ -456,8 +464,11 @@ impl AaLabApp {
             self.settings.magnifier.center = Some([f.x, f.y]);
         }
 
+        // Where the button went down: a drag starts only after a few pixels of movement.
+        let origin = ctx.input(|i| i.pointer.press_origin()).or(pointer);
+        let origin_tile = origin.and_then(|p| tiles.iter().find(|t| t.rect.contains(p)).copied());
         if response.drag_started()
-            && let (Some(t), Some(p)) = (tile, pointer)
+            && let (Some(t), Some(p)) = (origin_tile, origin)
         {
             let f = frame_at(&t, p);
             self.viewport.drag = Some(if near_divider(p) {
