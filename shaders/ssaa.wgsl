@@ -5,7 +5,8 @@
 // cs_accumulate: jittered SSAA. After each 1-sample render at one pattern position, every output
 //   pixel adds the weighted colours of its 3x3 neighbourhood to a float accumulator; the weights
 //   come from the CPU (filter evaluated at this sample's position, normalised over all samples).
-// fs_resolve_accumulated: writes the accumulator to the output.
+// fs_resolve_accumulated: writes the accumulator, times a scale, to the output (the scale is 1
+//   for a complete accumulation and 1 / accumulated weight for a progressive, partial one).
 
 struct Downsample {
     // xy: top-left output pixel of the tile, z: factor k.
@@ -60,11 +61,12 @@ fn cs_accumulate(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 
 @group(0) @binding(0) var<storage, read> accumulated: array<vec4<f32>>;
-@group(0) @binding(1) var<uniform> resolve_size: vec4<u32>;
+// xy: image size, z: bits of the f32 scale.
+@group(0) @binding(1) var<uniform> resolve_params: vec4<u32>;
 
 @fragment
 fn fs_resolve_accumulated(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<u32>(position.xy);
-    let value = accumulated[pixel.y * resolve_size.x + pixel.x];
-    return vec4<f32>(clamp(value.rgb, vec3<f32>(0.0), vec3<f32>(1.0)), 1.0);
+    let value = accumulated[pixel.y * resolve_params.x + pixel.x].rgb * bitcast<f32>(resolve_params.z);
+    return vec4<f32>(clamp(value, vec3<f32>(0.0), vec3<f32>(1.0)), 1.0);
 }

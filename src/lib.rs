@@ -11,9 +11,11 @@
 //! - [`metrics`]: SSIM, PSNR, MAE, FLIP (CPU and GPU), flicker, chart ground truth, timing
 //!   summaries;
 //! - [`export`]: PNG files with their render record;
-//! - [`cli`]: the command-line subcommands.
+//! - [`cli`]: the command-line subcommands;
+//! - [`app`]: the viewer (eframe/egui on the same frame graph).
 
 pub mod aa;
+pub mod app;
 pub mod cli;
 pub mod export;
 

@@ -10,6 +10,12 @@
 //!   into a float accumulator with a reconstruction filter (box, tent, Gaussian,
 //!   Blackman-Harris) whose weights come from `aa::sampling`. Textures get a mip bias of
 //!   -log2(N)/2 so they are as sharp as a render N times larger would have them.
+//!
+//! [`Ssaa::encode_progressive`] spreads the jittered mode over frames for the viewer's
+//! reference: each call adds a few more samples (visited in farthest-point order, so every
+//! prefix covers the pixel evenly) and resolves the partial sum divided by the weight
+//! accumulated so far. A 64-sample `grid` pattern with the box filter gives the same samples as
+//! the ordered 8 x 8 reference.
 
 use glam::{UVec2, Vec2};
 use wgpu::util::DeviceExt;
@@ -141,7 +147,13 @@ struct Ordered {
 struct Jittered {
     size: (u32, u32),
     settings: SsaaSettings,
+    /// Built for progressive accumulation (positions in farthest-point order).
+    progressive: bool,
     positions: Vec<Vec2>,
+    /// Sum of each sample's 3x3 weights (the normaliser of a partial accumulation).
+    weight_sums: Vec<f32>,
+    /// Samples in the accumulator (progressive mode).
+    accumulated: u32,
     target: SceneTargets,
     accumulator: wgpu::Buffer,
     weights: wgpu::Buffer,
@@ -149,7 +161,50 @@ struct Jittered {
     accumulate_group: wgpu::BindGroup,
     resolve_pipeline: wgpu::RenderPipeline,
     resolve_group: wgpu::BindGroup,
-    _resolve_size: wgpu::Buffer,
+    /// xy: image size, z: bits of the f32 scale applied to the accumulated sum.
+    resolve_params: wgpu::Buffer,
+}
+
+/// How far a progressive accumulation ([`Ssaa::encode_progressive`]) has come.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Progress {
+    /// Samples accumulated so far.
+    pub samples: u32,
+    /// Samples of the whole pattern.
+    pub total: u32,
+}
+
+impl Progress {
+    /// Whether every sample of the pattern is in.
+    pub fn complete(&self) -> bool {
+        self.total > 0 && self.samples >= self.total
+    }
+}
+
+/// Reorders sample positions so that every prefix is spread over the pixel: each next sample
+/// is the one farthest (on the wrapping unit square) from those already taken, ties going to
+/// the earlier index. Deterministic, O(n^2) for the at most 256 samples of a pattern.
+pub fn progressive_order(positions: &[Vec2]) -> Vec<Vec2> {
+    let wrapped = |a: Vec2, b: Vec2| {
+        let d = (a - b).abs();
+        d.min(Vec2::ONE - d).length_squared()
+    };
+    let mut left: Vec<Vec2> = positions.to_vec();
+    let mut out = Vec::with_capacity(left.len());
+    let mut nearest = vec![f32::INFINITY; left.len()];
+    while !left.is_empty() {
+        let next = nearest
+            .iter()
+            .enumerate()
+            .fold(0, |best, (i, d)| if *d > nearest[best] { i } else { best });
+        let taken = left.remove(next);
+        nearest.remove(next);
+        for (n, p) in nearest.iter_mut().zip(&left) {
+            *n = n.min(wrapped(*p, taken));
+        }
+        out.push(taken);
+    }
+    out
 }
 
 /// The SSAA technique.
@@ -311,18 +366,20 @@ impl Ssaa {
         }
     }
 
-    fn ensure_jittered(&mut self, ctx: &PassContext<'_>, size: (u32, u32)) {
-        if self
-            .jittered
-            .as_ref()
-            .is_some_and(|j| j.size == size && j.settings == self.settings)
-        {
+    fn ensure_jittered(&mut self, ctx: &PassContext<'_>, size: (u32, u32), progressive: bool) {
+        if self.jittered.as_ref().is_some_and(|j| {
+            j.size == size && j.settings == self.settings && j.progressive == progressive
+        }) {
             return;
         }
         self.ordered = None;
         let device = &self.device;
-        let positions = self.settings.pattern.positions(self.settings.samples);
+        let mut positions = self.settings.pattern.positions(self.settings.samples);
+        if progressive {
+            positions = progressive_order(&positions);
+        }
         let weights = accumulation_weights(self.settings.filter, &positions);
+        let weight_sums = weights.iter().map(|w| w.iter().sum()).collect();
         let mut weight_bytes = vec![0u8; weights.len() * SLOT as usize];
         for (i, w) in weights.iter().enumerate() {
             let mut slot = [0u32; 40];
@@ -420,10 +477,10 @@ impl Ssaa {
                 layout: None,
             },
         );
-        let resolve_size = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("ssaa resolve size"),
-            contents: bytemuck::cast_slice(&[size.0, size.1, 0, 0]),
-            usage: wgpu::BufferUsages::UNIFORM,
+        let resolve_params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("ssaa resolve params"),
+            contents: bytemuck::cast_slice(&[size.0, size.1, 1.0f32.to_bits(), 0]),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
         let resolve_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("ssaa resolve accumulated"),
@@ -435,14 +492,17 @@ impl Ssaa {
                 },
                 wgpu::BindGroupEntry {
                     binding: 1,
-                    resource: resolve_size.as_entire_binding(),
+                    resource: resolve_params.as_entire_binding(),
                 },
             ],
         });
         self.jittered = Some(Jittered {
             size,
             settings: self.settings,
+            progressive,
             positions,
+            weight_sums,
+            accumulated: 0,
             target,
             accumulator,
             weights: weights_buffer,
@@ -450,32 +510,112 @@ impl Ssaa {
             accumulate_group,
             resolve_pipeline,
             resolve_group,
-            _resolve_size: resolve_size,
+            resolve_params,
         });
     }
 
     fn encode_jittered(&mut self, ctx: &mut PassContext<'_>, output: &wgpu::Texture) {
         let size = ctx.frame.size();
-        self.ensure_jittered(ctx, size);
+        self.ensure_jittered(ctx, size, false);
         let Some(j) = &self.jittered else { return };
         ctx.encoder.clear_buffer(&j.accumulator, 0, None);
-        let mip_bias = -0.5 * (j.positions.len() as f32).log2();
+        j.accumulate(ctx, 0..j.positions.len());
+        j.resolve(ctx, output, 1.0);
+    }
+
+    /// Progressive jittered supersampling (see the module docs): adds up to `budget` samples
+    /// of the jittered pattern to what earlier calls accumulated and resolves the partial sum
+    /// into `output`. The accumulation starts over when `restart` is set (the view changed),
+    /// when the size or the settings change, and after the last sample nothing more is
+    /// rendered (the resolve alone runs). Ordered settings are treated as the jittered grid of
+    /// the same sample count, which takes exactly the ordered grid's samples.
+    pub fn encode_progressive(
+        &mut self,
+        ctx: &mut PassContext<'_>,
+        output: &wgpu::Texture,
+        restart: bool,
+        budget: u32,
+    ) -> Progress {
+        if self.settings.ordered {
+            self.settings = SsaaSettings {
+                ordered: false,
+                samples: self.settings.factor * self.settings.factor,
+                pattern: Pattern::Grid,
+                filter: Filter::Box,
+                ..self.settings
+            };
+        }
+        let size = ctx.frame.size();
+        self.ensure_jittered(ctx, size, true);
+        let Some(j) = &mut self.jittered else {
+            return Progress::default();
+        };
+        if restart {
+            j.accumulated = 0;
+        }
+        let total = j.positions.len() as u32;
+        let start = j.accumulated.min(total);
+        let end = start.saturating_add(budget).min(total);
+        if start == 0 {
+            ctx.encoder.clear_buffer(&j.accumulator, 0, None);
+        }
+        j.accumulate(ctx, start as usize..end as usize);
+        j.accumulated = end;
+        let weight: f32 = j.weight_sums[..end as usize].iter().sum();
+        j.resolve(ctx, output, if weight > 0.0 { 1.0 / weight } else { 0.0 });
+        Progress {
+            samples: end,
+            total,
+        }
+    }
+}
+
+impl Jittered {
+    /// Renders and accumulates the samples in `range` of the pattern.
+    fn accumulate(&self, ctx: &mut PassContext<'_>, range: std::ops::Range<usize>) {
+        let size = self.size;
+        let mip_bias = -0.5 * (self.positions.len() as f32).log2();
         let groups = (size.0.div_ceil(8), size.1.div_ceil(8));
-        for (i, position) in j.positions.iter().enumerate() {
+        for (i, position) in self
+            .positions
+            .iter()
+            .enumerate()
+            .take(range.end)
+            .skip(range.start)
+        {
             // A sample at `position` inside the pixel is the image moved by centre - position.
             let view = ctx
                 .frame
                 .camera
                 .params(Vec2::splat(0.5) - *position, mip_bias);
-            ctx.render_scene("scene sample", &j.target, &view, RasterOptions::default());
+            ctx.render_scene(
+                "scene sample",
+                &self.target,
+                &view,
+                RasterOptions::default(),
+            );
             ctx.compute_pass("accumulate", |pass| {
-                pass.set_pipeline(&j.accumulate_pipeline);
-                pass.set_bind_group(0, &j.accumulate_group, &[(i as u64 * SLOT) as u32]);
+                pass.set_pipeline(&self.accumulate_pipeline);
+                pass.set_bind_group(0, &self.accumulate_group, &[(i as u64 * SLOT) as u32]);
                 pass.dispatch_workgroups(groups.0, groups.1, 1);
             });
         }
+    }
+
+    /// Writes the accumulated sum times `scale` to `output`.
+    fn resolve(&self, ctx: &mut PassContext<'_>, output: &wgpu::Texture, scale: f32) {
+        ctx.gpu.queue.write_buffer(
+            &self.resolve_params,
+            0,
+            bytemuck::cast_slice(&[self.size.0, self.size.1, scale.to_bits(), 0]),
+        );
         let view = output.create_view(&Default::default());
-        ctx.fullscreen_pass("resolve", &view, &j.resolve_pipeline, &j.resolve_group);
+        ctx.fullscreen_pass(
+            "resolve",
+            &view,
+            &self.resolve_pipeline,
+            &self.resolve_group,
+        );
     }
 }
 
@@ -672,5 +812,34 @@ mod tests {
                     .all(|t| t.x + t.width <= size.0 && t.y + t.height <= size.1)
             );
         }
+    }
+
+    #[test]
+    fn progressive_order_is_a_permutation_with_spread_prefixes() {
+        let grid = Pattern::Grid.positions(64);
+        let ordered = progressive_order(&grid);
+        let key = |p: &Vec2| ((p.x * 16.0) as u32, (p.y * 16.0) as u32);
+        let mut a: Vec<_> = grid.iter().map(key).collect();
+        let mut b: Vec<_> = ordered.iter().map(key).collect();
+        a.sort_unstable();
+        b.sort_unstable();
+        assert_eq!(a, b);
+        // The first four samples fall in four different quadrants of the pixel.
+        let mut quadrants: Vec<_> = ordered[..4]
+            .iter()
+            .map(|p| (p.x >= 0.5, p.y >= 0.5))
+            .collect();
+        quadrants.sort_unstable();
+        quadrants.dedup();
+        assert_eq!(quadrants.len(), 4, "{:?}", &ordered[..4]);
+        // The first 16 samples are one per 4x4 cell.
+        let mut cells: Vec<_> = ordered[..16]
+            .iter()
+            .map(|p| ((p.x * 4.0) as u32, (p.y * 4.0) as u32))
+            .collect();
+        cells.sort_unstable();
+        cells.dedup();
+        assert_eq!(cells.len(), 16);
+        assert_eq!(progressive_order(&[]), Vec::<Vec2>::new());
     }
 }

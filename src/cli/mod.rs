@@ -16,11 +16,18 @@ pub use render::RenderArgs;
 
 /// Compare real-time antialiasing techniques on the same frame.
 #[derive(Debug, Parser)]
-#[command(name = "aa-lab", version, about, long_about = None)]
+#[command(name = "aa-lab", version, about, long_about = None, args_conflicts_with_subcommands = true)]
 pub struct Cli {
     /// What to do; without a subcommand the viewer opens.
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// Viewer: open this built-in scene (hairball, atrium, chart) or .obj file instead of the
+    /// last one.
+    #[arg(long)]
+    pub scene: Option<String>,
+    /// Viewer: start from the default settings instead of the saved ones.
+    #[arg(long)]
+    pub default_settings: bool,
 }
 
 /// The subcommands.
@@ -61,6 +68,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Info { json }) => info::info(json),
         Some(Command::Techniques { json, verbose }) => info::techniques(json, verbose),
-        None => render::run(&RenderArgs::default_args()),
+        None => Ok(crate::app::run(crate::app::LaunchOptions {
+            scene: cli.scene,
+            fresh_settings: cli.default_settings,
+        })?),
     }
 }

@@ -14,8 +14,6 @@ use crate::scene::procedural::SceneOptions;
 use crate::scene::source::{self, DEFAULT_SCENE};
 use crate::spec::{self, RenderSpec, RunOptions, TechniqueSpec};
 
-use super::Cli;
-
 /// Which techniques to run and how they are set up; shared by `render` and `sheet`.
 #[derive(Debug, clap::Args)]
 pub struct TechniqueArgs {
@@ -94,17 +92,6 @@ pub struct RenderArgs {
     /// camera and every technique setting come from the record).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "technique", "size", "frame", "density", "seed"])]
     pub from: Option<PathBuf>,
-}
-
-impl RenderArgs {
-    /// The arguments of a plain `aa-lab render`.
-    pub fn default_args() -> Self {
-        let cli = <Cli as clap::Parser>::parse_from(["aa-lab", "render"]);
-        match cli.command {
-            Some(super::Command::Render(args)) => *args,
-            _ => unreachable!("`aa-lab render` parses as the render command"),
-        }
-    }
 }
 
 /// Parses `WIDTHxHEIGHT`.

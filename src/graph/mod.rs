@@ -13,7 +13,7 @@ mod timing;
 
 pub use memory::{MemoryItem, MemoryReport, TechniqueMemory};
 pub use statistics::{FrameStatistics, PassInvocations};
-pub use timing::{FrameTimings, PassTiming};
+pub use timing::{FrameTimings, PassTiming, median_of_sorted};
 
 use std::collections::HashMap;
 
@@ -218,6 +218,7 @@ pub struct FrameGraph {
     slot_inputs: Vec<Option<usize>>,
     size: (u32, u32),
     timings: Option<FrameTimings>,
+    timings_serial: u64,
     scene_renders: usize,
     statistics: StatisticsRecorder,
 }
@@ -252,6 +253,7 @@ impl FrameGraph {
             slot_inputs: Vec::new(),
             size: (0, 0),
             timings: None,
+            timings_serial: 0,
             scene_renders: 0,
             statistics: StatisticsRecorder::new(),
         }
@@ -320,6 +322,12 @@ impl FrameGraph {
     /// frame's passes fitted the query set.
     pub fn pipeline_statistics(&self) -> Option<&FrameStatistics> {
         self.statistics.last()
+    }
+
+    /// How many frames' timings have come back so far: a live view reads
+    /// [`FrameGraph::timings`] again when this number changes.
+    pub fn timings_serial(&self) -> u64 {
+        self.timings_serial
     }
 
     fn check_size(&self, size: (u32, u32)) -> Result<(), GraphError> {
@@ -500,6 +508,7 @@ impl FrameGraph {
         let period = self.gpu.queue.get_timestamp_period();
         while let Some(results) = self.profiler.process_finished_frame(period) {
             self.timings = Some(FrameTimings::from_profiler(&results));
+            self.timings_serial += 1;
         }
     }
 

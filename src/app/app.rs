@@ -1,0 +1,658 @@
+//! [`AaLabApp`], the `eframe::App`: owns the settings, the engine, the camera and the
+//! background jobs, and runs one UI frame in a fixed order: finished background work first
+//! (scene loads, file dialogs, dropped files, readbacks, exports), then shortcuts, then one
+//! engine frame at the size the viewport had in the previous frame, then the panels around the
+//! viewport and the viewport itself. It asks for another frame only while something is in
+//! motion (time playing with something that changes, the reference accumulating, a job
+//! running), so an idle viewer costs nothing.
+
+use std::path::PathBuf;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use super::camera::CameraController;
+use super::engine::Engine;
+use super::export::ExportState;
+use super::magnifier::MagnifierState;
+use super::quality::QualityTracker;
+use super::scene_loader::SceneLoader;
+use super::settings::{Bookmark, Layout, MAX_COMPARE, STORAGE_KEY, Settings};
+use super::shortcuts::{self, Action};
+use super::stats::FrameClock;
+use super::style;
+use super::viewport::ViewportState;
+use crate::gpu::Gpu;
+use crate::scene::{CameraRig, Scene};
+
+/// How long a notice stays in the status bar.
+const NOTICE_SECONDS: f64 = 12.0;
+
+/// What the viewer opens with.
+#[derive(Clone, Debug, Default)]
+pub struct LaunchOptions {
+    /// A built-in scene name or an OBJ path; `None` reopens the last scene (or the default).
+    pub scene: Option<String>,
+    /// Ignore saved settings (tests and screenshots start from the defaults).
+    pub fresh_settings: bool,
+}
+
+/// Errors of creating the app.
+#[derive(Debug, thiserror::Error)]
+pub enum AppError {
+    /// eframe runs without wgpu (it was built for another renderer).
+    #[error("the viewer needs eframe's wgpu renderer, and this window has none")]
+    NoWgpu,
+}
+
+/// Severity of a notice.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Level {
+    /// Something finished.
+    Info,
+    /// Something is off but work continues.
+    Warning,
+    /// Something failed.
+    Error,
+}
+
+/// A message for the user in the status bar (and the notices list).
+#[derive(Clone, Debug)]
+pub struct Notice {
+    /// Severity.
+    pub level: Level,
+    /// Text.
+    pub text: String,
+    /// When it was raised.
+    pub at: Instant,
+}
+
+/// Facts about the loaded scene.
+#[derive(Clone, Debug)]
+pub struct SceneInfo {
+    /// What was loaded (built-in name or path).
+    pub spec: String,
+    /// The scene's name.
+    pub name: String,
+    /// Triangles.
+    pub triangles: usize,
+}
+
+/// The viewer application.
+pub struct AaLabApp {
+    pub(super) settings: Settings,
+    /// eframe's device (the window); the engine renders on its own device.
+    pub(super) gpu: Gpu,
+    pub(super) engine: Option<Engine>,
+    pub(super) scene: Option<SceneInfo>,
+    pub(super) loader: SceneLoader,
+    pub(super) camera: CameraController,
+    pub(super) clock: FrameClock,
+    pub(super) notices: Vec<Notice>,
+    pub(super) viewport: ViewportState,
+    pub(super) magnifier: MagnifierState,
+    pub(super) quality: QualityTracker,
+    pub(super) export: ExportState,
+    pub(super) help_open: bool,
+    pub(super) panels_hidden: bool,
+    pub(super) file_dialog: Option<mpsc::Receiver<Option<PathBuf>>>,
+    styled: bool,
+}
+
+impl AaLabApp {
+    /// Creates the app on eframe's wgpu device and starts loading the scene.
+    pub fn new(cc: &eframe::CreationContext<'_>, options: LaunchOptions) -> Result<Self, AppError> {
+        let state = cc.wgpu_render_state.as_ref().ok_or(AppError::NoWgpu)?;
+        let gpu = Gpu::from_parts(
+            state.adapter.clone(),
+            state.device.clone(),
+            state.queue.clone(),
+        );
+        let mut notices = Vec::new();
+        let (mut settings, notice) = if options.fresh_settings {
+            (Settings::default(), None)
+        } else {
+            Settings::from_stored(stored_settings(cc.storage).as_deref())
+        };
+        if let Some(text) = notice.or_else(|| unreadable_storage_notice(cc.storage)) {
+            notices.push(Notice {
+                level: Level::Warning,
+                text,
+                at: Instant::now(),
+            });
+        }
+        if let Some(scene) = options.scene {
+            settings.scene = scene;
+        }
+        let mut camera = CameraController::new(CameraRig::default());
+        camera.auto_rotate = settings.auto_rotate;
+        let mut app = Self {
+            settings,
+            gpu,
+            engine: None,
+            scene: None,
+            loader: SceneLoader::default(),
+            camera,
+            clock: FrameClock::default(),
+            notices,
+            viewport: ViewportState::default(),
+            magnifier: MagnifierState::default(),
+            quality: QualityTracker::default(),
+            export: ExportState::default(),
+            help_open: false,
+            panels_hidden: false,
+            file_dialog: None,
+            styled: false,
+        };
+        let scene = app.settings.scene.clone();
+        app.load_scene(&cc.egui_ctx, &scene);
+        Ok(app)
+    }
+
+    /// The settings (tests inspect them).
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// Mutable settings (tests drive them).
+    pub fn settings_mut(&mut self) -> &mut Settings {
+        &mut self.settings
+    }
+
+    /// Whether a scene is being loaded.
+    pub fn loading(&self) -> bool {
+        self.loader.loading().is_some()
+    }
+
+    /// Whether an export is running.
+    pub fn exporting(&self) -> bool {
+        self.export.running()
+    }
+
+    /// The loaded scene's name.
+    pub fn scene_name(&self) -> Option<&str> {
+        self.scene.as_ref().map(|s| s.name.as_str())
+    }
+
+    /// Current notices, oldest first.
+    pub fn notices(&self) -> &[Notice] {
+        &self.notices
+    }
+
+    /// The camera (tests pause it).
+    pub fn camera_mut(&mut self) -> &mut CameraController {
+        &mut self.camera
+    }
+
+    /// The size the techniques render at (zero until the viewport has been laid out).
+    pub fn render_size(&self) -> (u32, u32) {
+        self.viewport.render_size
+    }
+
+    /// Whether every compared technique shows an image rendered at the current size and no
+    /// frame is in flight (tests wait for this).
+    pub fn frame_ready(&self) -> bool {
+        let Some(engine) = &self.engine else {
+            return false;
+        };
+        let size = self.viewport.render_size;
+        let compared = self.compared();
+        !engine.busy()
+            && !compared.is_empty()
+            && compared
+                .iter()
+                .all(|id| engine.image(id).is_some_and(|i| i.size() == size))
+    }
+
+    /// The published output of a technique (the bytes on screen).
+    pub fn output_pixels(&self, id: &str) -> Option<std::sync::Arc<image::RgbaImage>> {
+        let engine = self.engine.as_ref()?;
+        engine.output(id).map(|p| std::sync::Arc::clone(&p.pixels))
+    }
+
+    /// Where technique A's image was drawn in the last frame (points).
+    pub fn image_rect(&self) -> Option<egui::Rect> {
+        self.viewport.image_rect
+    }
+
+    /// Samples the displayed reference rests on (0 when there is none).
+    pub fn reference_samples_done(&self) -> u32 {
+        self.engine
+            .as_ref()
+            .and_then(|e| e.reference())
+            .map_or(0, |(_, p)| p.samples)
+    }
+
+    /// Raises a notice.
+    pub(super) fn notify(&mut self, level: Level, text: impl Into<String>) {
+        let text = text.into();
+        if let Some(last) = self.notices.last_mut()
+            && last.text == text
+        {
+            last.at = Instant::now();
+            return;
+        }
+        log::log!(
+            match level {
+                Level::Info => log::Level::Info,
+                Level::Warning => log::Level::Warn,
+                Level::Error => log::Level::Error,
+            },
+            "{text}"
+        );
+        self.notices.push(Notice {
+            level,
+            text,
+            at: Instant::now(),
+        });
+    }
+
+    /// Starts loading a scene (built-in name or OBJ path) on the worker thread.
+    pub(super) fn load_scene(&mut self, ctx: &egui::Context, spec: &str) {
+        let ctx = ctx.clone();
+        self.loader.load(spec, move || ctx.request_repaint());
+    }
+
+    /// Asks the OS for an OBJ file on a helper thread (the dialog never blocks frames).
+    pub(super) fn open_file_dialog(&mut self, ctx: &egui::Context) {
+        if self.file_dialog.is_some() {
+            return;
+        }
+        let (sender, receiver) = mpsc::channel();
+        let ctx = ctx.clone();
+        let spawned = std::thread::Builder::new()
+            .name("aa-lab file dialog".to_owned())
+            .spawn(move || {
+                let picked = rfd::FileDialog::new()
+                    .set_title("Open a model")
+                    .add_filter("Wavefront OBJ", &["obj", "OBJ"])
+                    .pick_file();
+                let _ = sender.send(picked);
+                ctx.request_repaint();
+            });
+        match spawned {
+            Ok(_) => self.file_dialog = Some(receiver),
+            Err(err) => self.notify(Level::Error, format!("cannot open a file dialog: {err}")),
+        }
+    }
+
+    /// The ids compared as A, B, C, D: the marked ones that are on, then other techniques
+    /// that are on, in panel order.
+    pub fn compared(&self) -> Vec<&'static str> {
+        let Some(engine) = &self.engine else {
+            return Vec::new();
+        };
+        let on = |id: &str| engine.entry(id).is_some_and(|e| e.enabled && e.available());
+        let mut ids: Vec<&'static str> = self
+            .settings
+            .compare
+            .iter()
+            .filter_map(|id| engine.entry(id))
+            .filter(|e| on(e.id))
+            .map(|e| e.id)
+            .collect();
+        for entry in engine.entries() {
+            if ids.len() >= MAX_COMPARE {
+                break;
+            }
+            if on(entry.id) && !ids.contains(&entry.id) {
+                ids.push(entry.id);
+            }
+        }
+        ids.truncate(MAX_COMPARE);
+        ids
+    }
+
+    /// Switches a technique on or off and keeps the saved list in step.
+    pub(super) fn set_technique_enabled(&mut self, id: &str, on: bool) {
+        let Some(engine) = &mut self.engine else {
+            return;
+        };
+        engine.set_enabled(id, on);
+        let enabled = engine.entry(id).is_some_and(|e| e.enabled);
+        self.settings.enabled.retain(|e| e != id);
+        if enabled {
+            self.settings.enabled.push(id.to_owned());
+        }
+    }
+
+    /// Marks or unmarks a technique for comparison (at most four; the oldest mark makes room).
+    pub(super) fn toggle_compare(&mut self, id: &str) {
+        if self.settings.compare.iter().any(|c| c == id) {
+            self.settings.compare.retain(|c| c != id);
+        } else {
+            if self.settings.compare.len() >= MAX_COMPARE {
+                self.settings.compare.remove(MAX_COMPARE - 1);
+            }
+            self.settings.compare.push(id.to_owned());
+            self.set_technique_enabled(id, true);
+        }
+    }
+
+    /// Saves the technique's parameters into the settings.
+    pub(super) fn remember_params(&mut self, id: &str) {
+        if let Some(engine) = &self.engine {
+            self.settings
+                .technique_settings
+                .insert(id.to_owned(), engine.param_map(id));
+        }
+    }
+
+    fn finish_load(&mut self, ctx: &egui::Context) {
+        let Some(loaded) = self.loader.poll() else {
+            return;
+        };
+        match loaded.result {
+            Ok(scene) => self.install_scene(ctx, &loaded.spec, &scene),
+            Err(err) => {
+                let kept = match &self.scene {
+                    Some(s) => format!("; {} stays loaded", s.name),
+                    None => String::new(),
+                };
+                self.notify(Level::Error, format!("{err}{kept}"));
+                if self.scene.is_none() && loaded.spec != crate::scene::source::DEFAULT_SCENE {
+                    // Nothing to show yet: fall back to the default scene.
+                    self.load_scene(ctx, crate::scene::source::DEFAULT_SCENE);
+                }
+            }
+        }
+    }
+
+    fn install_scene(&mut self, ctx: &egui::Context, spec: &str, scene: &Scene) {
+        for warning in &scene.warnings {
+            self.notify(Level::Warning, format!("{}: {warning}", scene.name));
+        }
+        match &mut self.engine {
+            Some(engine) => engine.set_scene(scene),
+            None => {
+                let mut engine = match Engine::new(
+                    &self.gpu.adapter,
+                    ctx,
+                    scene,
+                    self.settings.reference_samples,
+                ) {
+                    Ok(engine) => engine,
+                    Err(err) => {
+                        self.notify(Level::Error, err.to_string());
+                        return;
+                    }
+                };
+                let mut problems = Vec::new();
+                for (id, map) in &self.settings.technique_settings {
+                    if let Err(err) = engine.apply_param_map(id, map) {
+                        problems.push(format!("saved settings of {id} not applied: {err}"));
+                    }
+                }
+                for id in &self.settings.enabled {
+                    engine.set_enabled(id, true);
+                }
+                for (id, view) in &self.settings.debug_views {
+                    engine.set_debug_view(id, Some(view.clone()));
+                }
+                self.engine = Some(engine);
+                for p in problems {
+                    self.notify(Level::Warning, p);
+                }
+            }
+        }
+        let is_file = std::path::Path::new(spec).is_file();
+        let spec = if is_file {
+            std::fs::canonicalize(spec)
+                .map_or_else(|_| spec.to_owned(), |p| p.display().to_string())
+        } else {
+            spec.to_owned()
+        };
+        if is_file {
+            self.settings.remember_recent(&spec);
+        }
+        self.settings.scene = spec.clone();
+        self.camera.set_rig(scene.camera);
+        self.scene = Some(SceneInfo {
+            spec,
+            name: scene.name.clone(),
+            triangles: scene.triangle_count(),
+        });
+        self.quality.clear();
+        self.magnifier.clear();
+        ctx.request_repaint();
+    }
+
+    fn poll_background(&mut self, ctx: &egui::Context) {
+        self.finish_load(ctx);
+        if let Some(receiver) = &self.file_dialog {
+            match receiver.try_recv() {
+                Ok(picked) => {
+                    self.file_dialog = None;
+                    if let Some(path) = picked {
+                        self.load_scene(ctx, &path.display().to_string());
+                    }
+                }
+                Err(mpsc::TryRecvError::Disconnected) => self.file_dialog = None,
+                Err(mpsc::TryRecvError::Empty) => {}
+            }
+        }
+        let dropped: Vec<PathBuf> = ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_path_buf())
+                .collect()
+        });
+        for path in dropped {
+            self.load_scene(ctx, &path.display().to_string());
+        }
+        self.poll_export_dir();
+        let finished = self.export.poll();
+        for (level, text) in finished {
+            self.notify(level, text);
+        }
+        let now = Instant::now();
+        self.notices
+            .retain(|n| now.duration_since(n.at).as_secs_f64() < NOTICE_SECONDS);
+    }
+
+    fn handle_action(&mut self, ctx: &egui::Context, action: Action) {
+        match action {
+            Action::ToggleTechnique(n) => {
+                let id = self.engine.as_ref().and_then(|e| {
+                    e.entries()
+                        .iter()
+                        .filter(|t| t.available())
+                        .nth(n)
+                        .map(|t| (t.id, t.enabled))
+                });
+                if let Some((id, on)) = id {
+                    self.set_technique_enabled(id, !on);
+                }
+            }
+            Action::PlayPause => self.camera.playing = !self.camera.playing,
+            Action::Step => {
+                self.camera.playing = false;
+                self.camera.step();
+            }
+            Action::AutoRotate => {
+                self.camera.auto_rotate = !self.camera.auto_rotate;
+                self.settings.auto_rotate = self.camera.auto_rotate;
+            }
+            Action::ResetView => self.camera.reset(),
+            Action::AddBookmark => self.add_bookmark(),
+            Action::GoToBookmark(n) => {
+                if let Some(pose) = self.scene_bookmarks().get(n).map(|b| b.pose) {
+                    self.camera.jump_to(pose);
+                }
+            }
+            Action::Layout(layout) => self.settings.layout = layout,
+            Action::ZoomIn => self.magnifier.zoom_by(&mut self.settings.magnifier, 1),
+            Action::ZoomOut => self.magnifier.zoom_by(&mut self.settings.magnifier, -1),
+            Action::PixelGrid => {
+                self.settings.magnifier.pixel_grid = !self.settings.magnifier.pixel_grid;
+            }
+            Action::Difference => {
+                self.settings.magnifier.difference = !self.settings.magnifier.difference;
+            }
+            Action::Export => self.start_export(ctx),
+            Action::CopySheet => self.copy_sheet(ctx),
+            Action::Open => self.open_file_dialog(ctx),
+            Action::TogglePanels => self.panels_hidden = !self.panels_hidden,
+            Action::Help => self.help_open = !self.help_open,
+        }
+    }
+
+    /// The bookmarks of the loaded scene.
+    pub(super) fn scene_bookmarks(&self) -> Vec<&Bookmark> {
+        let scene = self.scene.as_ref().map(|s| s.spec.as_str()).unwrap_or("");
+        self.settings
+            .bookmarks
+            .iter()
+            .filter(|b| b.scene == scene)
+            .collect()
+    }
+
+    pub(super) fn add_bookmark(&mut self) {
+        let Some(scene) = &self.scene else { return };
+        let n = self.scene_bookmarks().len() + 1;
+        let bookmark = Bookmark {
+            scene: scene.spec.clone(),
+            name: format!("View {n}"),
+            pose: self.camera.pose(),
+        };
+        self.notify(
+            Level::Info,
+            format!("Saved camera bookmark \"{}\"", bookmark.name),
+        );
+        self.settings.bookmarks.push(bookmark);
+    }
+
+    /// Whether anything would show or measure the reference.
+    fn reference_wanted(&self) -> bool {
+        self.settings.quality
+            || (self.settings.show_magnifier
+                && (self.settings.magnifier.show_reference || self.settings.magnifier.difference))
+            || self.settings.layout == Layout::Flip
+    }
+
+    /// Whether time changes the image (so frames must keep coming while playing).
+    fn time_changes_image(&self) -> bool {
+        let Some(engine) = &self.engine else {
+            return false;
+        };
+        self.camera.moving_by_itself()
+            || (self.camera.playing && (engine.animated() || engine.temporal_enabled()))
+    }
+
+    /// Publishes a finished engine frame and starts the next one when the engine is free.
+    /// Returns whether more frames are wanted.
+    fn engine_frame(&mut self, ctx: &egui::Context) -> bool {
+        let size = self.viewport.render_size;
+        let want_reference = self.reference_wanted();
+        let Some(engine) = &mut self.engine else {
+            return false;
+        };
+        let mut errors = Vec::new();
+        let publication = match engine.poll(ctx) {
+            Ok(publication) => publication,
+            Err(err) => {
+                errors.push(err.to_string());
+                Default::default()
+            }
+        };
+        if size.0 > 0 && size.1 > 0 && !engine.busy() {
+            let (camera, cut) = self.camera.next_frame(size);
+            if let Err(err) = engine.submit(camera, cut, want_reference) {
+                errors.push(err.to_string());
+            }
+        }
+        let more = engine.reference_incomplete();
+        self.clock.tick(publication.outputs);
+        if publication.outputs || publication.reference {
+            self.magnifier.outputs_changed();
+            self.quality.invalidate();
+        }
+        for err in errors {
+            self.notify(Level::Error, err);
+        }
+        more
+    }
+
+    /// Whether the engine has a frame in flight.
+    pub fn rendering(&self) -> bool {
+        self.engine.as_ref().is_some_and(Engine::busy)
+    }
+}
+
+fn stored_settings(storage: Option<&dyn eframe::Storage>) -> Option<String> {
+    storage.and_then(|s| s.get_string(STORAGE_KEY))
+}
+
+/// A notice when eframe's settings file exists but gave no settings (it could not be parsed).
+fn unreadable_storage_notice(storage: Option<&dyn eframe::Storage>) -> Option<String> {
+    let storage = storage?;
+    if storage.get_string(STORAGE_KEY).is_some() {
+        return None;
+    }
+    let path = eframe::storage_dir(super::APP_ID)?.join("app.ron");
+    let size = std::fs::metadata(&path).ok()?.len();
+    (size > 0).then(|| {
+        format!(
+            "The settings file {} could not be read; the defaults are in use and will replace it on exit.",
+            path.display()
+        )
+    })
+}
+
+impl eframe::App for AaLabApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        let ctx = ui.ctx().clone();
+        if !self.styled {
+            style::apply(&ctx);
+            self.styled = true;
+        }
+        self.poll_background(&ctx);
+        for action in shortcuts::pressed_actions(&ctx) {
+            self.handle_action(&ctx, action);
+        }
+        if ctx.input(|i| i.key_pressed(egui::Key::Escape)) {
+            self.help_open = false;
+        }
+        let more = self.engine_frame(&ctx);
+        self.update_quality(&ctx);
+        self.update_magnifier(&ctx);
+
+        self.menu_bar(ui);
+        self.toolbar(ui);
+        self.status_bar(ui);
+        let show_side = !self.panels_hidden;
+        if show_side && self.settings.show_techniques {
+            self.techniques_panel(ui);
+        }
+        if show_side && self.settings.show_metrics {
+            self.metrics_panel(ui);
+        }
+        if self.settings.show_magnifier {
+            self.magnifier_panel(ui);
+        }
+        self.viewport_panel(ui);
+        shortcuts::help_overlay(&ctx, &mut self.help_open);
+
+        let pending_jobs = self.loading()
+            || self.export.running()
+            || self.file_dialog.is_some()
+            || self.quality.waiting();
+        if self.rendering() {
+            // The GPU waiter wakes the UI when the frame is done; this is a fallback.
+            ctx.request_repaint_after(Duration::from_millis(250));
+        } else if more || self.time_changes_image() || self.viewport.resized {
+            ctx.request_repaint();
+        } else if pending_jobs {
+            ctx.request_repaint_after(Duration::from_millis(30));
+        } else {
+            self.clock.idle();
+        }
+        if !self.notices.is_empty() {
+            ctx.request_repaint_after(Duration::from_secs(1));
+        }
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        storage.set_string(STORAGE_KEY, self.settings.to_stored());
+    }
+}

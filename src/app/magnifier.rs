@@ -1,0 +1,592 @@
+//! The magnifier: the lens region of every compared technique (and optionally the reference)
+//! side by side, nearest-neighbour zoomed by an integer factor from 2x to 32x, with an optional
+//! pixel grid, a crosshair linked across panes and the pixel values under the cursor. In
+//! difference mode each pane shows its error against the reference as a heatmap.
+//!
+//! Panes draw the published textures (nearest sampler, integer zoom, pixel-aligned), so they
+//! show the very pixels of the frame; pixel values and heatmaps come from the same published
+//! images on the CPU. Heatmaps are recomputed when the lens, the images or the metric change,
+//! from the lens region plus a margin so that windowed metrics see the pixels' neighbourhood.
+
+use egui::{Color32, Rect, Sense, Stroke, StrokeKind, TextureHandle, pos2, vec2};
+
+use super::app::AaLabApp;
+use super::engine::{Published, ReferenceState};
+use super::quality::{self, heatmap};
+use super::readback::Region;
+use super::settings::{DiffMetric, MagnifierSettings};
+use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, SLOT_LETTERS};
+
+/// The zoom factors offered.
+pub const ZOOM_STEPS: [u32; 9] = [2, 3, 4, 6, 8, 12, 16, 24, 32];
+/// Pixels read around the lens, so that windowed metrics (SSIM, FLIP) see context.
+pub const MARGIN: u32 = 12;
+/// Gap between panes, in points.
+const PANE_GAP: f32 = 8.0;
+
+/// The lens rectangle in frame pixels: `side` pixels square around the saved centre (the
+/// frame centre by default), moved inside the frame.
+pub fn lens_region(settings: &MagnifierSettings, side: u32, size: (u32, u32)) -> Option<Region> {
+    if side == 0 || size.0 == 0 || size.1 == 0 {
+        return None;
+    }
+    let [cx, cy] = settings
+        .center
+        .unwrap_or([size.0 as f32 * 0.5, size.1 as f32 * 0.5]);
+    let place = |c: f32, extent: u32| {
+        let side = side.min(extent);
+        let start = (c - side as f32 * 0.5).round().max(0.0) as u32;
+        (start.min(extent - side), side)
+    };
+    let (x, width) = place(if cx.is_finite() { cx } else { 0.0 }, size.0);
+    let (y, height) = place(if cy.is_finite() { cy } else { 0.0 }, size.1);
+    Some(Region {
+        x,
+        y,
+        width,
+        height,
+    })
+}
+
+/// Where a pane's pixels come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Source {
+    /// A compared technique (slot 0 = A) by id.
+    Technique(usize, &'static str),
+    /// The reference.
+    Reference,
+}
+
+/// Identifies one set of heatmaps: same lens, same images, same metric.
+#[derive(Clone, Debug, PartialEq)]
+struct HeatKey {
+    lens: Region,
+    generation: u64,
+    metric: DiffMetric,
+    sources: Vec<Source>,
+}
+
+/// Magnifier state kept between frames.
+#[derive(Default)]
+pub struct MagnifierState {
+    /// Frame pixels a pane covers (decided by the pane size and the zoom).
+    pub lens_side: u32,
+    /// The frame pixel under the pointer in a pane.
+    pub hover: Option<(u32, u32)>,
+    generation: u64,
+    heat_key: Option<HeatKey>,
+    heatmaps: Vec<(Source, TextureHandle, f64)>,
+}
+
+impl MagnifierState {
+    /// Forgets the heatmaps (new scene).
+    pub fn clear(&mut self) {
+        *self = Self {
+            lens_side: self.lens_side,
+            generation: self.generation + 1,
+            ..Self::default()
+        };
+    }
+
+    /// The images changed: heatmaps must be computed again.
+    pub fn outputs_changed(&mut self) {
+        self.generation += 1;
+    }
+
+    /// Steps the zoom through [`ZOOM_STEPS`].
+    pub fn zoom_by(&self, settings: &mut MagnifierSettings, steps: i32) {
+        let index = ZOOM_STEPS
+            .iter()
+            .position(|z| *z >= settings.zoom)
+            .unwrap_or(ZOOM_STEPS.len() - 1) as i32;
+        let next = (index + steps).clamp(0, ZOOM_STEPS.len() as i32 - 1) as usize;
+        settings.zoom = ZOOM_STEPS[next];
+    }
+}
+
+/// The lens plus [`MARGIN`] pixels around it, inside a `size` frame.
+pub fn with_margin(lens: Region, size: (u32, u32)) -> Option<Region> {
+    Region {
+        x: lens.x.saturating_sub(MARGIN),
+        y: lens.y.saturating_sub(MARGIN),
+        width: lens.width + 2 * MARGIN,
+        height: lens.height + 2 * MARGIN,
+    }
+    .clipped(size)
+}
+
+/// Pixels of `region` of an image.
+pub fn crop(image: &image::RgbaImage, region: Region) -> image::RgbaImage {
+    image::imageops::crop_imm(image, region.x, region.y, region.width, region.height).to_image()
+}
+
+/// The heatmap of `test` against `reference` in the lens, computed on the lens plus margin:
+/// the colours and the mean error in the lens.
+pub fn lens_heatmap(
+    metric: DiffMetric,
+    test: &image::RgbaImage,
+    reference: &image::RgbaImage,
+    lens: Region,
+) -> Option<(egui::ColorImage, f64)> {
+    let area = with_margin(lens, test.dimensions())?;
+    let map = quality::error_map(metric, &crop(test, area), &crop(reference, area))?;
+    let window = (lens.x - area.x, lens.y - area.y, lens.width, lens.height);
+    let colors = heatmap(&map, area.width, window);
+    let mut sum = 0.0;
+    for y in window.1..window.1 + window.3 {
+        for x in window.0..window.0 + window.2 {
+            sum += f64::from(map[(y * area.width + x) as usize]);
+        }
+    }
+    Some((colors, sum / f64::from((lens.width * lens.height).max(1))))
+}
+
+impl AaLabApp {
+    /// The panes' sources: the compared techniques, then the reference when shown.
+    pub(super) fn magnifier_sources(&self) -> Vec<Source> {
+        let mut sources: Vec<Source> = self
+            .compared()
+            .into_iter()
+            .enumerate()
+            .map(|(slot, id)| Source::Technique(slot, id))
+            .collect();
+        if self.settings.magnifier.show_reference || self.settings.magnifier.difference {
+            sources.push(Source::Reference);
+        }
+        sources
+    }
+
+    /// The published image of a pane.
+    pub(super) fn source_image(&self, source: Source) -> Option<&Published> {
+        let engine = self.engine.as_ref()?;
+        match source {
+            Source::Technique(_, id) => engine.image(id),
+            Source::Reference => engine.reference().map(|(image, _)| image),
+        }
+    }
+
+    /// The lens region now.
+    pub(super) fn lens(&self) -> Option<Region> {
+        lens_region(
+            &self.settings.magnifier,
+            self.magnifier.lens_side,
+            self.viewport.render_size,
+        )
+    }
+
+    /// Recomputes the difference heatmaps when the lens, the images or the metric changed.
+    pub(super) fn update_magnifier(&mut self, ctx: &egui::Context) {
+        if !self.settings.show_magnifier || !self.settings.magnifier.difference {
+            return;
+        }
+        let Some(lens) = self.lens() else { return };
+        let size = self.viewport.render_size;
+        let metric = self.settings.magnifier.metric;
+        let sources: Vec<Source> = self
+            .magnifier_sources()
+            .into_iter()
+            .filter(|s| self.source_image(*s).is_some_and(|i| i.size() == size))
+            .collect();
+        let key = HeatKey {
+            lens,
+            generation: self.magnifier.generation,
+            metric,
+            sources: sources.clone(),
+        };
+        if self.magnifier.heat_key.as_ref() == Some(&key) {
+            return;
+        }
+        let mut maps = Vec::new();
+        if let Some(reference) = self.source_image(Source::Reference) {
+            for source in sources.iter().filter(|s| **s != Source::Reference) {
+                let Some(test) = self.source_image(*source) else {
+                    continue;
+                };
+                if let Some((colors, mean)) =
+                    lens_heatmap(metric, &test.pixels, &reference.pixels, lens)
+                {
+                    let handle = ctx.load_texture(
+                        format!("magnifier heatmap {source:?}"),
+                        colors,
+                        egui::TextureOptions::NEAREST,
+                    );
+                    maps.push((*source, handle, mean));
+                }
+            }
+        }
+        self.magnifier.heatmaps = maps;
+        self.magnifier.heat_key = Some(key);
+    }
+
+    /// The magnifier panel (bottom of the window).
+    pub(super) fn magnifier_panel(&mut self, ui: &mut egui::Ui) {
+        egui::Panel::bottom("magnifier")
+            .resizable(true)
+            .default_size(330.0)
+            .size_range(180.0..=700.0)
+            .frame(
+                egui::Frame::side_top_panel(ui.style())
+                    .inner_margin(egui::Margin::symmetric(10, 6)),
+            )
+            .show(ui, |ui| {
+                // Keep the panel at its set height (panels otherwise shrink to their content).
+                ui.set_min_height(ui.available_height());
+                self.magnifier_header(ui);
+                ui.add_space(4.0);
+                self.magnifier_panes(ui);
+            });
+    }
+
+    fn magnifier_header(&mut self, ui: &mut egui::Ui) {
+        let ctx = ui.ctx().clone();
+        ui.horizontal(|ui| {
+            ui.strong("Magnifier");
+            ui.separator();
+            let m = &mut self.settings.magnifier;
+            ui.label("Zoom").on_hover_text("Nearest-neighbour zoom: each frame pixel becomes a zoom x zoom block.");
+            egui::ComboBox::from_id_salt("magnifier zoom")
+                .width(64.0)
+                .selected_text(format!("{}×", m.zoom))
+                .show_ui(ui, |ui| {
+                    for z in ZOOM_STEPS {
+                        ui.selectable_value(&mut m.zoom, z, format!("{z}×"));
+                    }
+                })
+                .response
+                .on_hover_text(shortcut_hint(&ctx, super::shortcuts::Action::ZoomIn, "Zoom in"));
+            ui.checkbox(&mut m.pixel_grid, "Pixel grid")
+                .on_hover_text(shortcut_hint(&ctx, super::shortcuts::Action::PixelGrid, "Lines between magnified pixels"));
+            ui.checkbox(&mut m.show_reference, "Reference")
+                .on_hover_text("Add a pane with the supersampled reference of the same frame");
+            ui.checkbox(&mut m.difference, "Difference")
+                .on_hover_text(shortcut_hint(&ctx, super::shortcuts::Action::Difference, "Show each pane's error against the reference as a heatmap"));
+            ui.add_enabled_ui(m.difference, |ui| {
+                egui::ComboBox::from_id_salt("difference metric")
+                    .width(120.0)
+                    .selected_text(m.metric.label())
+                    .show_ui(ui, |ui| {
+                        for metric in DiffMetric::ALL {
+                            ui.selectable_value(&mut m.metric, metric, metric.label())
+                                .on_hover_text(metric.help());
+                        }
+                    })
+                    .response
+                    .on_hover_text(m.metric.help());
+            });
+            if let Some(lens) = self.lens() {
+                ui.separator();
+                ui.weak(format!(
+                    "lens {}×{} at ({}, {})",
+                    lens.width, lens.height, lens.x, lens.y
+                ))
+                .on_hover_text("Drag the white rectangle in the view, Ctrl+click to place it, or nudge it with the arrow keys.");
+            }
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                if ui
+                    .button("Copy sheet")
+                    .on_hover_text(shortcut_hint(&ctx, super::shortcuts::Action::CopySheet, "Copy the magnifier sheet (all panes with labels and metrics) to the clipboard"))
+                    .clicked()
+                {
+                    self.copy_sheet(&ctx);
+                }
+            });
+        });
+    }
+
+    fn magnifier_panes(&mut self, ui: &mut egui::Ui) {
+        let ppp = ui.ctx().pixels_per_point();
+        let sources = self.magnifier_sources();
+        let zoom = self.settings.magnifier.zoom.max(1);
+        let caption_height = 42.0;
+        let n = sources.len().max(1) as f32;
+        let avail = ui.available_size();
+        let side_points = ((avail.x - PANE_GAP * (n - 1.0)) / n)
+            .min(avail.y - caption_height)
+            .max(16.0);
+        let side_px = (side_points * ppp).floor() as u32;
+        self.magnifier.lens_side = (side_px / zoom).max(1);
+        let Some(lens) = self.lens() else {
+            ui.weak("The lens appears once the first frame is rendered.");
+            return;
+        };
+        let size = self.viewport.render_size;
+        let pane_points = vec2(
+            (lens.width * zoom) as f32 / ppp,
+            (lens.height * zoom) as f32 / ppp,
+        );
+        let mut hover = None;
+        let mut pane_rects = Vec::new();
+        ui.horizontal_top(|ui| {
+            ui.spacing_mut().item_spacing.x = PANE_GAP;
+            for source in &sources {
+                ui.vertical(|ui| {
+                    let (rect, response) = ui.allocate_exact_size(pane_points, Sense::hover());
+                    let rect = Rect::from_min_size(
+                        pos2(
+                            (rect.min.x * ppp).round() / ppp,
+                            (rect.min.y * ppp).round() / ppp,
+                        ),
+                        pane_points,
+                    );
+                    pane_rects.push((*source, rect));
+                    if let Some(p) = response.hover_pos() {
+                        let local = (p - rect.min) * ppp / zoom as f32;
+                        if local.x >= 0.0 && local.y >= 0.0 {
+                            hover = Some((
+                                lens.x + (local.x as u32).min(lens.width - 1),
+                                lens.y + (local.y as u32).min(lens.height - 1),
+                            ));
+                        }
+                    }
+                    self.paint_pane(ui, *source, rect, lens, size);
+                    self.pane_caption(ui, *source, pane_points.x);
+                });
+            }
+        });
+        self.magnifier.hover = hover;
+        let marked = hover.or(self.viewport.hover_pixel.filter(|(x, y)| {
+            *x >= lens.x && *y >= lens.y && *x < lens.x + lens.width && *y < lens.y + lens.height
+        }));
+        if let Some((x, y)) = marked {
+            for (_, rect) in &pane_rects {
+                let cell = Rect::from_min_size(
+                    rect.min
+                        + vec2(
+                            ((x - lens.x) * zoom) as f32 / ppp,
+                            ((y - lens.y) * zoom) as f32 / ppp,
+                        ),
+                    vec2(zoom as f32 / ppp, zoom as f32 / ppp),
+                );
+                let painter = ui.painter().with_clip_rect(*rect);
+                painter.rect_stroke(
+                    cell,
+                    0.0,
+                    Stroke::new(1.0, Color32::BLACK),
+                    StrokeKind::Outside,
+                );
+                painter.rect_stroke(
+                    cell.expand(1.0),
+                    0.0,
+                    Stroke::new(1.0, Color32::WHITE),
+                    StrokeKind::Outside,
+                );
+            }
+            self.pixel_readout(ui, (x, y), &sources);
+        } else {
+            ui.weak("Point at a pane (or at the lens in the view) to read pixel values.");
+        }
+    }
+
+    fn paint_pane(
+        &self,
+        ui: &egui::Ui,
+        source: Source,
+        rect: Rect,
+        lens: Region,
+        size: (u32, u32),
+    ) {
+        let painter = ui.painter().with_clip_rect(rect);
+        painter.rect_filled(rect, 0.0, Color32::from_gray(12));
+        let ppp = ui.ctx().pixels_per_point();
+        let zoom = self.settings.magnifier.zoom.max(1);
+        let difference = self.settings.magnifier.difference && source != Source::Reference;
+        if difference {
+            match self
+                .magnifier
+                .heatmaps
+                .iter()
+                .find(|(s, _, _)| *s == source)
+            {
+                Some((_, handle, _)) => {
+                    painter.image(
+                        handle.id(),
+                        rect,
+                        Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
+                        Color32::WHITE,
+                    );
+                }
+                None => {
+                    let text = match self.engine.as_ref().map(|e| e.reference_state()) {
+                        Some(ReferenceState::Ready(_)) => "computing…",
+                        _ => {
+                            "waiting for the reference\n(it accumulates while the camera is still)"
+                        }
+                    };
+                    painter.text(
+                        rect.center(),
+                        egui::Align2::CENTER_CENTER,
+                        text,
+                        egui::FontId::proportional(12.0),
+                        ui.visuals().weak_text_color(),
+                    );
+                }
+            }
+        } else if let Some(image) = self.source_image(source).filter(|i| i.size() == size) {
+            let uv = Rect::from_min_max(
+                pos2(lens.x as f32 / size.0 as f32, lens.y as f32 / size.1 as f32),
+                pos2(
+                    (lens.x + lens.width) as f32 / size.0 as f32,
+                    (lens.y + lens.height) as f32 / size.1 as f32,
+                ),
+            );
+            painter.image(image.id(), rect, uv, Color32::WHITE);
+        } else {
+            let text = match source {
+                Source::Reference => "reference: waiting for the camera to stop",
+                Source::Technique(..) => "rendering…",
+            };
+            painter.text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                text,
+                egui::FontId::proportional(12.0),
+                ui.visuals().weak_text_color(),
+            );
+        }
+        if self.settings.magnifier.pixel_grid && zoom >= 4 {
+            let stroke = Stroke::new(1.0, Color32::from_black_alpha(90));
+            let step = zoom as f32 / ppp;
+            for i in 1..lens.width {
+                let x = rect.min.x + i as f32 * step;
+                painter.line_segment([pos2(x, rect.min.y), pos2(x, rect.max.y)], stroke);
+            }
+            for j in 1..lens.height {
+                let y = rect.min.y + j as f32 * step;
+                painter.line_segment([pos2(rect.min.x, y), pos2(rect.max.x, y)], stroke);
+            }
+        }
+        let (letter, color, name) = self.source_label(source);
+        style::chip(&painter, rect.min + vec2(6.0, 6.0), letter, color, &name);
+    }
+
+    /// Letter, colour and name of a pane.
+    pub(super) fn source_label(&self, source: Source) -> (&'static str, Color32, String) {
+        match source {
+            Source::Technique(slot, id) => {
+                (SLOT_LETTERS[slot], SLOT_COLORS[slot], self.shown_label(id))
+            }
+            Source::Reference => {
+                let name = match self.engine.as_ref().map(|e| e.reference_state()) {
+                    Some(ReferenceState::Ready(p)) => {
+                        format!("Reference {}/{} spp", p.samples, p.total)
+                    }
+                    _ => "Reference".to_owned(),
+                };
+                ("R", REFERENCE_COLOR, name)
+            }
+        }
+    }
+
+    /// The figures under a pane: quality against the reference (or the region's mean error in
+    /// difference mode).
+    pub(super) fn pane_figures(&self, source: Source) -> String {
+        match source {
+            Source::Reference => match self.engine.as_ref().map(|e| e.reference_state()) {
+                Some(ReferenceState::Ready(p)) if p.complete() => "converged".to_owned(),
+                Some(ReferenceState::Ready(p)) => format!("accumulating {}/{}", p.samples, p.total),
+                _ => "waiting for a still camera".to_owned(),
+            },
+            Source::Technique(_, id) => {
+                let mut parts = Vec::new();
+                if self.settings.magnifier.difference
+                    && let Some((_, _, mean)) = self
+                        .magnifier
+                        .heatmaps
+                        .iter()
+                        .find(|(s, _, _)| *s == source)
+                {
+                    parts.push(format!(
+                        "lens mean {} {:.3}",
+                        self.settings.magnifier.metric.label().to_lowercase(),
+                        mean
+                    ));
+                }
+                if let Some(figures) = self.quality.figures_text(id) {
+                    parts.push(figures);
+                }
+                parts.join(" · ")
+            }
+        }
+    }
+
+    fn pane_caption(&self, ui: &mut egui::Ui, source: Source, width: f32) {
+        ui.set_max_width(width);
+        let text = self.pane_figures(source);
+        ui.add(egui::Label::new(egui::RichText::new(text).small().monospace()).truncate());
+    }
+
+    fn pixel_readout(&self, ui: &mut egui::Ui, (x, y): (u32, u32), sources: &[Source]) {
+        ui.horizontal_wrapped(|ui| {
+            ui.monospace(format!("({x}, {y})"));
+            for source in sources {
+                let (letter, color, _) = self.source_label(*source);
+                ui.label(style::badge(letter, color));
+                let pixel = self
+                    .source_image(*source)
+                    .and_then(|i| i.pixels.get_pixel_checked(x, y))
+                    .map(|p| p.0);
+                match pixel {
+                    Some([r, g, b, _]) => {
+                        let (swatch, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
+                        ui.painter()
+                            .rect_filled(swatch, 2.0, Color32::from_rgb(r, g, b));
+                        ui.monospace(format!("{r:>3} {g:>3} {b:>3}  #{r:02x}{g:02x}{b:02x}"))
+                            .on_hover_text(
+                                "sRGB-encoded 8-bit values as stored in the technique's output",
+                            );
+                    }
+                    None => {
+                        ui.weak("—");
+                    }
+                }
+            }
+        });
+    }
+}
+
+/// A tooltip with the action's shortcut appended.
+pub(super) fn shortcut_hint(
+    ctx: &egui::Context,
+    action: super::shortcuts::Action,
+    text: &str,
+) -> String {
+    match super::shortcuts::label(ctx, action) {
+        Some(key) => format!("{text} ({key})"),
+        None => text.to_owned(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lens_stays_inside_the_frame() {
+        let mut m = MagnifierSettings::default();
+        let r = lens_region(&m, 32, (100, 50)).unwrap();
+        assert_eq!((r.x, r.y, r.width, r.height), (34, 9, 32, 32));
+        m.center = Some([-50.0, 1000.0]);
+        let r = lens_region(&m, 32, (100, 50)).unwrap();
+        assert_eq!((r.x, r.y), (0, 18));
+        let r = lens_region(&m, 80, (100, 50)).unwrap();
+        assert_eq!((r.width, r.height), (80, 50));
+        assert!(lens_region(&m, 0, (100, 50)).is_none());
+        m.center = Some([f32::NAN, 3.0]);
+        assert!(lens_region(&m, 8, (100, 50)).is_some());
+    }
+
+    #[test]
+    fn zoom_steps_clamp() {
+        let state = MagnifierState::default();
+        let mut m = MagnifierSettings {
+            zoom: 8,
+            ..Default::default()
+        };
+        state.zoom_by(&mut m, 1);
+        assert_eq!(m.zoom, 12);
+        state.zoom_by(&mut m, 10);
+        assert_eq!(m.zoom, 32);
+        state.zoom_by(&mut m, -20);
+        assert_eq!(m.zoom, 2);
+    }
+}

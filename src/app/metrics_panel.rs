@@ -1,0 +1,321 @@
+//! The live metrics panel (right side): frame rate and a plot of frame times, GPU
+//! milliseconds per shared scene render, per technique and per pass, memory per technique
+//! and in total, and quality against the reference with how many reference samples it rests
+//! on. Every figure has a tooltip saying exactly what it measures; figures that no longer
+//! describe the displayed frame say so instead of showing a number.
+
+use std::time::Duration;
+
+use egui::RichText;
+use egui_plot::{Legend, Line, Plot};
+
+use super::app::AaLabApp;
+use super::engine::ReferenceState;
+use super::reference::REFERENCE_ID;
+use super::style::{self, ACCENT, SLOT_COLORS, SLOT_LETTERS};
+
+/// A right-aligned monospace number cell with a tooltip.
+fn number(ui: &mut egui::Ui, text: String, tip: &str) {
+    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+        ui.label(RichText::new(text).monospace()).on_hover_text(tip);
+    });
+}
+
+impl AaLabApp {
+    /// The panel. See the module docs.
+    pub(super) fn metrics_panel(&mut self, ui: &mut egui::Ui) {
+        egui::Panel::right("metrics")
+            .resizable(true)
+            .default_size(340.0)
+            .size_range(260.0..=560.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    ui.add_space(4.0);
+                    ui.heading("Metrics");
+                    self.performance_section(ui);
+                    ui.separator();
+                    self.gpu_section(ui);
+                    ui.separator();
+                    self.memory_section(ui);
+                    ui.separator();
+                    self.quality_section(ui);
+                });
+            });
+    }
+
+    fn performance_section(&mut self, ui: &mut egui::Ui) {
+        style::section(ui, "Frame rate");
+        ui.horizontal(|ui| match self.clock.fps(Duration::from_secs(2)) {
+            Some((fps, ms)) => {
+                ui.label(RichText::new(format!("{fps:.1}")).size(26.0).strong().color(ACCENT))
+                    .on_hover_text("Frames per second: rendered frames in the last 2 s divided by their total time (UI frames that only redrew the interface are not counted).");
+                ui.vertical(|ui| {
+                    ui.label("FPS");
+                    ui.label(RichText::new(style::ms(ms)).monospace().small())
+                        .on_hover_text("Median wall-clock time between consecutive rendered frames over the last 2 s (CPU, GPU and presentation together).");
+                });
+            }
+            None => {
+                ui.weak("techniques idle: their view has not changed")
+                    .on_hover_text("Techniques render only when the view, their settings or time change (the reference keeps accumulating meanwhile). Turn on Orbit, or drag the view, to measure frame rates continuously.");
+            }
+        });
+        let frame_points = self.clock.points();
+        let gpu_points = self
+            .engine
+            .as_ref()
+            .map(|e| e.gpu_stats.total_points())
+            .unwrap_or_default();
+        Plot::new("frame times")
+            .height(110.0)
+            .legend(Legend::default().position(egui_plot::Corner::LeftTop))
+            .allow_drag(false)
+            .allow_zoom(false)
+            .allow_scroll(false)
+            .show_x(false)
+            .include_y(0.0)
+            .y_axis_label("ms")
+            .x_axis_formatter(|mark, _| format!("{:.0} s", mark.value))
+            .show(ui, |plot| {
+                plot.line(Line::new("frame (wall clock)", frame_points).color(ACCENT));
+                plot.line(Line::new("GPU (all passes)", gpu_points).color(SLOT_COLORS[0]));
+            })
+            .response
+            .on_hover_text("Wall-clock time between rendered frames, and the GPU time of all timed passes of each frame whose timestamps came back, over the last 20 s.");
+    }
+
+    fn gpu_section(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            style::section(ui, "GPU time per frame");
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                ui.checkbox(&mut self.settings.show_passes, "passes")
+                    .on_hover_text("List every pass of every technique");
+            });
+        });
+        let show_passes = self.settings.show_passes;
+        let Some(engine) = &self.engine else { return };
+        if !engine.caps().timestamps {
+            ui.weak(format!(
+                "{} has no timestamp queries: no GPU times.",
+                engine.caps().adapter_name
+            ));
+            return;
+        }
+        let stats = &engine.gpu_stats;
+        let memory = engine.memory();
+        let users_of = |input: &str| -> Vec<String> {
+            memory
+                .map(|m| {
+                    m.techniques
+                        .iter()
+                        .filter(|t| {
+                            t.input.as_deref() == Some(input) && t.technique != REFERENCE_ID
+                        })
+                        .map(|t| t.technique.clone())
+                        .collect()
+                })
+                .unwrap_or_default()
+        };
+        let renders = stats.scene_renders();
+        let enabled: Vec<(&'static str, &'static str)> = engine
+            .entries()
+            .iter()
+            .filter(|e| e.enabled)
+            .map(|e| (e.id, e.name))
+            .collect();
+        egui::Grid::new("gpu table")
+            .num_columns(3)
+            .striped(true)
+            .spacing([10.0, 3.0])
+            .show(ui, |ui| {
+                ui.weak("pass");
+                ui.weak("own");
+                ui.weak("to run alone")
+                    .on_hover_text("Own passes plus the scene render it reads, i.e. what the technique would cost without sharing.");
+                ui.end_row();
+                for (label, ms) in &renders {
+                    let users = users_of(label);
+                    ui.label(label.clone()).on_hover_text(format!(
+                        "One scene render per frame, shared by: {}",
+                        if users.is_empty() { "—".to_owned() } else { users.join(", ") }
+                    ));
+                    number(ui, style::ms(*ms), "Median GPU time of this scene render over the last 30 frames that ran it (timestamp queries around the render pass).");
+                    ui.label(RichText::new(format!("shared by {}", users.len())).small().weak());
+                    ui.end_row();
+                }
+                for (id, name) in &enabled {
+                    let own = stats.technique_ms(id);
+                    let input_ms = memory
+                        .and_then(|m| m.techniques.iter().find(|t| t.technique == *id))
+                        .and_then(|t| t.input.as_deref())
+                        .and_then(|input| stats.pass_ms(input));
+                    ui.strong(*name);
+                    number(
+                        ui,
+                        own.map_or_else(|| "—".to_owned(), style::ms),
+                        "Sum of the median GPU times of this technique's own passes (after the shared scene render).",
+                    );
+                    number(
+                        ui,
+                        own.map(|o| o + input_ms.unwrap_or(0.0))
+                            .map_or_else(|| "—".to_owned(), style::ms),
+                        "Own passes plus the scene render this technique reads.",
+                    );
+                    ui.end_row();
+                    for (pass, ms) in stats.technique_passes(id).into_iter().filter(|_| show_passes) {
+                        ui.label(RichText::new(format!("   {pass}")).small());
+                        number(ui, style::ms(ms), "Median GPU time of this pass over the last 30 frames that ran it.");
+                        ui.label("");
+                        ui.end_row();
+                    }
+                }
+                if let Some(ms) = stats.technique_ms(REFERENCE_ID) {
+                    ui.label("reference (viewer)")
+                        .on_hover_text("The progressive reference's samples of a frame; it runs only while the camera is still.");
+                    number(ui, style::ms(ms), "GPU time the reference added to its frames (median).");
+                    ui.label("");
+                    ui.end_row();
+                }
+            });
+        let techniques = enabled.len();
+        let renders = engine.scene_renders();
+        if techniques > 0 && renders > 0 {
+            ui.label(
+                RichText::new(format!(
+                    "{renders} scene render(s) for {techniques} technique(s) per frame"
+                ))
+                .small(),
+            )
+            .on_hover_text("Techniques that read the same scene image (No AA, FXAA and SMAA 1x read the 1x render) share one render: the frame graph draws each distinct scene input once.");
+        }
+    }
+
+    fn memory_section(&mut self, ui: &mut egui::Ui) {
+        style::section(ui, "GPU memory");
+        let Some(memory) = self.engine.as_ref().and_then(|e| e.memory()) else {
+            ui.weak("after the first frame");
+            return;
+        };
+        let reference_bytes: u64 = memory
+            .techniques
+            .iter()
+            .filter(|t| t.technique == REFERENCE_ID)
+            .map(|t| t.own_bytes())
+            .sum();
+        egui::Grid::new("memory table")
+            .num_columns(3)
+            .striped(true)
+            .spacing([10.0, 3.0])
+            .show(ui, |ui| {
+                ui.weak("technique");
+                ui.weak("own");
+                ui.weak("to run alone");
+                ui.end_row();
+                for t in memory.techniques.iter().filter(|t| t.technique != REFERENCE_ID) {
+                    let name = self
+                        .engine
+                        .as_ref()
+                        .and_then(|e| e.entry(&t.technique))
+                        .map_or(t.technique.as_str(), |e| e.name);
+                    let items: Vec<String> = t
+                        .input_items
+                        .iter()
+                        .chain(&t.private_items)
+                        .chain(t.output.iter())
+                        .map(|i| format!("{}: {} {}x{} {} spp, {}", i.label, i.format, i.width, i.height, i.samples, style::mib(i.bytes)))
+                        .collect();
+                    ui.label(name).on_hover_text(items.join("\n"));
+                    number(ui, style::mib(t.own_bytes()), "Textures and buffers this technique owns, its output included.");
+                    number(ui, style::mib(t.standalone_bytes()), "Own memory plus the scene render targets it reads (shared ones would be needed anyway).");
+                    ui.end_row();
+                }
+                ui.label("scene");
+                number(ui, style::mib(memory.scene_bytes), "The uploaded scene: vertex and index buffers, textures with their mip chains.");
+                ui.label("");
+                ui.end_row();
+                ui.strong("total");
+                number(
+                    ui,
+                    style::mib(memory.total_bytes.saturating_sub(reference_bytes)),
+                    "Everything the enabled techniques use, shared scene inputs counted once, scene included (the viewer's reference not included).",
+                );
+                ui.label("");
+                ui.end_row();
+                if reference_bytes > 0 {
+                    ui.weak("reference (viewer)");
+                    number(ui, style::mib(reference_bytes), "The progressive reference's accumulator and render targets.");
+                    ui.label("");
+                    ui.end_row();
+                }
+            });
+    }
+
+    fn quality_section(&mut self, ui: &mut egui::Ui) {
+        style::section(ui, "Quality against the reference");
+        ui.checkbox(&mut self.settings.quality, "Measure")
+            .on_hover_text("Accumulate the supersampled reference while the camera is still and score every technique against it.");
+        ui.horizontal(|ui| {
+            ui.label("Reference");
+            let mut samples = self.settings.reference_samples;
+            egui::ComboBox::from_id_salt("reference samples")
+                .width(150.0)
+                .selected_text(format!("{samples} spp ({0}×{0} grid)", super::reference::grid_factor(samples)))
+                .show_ui(ui, |ui| {
+                    for n in [16, 64, 256] {
+                        ui.selectable_value(&mut samples, n, format!("{n} spp ({0}×{0} grid)", super::reference::grid_factor(n)));
+                    }
+                })
+                .response
+                .on_hover_text("Samples per pixel of the reference: an ordered k×k grid with a box filter, the same samples as `aa-lab render --ssaa-factor k` (the thesis used 16).");
+            if samples != self.settings.reference_samples {
+                self.settings.reference_samples = samples;
+                if let Some(engine) = &mut self.engine {
+                    engine.set_reference_samples(samples);
+                }
+            }
+        });
+        let state = self
+            .engine
+            .as_ref()
+            .map_or(ReferenceState::Off, |e| e.reference_state());
+        let status = match state {
+            ReferenceState::Off => RichText::new("off").weak(),
+            ReferenceState::Waiting => RichText::new(
+                if self.engine.as_ref().is_some_and(|e| e.animated()) && self.camera.playing {
+                    "stale: the scene animates; pause (Space) to measure"
+                } else {
+                    "stale: waiting for the camera to stop"
+                },
+            )
+            .color(style::WARN),
+            ReferenceState::Ready(p) if p.complete() => {
+                RichText::new(format!("converged: {} samples per pixel", p.total))
+            }
+            ReferenceState::Ready(p) => RichText::new(format!(
+                "accumulating: {} of {} samples per pixel",
+                p.samples, p.total
+            )),
+        };
+        ui.label(status).on_hover_text(
+            "The reference is re-accumulated from scratch whenever the view changes, a few samples per frame; figures below rest on the samples it had when they were measured.",
+        );
+        if let ReferenceState::Ready(p) = state {
+            ui.add(
+                egui::ProgressBar::new(p.samples as f32 / p.total.max(1) as f32)
+                    .desired_height(6.0),
+            );
+        }
+        for (slot, id) in self.compared().into_iter().enumerate() {
+            ui.horizontal(|ui| {
+                ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
+                ui.label(self.shown_label(id));
+                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                    match self.quality.figures_text(id) {
+                        Some(text) => ui.label(RichText::new(text).monospace().small()),
+                        None => ui.weak("—"),
+                    };
+                });
+            });
+        }
+    }
+}

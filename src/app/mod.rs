@@ -1,0 +1,127 @@
+//! The viewer: an eframe/egui desktop application hosting the same frame graph as the headless
+//! command line, so that what the window shows are exactly the pixels each technique produced.
+//!
+//! How it fits together:
+//! - [`AaLabApp`] (app.rs) is the `eframe::App`. Each UI frame it first brings the engine up to
+//!   date (engine.rs: one frame-graph frame for the techniques whose view changed, plus a few
+//!   samples of the progressive reference while the camera is still), then lays out the menu,
+//!   the technique panel (panels.rs), the magnifier (magnifier.rs), the metrics panel
+//!   (metrics_panel.rs), the status bar and the viewport tiles (viewport.rs).
+//! - Technique outputs stay on the GPU: each is registered with egui's wgpu renderer twice
+//!   (linear and nearest samplers) through its `Rgba8Unorm` view, which holds the sRGB-encoded
+//!   bytes, and drawn at 1:1 physical pixels (no scaling, no dithering).
+//! - Pixel values, difference heatmaps and exports come from non-blocking readbacks
+//!   (readback.rs); scene loading and PNG encoding run on worker threads, so no frame waits for
+//!   long work.
+//! - Settings and layout persist through eframe's storage (settings.rs); keyboard shortcuts and
+//!   the help overlay share one table (shortcuts.rs).
+
+// `app.rs` holds the `eframe::App`, as the module layout of the design names it.
+#[allow(clippy::module_inception)]
+mod app;
+mod camera;
+mod engine;
+mod export;
+mod magnifier;
+mod metrics_panel;
+mod panels;
+mod quality;
+mod readback;
+mod reference;
+mod scene_loader;
+mod settings;
+mod shortcuts;
+mod stats;
+mod style;
+mod viewport;
+
+use std::sync::Arc;
+
+pub use app::{AaLabApp, LaunchOptions};
+pub use camera::CameraController;
+pub use settings::{DiffMetric, Layout, Settings};
+
+/// Application id: window class and the folder eframe persists settings in.
+pub const APP_ID: &str = "aa-lab";
+
+/// egui's own multisampling. Off: egui feathers its shapes itself, technique images are drawn
+/// as textured rectangles that multisampling would not change, and counts other than the
+/// adapter's supported ones panic (8 on lavapipe).
+const EGUI_MULTISAMPLING: u16 = 0;
+
+/// Errors of opening the viewer.
+#[derive(Debug, thiserror::Error)]
+pub enum ViewerError {
+    /// There is no display server to open a window on.
+    #[error(
+        "no display to open the viewer on (neither DISPLAY nor WAYLAND_DISPLAY is set); \
+         render headless instead, e.g. `aa-lab render --scene atrium --technique all --out out/` \
+         (see `aa-lab render --help`)"
+    )]
+    NoDisplay,
+    /// eframe could not create the window or the GPU device.
+    #[error("the viewer window could not be opened: {0}; `aa-lab render` works without a window")]
+    Window(String),
+}
+
+/// The wgpu setup the viewer asks eframe (and the UI tests ask egui_kittest) for: Vulkan,
+/// Metal or DX12 unless `WGPU_BACKEND` says otherwise (Mesa's GL reads multisampled textures
+/// as zeros), and the device features the frame graph uses (timestamps, adapter-specific
+/// format features), which egui-wgpu alone would not request.
+pub fn wgpu_setup() -> egui_wgpu::WgpuSetup {
+    let mut setup = egui_wgpu::WgpuSetupCreateNew::without_display_handle();
+    setup.instance_descriptor.backends =
+        wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY);
+    setup.power_preference = wgpu::PowerPreference::HighPerformance;
+    setup.device_descriptor = Arc::new(crate::gpu::device_descriptor);
+    egui_wgpu::WgpuSetup::CreateNew(setup)
+}
+
+/// eframe options: wgpu renderer with [`wgpu_setup`], no dithering (pixel-exact images), no
+/// multisampling of egui itself, files may be dropped on the window.
+pub fn native_options() -> eframe::NativeOptions {
+    eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("aa-lab")
+            .with_app_id(APP_ID)
+            .with_inner_size([1600.0, 1000.0])
+            .with_min_inner_size([800.0, 500.0])
+            .with_drag_and_drop(true),
+        renderer: eframe::Renderer::Wgpu,
+        wgpu_options: egui_wgpu::WgpuConfiguration {
+            wgpu_setup: wgpu_setup(),
+            ..Default::default()
+        },
+        multisampling: EGUI_MULTISAMPLING,
+        dithering: false,
+        persist_window: true,
+        ..Default::default()
+    }
+}
+
+/// Whether a display server is reachable (always true outside Linux and the BSDs).
+pub fn display_available() -> bool {
+    if cfg!(all(unix, not(target_os = "macos"))) {
+        let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
+        set("DISPLAY") || set("WAYLAND_DISPLAY")
+    } else {
+        true
+    }
+}
+
+/// Opens the viewer and returns when its window is closed.
+pub fn run(options: LaunchOptions) -> Result<(), ViewerError> {
+    if !display_available() {
+        return Err(ViewerError::NoDisplay);
+    }
+    eframe::run_native(
+        APP_ID,
+        native_options(),
+        Box::new(move |cc| {
+            AaLabApp::new(cc, options)
+                .map(|app| Box::new(app) as Box<dyn eframe::App>)
+                .map_err(|e| e.into())
+        }),
+    )
+    .map_err(|e| ViewerError::Window(e.to_string()))
+}

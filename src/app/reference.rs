@@ -1,0 +1,103 @@
+//! The viewer's reference image: supersampling accumulated progressively while the camera is
+//! still, so that quality figures converge within seconds without one long frame.
+//!
+//! It is a frame-graph technique with the id `reference` (so its passes are timed and its
+//! memory counted like any other) wrapping [`Ssaa::encode_progressive`] with the k x k grid
+//! and box filter of the CLI's ordered reference (`--ssaa-factor k`): once complete, the two
+//! take the same samples. The viewer steers it through a shared [`ReferenceControl`]: whether
+//! to start over (the view changed) and how many samples to add this frame; the technique
+//! reports back how many samples the image rests on.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use crate::aa::ssaa::{Progress, Ssaa, SsaaSettings};
+use crate::aa::{FrameInfo, SceneInput, Technique};
+use crate::gpu::Gpu;
+use crate::graph::{MemoryItem, PassContext};
+use crate::scene::renderer::SceneTargets;
+
+/// Id of the reference in the frame graph (timings read `reference/...`).
+pub const REFERENCE_ID: &str = "reference";
+
+/// Shared between the viewer and the technique inside the graph.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ReferenceControl {
+    /// Drop the accumulated samples before adding new ones.
+    pub restart: bool,
+    /// Samples to add in the next frame.
+    pub budget: u32,
+    /// Where the accumulation stands after the last frame.
+    pub progress: Progress,
+}
+
+/// The progressive reference technique.
+pub struct ProgressiveReference {
+    ssaa: Ssaa,
+    control: Rc<RefCell<ReferenceControl>>,
+}
+
+impl ProgressiveReference {
+    /// A reference of `samples` samples per pixel (a square: 16, 64, 256) and its control.
+    pub fn new(gpu: &Gpu, samples: u32) -> (Self, Rc<RefCell<ReferenceControl>>) {
+        let control = Rc::new(RefCell::new(ReferenceControl::default()));
+        let reference = Self {
+            ssaa: Ssaa::with_settings(gpu, SsaaSettings::reference(grid_factor(samples))),
+            control: Rc::clone(&control),
+        };
+        (reference, control)
+    }
+}
+
+/// The grid factor k of a square sample count (k x k = samples).
+pub fn grid_factor(samples: u32) -> u32 {
+    ((samples.max(1) as f32).sqrt().round() as u32).max(1)
+}
+
+impl Technique for ProgressiveReference {
+    fn id(&self) -> &'static str {
+        REFERENCE_ID
+    }
+
+    fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
+        None
+    }
+
+    fn encode(
+        &mut self,
+        ctx: &mut PassContext<'_>,
+        _input: Option<&SceneTargets>,
+        output: &wgpu::Texture,
+    ) {
+        let mut control = self.control.borrow_mut();
+        control.progress =
+            self.ssaa
+                .encode_progressive(ctx, output, control.restart, control.budget.max(1));
+        control.restart = false;
+    }
+
+    fn memory(&self) -> Vec<MemoryItem> {
+        self.ssaa.memory()
+    }
+
+    fn path_note(&self) -> Option<String> {
+        let progress = self.control.borrow().progress;
+        Some(format!(
+            "progressive {}-sample grid, box filter: {} of {} samples",
+            progress.total, progress.samples, progress.total
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_factors_of_square_counts() {
+        assert_eq!(grid_factor(16), 4);
+        assert_eq!(grid_factor(64), 8);
+        assert_eq!(grid_factor(256), 16);
+        assert_eq!(grid_factor(0), 1);
+    }
+}

@@ -1,0 +1,324 @@
+//! Everything the viewer remembers between runs: layout, enabled and compared techniques with
+//! their parameters, magnifier and reference options, panels shown, recent files, camera
+//! bookmarks and the export folder.
+//!
+//! The settings are one serde struct stored as JSON under one key of eframe's storage. Every
+//! field has a default (`#[serde(default)]`), so files from older or newer versions load with
+//! what they share; a value that cannot be read at all falls back to the defaults and the user
+//! is told why ([`Settings::from_stored`]).
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use crate::aa::ParamMap;
+use crate::scene::camera::OrbitPose;
+
+/// Key of the settings in eframe's storage.
+pub const STORAGE_KEY: &str = "aa-lab viewer settings";
+
+/// Most techniques compared side by side (the magnifier panes and the grid tiles).
+pub const MAX_COMPARE: usize = 4;
+
+/// Most entries in File > Recent.
+pub const MAX_RECENT: usize = 8;
+
+/// How the viewport shows the compared techniques.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Layout {
+    /// The first compared technique fills the viewport.
+    #[default]
+    Single,
+    /// A draggable divider: technique A left of it, B right of it, on the same frame.
+    Wipe,
+    /// Technique A; holding B shows technique B, holding R the reference.
+    Flip,
+    /// Four techniques in a 2x2 grid, each rendered at the tile size.
+    Grid,
+}
+
+impl Layout {
+    /// Every layout, in menu order.
+    pub const ALL: [Self; 4] = [Self::Single, Self::Wipe, Self::Flip, Self::Grid];
+
+    /// Menu label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Single => "Single",
+            Self::Wipe => "Wipe",
+            Self::Flip => "A/B flip",
+            Self::Grid => "2x2 grid",
+        }
+    }
+
+    /// Tooltip.
+    pub fn help(self) -> &'static str {
+        match self {
+            Self::Single => "Technique A fills the viewport at 1:1 pixels.",
+            Self::Wipe => {
+                "Technique A left of a draggable divider, B right of it, both from the same frame."
+            }
+            Self::Flip => {
+                "Technique A; hold B to show technique B, hold R to show the reference, on the same frame."
+            }
+            Self::Grid => {
+                "Techniques A to D in a 2x2 grid; every tile is rendered at the tile's own size, 1:1."
+            }
+        }
+    }
+}
+
+/// The error metric of the magnifier's difference mode.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum DiffMetric {
+    /// Mean absolute difference of the sRGB-encoded channels.
+    #[default]
+    AbsoluteError,
+}
+
+impl DiffMetric {
+    /// Every metric, in menu order.
+    pub const ALL: [Self; 1] = [Self::AbsoluteError];
+
+    /// Menu label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::AbsoluteError => "Absolute error",
+        }
+    }
+
+    /// What the heatmap shows.
+    pub fn help(self) -> &'static str {
+        match self {
+            Self::AbsoluteError => {
+                "Per pixel: mean over R, G, B of |technique - reference| in sRGB-encoded 8-bit values, \
+                 scaled so that 64 (a quarter of the range) is the brightest colour."
+            }
+        }
+    }
+}
+
+/// What the magnifier shows.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct MagnifierSettings {
+    /// Centre of the lens in frame pixels (clamped to the frame); `None` is the frame centre.
+    pub center: Option<[f32; 2]>,
+    /// Nearest-neighbour zoom factor, 2..=32.
+    pub zoom: u32,
+    /// Draw a line between magnified pixels.
+    pub pixel_grid: bool,
+    /// Add a pane with the reference.
+    pub show_reference: bool,
+    /// Show each pane's error against the reference instead of its pixels.
+    pub difference: bool,
+    /// The error metric of the difference mode.
+    pub metric: DiffMetric,
+}
+
+impl Default for MagnifierSettings {
+    fn default() -> Self {
+        Self {
+            center: None,
+            zoom: 8,
+            pixel_grid: true,
+            show_reference: true,
+            difference: false,
+            metric: DiffMetric::AbsoluteError,
+        }
+    }
+}
+
+/// The render resolution.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Resolution {
+    /// The viewport's physical pixel size.
+    #[default]
+    FitViewport,
+    /// A fixed size, shown 1:1 and centred (cropped when the viewport is smaller).
+    Fixed(u32, u32),
+}
+
+impl Resolution {
+    /// The fixed sizes offered in the menu.
+    pub const PRESETS: [(u32, u32); 4] = [(640, 360), (1280, 720), (1920, 1080), (2560, 1440)];
+}
+
+/// A saved camera position for one scene.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Bookmark {
+    /// The scene (built-in name or OBJ path) it belongs to.
+    pub scene: String,
+    /// Name shown in the menu.
+    pub name: String,
+    /// The camera.
+    pub pose: OrbitPose,
+}
+
+/// Everything persisted. See the module docs.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    /// Viewport layout.
+    pub layout: Layout,
+    /// Ids of the techniques switched on.
+    pub enabled: Vec<String>,
+    /// Ids of the techniques compared (A, B, C, D), at most [`MAX_COMPARE`].
+    pub compare: Vec<String>,
+    /// Parameters per technique id (only what differs from the defaults needs to be here).
+    pub technique_settings: BTreeMap<String, ParamMap>,
+    /// Debug view shown instead of the output, per technique id.
+    pub debug_views: BTreeMap<String, String>,
+    /// Position of the wipe divider as a fraction of the viewport width.
+    pub wipe: f32,
+    /// Magnifier options.
+    pub magnifier: MagnifierSettings,
+    /// Render resolution.
+    pub resolution: Resolution,
+    /// The camera follows the scene's orbit path.
+    pub auto_rotate: bool,
+    /// Scene opened at start (built-in name or OBJ path).
+    pub scene: String,
+    /// Recently opened OBJ files, newest first.
+    pub recent: Vec<String>,
+    /// Camera bookmarks.
+    pub bookmarks: Vec<Bookmark>,
+    /// Folder exports go to.
+    pub export_dir: PathBuf,
+    /// Samples per pixel of the reference (k x k ordered grid: 16, 64 or 256).
+    pub reference_samples: u32,
+    /// Compute SSIM, PSNR and FLIP against the reference.
+    pub quality: bool,
+    /// Panels shown.
+    pub show_techniques: bool,
+    /// Metrics panel shown.
+    pub show_metrics: bool,
+    /// Magnifier shown.
+    pub show_magnifier: bool,
+    /// The GPU table lists every pass, not only per technique.
+    pub show_passes: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        let first_four = ["none", "fxaa", "smaa", "msaa4"];
+        Self {
+            layout: Layout::Single,
+            enabled: first_four.iter().map(|s| (*s).to_owned()).collect(),
+            compare: first_four.iter().map(|s| (*s).to_owned()).collect(),
+            technique_settings: BTreeMap::new(),
+            debug_views: BTreeMap::new(),
+            wipe: 0.5,
+            magnifier: MagnifierSettings::default(),
+            resolution: Resolution::FitViewport,
+            auto_rotate: false,
+            scene: crate::scene::source::DEFAULT_SCENE.to_owned(),
+            recent: Vec::new(),
+            bookmarks: Vec::new(),
+            export_dir: PathBuf::from("screenshots"),
+            reference_samples: 64,
+            quality: true,
+            show_techniques: true,
+            show_metrics: true,
+            show_magnifier: true,
+            show_passes: false,
+        }
+    }
+}
+
+impl Settings {
+    /// Settings from the stored text: the defaults when nothing was stored, and the defaults
+    /// plus a notice saying why when the text cannot be read.
+    pub fn from_stored(text: Option<&str>) -> (Self, Option<String>) {
+        let Some(text) = text else {
+            return (Self::default(), None);
+        };
+        match serde_json::from_str::<Self>(text) {
+            Ok(settings) => (settings.sanitized(), None),
+            Err(err) => (
+                Self::default(),
+                Some(format!(
+                    "The saved viewer settings could not be read ({err}); the defaults are in use \
+                     and will replace them on exit."
+                )),
+            ),
+        }
+    }
+
+    /// The JSON text stored.
+    pub fn to_stored(&self) -> String {
+        serde_json::to_string(self).unwrap_or_default()
+    }
+
+    /// Brings values from a hand-edited or foreign file into range.
+    fn sanitized(mut self) -> Self {
+        self.wipe = if self.wipe.is_finite() {
+            self.wipe.clamp(0.0, 1.0)
+        } else {
+            0.5
+        };
+        self.magnifier.zoom = self.magnifier.zoom.clamp(2, 32);
+        self.compare.dedup();
+        self.compare.truncate(MAX_COMPARE);
+        self.recent.truncate(MAX_RECENT);
+        if ![16, 64, 256].contains(&self.reference_samples) {
+            self.reference_samples = 64;
+        }
+        if let Resolution::Fixed(w, h) = self.resolution
+            && (w == 0 || h == 0)
+        {
+            self.resolution = Resolution::FitViewport;
+        }
+        self
+    }
+
+    /// Puts a path first in the recent list.
+    pub fn remember_recent(&mut self, path: &str) {
+        self.recent.retain(|p| p != path);
+        self.recent.insert(0, path.to_owned());
+        self.recent.truncate(MAX_RECENT);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip_and_partial_files() {
+        let mut s = Settings {
+            layout: Layout::Grid,
+            wipe: 0.25,
+            ..Settings::default()
+        };
+        s.remember_recent("/tmp/a.obj");
+        let (back, notice) = Settings::from_stored(Some(&s.to_stored()));
+        assert_eq!(back, s);
+        assert!(notice.is_none());
+        let (partial, notice) = Settings::from_stored(Some(r#"{"layout":"Wipe","wipe":7.0}"#));
+        assert!(notice.is_none());
+        assert_eq!(partial.layout, Layout::Wipe);
+        assert_eq!(partial.wipe, 1.0);
+        assert_eq!(partial.enabled, Settings::default().enabled);
+    }
+
+    #[test]
+    fn corrupt_settings_fall_back_with_a_notice() {
+        let (s, notice) = Settings::from_stored(Some("{not json"));
+        assert_eq!(s, Settings::default());
+        let notice = notice.expect("a notice");
+        assert!(notice.contains("defaults"), "{notice}");
+        assert_eq!(Settings::from_stored(None), (Settings::default(), None));
+    }
+
+    #[test]
+    fn recent_list_is_unique_newest_first_and_bounded() {
+        let mut s = Settings::default();
+        for i in 0..12 {
+            s.remember_recent(&format!("{i}.obj"));
+        }
+        s.remember_recent("5.obj");
+        assert_eq!(s.recent.len(), MAX_RECENT);
+        assert_eq!(s.recent[0], "5.obj");
+        assert_eq!(s.recent.iter().filter(|p| *p == "5.obj").count(), 1);
+    }
+}

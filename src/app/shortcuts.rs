@@ -1,0 +1,261 @@
+//! Keyboard shortcuts: one table ([`SHORTCUTS`]) drives both the key handling and the help
+//! overlay, so the overlay can never list a key that does nothing. Keys that act while held
+//! (flip to B or to the reference) and the lens nudges are listed in the same overlay.
+
+use egui::{Key, KeyboardShortcut, Modifiers};
+
+use super::settings::Layout;
+
+/// Something a shortcut does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Action {
+    /// Switch the n-th technique of the panel (0-based) on or off.
+    ToggleTechnique(usize),
+    /// Pause or resume time.
+    PlayPause,
+    /// Advance one frame (while paused).
+    Step,
+    /// Auto-rotation on or off.
+    AutoRotate,
+    /// Back to the scene's camera.
+    ResetView,
+    /// Save the camera as a bookmark.
+    AddBookmark,
+    /// Go to bookmark n (0-based).
+    GoToBookmark(usize),
+    /// Switch layout.
+    Layout(Layout),
+    /// Magnifier zoom in.
+    ZoomIn,
+    /// Magnifier zoom out.
+    ZoomOut,
+    /// Pixel grid in the magnifier.
+    PixelGrid,
+    /// Difference mode in the magnifier.
+    Difference,
+    /// Export everything.
+    Export,
+    /// Copy the magnifier sheet to the clipboard.
+    CopySheet,
+    /// Open an OBJ file.
+    Open,
+    /// Hide or show the side panels.
+    TogglePanels,
+    /// Show or hide this help.
+    Help,
+}
+
+/// A key, its modifiers, what it does and how the help names it.
+pub struct Shortcut {
+    /// The key combination.
+    pub shortcut: KeyboardShortcut,
+    /// The action.
+    pub action: Action,
+    /// Help text.
+    pub help: &'static str,
+}
+
+const fn plain(key: Key, action: Action, help: &'static str) -> Shortcut {
+    Shortcut {
+        shortcut: KeyboardShortcut::new(Modifiers::NONE, key),
+        action,
+        help,
+    }
+}
+
+const fn command(key: Key, action: Action, help: &'static str) -> Shortcut {
+    Shortcut {
+        shortcut: KeyboardShortcut::new(Modifiers::COMMAND, key),
+        action,
+        help,
+    }
+}
+
+const NUMBER_KEYS: [Key; 9] = [
+    Key::Num1,
+    Key::Num2,
+    Key::Num3,
+    Key::Num4,
+    Key::Num5,
+    Key::Num6,
+    Key::Num7,
+    Key::Num8,
+    Key::Num9,
+];
+
+const BOOKMARK_KEYS: [Key; 4] = [Key::F5, Key::F6, Key::F7, Key::F8];
+
+/// Every single-press shortcut except the number and bookmark keys, which
+/// [`pressed_actions`] handles from [`NUMBER_KEYS`] and [`BOOKMARK_KEYS`].
+pub const SHORTCUTS: &[Shortcut] = &[
+    plain(Key::Space, Action::PlayPause, "Pause / resume time"),
+    plain(Key::Period, Action::Step, "Step one frame"),
+    plain(
+        Key::A,
+        Action::AutoRotate,
+        "Auto-rotate (the thesis' camera path) on / off",
+    ),
+    plain(Key::Home, Action::ResetView, "Reset the view"),
+    command(Key::D, Action::AddBookmark, "Bookmark the camera"),
+    plain(Key::S, Action::Layout(Layout::Single), "Single view"),
+    plain(Key::W, Action::Layout(Layout::Wipe), "Wipe between A and B"),
+    plain(Key::F, Action::Layout(Layout::Flip), "A/B flip"),
+    plain(Key::G, Action::Layout(Layout::Grid), "2x2 grid"),
+    plain(Key::CloseBracket, Action::ZoomIn, "Magnifier zoom in"),
+    plain(Key::OpenBracket, Action::ZoomOut, "Magnifier zoom out"),
+    plain(Key::P, Action::PixelGrid, "Magnifier pixel grid"),
+    plain(
+        Key::D,
+        Action::Difference,
+        "Magnifier difference mode (error against the reference)",
+    ),
+    plain(
+        Key::F12,
+        Action::Export,
+        "Export frames, magnifier sheet and sidecar",
+    ),
+    Shortcut {
+        shortcut: KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::C),
+        action: Action::CopySheet,
+        help: "Copy the magnifier sheet to the clipboard",
+    },
+    command(Key::O, Action::Open, "Open an OBJ file"),
+    plain(
+        Key::Tab,
+        Action::TogglePanels,
+        "Hide / show the side panels",
+    ),
+    plain(Key::F1, Action::Help, "This help"),
+    plain(Key::Questionmark, Action::Help, "This help"),
+];
+
+/// Keys that act while held or that the table above does not list, for the help overlay.
+pub const OTHER_KEYS: &[(&str, &str)] = &[
+    ("1 … 9", "Switch the n-th technique of the panel on / off"),
+    ("F5 … F8", "Go to camera bookmark 1 … 4"),
+    ("hold B", "A/B flip: show technique B"),
+    ("hold R", "A/B flip: show the reference"),
+    ("arrows", "Move the magnifier lens one pixel (Shift: ten)"),
+    ("drag", "Orbit (on the lens: move the lens)"),
+    ("right / middle drag", "Pan"),
+    ("wheel", "Zoom the camera"),
+    ("Ctrl + click", "Put the lens here"),
+    ("Esc", "Close this help"),
+];
+
+/// The actions whose keys were pressed this frame (consumed, so egui widgets do not see them).
+/// Nothing is consumed while a text field has keyboard focus.
+pub fn pressed_actions(ctx: &egui::Context) -> Vec<Action> {
+    if ctx.egui_wants_keyboard_input() {
+        return Vec::new();
+    }
+    ctx.input_mut(|input| {
+        let mut actions = Vec::new();
+        // Longer modifier combinations first, so Ctrl+Shift+C is not taken for Ctrl+C.
+        let mut table: Vec<&Shortcut> = SHORTCUTS.iter().collect();
+        table.sort_by_key(|s| std::cmp::Reverse(modifier_count(s.shortcut.modifiers)));
+        for entry in table {
+            if input.consume_shortcut(&entry.shortcut) {
+                actions.push(entry.action);
+            }
+        }
+        for (n, key) in NUMBER_KEYS.iter().enumerate() {
+            if input.consume_key(Modifiers::NONE, *key) {
+                actions.push(Action::ToggleTechnique(n));
+            }
+        }
+        for (n, key) in BOOKMARK_KEYS.iter().enumerate() {
+            if input.consume_key(Modifiers::NONE, *key) {
+                actions.push(Action::GoToBookmark(n));
+            }
+        }
+        actions
+    })
+}
+
+fn modifier_count(m: Modifiers) -> u8 {
+    u8::from(m.alt)
+        + u8::from(m.ctrl)
+        + u8::from(m.shift)
+        + u8::from(m.mac_cmd)
+        + u8::from(m.command)
+}
+
+/// How a shortcut is written in menus and the help.
+pub fn label(ctx: &egui::Context, action: Action) -> Option<String> {
+    SHORTCUTS
+        .iter()
+        .find(|s| s.action == action)
+        .map(|s| ctx.format_shortcut(&s.shortcut))
+}
+
+/// The help overlay (a modal listing every key), while `open` is set.
+pub fn help_overlay(ctx: &egui::Context, open: &mut bool) {
+    if !*open {
+        return;
+    }
+    let modal = egui::Modal::new(egui::Id::unique("aa-lab help")).show(ctx, |ui| {
+        ui.set_width(560.0);
+        ui.heading("Keyboard and mouse");
+        ui.add_space(6.0);
+        egui::Grid::new("shortcut table")
+            .num_columns(2)
+            .spacing([24.0, 4.0])
+            .striped(true)
+            .show(ui, |ui| {
+                let mut seen = Vec::new();
+                for s in SHORTCUTS {
+                    if seen.contains(&s.action) {
+                        continue;
+                    }
+                    seen.push(s.action);
+                    let keys: Vec<String> = SHORTCUTS
+                        .iter()
+                        .filter(|o| o.action == s.action)
+                        .map(|o| ctx.format_shortcut(&o.shortcut))
+                        .collect();
+                    ui.monospace(keys.join("  or  "));
+                    ui.label(s.help);
+                    ui.end_row();
+                }
+                for (keys, help) in OTHER_KEYS {
+                    ui.monospace(*keys);
+                    ui.label(*help);
+                    ui.end_row();
+                }
+            });
+        ui.add_space(8.0);
+        ui.horizontal(|ui| {
+            ui.weak("Every number in the metrics panel explains itself in a tooltip.");
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                ui.button("Close").clicked()
+            })
+            .inner
+        })
+        .inner
+    });
+    if modal.inner || modal.should_close() {
+        *open = false;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_two_shortcuts_share_a_key_combination() {
+        for (i, a) in SHORTCUTS.iter().enumerate() {
+            for b in &SHORTCUTS[i + 1..] {
+                assert!(
+                    a.shortcut != b.shortcut,
+                    "{:?} and {:?} share a key",
+                    a.action,
+                    b.action
+                );
+            }
+            assert!(!NUMBER_KEYS.contains(&a.shortcut.logical_key));
+            assert!(!BOOKMARK_KEYS.contains(&a.shortcut.logical_key));
+        }
+    }
+}

@@ -1,0 +1,145 @@
+//! The viewer's look: a dark theme tuned for judging images (neutral greys that do not tint
+//! what is next to them, one accent colour), the colours that identify compared techniques A
+//! to D and the reference everywhere they appear (tile labels, magnifier panes, plot lines),
+//! and small shared widgets and number formats.
+
+use egui::{Color32, CornerRadius, FontId, RichText, Stroke};
+
+/// Accent colour (selection, active buttons).
+pub const ACCENT: Color32 = Color32::from_rgb(0x4a, 0x9e, 0xff);
+/// Colours of compared techniques A, B, C, D.
+pub const SLOT_COLORS: [Color32; 4] = [
+    Color32::from_rgb(0xff, 0xa6, 0x2b),
+    Color32::from_rgb(0x3d, 0xd6, 0xd0),
+    Color32::from_rgb(0x9b, 0xe5, 0x64),
+    Color32::from_rgb(0xe0, 0x7b, 0xf0),
+];
+/// Colour of the reference.
+pub const REFERENCE_COLOR: Color32 = Color32::from_rgb(0xe8, 0xe8, 0xe8);
+/// Letters of compared techniques.
+pub const SLOT_LETTERS: [&str; 4] = ["A", "B", "C", "D"];
+/// Background behind images (neutral, darker than the panels).
+pub const VIEWPORT_BG: Color32 = Color32::from_gray(18);
+/// Text that warns (stale figures, unavailable techniques).
+pub const WARN: Color32 = Color32::from_rgb(0xf0, 0xb4, 0x3c);
+/// Text of errors.
+pub const ERROR: Color32 = Color32::from_rgb(0xff, 0x6b, 0x5e);
+
+/// Applies the theme to every style of the context.
+pub fn apply(ctx: &egui::Context) {
+    ctx.set_theme(egui::Theme::Dark);
+    ctx.all_styles_mut(|style| {
+        let v = &mut style.visuals;
+        v.panel_fill = Color32::from_gray(30);
+        v.window_fill = Color32::from_gray(34);
+        v.extreme_bg_color = Color32::from_gray(20);
+        v.faint_bg_color = Color32::from_gray(36);
+        v.selection.bg_fill = ACCENT.gamma_multiply(0.55);
+        v.selection.stroke = Stroke::new(1.0, ACCENT);
+        v.hyperlink_color = ACCENT;
+        v.warn_fg_color = WARN;
+        v.error_fg_color = ERROR;
+        v.window_corner_radius = CornerRadius::same(6);
+        v.menu_corner_radius = CornerRadius::same(4);
+        v.widgets.noninteractive.bg_stroke = Stroke::new(1.0, Color32::from_gray(46));
+        v.widgets.inactive.corner_radius = CornerRadius::same(3);
+        v.widgets.hovered.corner_radius = CornerRadius::same(3);
+        v.widgets.active.corner_radius = CornerRadius::same(3);
+        v.slider_trailing_fill = true;
+        v.striped = true;
+        let s = &mut style.spacing;
+        s.item_spacing = egui::vec2(6.0, 5.0);
+        s.button_padding = egui::vec2(7.0, 3.0);
+        s.slider_width = 120.0;
+        s.combo_width = 120.0;
+        style.interaction.tooltip_delay = 0.35;
+    });
+}
+
+/// A small caps-like section title.
+pub fn section(ui: &mut egui::Ui, title: &str) {
+    ui.add_space(4.0);
+    ui.label(
+        RichText::new(title.to_uppercase())
+            .size(11.0)
+            .strong()
+            .color(ui.visuals().weak_text_color()),
+    );
+}
+
+/// A coloured letter badge (A, B, C, D, R) as text.
+pub fn badge(letter: &str, color: Color32) -> RichText {
+    RichText::new(format!(" {letter} "))
+        .font(FontId::monospace(11.0))
+        .strong()
+        .color(Color32::BLACK)
+        .background_color(color)
+}
+
+/// Paints a label chip (coloured letter, then text) with its top-left corner at `at`, over a
+/// dark translucent backing so it reads on any image; returns its rectangle.
+pub fn chip(
+    painter: &egui::Painter,
+    at: egui::Pos2,
+    letter: &str,
+    color: Color32,
+    text: &str,
+) -> egui::Rect {
+    let font = FontId::proportional(12.5);
+    let letter_galley =
+        painter.layout_no_wrap(letter.to_owned(), FontId::monospace(12.0), Color32::BLACK);
+    let text_galley = painter.layout_no_wrap(text.to_owned(), font, Color32::from_gray(235));
+    let pad = egui::vec2(6.0, 3.0);
+    let letter_w = letter_galley.size().x + 8.0;
+    let height = text_galley.size().y.max(letter_galley.size().y) + 2.0 * pad.y;
+    let rect = egui::Rect::from_min_size(
+        at,
+        egui::vec2(letter_w + text_galley.size().x + 2.0 * pad.x, height),
+    );
+    painter.rect_filled(rect, CornerRadius::same(3), Color32::from_black_alpha(170));
+    let letter_rect = egui::Rect::from_min_size(at, egui::vec2(letter_w, height));
+    painter.rect_filled(letter_rect, CornerRadius::same(3), color);
+    painter.galley(
+        letter_rect.center() - letter_galley.size() * 0.5,
+        letter_galley,
+        Color32::BLACK,
+    );
+    painter.galley(
+        egui::pos2(
+            letter_rect.max.x + pad.x,
+            rect.center().y - text_galley.size().y * 0.5,
+        ),
+        text_galley,
+        Color32::from_gray(235),
+    );
+    rect
+}
+
+/// Milliseconds with a precision that suits the size.
+pub fn ms(value: f64) -> String {
+    if value >= 100.0 {
+        format!("{value:.0} ms")
+    } else if value >= 10.0 {
+        format!("{value:.1} ms")
+    } else {
+        format!("{value:.2} ms")
+    }
+}
+
+/// Bytes as MiB.
+pub fn mib(bytes: u64) -> String {
+    format!("{:.1} MiB", bytes as f64 / (1024.0 * 1024.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn number_formats() {
+        assert_eq!(ms(0.1234), "0.12 ms");
+        assert_eq!(ms(12.34), "12.3 ms");
+        assert_eq!(ms(1234.0), "1234 ms");
+        assert_eq!(mib(3 * 1024 * 1024 / 2), "1.5 MiB");
+    }
+}

@@ -1,0 +1,597 @@
+//! The central viewport: the compared techniques' images at exactly 1:1 physical pixels in
+//! the four layouts (single, wipe, A/B flip, 2x2 grid), the magnifier lens drawn over them,
+//! and the mouse: orbit, pan and zoom the camera, drag the lens or the wipe divider.
+//!
+//! Images are drawn with nearest sampling at integer physical-pixel positions and their own
+//! size, never scaled: in "fit" mode the render size is the tile's physical
+//! size, so each image fills its tile exactly; with a fixed resolution the image is centred
+//! and cropped. The render size decided here is used by the next frame's render; while it
+//! differs from the displayed image (a resize in progress) frames keep coming.
+
+use egui::{Color32, CursorIcon, Pos2, Rect, Sense, Stroke, StrokeKind, Vec2, pos2, vec2};
+
+use super::app::AaLabApp;
+use super::engine::Published;
+use super::magnifier::lens_region;
+use super::settings::{Layout, Resolution};
+use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, SLOT_LETTERS, VIEWPORT_BG};
+
+/// Gap between grid tiles, in points.
+const GRID_GAP: f32 = 2.0;
+/// How close (points) the pointer must be to grab the wipe divider.
+const DIVIDER_GRAB: f32 = 6.0;
+
+/// What a drag started on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Drag {
+    /// Orbit or pan the camera.
+    Camera,
+    /// Move the lens; the offset from the lens centre to the pointer in frame pixels.
+    Lens(Vec2),
+    /// Move the wipe divider.
+    Wipe,
+}
+
+/// Viewport state kept between frames.
+#[derive(Debug, Default)]
+pub struct ViewportState {
+    /// The size the techniques render at, from the last layout.
+    pub render_size: (u32, u32),
+    /// The size changed in the last layout (the next frame renders at the new size).
+    pub resized: bool,
+    /// The frame pixel under the pointer.
+    pub hover_pixel: Option<(u32, u32)>,
+    /// Where the first tile's image was drawn (screen points), clipped to its tile.
+    pub image_rect: Option<Rect>,
+    drag: Option<Drag>,
+}
+
+/// Which image a tile shows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Shown {
+    /// A compared technique: its slot (0 = A) and id.
+    Technique(usize, &'static str),
+    /// The reference.
+    Reference,
+}
+
+/// A tile of the viewport and where frame pixel (0, 0) lands in it.
+#[derive(Clone, Copy, Debug)]
+struct Tile {
+    rect: Rect,
+    origin: Pos2,
+}
+
+impl Tile {
+    fn to_screen(self, ppp: f32, frame: Vec2) -> Pos2 {
+        self.origin + frame / ppp
+    }
+
+    fn to_frame(self, ppp: f32, screen: Pos2) -> Vec2 {
+        (screen - self.origin) * ppp
+    }
+}
+
+/// Snaps a point to the physical pixel grid.
+fn snap(p: Pos2, ppp: f32) -> Pos2 {
+    pos2((p.x * ppp).round() / ppp, (p.y * ppp).round() / ppp)
+}
+
+/// Physical pixel size of a rectangle (whole pixels inside it).
+fn physical_size(rect: Rect, ppp: f32) -> (u32, u32) {
+    (
+        (rect.width() * ppp).floor().max(0.0) as u32,
+        (rect.height() * ppp).floor().max(0.0) as u32,
+    )
+}
+
+/// Tile rectangles of a layout inside the viewport rectangle.
+fn tile_rects(layout: Layout, rect: Rect, ppp: f32) -> Vec<Rect> {
+    match layout {
+        Layout::Grid => {
+            let half = vec2(
+                ((rect.width() - GRID_GAP) * 0.5 * ppp).floor() / ppp,
+                ((rect.height() - GRID_GAP) * 0.5 * ppp).floor() / ppp,
+            );
+            let min = snap(rect.min, ppp);
+            [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
+                .iter()
+                .map(|(x, y)| {
+                    Rect::from_min_size(
+                        snap(
+                            min + vec2(x * (half.x + GRID_GAP), y * (half.y + GRID_GAP)),
+                            ppp,
+                        ),
+                        half,
+                    )
+                })
+                .collect()
+        }
+        _ => vec![Rect::from_min_size(snap(rect.min, ppp), rect.size())],
+    }
+}
+
+impl AaLabApp {
+    /// The central panel. See the module docs.
+    pub(super) fn viewport_panel(&mut self, ui: &mut egui::Ui) {
+        let frame = egui::Frame::NONE.fill(VIEWPORT_BG);
+        egui::CentralPanel::default().frame(frame).show(ui, |ui| {
+            let rect = ui.max_rect();
+            let ppp = ui.ctx().pixels_per_point();
+            let tiles_rects = tile_rects(self.settings.layout, rect, ppp);
+            let wanted = match self.settings.resolution {
+                Resolution::FitViewport => physical_size(tiles_rects[0], ppp),
+                Resolution::Fixed(w, h) => (w, h),
+            };
+            self.viewport.resized = wanted != self.viewport.render_size;
+            self.viewport.render_size = wanted;
+            let response = ui.interact(
+                rect,
+                ui.scope_id().with("viewport"),
+                Sense::click_and_drag(),
+            );
+            if self.engine.is_none() {
+                self.empty_state(ui, rect, true);
+                return;
+            }
+            let compared = self.compared();
+            if compared.is_empty() {
+                self.empty_state(ui, rect, false);
+                return;
+            }
+            let shown = self.shown(&compared, ui.ctx());
+            let mut tiles = Vec::new();
+            self.viewport.image_rect = None;
+            for (i, tile_rect) in tiles_rects.iter().enumerate() {
+                let what = match self.settings.layout {
+                    Layout::Grid => compared.get(i).map(|id| Shown::Technique(i, id)),
+                    _ => shown.first().copied(),
+                };
+                let image = what.and_then(|w| self.shown_image(w));
+                let size = image.map_or(self.viewport.render_size, Published::size);
+                let size_points = vec2(size.0 as f32, size.1 as f32) / ppp;
+                // Centred; an image larger than its tile (fixed resolution) is cropped evenly.
+                let origin = snap(tile_rect.min + (tile_rect.size() - size_points) * 0.5, ppp);
+                let tile = Tile {
+                    rect: *tile_rect,
+                    origin,
+                };
+                let drawn = image.is_some();
+                tiles.push(tile);
+                let painter = ui.painter().with_clip_rect(*tile_rect);
+                if self.settings.layout == Layout::Wipe && shown.len() == 2 {
+                    self.paint_wipe(&painter, &tile, size_points, &shown, ppp);
+                } else if let (Some(what), Some(image)) = (what, image) {
+                    painter.image(
+                        image.id(),
+                        Rect::from_min_size(origin, size_points),
+                        Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
+                        Color32::WHITE,
+                    );
+                    self.tile_label(&painter, tile_rect.min + vec2(8.0, 8.0), what);
+                } else {
+                    painter.text(
+                        tile_rect.center(),
+                        egui::Align2::CENTER_CENTER,
+                        "rendering…",
+                        egui::FontId::proportional(14.0),
+                        ui.visuals().weak_text_color(),
+                    );
+                }
+                if self.settings.show_magnifier {
+                    self.paint_lens(&painter, &tile, ppp);
+                }
+                if i == 0 && drawn {
+                    self.viewport.image_rect =
+                        Some(Rect::from_min_size(origin, size_points).intersect(*tile_rect));
+                }
+            }
+            self.viewport_input(ui, &response, &tiles, ppp);
+            self.hovered_files_overlay(ui, rect);
+        });
+    }
+
+    /// What the single, wipe and flip layouts show (first entry) and the wipe's right side.
+    fn shown(&self, compared: &[&'static str], ctx: &egui::Context) -> Vec<Shown> {
+        let a = Shown::Technique(0, compared[0]);
+        let b = compared.get(1).map(|id| Shown::Technique(1, id));
+        match self.settings.layout {
+            Layout::Single | Layout::Grid => vec![a],
+            Layout::Wipe => std::iter::once(a).chain(b).collect(),
+            Layout::Flip => {
+                let (hold_b, hold_r) =
+                    ctx.input(|i| (i.key_down(egui::Key::B), i.key_down(egui::Key::R)));
+                let typing = ctx.egui_wants_keyboard_input();
+                if hold_r
+                    && !typing
+                    && self
+                        .engine
+                        .as_ref()
+                        .is_some_and(|e| e.reference().is_some())
+                {
+                    vec![Shown::Reference]
+                } else if hold_b && !typing {
+                    vec![b.unwrap_or(a)]
+                } else {
+                    vec![a]
+                }
+            }
+        }
+    }
+
+    fn shown_image(&self, shown: Shown) -> Option<&Published> {
+        let engine = self.engine.as_ref()?;
+        match shown {
+            Shown::Technique(_, id) => engine.image(id),
+            Shown::Reference => engine.reference().map(|(image, _)| image),
+        }
+    }
+
+    /// The label text of what a tile shows.
+    pub(super) fn shown_label(&self, id: &str) -> String {
+        let Some(entry) = self.engine.as_ref().and_then(|e| e.entry(id)) else {
+            return id.to_owned();
+        };
+        match &entry.debug_view {
+            Some(view) => format!("{} · {view}", entry.name),
+            None => entry.name.to_owned(),
+        }
+    }
+
+    fn tile_label(&self, painter: &egui::Painter, at: Pos2, shown: Shown) -> Rect {
+        match shown {
+            Shown::Technique(slot, id) => style::chip(
+                painter,
+                at,
+                SLOT_LETTERS[slot],
+                SLOT_COLORS[slot],
+                &self.shown_label(id),
+            ),
+            Shown::Reference => {
+                let text = match self.engine.as_ref().and_then(|e| e.reference()) {
+                    Some((_, p)) => format!("Reference · {}/{} spp", p.samples, p.total),
+                    None => "Reference".to_owned(),
+                };
+                style::chip(painter, at, "R", REFERENCE_COLOR, &text)
+            }
+        }
+    }
+
+    fn paint_wipe(
+        &self,
+        painter: &egui::Painter,
+        tile: &Tile,
+        size_points: Vec2,
+        shown: &[Shown],
+        ppp: f32,
+    ) {
+        let image_rect = Rect::from_min_size(tile.origin, size_points);
+        let visible = image_rect.intersect(tile.rect);
+        let x = snap(
+            pos2(visible.left() + visible.width() * self.settings.wipe, 0.0),
+            ppp,
+        )
+        .x;
+        let uv = Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0));
+        for (side, what) in shown.iter().enumerate() {
+            let Some(image) = self.shown_image(*what) else {
+                continue;
+            };
+            let clip = if side == 0 {
+                Rect::from_min_max(tile.rect.min, pos2(x, tile.rect.max.y))
+            } else {
+                Rect::from_min_max(pos2(x, tile.rect.min.y), tile.rect.max)
+            };
+            painter.with_clip_rect(clip.intersect(tile.rect)).image(
+                image.id(),
+                image_rect,
+                uv,
+                Color32::WHITE,
+            );
+        }
+        let top = pos2(x, visible.top());
+        let bottom = pos2(x, visible.bottom());
+        painter.line_segment(
+            [top, bottom],
+            Stroke::new(1.0, Color32::from_white_alpha(200)),
+        );
+        let handle = pos2(x, visible.center().y);
+        painter.circle_filled(handle, 11.0, Color32::from_black_alpha(190));
+        painter.circle_stroke(
+            handle,
+            11.0,
+            Stroke::new(1.0, Color32::from_white_alpha(200)),
+        );
+        for dir in [-1.0f32, 1.0] {
+            let tip = handle + vec2(dir * 7.0, 0.0);
+            let base = handle + vec2(dir * 2.0, 0.0);
+            painter.add(egui::Shape::convex_polygon(
+                vec![tip, base + vec2(0.0, -4.0), base + vec2(0.0, 4.0)],
+                Color32::WHITE,
+                Stroke::NONE,
+            ));
+        }
+        self.tile_label(painter, tile.rect.min + vec2(8.0, 8.0), shown[0]);
+        let label_width = 8.0
+            + painter
+                .layout_no_wrap(
+                    self.shown_label(match shown[1] {
+                        Shown::Technique(_, id) => id,
+                        Shown::Reference => "reference",
+                    }),
+                    egui::FontId::proportional(12.5),
+                    Color32::WHITE,
+                )
+                .size()
+                .x
+            + 40.0;
+        self.tile_label(
+            painter,
+            pos2(tile.rect.max.x - label_width, tile.rect.min.y + 8.0),
+            shown[1],
+        );
+    }
+
+    /// The lens outline over a tile.
+    fn paint_lens(&self, painter: &egui::Painter, tile: &Tile, ppp: f32) {
+        let Some(region) = lens_region(
+            &self.settings.magnifier,
+            self.magnifier.lens_side,
+            self.viewport.render_size,
+        ) else {
+            return;
+        };
+        let min = tile.to_screen(ppp, vec2(region.x as f32, region.y as f32));
+        let max = tile.to_screen(
+            ppp,
+            vec2(
+                (region.x + region.width) as f32,
+                (region.y + region.height) as f32,
+            ),
+        );
+        let rect = Rect::from_min_max(min, max);
+        painter.rect_stroke(
+            rect,
+            0.0,
+            Stroke::new(1.0, Color32::BLACK),
+            StrokeKind::Outside,
+        );
+        painter.rect_stroke(
+            rect.expand(1.0),
+            0.0,
+            Stroke::new(1.0, Color32::WHITE),
+            StrokeKind::Outside,
+        );
+        painter.text(
+            pos2(rect.min.x, rect.min.y - 4.0),
+            egui::Align2::LEFT_BOTTOM,
+            format!("×{}", self.settings.magnifier.zoom),
+            egui::FontId::monospace(10.0),
+            Color32::WHITE,
+        );
+    }
+
+    fn empty_state(&self, ui: &egui::Ui, rect: Rect, loading: bool) {
+        let text = if loading {
+            match self.loader.loading() {
+                Some(spec) => format!("Loading {spec}…"),
+                None => "No scene loaded: open one from the File menu".to_owned(),
+            }
+        } else {
+            "No technique is on: switch one on in the left panel (keys 1 … 9)".to_owned()
+        };
+        ui.painter().text(
+            rect.center(),
+            egui::Align2::CENTER_CENTER,
+            text,
+            egui::FontId::proportional(16.0),
+            ui.visuals().weak_text_color(),
+        );
+    }
+
+    fn hovered_files_overlay(&self, ui: &egui::Ui, rect: Rect) {
+        let hovering = ui.ctx().input(|i| !i.raw.hovered_files.is_empty());
+        if hovering {
+            let painter = ui.painter();
+            painter.rect_filled(rect, 0.0, Color32::from_black_alpha(160));
+            painter.text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                "Drop an OBJ file to open it",
+                egui::FontId::proportional(22.0),
+                Color32::WHITE,
+            );
+        }
+    }
+
+    /// Mouse and arrow keys over the viewport.
+    fn viewport_input(
+        &mut self,
+        ui: &egui::Ui,
+        response: &egui::Response,
+        tiles: &[Tile],
+        ppp: f32,
+    ) {
+        let ctx = ui.ctx().clone();
+        let pointer = response.hover_pos().or(response.interact_pointer_pos());
+        let tile = pointer.and_then(|p| tiles.iter().find(|t| t.rect.contains(p)).copied());
+        let size = self.viewport.render_size;
+        let frame_at = |t: &Tile, p: Pos2| t.to_frame(ppp, p);
+        self.viewport.hover_pixel = match (tile, response.hover_pos()) {
+            (Some(t), Some(p)) => {
+                let f = frame_at(&t, p);
+                (f.x >= 0.0 && f.y >= 0.0 && (f.x as u32) < size.0 && (f.y as u32) < size.1)
+                    .then_some((f.x as u32, f.y as u32))
+            }
+            _ => None,
+        };
+        let lens = lens_region(&self.settings.magnifier, self.magnifier.lens_side, size);
+        let over_lens = |f: Vec2| {
+            lens.is_some_and(|r| {
+                f.x >= r.x as f32
+                    && f.y >= r.y as f32
+                    && f.x < (r.x + r.width) as f32
+                    && f.y < (r.y + r.height) as f32
+            })
+        };
+        let divider_x = tiles.first().map(|t| {
+            let visible = Rect::from_min_size(t.origin, vec2(size.0 as f32, size.1 as f32) / ppp)
+                .intersect(t.rect);
+            visible.left() + visible.width() * self.settings.wipe
+        });
+        let near_divider = |p: Pos2| {
+            self.settings.layout == Layout::Wipe
+                && divider_x.is_some_and(|x| (p.x - x).abs() <= DIVIDER_GRAB)
+        };
+
+        // Cursor shape while hovering.
+        if let (Some(t), Some(p)) = (tile, response.hover_pos())
+            && self.viewport.drag.is_none()
+        {
+            if near_divider(p) {
+                ctx.set_cursor_icon(CursorIcon::ResizeHorizontal);
+            } else if self.settings.show_magnifier && over_lens(frame_at(&t, p)) {
+                ctx.set_cursor_icon(CursorIcon::Grab);
+            }
+        }
+
+        // Ctrl+click puts the lens under the pointer.
+        if response.clicked()
+            && ctx.input(|i| i.modifiers.command)
+            && let (Some(t), Some(p)) = (tile, pointer)
+        {
+            let f = frame_at(&t, p);
+            self.settings.magnifier.center = Some([f.x, f.y]);
+        }
+
+        // Where the button went down: a drag starts only after a few pixels of movement.
+        let origin = ctx.input(|i| i.pointer.press_origin()).or(pointer);
+        let origin_tile = origin.and_then(|p| tiles.iter().find(|t| t.rect.contains(p)).copied());
+        if response.drag_started()
+            && let (Some(t), Some(p)) = (origin_tile, origin)
+        {
+            let f = frame_at(&t, p);
+            self.viewport.drag = Some(if near_divider(p) {
+                Drag::Wipe
+            } else if self.settings.show_magnifier
+                && response.dragged_by(egui::PointerButton::Primary)
+                && over_lens(f)
+            {
+                let center = lens.map_or(f, |r| {
+                    vec2(
+                        r.x as f32 + r.width as f32 * 0.5,
+                        r.y as f32 + r.height as f32 * 0.5,
+                    )
+                });
+                Drag::Lens(f - center)
+            } else {
+                Drag::Camera
+            });
+        }
+        if response.dragged() {
+            let delta = response.drag_delta();
+            match (self.viewport.drag, tile, pointer) {
+                (Some(Drag::Wipe), Some(t), Some(p)) => {
+                    let visible =
+                        Rect::from_min_size(t.origin, vec2(size.0 as f32, size.1 as f32) / ppp)
+                            .intersect(t.rect);
+                    if visible.width() > 0.0 {
+                        self.settings.wipe =
+                            ((p.x - visible.left()) / visible.width()).clamp(0.0, 1.0);
+                    }
+                    ctx.set_cursor_icon(CursorIcon::ResizeHorizontal);
+                }
+                (Some(Drag::Lens(offset)), Some(t), Some(p)) => {
+                    let f = frame_at(&t, p) - offset;
+                    self.settings.magnifier.center = Some([f.x, f.y]);
+                    ctx.set_cursor_icon(CursorIcon::Grabbing);
+                }
+                (Some(Drag::Camera), _, _) => {
+                    if response.dragged_by(egui::PointerButton::Primary)
+                        && !ctx.input(|i| i.modifiers.shift)
+                    {
+                        self.camera.orbit(glam::Vec2::new(delta.x, delta.y));
+                    } else {
+                        let height = tiles.first().map_or(1.0, |t| t.rect.height());
+                        self.camera.pan(glam::Vec2::new(delta.x, delta.y), height);
+                    }
+                }
+                _ => {}
+            }
+        }
+        if response.drag_stopped() {
+            self.viewport.drag = None;
+        }
+        if response.hovered() {
+            let scroll = ctx.input(|i| i.smooth_scroll_delta.y);
+            if scroll != 0.0 {
+                self.camera.zoom(scroll);
+            }
+        }
+        self.nudge_lens(&ctx);
+    }
+
+    /// Arrow keys move the lens by one frame pixel (ten with Shift).
+    fn nudge_lens(&mut self, ctx: &egui::Context) {
+        if ctx.egui_wants_keyboard_input() || !self.settings.show_magnifier {
+            return;
+        }
+        let (dx, dy, shift) = ctx.input(|i| {
+            let d = |neg: egui::Key, pos: egui::Key| {
+                f32::from(u8::from(i.key_pressed(pos))) - f32::from(u8::from(i.key_pressed(neg)))
+            };
+            (
+                d(egui::Key::ArrowLeft, egui::Key::ArrowRight),
+                d(egui::Key::ArrowUp, egui::Key::ArrowDown),
+                i.modifiers.shift,
+            )
+        });
+        if dx == 0.0 && dy == 0.0 {
+            return;
+        }
+        let step = if shift { 10.0 } else { 1.0 };
+        if let Some(region) = lens_region(
+            &self.settings.magnifier,
+            self.magnifier.lens_side,
+            self.viewport.render_size,
+        ) {
+            let cx = region.x as f32 + region.width as f32 * 0.5 + dx * step;
+            let cy = region.y as f32 + region.height as f32 * 0.5 + dy * step;
+            self.settings.magnifier.center = Some([cx, cy]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_tiles_are_pixel_aligned_and_disjoint() {
+        let rect = Rect::from_min_size(pos2(10.3, 20.7), vec2(801.0, 451.0));
+        for ppp in [1.0, 1.25, 2.0] {
+            let tiles = tile_rects(Layout::Grid, rect, ppp);
+            assert_eq!(tiles.len(), 4);
+            for t in &tiles {
+                let px = t.min * ppp;
+                assert!((px.x - px.x.round()).abs() < 1e-3 && (px.y - px.y.round()).abs() < 1e-3);
+                assert!(t.width() * ppp - (t.width() * ppp).round() < 1e-3);
+            }
+            assert!(tiles[0].right() < tiles[1].left());
+            assert!(tiles[0].bottom() < tiles[2].top());
+            assert_eq!(physical_size(tiles[0], ppp), physical_size(tiles[3], ppp));
+        }
+        assert_eq!(tile_rects(Layout::Single, rect, 1.0).len(), 1);
+    }
+
+    #[test]
+    fn tile_mapping_round_trips() {
+        let tile = Tile {
+            rect: Rect::from_min_size(pos2(0.0, 0.0), vec2(100.0, 100.0)),
+            origin: pos2(10.0, 5.0),
+        };
+        let p = tile.to_screen(2.0, vec2(30.0, 40.0));
+        assert_eq!(p, pos2(25.0, 25.0));
+        assert_eq!(tile.to_frame(2.0, p), vec2(30.0, 40.0));
+    }
+}

@@ -1,0 +1,343 @@
+//! UI tests of the viewer: the real [`AaLabApp`] driven headless through egui_kittest on the
+//! wgpu renderer (software Vulkan when there is no GPU), on the small built-in `chart` scene.
+//!
+//! They click and type like a user (techniques on and off, layouts, the lens, export, a
+//! malformed OBJ dropped on the window) and check the results: what the window shows is
+//! byte-for-byte each technique's output, exported PNGs equal the headless `render` of their
+//! sidecar, errors are shown and the previous scene stays. Snapshots of the main layouts live
+//! in `tests/snapshots/` (`UPDATE_SNAPSHOTS=1` rewrites them).
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use aa_lab::app::{AaLabApp, LaunchOptions, Layout};
+use aa_lab::scene::procedural::SceneOptions;
+use aa_lab::spec::{self, RenderSpec, RunOptions};
+use egui::{Event, Modifiers, PointerButton, Pos2, Rect, pos2, vec2};
+use egui_kittest::kittest::Queryable;
+use egui_kittest::{Harness, SnapshotOptions};
+
+/// Window size: side panels and magnifier leave a viewport of a few hundred pixels.
+const WINDOW: egui::Vec2 = egui::vec2(1180.0, 760.0);
+/// The longest any wait may take (software rendering of a few small frames).
+const TIMEOUT: Duration = Duration::from_secs(180);
+
+/// The viewer on `scene` with default settings, paused (frames stay put), after its first
+/// complete frame.
+fn viewer(scene: &str) -> Harness<'static, AaLabApp> {
+    let scene = scene.to_owned();
+    let mut harness = Harness::builder()
+        .with_size(WINDOW)
+        .wgpu_setup(aa_lab::app::wgpu_setup())
+        .build_eframe(move |cc| {
+            AaLabApp::new(
+                cc,
+                LaunchOptions {
+                    scene: Some(scene),
+                    fresh_settings: true,
+                },
+            )
+            .expect("the viewer starts")
+        });
+    harness.state_mut().camera_mut().playing = false;
+    wait(&mut harness, "the first frame", AaLabApp::frame_ready);
+    harness
+}
+
+/// Steps the UI until `done` holds.
+fn wait(harness: &mut Harness<'_, AaLabApp>, what: &str, done: impl Fn(&AaLabApp) -> bool) {
+    let start = Instant::now();
+    while !done(harness.state()) {
+        assert!(
+            start.elapsed() < TIMEOUT,
+            "timed out after {TIMEOUT:?} waiting for {what}; notices: {:?}",
+            harness
+                .state()
+                .notices()
+                .iter()
+                .map(|n| &n.text)
+                .collect::<Vec<_>>()
+        );
+        harness.step();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    harness.step();
+}
+
+fn click_with(harness: &Harness<'_, AaLabApp>, pos: Pos2, modifiers: Modifiers) {
+    harness.event(Event::PointerMoved(pos));
+    for pressed in [true, false] {
+        harness.event(Event::PointerButton {
+            pos,
+            button: PointerButton::Primary,
+            pressed,
+            modifiers,
+        });
+    }
+}
+
+fn drag(harness: &mut Harness<'_, AaLabApp>, from: Pos2, to: Pos2) {
+    harness.event(Event::PointerMoved(from));
+    harness.event(Event::PointerButton {
+        pos: from,
+        button: PointerButton::Primary,
+        pressed: true,
+        modifiers: Modifiers::NONE,
+    });
+    harness.step();
+    for i in 1..=4 {
+        harness.event(Event::PointerMoved(from + (to - from) * (i as f32 / 4.0)));
+        harness.step();
+    }
+    harness.event(Event::PointerButton {
+        pos: to,
+        button: PointerButton::Primary,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+    });
+    harness.step();
+}
+
+/// The lens rectangle on screen, from the magnifier settings and the drawn image.
+fn lens_center_on_screen(app: &AaLabApp) -> Pos2 {
+    let image = app.image_rect().expect("an image is drawn");
+    let [x, y] = app.settings().magnifier.center.unwrap_or([
+        app.render_size().0 as f32 * 0.5,
+        app.render_size().1 as f32 * 0.5,
+    ]);
+    image.min + vec2(x, y)
+}
+
+#[test]
+fn the_window_shows_exactly_the_technique_output() {
+    let mut harness = viewer("chart");
+    harness.state_mut().settings_mut().show_magnifier = false;
+    wait(&mut harness, "the lens to go", AaLabApp::frame_ready);
+    let screen = harness.render().expect("the UI renders");
+    let app = harness.state();
+    let a = app.compared()[0];
+    let output = app.output_pixels(a).expect("A has an output");
+    let rect = app.image_rect().expect("A is drawn");
+    assert_eq!(
+        (rect.width() as u32, rect.height() as u32),
+        output.dimensions(),
+        "the image fills its tile at 1:1"
+    );
+    // Below the label chip, every pixel on screen is the technique's pixel.
+    let mut compared = 0;
+    for y in 40..output.height() {
+        for x in 0..output.width() {
+            let on_screen = screen.get_pixel(rect.min.x as u32 + x, rect.min.y as u32 + y);
+            let produced = output.get_pixel(x, y);
+            assert_eq!(
+                on_screen.0[..3],
+                produced.0[..3],
+                "pixel ({x}, {y}) of {a} differs on screen"
+            );
+            compared += 1;
+        }
+    }
+    assert!(compared > 10_000, "only {compared} pixels compared");
+}
+
+#[test]
+fn techniques_switch_on_and_off() {
+    let mut harness = viewer("chart");
+    assert_eq!(harness.state().compared(), ["none", "fxaa", "smaa", "msaa4"]);
+    harness.get_by_label("SSAA").click();
+    harness.step();
+    assert!(harness.state().settings().enabled.iter().any(|id| id == "ssaa"));
+    // Key 1 switches the first technique of the panel (No AA) off.
+    harness.key_press(egui::Key::Num1);
+    harness.step();
+    assert!(!harness.state().settings().enabled.iter().any(|id| id == "none"));
+    assert_eq!(harness.state().compared()[0], "fxaa");
+    wait(&mut harness, "the new frame", AaLabApp::frame_ready);
+    assert!(harness.state().output_pixels("ssaa").is_some());
+    assert!(harness.state().output_pixels("none").is_none());
+}
+
+#[test]
+fn layouts_switch_from_toolbar_and_keys() {
+    let mut harness = viewer("chart");
+    for (label, layout) in [
+        ("Wipe", Layout::Wipe),
+        ("A/B flip", Layout::Flip),
+        ("2x2 grid", Layout::Grid),
+        ("Single", Layout::Single),
+    ] {
+        harness.get_by_label(label).click();
+        harness.step();
+        assert_eq!(harness.state().settings().layout, layout, "{label}");
+    }
+    harness.key_press(egui::Key::G);
+    harness.step();
+    assert_eq!(harness.state().settings().layout, Layout::Grid);
+    // The grid renders every technique at the tile size.
+    let single = harness.state().render_size();
+    wait(&mut harness, "the grid frame", AaLabApp::frame_ready);
+    let tile = harness.state().render_size();
+    assert!(tile.0 < single.0 && tile.1 < single.1, "{tile:?} vs {single:?}");
+}
+
+#[test]
+fn the_lens_follows_ctrl_click_drag_and_arrows() {
+    let mut harness = viewer("chart");
+    let image = harness.state().image_rect().expect("drawn");
+    let target = image.min + vec2(60.0, 50.0);
+    click_with(&harness, target, Modifiers::COMMAND);
+    harness.step();
+    assert_eq!(
+        harness.state().settings().magnifier.center,
+        Some([60.0, 50.0])
+    );
+    harness.key_press(egui::Key::ArrowRight);
+    harness.step();
+    let after_key = harness.state().settings().magnifier.center.expect("set");
+    let start = lens_center_on_screen(harness.state());
+    drag(&mut harness, start, start + vec2(40.0, 30.0));
+    let moved = harness.state().settings().magnifier.center.expect("set");
+    assert!(
+        (moved[0] - after_key[0] - 40.0).abs() <= 1.0 && (moved[1] - after_key[1] - 30.0).abs() <= 1.0,
+        "lens moved from {after_key:?} to {moved:?}"
+    );
+}
+
+/// Every exported PNG equals the headless render of the exported sidecar.
+#[test]
+fn export_writes_frames_sheet_and_a_sidecar_that_reproduces_them() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut harness = viewer("chart");
+    harness.state_mut().set_export_dir(dir.path().to_path_buf());
+    harness.key_press(egui::Key::F12);
+    harness.step();
+    wait(&mut harness, "the export", |app| {
+        !app.exporting() && !app.last_export().is_empty()
+    });
+    let written: Vec<PathBuf> = harness.state().last_export().to_vec();
+    let sidecar = written
+        .iter()
+        .find(|p| p.extension().is_some_and(|e| e == "json"))
+        .expect("a sidecar");
+    assert!(written.iter().any(|p| name(p).ends_with("-magnifier.png")));
+    let spec: RenderSpec =
+        serde_json::from_str(&std::fs::read_to_string(sidecar).expect("sidecar")).expect("spec");
+    assert_eq!(spec.techniques.len(), 4);
+
+    // A second export never overwrites the first.
+    harness.key_press(egui::Key::F12);
+    harness.step();
+    wait(&mut harness, "the second export", |app| {
+        !app.exporting() && app.last_export() != written.as_slice()
+    });
+    for path in harness.state().last_export() {
+        assert!(!written.contains(path), "{} was overwritten", path.display());
+    }
+
+    let gpu = aa_lab::gpu::Gpu::headless().expect("a headless adapter");
+    let scene = aa_lab::scene::source::load(
+        &spec.scene,
+        &SceneOptions {
+            density: spec.density,
+            seed: spec.seed,
+        },
+    )
+    .expect("the scene loads");
+    let headless = spec::run(&gpu, &scene, &spec, &RunOptions::default()).expect("render");
+    for image in &headless.images {
+        let path = written
+            .iter()
+            .find(|p| name(p).ends_with(&format!("-{}.png", image.id)))
+            .unwrap_or_else(|| panic!("no export of {}", image.id));
+        let exported = aa_lab::export::png::read_image(path).expect("readable PNG");
+        assert!(
+            exported == image.image,
+            "{} differs from `aa-lab render --from {}`",
+            path.display(),
+            sidecar.display()
+        );
+        assert!(
+            aa_lab::export::png::read_record(path)
+                .expect("record")
+                .is_some(),
+            "{} has no render record",
+            path.display()
+        );
+    }
+}
+
+fn name(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+#[derive(Debug)]
+struct Dropped(PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &Path {
+        &self.0
+    }
+
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+#[test]
+fn a_malformed_obj_is_reported_and_the_scene_stays() {
+    let mut harness = viewer("chart");
+    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/obj/bad_index.obj");
+    harness
+        .input_mut()
+        .dropped_files
+        .push(Arc::new(Dropped(bad)));
+    harness.step();
+    wait(&mut harness, "the load to fail", |app| !app.loading());
+    let app = harness.state();
+    assert_eq!(app.scene_name(), Some("chart"));
+    let notice = app.notices().last().expect("an error notice");
+    assert!(
+        notice.text.contains("bad_index.obj") && notice.text.contains("chart stays loaded"),
+        "{}",
+        notice.text
+    );
+    // Still alive and rendering.
+    harness.key_press(egui::Key::W);
+    wait(&mut harness, "a frame after the error", AaLabApp::frame_ready);
+    assert_eq!(harness.state().settings().layout, Layout::Wipe);
+}
+
+/// Snapshots of the main layouts, once the reference has converged so every pane is final.
+#[test]
+fn snapshots_of_the_main_layouts() {
+    let mut harness = viewer("chart");
+    harness.state_mut().settings_mut().show_metrics = false;
+    wait(&mut harness, "the reference", |app| {
+        app.frame_ready() && app.reference_samples_done() == 64
+    });
+    let options = SnapshotOptions::new().max_failed_pixels(200);
+    let status_bar = Rect::from_min_max(pos2(0.0, WINDOW.y - 26.0), WINDOW.to_pos2());
+    for (key, name) in [
+        (egui::Key::S, "viewer-single"),
+        (egui::Key::W, "viewer-wipe"),
+        (egui::Key::G, "viewer-grid"),
+    ] {
+        harness.key_press(key);
+        wait(&mut harness, name, |app| {
+            app.frame_ready() && app.reference_samples_done() == 64
+        });
+        harness.mask(status_bar);
+        harness.snapshot_options(name, &options);
+    }
+    harness.key_press(egui::Key::S);
+    harness.key_press(egui::Key::D);
+    wait(&mut harness, "difference mode", |app| {
+        app.frame_ready() && app.reference_samples_done() == 64
+    });
+    harness.step();
+    harness.mask(status_bar);
+    harness.snapshot_options("viewer-difference", &options);
+}
