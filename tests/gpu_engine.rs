@@ -105,3 +105,61 @@ fn zero_and_oversized_images_are_refused_with_the_limit_named() {
     let huge = render_none(&gpu, &scene, (limit + 1, 10), 0).expect_err("oversized refused");
     assert!(huge.to_string().contains(&limit.to_string()), "{huge}");
 }
+
+/// Renders `ids` together in one graph over frames 0..=`last` of the orbiting camera and
+/// returns each technique's final output, keyed by id.
+fn render_together(
+    gpu: &Gpu,
+    scene: &Scene,
+    ids: &[&str],
+    last: u64,
+) -> Vec<(String, image::RgbaImage)> {
+    let mut graph = FrameGraph::new(gpu.clone(), scene);
+    for id in ids {
+        let mut technique = aa::create(gpu, id).expect("technique");
+        if *id == "ssaa" {
+            aa::set_param(
+                technique.as_mut(),
+                "mode",
+                aa::ParamValue::Choice("jittered".into()),
+            )
+            .expect("ssaa mode");
+        }
+        graph.add(technique);
+    }
+    for frame in 0..=last {
+        let info = FrameInfo {
+            camera: FrameCamera::from_rig(&scene.camera, frame, (160, 90)),
+            reset_history: frame == 0,
+        };
+        graph.render(&info, FrameScope::All).expect("renders");
+    }
+    graph.finish();
+    graph
+        .slots()
+        .iter()
+        .map(|slot| {
+            let image = read_texture_rgba8(gpu, slot.output().expect("output")).expect("readback");
+            (slot.technique.id().to_string(), image)
+        })
+        .collect()
+}
+
+/// Many scene renders in one frame (16 jittered SSAA samples, two temporal inputs, MSAA) must
+/// not disturb one another: each technique's output is byte-identical to its output alone.
+/// (Guards the per-render view uniforms: overlapping slots once corrupted the motion-vector
+/// switch and texture mip bias of every scene render but the frame's last.)
+#[test]
+fn a_technique_renders_the_same_alone_and_among_others() {
+    let gpu = common::gpu();
+    let scene = source::load("atrium", &SceneOptions::default()).expect("built-in scene loads");
+    let all = ["none", "ssaa", "msaa4", "smaa-t2x", "taa"];
+    let together = render_together(&gpu, &scene, &all, 2);
+    for (id, image) in together {
+        let alone = render_together(&gpu, &scene, &[id.as_str()], 2);
+        assert!(
+            alone[0].1 == image,
+            "{id} differs when other techniques share its frame"
+        );
+    }
+}

@@ -144,14 +144,31 @@ fn the_window_shows_exactly_the_technique_output() {
 #[test]
 fn techniques_switch_on_and_off() {
     let mut harness = viewer("chart");
-    assert_eq!(harness.state().compared(), ["none", "fxaa", "smaa", "msaa4"]);
+    assert_eq!(
+        harness.state().compared(),
+        ["none", "fxaa", "smaa", "msaa4"]
+    );
     harness.get_by_label("SSAA").click();
     harness.step();
-    assert!(harness.state().settings().enabled.iter().any(|id| id == "ssaa"));
+    assert!(
+        harness
+            .state()
+            .settings()
+            .enabled
+            .iter()
+            .any(|id| id == "ssaa")
+    );
     // Key 1 switches the first technique of the panel (No AA) off.
     harness.key_press(egui::Key::Num1);
     harness.step();
-    assert!(!harness.state().settings().enabled.iter().any(|id| id == "none"));
+    assert!(
+        !harness
+            .state()
+            .settings()
+            .enabled
+            .iter()
+            .any(|id| id == "none")
+    );
     assert_eq!(harness.state().compared()[0], "fxaa");
     wait(&mut harness, "the new frame", AaLabApp::frame_ready);
     assert!(harness.state().output_pixels("ssaa").is_some());
@@ -178,7 +195,10 @@ fn layouts_switch_from_toolbar_and_keys() {
     let single = harness.state().render_size();
     wait(&mut harness, "the grid frame", AaLabApp::frame_ready);
     let tile = harness.state().render_size();
-    assert!(tile.0 < single.0 && tile.1 < single.1, "{tile:?} vs {single:?}");
+    assert!(
+        tile.0 < single.0 && tile.1 < single.1,
+        "{tile:?} vs {single:?}"
+    );
 }
 
 #[test]
@@ -199,7 +219,8 @@ fn the_lens_follows_ctrl_click_drag_and_arrows() {
     drag(&mut harness, start, start + vec2(40.0, 30.0));
     let moved = harness.state().settings().magnifier.center.expect("set");
     assert!(
-        (moved[0] - after_key[0] - 40.0).abs() <= 1.0 && (moved[1] - after_key[1] - 30.0).abs() <= 1.0,
+        (moved[0] - after_key[0] - 40.0).abs() <= 1.0
+            && (moved[1] - after_key[1] - 30.0).abs() <= 1.0,
         "lens moved from {after_key:?} to {moved:?}"
     );
 }
@@ -232,7 +253,11 @@ fn export_writes_frames_sheet_and_a_sidecar_that_reproduces_them() {
         !app.exporting() && app.last_export() != written.as_slice()
     });
     for path in harness.state().last_export() {
-        assert!(!written.contains(path), "{} was overwritten", path.display());
+        assert!(
+            !written.contains(path),
+            "{} was overwritten",
+            path.display()
+        );
     }
 
     let gpu = aa_lab::gpu::Gpu::headless().expect("a headless adapter");
@@ -306,7 +331,11 @@ fn a_malformed_obj_is_reported_and_the_scene_stays() {
     );
     // Still alive and rendering.
     harness.key_press(egui::Key::W);
-    wait(&mut harness, "a frame after the error", AaLabApp::frame_ready);
+    wait(
+        &mut harness,
+        "a frame after the error",
+        AaLabApp::frame_ready,
+    );
     assert_eq!(harness.state().settings().layout, Layout::Wipe);
 }
 

@@ -5,8 +5,8 @@
 pub mod charts;
 pub mod heatmap;
 pub mod png;
+pub mod report;
 pub mod sheet;
 pub mod text;
-pub mod report;
 
 pub use self::png::{ExportError, write_png};
