@@ -20,7 +20,7 @@ fn fixture(name: &str) -> image::RgbaImage {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/fixtures/metrics")
         .join(format!("{name}.png"));
-    image::open(&path).unwrap().to_rgba8()
+    image::open(&path).expect("fixture image").to_rgba8()
 }
 
 /// Renders `ids` (with settings) of a scene at frame 0 and reads every output back.
@@ -33,9 +33,9 @@ fn render(
 ) -> (FrameGraph, Vec<image::RgbaImage>) {
     let mut graph = FrameGraph::new(gpu.clone(), scene);
     for (id, settings) in techniques {
-        let mut technique = aa::create(gpu, id).unwrap();
+        let mut technique = aa::create(gpu, id).expect("technique");
         for (key, value) in *settings {
-            aa::set_param(technique.as_mut(), key, value.clone()).unwrap();
+            aa::set_param(technique.as_mut(), key, value.clone()).expect("setting");
         }
         graph.add(technique);
     }
@@ -44,12 +44,12 @@ fn render(
         camera: FrameCamera::from_rig(&scene.camera, 0, size),
         reset_history: true,
     };
-    graph.render(&frame, FrameScope::All).unwrap();
+    graph.render(&frame, FrameScope::All).expect("renders");
     graph.finish();
     let images = graph
         .slots()
         .iter()
-        .map(|s| read_texture_rgba8(gpu, s.output().unwrap()).unwrap())
+        .map(|s| read_texture_rgba8(gpu, s.output().expect("output")).expect("readback"))
         .collect();
     (graph, images)
 }
@@ -180,7 +180,7 @@ fn copy_floor_copies_the_shared_input_exactly() {
         reset_history: true,
     };
     for _ in 0..2 {
-        graph.render(&frame, FrameScope::All).unwrap();
+        graph.render(&frame, FrameScope::All).expect("renders");
     }
     graph.finish();
     assert_eq!(
