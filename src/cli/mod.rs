@@ -1,4 +1,5 @@
-//! The command line: `aa-lab` opens the viewer; `render`, `compare`, `bench`, `info` and
+//! The command line: `aa-lab` opens the viewer (without a display it renders every technique
+//! headless instead); `render`, `compare`, `bench`, `info` and
 //! `techniques` run headless on the same engine. Parsing is clap's; each subcommand lives in
 //! its own file and returns `anyhow::Result` (errors are printed once, by `main`).
 
@@ -68,9 +69,30 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Info { json }) => info::info(json),
         Some(Command::Techniques { json, verbose }) => info::techniques(json, verbose),
+        None if !crate::app::display_available() => render_headless(cli.scene),
         None => Ok(crate::app::run(crate::app::LaunchOptions {
             scene: cli.scene,
             fresh_settings: cli.default_settings,
         })?),
     }
+}
+
+/// The main job where no window can open: every technique on the scene (the default one
+/// unless `--scene` names another) rendered headless into `out/`, with GPU timings.
+fn render_headless(scene: Option<String>) -> anyhow::Result<()> {
+    eprintln!(
+        "no display (neither DISPLAY nor WAYLAND_DISPLAY is set): rendering every technique \
+         headless into out/ instead of opening the viewer (see `aa-lab render --help`)"
+    );
+    /// `aa-lab render`'s arguments parsed on their own.
+    #[derive(Parser)]
+    struct Headless {
+        #[command(flatten)]
+        render: RenderArgs,
+    }
+    let mut argv = vec!["aa-lab", "--technique", "all", "--out", "out", "--timings"];
+    if let Some(scene) = scene.as_deref() {
+        argv.extend(["--scene", scene]);
+    }
+    render::run(&Headless::try_parse_from(argv)?.render)
 }
