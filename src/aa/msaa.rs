@@ -208,22 +208,20 @@ impl Msaa {
 
 /// A debug-view texture: RGBA8 sRGB at the output size, readable back and viewable by egui.
 pub fn debug_texture(device: &wgpu::Device, label: &str, size: (u32, u32)) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: size.0,
-            height: size.1,
-            depth_or_array_layers: 1,
+    crate::gpu::texture_2d(
+        device,
+        &crate::gpu::Texture2d {
+            view_formats: &[crate::gpu::COLOR_FORMAT_ENCODED_VIEW],
+            ..crate::gpu::Texture2d::new(
+                label,
+                size,
+                COLOR_FORMAT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC,
+            )
         },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: COLOR_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[crate::gpu::COLOR_FORMAT_ENCODED_VIEW],
-    })
+    )
 }
 
 impl Technique for Msaa {

@@ -26,6 +26,61 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Screen-space motion vectors, in pixels from the previous frame to this one.
 pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
+/// How a 2D texture with one mip level is made: [`texture_2d`]'s parameters.
+#[derive(Clone, Copy, Debug)]
+pub struct Texture2d<'a> {
+    /// Debug label.
+    pub label: &'a str,
+    /// Width and height in texels.
+    pub size: (u32, u32),
+    /// Texel format.
+    pub format: wgpu::TextureFormat,
+    /// Samples per texel (1 unless multisampled).
+    pub sample_count: u32,
+    /// What the texture is used for.
+    pub usage: wgpu::TextureUsages,
+    /// Other formats views of it may take.
+    pub view_formats: &'a [wgpu::TextureFormat],
+}
+
+impl<'a> Texture2d<'a> {
+    /// A single-sample texture with no other view formats.
+    pub fn new(
+        label: &'a str,
+        size: (u32, u32),
+        format: wgpu::TextureFormat,
+        usage: wgpu::TextureUsages,
+    ) -> Self {
+        Self {
+            label,
+            size,
+            format,
+            sample_count: 1,
+            usage,
+            view_formats: &[],
+        }
+    }
+}
+
+/// Creates the 2D texture `desc` describes (one mip level, one layer): the one place every
+/// render target, history buffer, lookup table and output texture is made.
+pub fn texture_2d(device: &wgpu::Device, desc: &Texture2d<'_>) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(desc.label),
+        size: wgpu::Extent3d {
+            width: desc.size.0,
+            height: desc.size.1,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: desc.sample_count,
+        dimension: wgpu::TextureDimension::D2,
+        format: desc.format,
+        usage: desc.usage,
+        view_formats: desc.view_formats,
+    })
+}
+
 /// What installing a software Vulkan driver takes on Debian/Ubuntu, quoted in every
 /// "no adapter" message.
 pub const SOFTWARE_DRIVER_HINT: &str = "install a Vulkan driver; on a machine without a GPU, Mesa's software rasteriser \

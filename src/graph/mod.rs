@@ -346,23 +346,22 @@ impl FrameGraph {
     }
 
     fn output_texture(device: &wgpu::Device, id: &str, size: (u32, u32)) -> wgpu::Texture {
-        device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(&format!("{id} output")),
-            size: wgpu::Extent3d {
-                width: size.0,
-                height: size.1,
-                depth_or_array_layers: 1,
+        let label = format!("{id} output");
+        gpu::texture_2d(
+            device,
+            &gpu::Texture2d {
+                view_formats: &[gpu::COLOR_FORMAT_ENCODED_VIEW],
+                ..gpu::Texture2d::new(
+                    &label,
+                    size,
+                    gpu::COLOR_FORMAT,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::TEXTURE_BINDING
+                        | wgpu::TextureUsages::COPY_SRC
+                        | wgpu::TextureUsages::COPY_DST,
+                )
             },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: gpu::COLOR_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC
-                | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[gpu::COLOR_FORMAT_ENCODED_VIEW],
-        })
+        )
     }
 
     /// Renders one frame of the techniques in `scope` and waits for nothing: outputs are ready

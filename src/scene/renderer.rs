@@ -79,26 +79,21 @@ fn target_texture(
     } else {
         &[]
     };
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: desc.size.0,
-            height: desc.size.1,
-            depth_or_array_layers: 1,
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+        | wgpu::TextureUsages::TEXTURE_BINDING
+        | if sample_count == 1 {
+            wgpu::TextureUsages::COPY_SRC
+        } else {
+            wgpu::TextureUsages::empty()
+        };
+    crate::gpu::texture_2d(
+        device,
+        &crate::gpu::Texture2d {
+            sample_count,
+            view_formats,
+            ..crate::gpu::Texture2d::new(label, desc.size, format, usage)
         },
-        mip_level_count: 1,
-        sample_count,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | if sample_count == 1 {
-                wgpu::TextureUsages::COPY_SRC
-            } else {
-                wgpu::TextureUsages::empty()
-            },
-        view_formats,
-    })
+    )
 }
 
 impl SceneTargets {

@@ -211,20 +211,18 @@ pub fn target(
     format: wgpu::TextureFormat,
     view_formats: &[wgpu::TextureFormat],
 ) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: size.0,
-            height: size.1,
-            depth_or_array_layers: 1,
+    crate::gpu::texture_2d(
+        device,
+        &crate::gpu::Texture2d {
+            view_formats,
+            ..crate::gpu::Texture2d::new(
+                label,
+                size,
+                format,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            )
         },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats,
-    })
+    )
 }
 
 /// A view of a texture in another (compatible) format.
@@ -265,20 +263,15 @@ impl LutTextures {
                       format: wgpu::TextureFormat,
                       texel: u32,
                       data: &[u8]| {
-            let texture = device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: size.0,
-                    height: size.1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-                view_formats: &[],
-            });
+            let texture = crate::gpu::texture_2d(
+                device,
+                &crate::gpu::Texture2d::new(
+                    label,
+                    size,
+                    format,
+                    wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                ),
+            );
             queue.write_texture(
                 texture.as_image_copy(),
                 data,
