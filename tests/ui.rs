@@ -144,14 +144,31 @@ fn the_window_shows_exactly_the_technique_output() {
 #[test]
 fn techniques_switch_on_and_off() {
     let mut harness = viewer("chart");
-    assert_eq!(harness.state().compared(), ["none", "fxaa", "smaa", "msaa4"]);
+    assert_eq!(
+        harness.state().compared(),
+        ["none", "fxaa", "smaa", "msaa4"]
+    );
     harness.get_by_label("SSAA").click();
     harness.step();
-    assert!(harness.state().settings().enabled.iter().any(|id| id == "ssaa"));
+    assert!(
+        harness
+            .state()
+            .settings()
+            .enabled
+            .iter()
+            .any(|id| id == "ssaa")
+    );
     // Key 1 switches the first technique of the panel (No AA) off.
     harness.key_press(egui::Key::Num1);
     harness.step();
-    assert!(!harness.state().settings().enabled.iter().any(|id| id == "none"));
+    assert!(
+        !harness
+            .state()
+            .settings()
+            .enabled
+            .iter()
+            .any(|id| id == "none")
+    );
     assert_eq!(harness.state().compared()[0], "fxaa");
     wait(&mut harness, "the new frame", AaLabApp::frame_ready);
     assert!(harness.state().output_pixels("ssaa").is_some());
@@ -178,7 +195,10 @@ fn layouts_switch_from_toolbar_and_keys() {
     let single = harness.state().render_size();
     wait(&mut harness, "the grid frame", AaLabApp::frame_ready);
     let tile = harness.state().render_size();
-    assert!(tile.0 < single.0 && tile.1 < single.1, "{tile:?} vs {single:?}");
+    assert!(
+        tile.0 < single.0 && tile.1 < single.1,
+        "{tile:?} vs {single:?}"
+    );
 }
 
 #[test]
@@ -199,7 +219,8 @@ fn the_lens_follows_ctrl_click_drag_and_arrows() {
     drag(&mut harness, start, start + vec2(40.0, 30.0));
     let moved = harness.state().settings().magnifier.center.expect("set");
     assert!(
-        (moved[0] - after_key[0] - 40.0).abs() <= 1.0 && (moved[1] - after_key[1] - 30.0).abs() <= 1.0,
+        (moved[0] - after_key[0] - 40.0).abs() <= 1.0
+            && (moved[1] - after_key[1] - 30.0).abs() <= 1.0,
         "lens moved from {after_key:?} to {moved:?}"
     );
 }
@@ -232,7 +253,11 @@ fn export_writes_frames_sheet_and_a_sidecar_that_reproduces_them() {
         !app.exporting() && app.last_export() != written.as_slice()
     });
     for path in harness.state().last_export() {
-        assert!(!written.contains(path), "{} was overwritten", path.display());
+        assert!(
+            !written.contains(path),
+            "{} was overwritten",
+            path.display()
+        );
     }
 
     let gpu = aa_lab::gpu::Gpu::headless().expect("a headless adapter");
@@ -306,8 +331,129 @@ fn a_malformed_obj_is_reported_and_the_scene_stays() {
     );
     // Still alive and rendering.
     harness.key_press(egui::Key::W);
-    wait(&mut harness, "a frame after the error", AaLabApp::frame_ready);
+    wait(
+        &mut harness,
+        "a frame after the error",
+        AaLabApp::frame_ready,
+    );
     assert_eq!(harness.state().settings().layout, Layout::Wipe);
+}
+
+/// The reference has converged and every compared technique's figures (FLIP included) rest
+/// on all of its samples.
+fn settled(app: &AaLabApp) -> bool {
+    let total = app.settings().reference_samples;
+    app.frame_ready()
+        && app.reference_samples_done() == total
+        && app.compared().iter().all(|id| {
+            app.quality_figures(id).is_some_and(|f| {
+                f.reference_samples == total && f.flip.map(|(_, n)| n) == Some(total)
+            })
+        })
+}
+
+#[test]
+fn quality_figures_match_the_metrics_library_and_go_stale_when_the_camera_moves() {
+    let mut harness = viewer("chart");
+    wait(&mut harness, "converged figures", settled);
+    let app = harness.state();
+    let reference = app.reference_pixels().expect("a reference");
+    for id in app.compared() {
+        let figures = app.quality_figures(id).expect("figures");
+        let output = app.output_pixels(id).expect("an output");
+        let library = aa_lab::metrics::compare(&reference, &output).expect("comparable");
+        let p = figures.pixels;
+        assert!(
+            (p.ssim - library.ssim).abs() < 1e-3,
+            "{id}: SSIM {} vs {}",
+            p.ssim,
+            library.ssim
+        );
+        assert!(
+            (p.mae - library.mae).abs() < 1e-3,
+            "{id}: MAE {} vs {}",
+            p.mae,
+            library.mae
+        );
+        assert!(
+            p.psnr == library.psnr || (p.psnr - library.psnr).abs() < 0.01,
+            "{id}: PSNR {} vs {}",
+            p.psnr,
+            library.psnr
+        );
+        let flip = figures.flip.expect("FLIP").0;
+        assert!(
+            (flip - library.flip).abs() < 1e-9,
+            "{id}: FLIP {flip} vs {}",
+            library.flip
+        );
+        // The panel shows the number.
+        let shown = format!("{:.4}", p.ssim);
+        assert!(
+            harness.query_all_by_label(&shown).next().is_some(),
+            "SSIM {shown} of {id} is on screen"
+        );
+    }
+    // Orbit the camera: the figures are stale at once, and the panel says so.
+    let image = harness.state().image_rect().expect("drawn");
+    drag(
+        &mut harness,
+        image.min + vec2(30.0, 40.0),
+        image.min + vec2(110.0, 70.0),
+    );
+    let a = harness.state().compared()[0];
+    assert!(
+        harness.state().quality_figures(a).is_none(),
+        "stale figures are not shown"
+    );
+    assert!(
+        harness.query_all_by_label("stale").next().is_some(),
+        "the panel says stale"
+    );
+    // Still again: new figures for the new view.
+    wait(&mut harness, "figures of the new view", settled);
+}
+
+#[test]
+fn the_difference_mode_maps_the_lens_exactly() {
+    use aa_lab::app::DiffMetric;
+    use aa_lab::metrics::{flip, pixel, ssim};
+    let mut harness = viewer("chart");
+    harness.state_mut().settings_mut().magnifier.difference = true;
+    for metric in DiffMetric::ALL {
+        harness.state_mut().settings_mut().magnifier.metric = metric;
+        wait(&mut harness, metric.label(), |app| {
+            app.reference_samples_done() == app.settings().reference_samples
+                && app.difference_means().is_some()
+        });
+        let app = harness.state();
+        let means = app.difference_means().expect("heatmaps");
+        let reference = app.reference_pixels().expect("a reference");
+        let (x, y, w, h) = app.lens_region().expect("a lens");
+        assert_eq!(means.len(), app.compared().len());
+        for (id, mean) in app.compared().into_iter().zip(means) {
+            let output = app.output_pixels(id).expect("an output");
+            // The same map computed on the whole frame, averaged over the lens.
+            let whole = match metric {
+                DiffMetric::AbsoluteError => {
+                    pixel::error_maps(&reference, &output).unwrap().abs_error
+                }
+                DiffMetric::Ssim => ssim::ssim(&reference, &output).unwrap().map,
+                DiffMetric::Flip => flip::flip_map(&reference, &output).unwrap(),
+            };
+            let mut sum = 0.0;
+            for j in y..y + h {
+                for i in x..x + w {
+                    sum += f64::from(whole.at(i, j));
+                }
+            }
+            let expected = sum / f64::from(w * h);
+            assert!(
+                (mean - expected).abs() < 1e-5,
+                "{metric:?} {id}: {mean} vs {expected}"
+            );
+        }
+    }
 }
 
 /// Snapshots of the main layouts, once the reference has converged so every pane is final.
@@ -315,9 +461,7 @@ fn a_malformed_obj_is_reported_and_the_scene_stays() {
 fn snapshots_of_the_main_layouts() {
     let mut harness = viewer("chart");
     harness.state_mut().settings_mut().show_metrics = false;
-    wait(&mut harness, "the reference", |app| {
-        app.frame_ready() && app.reference_samples_done() == 64
-    });
+    wait(&mut harness, "the reference and the figures", settled);
     let options = SnapshotOptions::new().max_failed_pixels(200);
     let status_bar = Rect::from_min_max(pos2(0.0, WINDOW.y - 26.0), WINDOW.to_pos2());
     for (key, name) in [
@@ -326,9 +470,7 @@ fn snapshots_of_the_main_layouts() {
         (egui::Key::G, "viewer-grid"),
     ] {
         harness.key_press(key);
-        wait(&mut harness, name, |app| {
-            app.frame_ready() && app.reference_samples_done() == 64
-        });
+        wait(&mut harness, name, settled);
         harness.mask(status_bar);
         harness.snapshot_options(name, &options);
     }

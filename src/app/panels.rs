@@ -514,8 +514,12 @@ impl AaLabApp {
                 });
             });
             if let Some(reason) = &reason {
-                ui.label(RichText::new("not available on this adapter").small().weak())
-                    .on_hover_text(reason);
+                ui.label(
+                    RichText::new("not available on this adapter")
+                        .small()
+                        .weak(),
+                )
+                .on_hover_text(reason);
             } else if enabled {
                 self.technique_settings(ui, id);
             }
