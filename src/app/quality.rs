@@ -465,19 +465,14 @@ impl AaLabApp {
         })
     }
 
-    /// One line of current figures for a technique (magnifier captions, sheets).
+    /// A short line of current figures for a technique (magnifier captions, sheets): SSIM,
+    /// PSNR and, once measured, FLIP.
     pub(super) fn figures_text(&self, id: &str) -> Option<String> {
         let f = self.quality_figures(id)?;
-        let mut text = format!(
-            "SSIM {:.4} · PSNR {} · MAE {:.2}",
-            f.pixels.ssim,
-            psnr_text(f.pixels.psnr),
-            f.pixels.mae
-        );
+        let mut text = format!("SSIM {:.4} · {}", f.pixels.ssim, psnr_text(f.pixels.psnr));
         if let Some((flip, _)) = f.flip {
             text.push_str(&format!(" · FLIP {flip:.4}"));
         }
-        text.push_str(&format!(" · {} spp", f.reference_samples));
         Some(text)
     }
 }
