@@ -65,7 +65,10 @@ fn wait(harness: &mut Harness<'_, AaLabApp>, what: &str, done: impl Fn(&AaLabApp
     harness.step();
 }
 
-fn click_with(harness: &Harness<'_, AaLabApp>, pos: Pos2, modifiers: Modifiers) {
+/// Clicks at `pos` with `modifiers` held (as the window reports them: in the input state, not
+/// only on the click) and runs a frame.
+fn click_with(harness: &mut Harness<'_, AaLabApp>, pos: Pos2, modifiers: Modifiers) {
+    harness.event(Event::ModifiersChanged(modifiers));
     harness.event(Event::PointerMoved(pos));
     for pressed in [true, false] {
         harness.event(Event::PointerButton {
@@ -75,6 +78,8 @@ fn click_with(harness: &Harness<'_, AaLabApp>, pos: Pos2, modifiers: Modifiers) 
             modifiers,
         });
     }
+    harness.step();
+    harness.event(Event::ModifiersChanged(Modifiers::NONE));
 }
 
 fn drag(harness: &mut Harness<'_, AaLabApp>, from: Pos2, to: Pos2) {
@@ -188,11 +193,11 @@ fn layouts_switch_from_toolbar_and_keys() {
         harness.step();
         assert_eq!(harness.state().settings().layout, layout, "{label}");
     }
+    // The grid renders every technique at the tile size.
+    let single = harness.state().render_size();
     harness.key_press(egui::Key::G);
     harness.step();
     assert_eq!(harness.state().settings().layout, Layout::Grid);
-    // The grid renders every technique at the tile size.
-    let single = harness.state().render_size();
     wait(&mut harness, "the grid frame", AaLabApp::frame_ready);
     let tile = harness.state().render_size();
     assert!(
@@ -206,8 +211,7 @@ fn the_lens_follows_ctrl_click_drag_and_arrows() {
     let mut harness = viewer("chart");
     let image = harness.state().image_rect().expect("drawn");
     let target = image.min + vec2(60.0, 50.0);
-    click_with(&harness, target, Modifiers::COMMAND);
-    harness.step();
+    click_with(&mut harness, target, Modifiers::COMMAND);
     assert_eq!(
         harness.state().settings().magnifier.center,
         Some([60.0, 50.0])
@@ -339,14 +343,129 @@ fn a_malformed_obj_is_reported_and_the_scene_stays() {
     assert_eq!(harness.state().settings().layout, Layout::Wipe);
 }
 
+/// The reference has converged and every compared technique's figures (FLIP included) rest
+/// on all of its samples.
+fn settled(app: &AaLabApp) -> bool {
+    let total = app.settings().reference_samples;
+    app.frame_ready()
+        && app.reference_samples_done() == total
+        && app.compared().iter().all(|id| {
+            app.quality_figures(id).is_some_and(|f| {
+                f.reference_samples == total && f.flip.map(|(_, n)| n) == Some(total)
+            })
+        })
+}
+
+#[test]
+fn quality_figures_match_the_metrics_library_and_go_stale_when_the_camera_moves() {
+    let mut harness = viewer("chart");
+    wait(&mut harness, "converged figures", settled);
+    let app = harness.state();
+    let reference = app.reference_pixels().expect("a reference");
+    for id in app.compared() {
+        let figures = app.quality_figures(id).expect("figures");
+        let output = app.output_pixels(id).expect("an output");
+        let library = aa_lab::metrics::compare(&reference, &output).expect("comparable");
+        let p = figures.pixels;
+        assert!(
+            (p.ssim - library.ssim).abs() < 1e-3,
+            "{id}: SSIM {} vs {}",
+            p.ssim,
+            library.ssim
+        );
+        assert!(
+            (p.mae - library.mae).abs() < 1e-3,
+            "{id}: MAE {} vs {}",
+            p.mae,
+            library.mae
+        );
+        assert!(
+            p.psnr == library.psnr || (p.psnr - library.psnr).abs() < 0.01,
+            "{id}: PSNR {} vs {}",
+            p.psnr,
+            library.psnr
+        );
+        let flip = figures.flip.expect("FLIP").0;
+        assert!(
+            (flip - library.flip).abs() < 1e-9,
+            "{id}: FLIP {flip} vs {}",
+            library.flip
+        );
+        // The panel shows the number.
+        let shown = format!("{:.4}", p.ssim);
+        assert!(
+            harness.query_all_by_label(&shown).next().is_some(),
+            "SSIM {shown} of {id} is on screen"
+        );
+    }
+    // Orbit the camera: the figures are stale at once, and the panel says so.
+    let image = harness.state().image_rect().expect("drawn");
+    drag(
+        &mut harness,
+        image.min + vec2(30.0, 40.0),
+        image.min + vec2(110.0, 70.0),
+    );
+    let a = harness.state().compared()[0];
+    assert!(
+        harness.state().quality_figures(a).is_none(),
+        "stale figures are not shown"
+    );
+    assert!(
+        harness.query_all_by_label("stale").next().is_some(),
+        "the panel says stale"
+    );
+    // Still again: new figures for the new view.
+    wait(&mut harness, "figures of the new view", settled);
+}
+
+#[test]
+fn the_difference_mode_maps_the_lens_exactly() {
+    use aa_lab::app::DiffMetric;
+    use aa_lab::metrics::{flip, pixel, ssim};
+    let mut harness = viewer("chart");
+    harness.state_mut().settings_mut().magnifier.difference = true;
+    for metric in DiffMetric::ALL {
+        harness.state_mut().settings_mut().magnifier.metric = metric;
+        wait(&mut harness, metric.label(), |app| {
+            app.reference_samples_done() == app.settings().reference_samples
+                && app.difference_means().is_some()
+        });
+        let app = harness.state();
+        let means = app.difference_means().expect("heatmaps");
+        let reference = app.reference_pixels().expect("a reference");
+        let (x, y, w, h) = app.lens_region().expect("a lens");
+        assert_eq!(means.len(), app.compared().len());
+        for (id, mean) in app.compared().into_iter().zip(means) {
+            let output = app.output_pixels(id).expect("an output");
+            // The same map computed on the whole frame, averaged over the lens.
+            let whole = match metric {
+                DiffMetric::AbsoluteError => {
+                    pixel::error_maps(&reference, &output).unwrap().abs_error
+                }
+                DiffMetric::Ssim => ssim::ssim(&reference, &output).unwrap().map,
+                DiffMetric::Flip => flip::flip_map(&reference, &output).unwrap(),
+            };
+            let mut sum = 0.0;
+            for j in y..y + h {
+                for i in x..x + w {
+                    sum += f64::from(whole.at(i, j));
+                }
+            }
+            let expected = sum / f64::from(w * h);
+            assert!(
+                (mean - expected).abs() < 1e-5,
+                "{metric:?} {id}: {mean} vs {expected}"
+            );
+        }
+    }
+}
+
 /// Snapshots of the main layouts, once the reference has converged so every pane is final.
 #[test]
 fn snapshots_of_the_main_layouts() {
     let mut harness = viewer("chart");
     harness.state_mut().settings_mut().show_metrics = false;
-    wait(&mut harness, "the reference", |app| {
-        app.frame_ready() && app.reference_samples_done() == 64
-    });
+    wait(&mut harness, "the reference and the figures", settled);
     let options = SnapshotOptions::new().max_failed_pixels(200);
     let status_bar = Rect::from_min_max(pos2(0.0, WINDOW.y - 26.0), WINDOW.to_pos2());
     for (key, name) in [
@@ -355,16 +474,16 @@ fn snapshots_of_the_main_layouts() {
         (egui::Key::G, "viewer-grid"),
     ] {
         harness.key_press(key);
-        wait(&mut harness, name, |app| {
-            app.frame_ready() && app.reference_samples_done() == 64
-        });
+        wait(&mut harness, name, settled);
         harness.mask(status_bar);
         harness.snapshot_options(name, &options);
     }
     harness.key_press(egui::Key::S);
     harness.key_press(egui::Key::D);
+    // The lens on the starburst's spokes, where the techniques differ.
+    harness.state_mut().settings_mut().magnifier.center = Some([205.0, 85.0]);
     wait(&mut harness, "difference mode", |app| {
-        app.frame_ready() && app.reference_samples_done() == 64
+        settled(app) && app.difference_means().is_some()
     });
     harness.step();
     harness.mask(status_bar);

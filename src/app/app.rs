@@ -214,6 +214,14 @@ impl AaLabApp {
         self.viewport.image_rect
     }
 
+    /// The published reference of the displayed view (the bytes the figures compare against).
+    pub fn reference_pixels(&self) -> Option<std::sync::Arc<image::RgbaImage>> {
+        let engine = self.engine.as_ref()?;
+        engine
+            .reference()
+            .map(|(p, _)| std::sync::Arc::clone(&p.pixels))
+    }
+
     /// Samples the displayed reference rests on (0 when there is none).
     pub fn reference_samples_done(&self) -> u32 {
         self.engine
@@ -563,10 +571,6 @@ impl AaLabApp {
         }
         let more = engine.reference_incomplete();
         self.clock.tick(publication.outputs);
-        if publication.outputs || publication.reference {
-            self.magnifier.outputs_changed();
-            self.quality.invalidate();
-        }
         for err in errors {
             self.notify(Level::Error, err);
         }
@@ -633,10 +637,9 @@ impl eframe::App for AaLabApp {
         self.viewport_panel(ui);
         shortcuts::help_overlay(&ctx, &mut self.help_open);
 
-        let pending_jobs = self.loading()
-            || self.export.running()
-            || self.file_dialog.is_some()
-            || self.quality.waiting();
+        let pending_jobs = self.loading() || self.export.running() || self.file_dialog.is_some();
+        // Measurements wake the UI when they finish; this catches paced ones that wait.
+        let measuring = self.quality.waiting() || self.magnifier.computing();
         if self.rendering() {
             // The GPU waiter wakes the UI when the frame is done; this is a fallback.
             ctx.request_repaint_after(Duration::from_millis(250));
@@ -644,6 +647,8 @@ impl eframe::App for AaLabApp {
             ctx.request_repaint();
         } else if pending_jobs {
             ctx.request_repaint_after(Duration::from_millis(30));
+        } else if measuring {
+            ctx.request_repaint_after(Duration::from_millis(200));
         } else {
             self.clock.idle();
         }

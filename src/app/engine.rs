@@ -40,11 +40,25 @@ const REFERENCE_BUDGET_MS: f64 = 60.0;
 /// Most reference samples per frame.
 const MAX_REFERENCE_SAMPLES_PER_FRAME: u32 = 8;
 
+/// What a published image shows: which view, which settings, which publication.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ImageStamp {
+    /// The view it was rendered at ([`Engine::current_view`] at the time).
+    pub view: u64,
+    /// The settings revision of its technique ([`TechniqueEntry::revision`]; for the
+    /// reference, the revision of its sample count).
+    pub revision: u64,
+    /// Unique per publication: new pixels, new serial.
+    pub serial: u64,
+}
+
 /// A finished image: its pixels on the CPU and an egui texture with the same bytes.
 #[derive(Clone)]
 pub struct Published {
     /// The pixels (sRGB-encoded RGBA8).
     pub pixels: Arc<image::RgbaImage>,
+    /// What the pixels show.
+    pub stamp: ImageStamp,
     handle: TextureHandle,
 }
 
@@ -66,6 +80,7 @@ fn publish(
     slot: &mut Option<Published>,
     name: &str,
     pixels: image::RgbaImage,
+    stamp: ImageStamp,
 ) {
     let size = [pixels.width() as usize, pixels.height() as usize];
     let color = egui::ColorImage::from_rgba_unmultiplied(size, pixels.as_raw());
@@ -73,11 +88,13 @@ fn publish(
         Some(existing) => {
             existing.handle.set(color, TextureOptions::NEAREST);
             existing.pixels = Arc::new(pixels);
+            existing.stamp = stamp;
         }
         None => {
             *slot = Some(Published {
                 handle: ctx.load_texture(name, color, TextureOptions::NEAREST),
                 pixels: Arc::new(pixels),
+                stamp,
             });
         }
     }
@@ -117,11 +134,17 @@ pub struct TechniqueEntry {
     slot: Option<usize>,
     rendered: Option<Stamp>,
     dirty: bool,
+    revision: u64,
     output: Option<Published>,
     debug_images: Vec<(&'static str, &'static str, Option<Published>)>,
 }
 
 impl TechniqueEntry {
+    /// Counts its settings changes: outputs and figures of an older revision are out of date.
+    pub fn revision(&self) -> u64 {
+        self.revision
+    }
+
     /// Whether it can run here.
     pub fn available(&self) -> bool {
         self.availability.is_ok()
@@ -170,7 +193,8 @@ pub enum EngineError {
 /// Which published image a readback fills.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Target {
-    Output(usize),
+    /// A technique's output, with the settings revision it rendered with.
+    Output(usize, u64),
     Debug(usize, &'static str, &'static str),
     Reference,
 }
@@ -179,6 +203,7 @@ enum Target {
 struct InFlight {
     camera: FrameCamera,
     key: ViewKey,
+    view: u64,
     running: Vec<usize>,
     reads: Vec<(Target, PendingImage)>,
     done: Vec<(Target, image::RgbaImage)>,
@@ -199,7 +224,13 @@ pub struct Engine {
     /// The view the accumulation on the GPU belongs to.
     reference_key: Option<ViewKey>,
     reference_wanted: bool,
+    /// Revision of the reference's sample count.
+    reference_revision: u64,
     scene_generation: u64,
+    /// Counts view changes (see [`Engine::current_view`]).
+    view_serial: u64,
+    /// Counts publications.
+    publish_serial: u64,
     animated: bool,
     last_key: Option<ViewKey>,
     displayed: Option<FrameCamera>,
@@ -231,6 +262,17 @@ fn spawn_waiter(device: wgpu::Device, ctx: egui::Context) -> mpsc::Sender<()> {
     sender
 }
 
+/// A device of its own on `adapter`, with the features the frame graph uses.
+pub fn open_device(adapter: &wgpu::Adapter) -> Result<Gpu, GpuError> {
+    let (device, queue) =
+        pollster::block_on(adapter.request_device(&crate::gpu::device_descriptor(adapter)))
+            .map_err(|source| GpuError::RequestDevice {
+                adapter: adapter.get_info().name,
+                source,
+            })?;
+    Ok(Gpu::from_parts(adapter.clone(), device, queue))
+}
+
 impl Engine {
     /// Creates the render device on `adapter` and the graph for `scene` with every available
     /// technique (all switched off) and the reference with `reference_samples` samples.
@@ -240,13 +282,7 @@ impl Engine {
         scene: &Scene,
         reference_samples: u32,
     ) -> Result<Self, EngineError> {
-        let (device, queue) =
-            pollster::block_on(adapter.request_device(&crate::gpu::device_descriptor(adapter)))
-                .map_err(|source| GpuError::RequestDevice {
-                    adapter: adapter.get_info().name,
-                    source,
-                })?;
-        let gpu = Gpu::from_parts(adapter.clone(), device, queue);
+        let gpu = open_device(adapter)?;
         let mut graph = FrameGraph::new(gpu.clone(), scene);
         let entries = aa::registry()
             .into_iter()
@@ -267,6 +303,7 @@ impl Engine {
                     slot,
                     rendered: None,
                     dirty: false,
+                    revision: 0,
                     output: None,
                     debug_images: Vec::new(),
                 }
@@ -287,7 +324,10 @@ impl Engine {
             reference_published: None,
             reference_key: None,
             reference_wanted: false,
+            reference_revision: 0,
             scene_generation: 0,
+            view_serial: 0,
+            publish_serial: 0,
             animated: scene.meshes.iter().any(|m| m.spin.is_some()),
             last_key: None,
             displayed: None,
@@ -384,6 +424,7 @@ impl Engine {
     fn changed(&mut self, id: &str) {
         if let Some(entry) = self.entry_mut(id) {
             entry.dirty = true;
+            entry.revision += 1;
         }
     }
 
@@ -446,6 +487,7 @@ impl Engine {
         self.graph.slots_mut()[self.reference_slot].technique = Box::new(reference);
         self.reference = control;
         self.reference_samples = samples;
+        self.reference_revision += 1;
         self.reference_key = None;
         self.reference_published = None;
     }
@@ -482,6 +524,13 @@ impl Engine {
             Some((_, progress)) => ReferenceState::Ready(progress),
             None => ReferenceState::Waiting,
         }
+    }
+
+    /// The view being rendered now: a serial that changes whenever the camera, the size, the
+    /// scene or (for animated scenes) the frame changes, or the camera cuts. Images stamped
+    /// with an older view no longer show what the camera sees.
+    pub fn current_view(&self) -> u64 {
+        self.view_serial
     }
 
     /// The camera of the displayed outputs.
@@ -540,10 +589,16 @@ impl Engine {
             return Ok(publication);
         };
         for (target, pixels) in flight.done {
+            self.publish_serial += 1;
+            let stamp = |revision| ImageStamp {
+                view: flight.view,
+                revision,
+                serial: self.publish_serial,
+            };
             match target {
-                Target::Output(i) => {
+                Target::Output(i, revision) => {
                     let entry = &mut self.entries[i];
-                    publish(ctx, &mut entry.output, entry.id, pixels);
+                    publish(ctx, &mut entry.output, entry.id, pixels, stamp(revision));
                     publication.outputs = true;
                 }
                 Target::Debug(i, name, description) => {
@@ -555,14 +610,28 @@ impl Engine {
                             entry.debug_images.len() - 1
                         }
                     };
-                    publish(ctx, &mut entry.debug_images[index].2, name, pixels);
+                    let revision = entry.revision;
+                    publish(
+                        ctx,
+                        &mut entry.debug_images[index].2,
+                        name,
+                        pixels,
+                        stamp(revision),
+                    );
                     if entry.debug_view.as_deref() == Some("") {
                         entry.debug_view = Some(name.to_owned());
                     }
                     publication.outputs = true;
                 }
                 Target::Reference => {
-                    publish(ctx, &mut self.reference_image, REFERENCE_ID, pixels);
+                    let revision = self.reference_revision;
+                    publish(
+                        ctx,
+                        &mut self.reference_image,
+                        REFERENCE_ID,
+                        pixels,
+                        stamp(revision),
+                    );
                     self.reference_published = flight.reference;
                     publication.reference = true;
                 }
@@ -595,6 +664,9 @@ impl Engine {
         };
         let still = !cut && self.last_key == Some(key);
         self.last_key = Some(key);
+        if !still {
+            self.view_serial += 1;
+        }
 
         let mut running = Vec::new();
         for (i, entry) in self.entries.iter().enumerate() {
@@ -693,7 +765,7 @@ impl Engine {
                 continue;
             };
             if let Some(texture) = slot.output() {
-                reads.push((Target::Output(i), read(texture)));
+                reads.push((Target::Output(i, entry.revision), read(texture)));
             }
             if entry.debug_view.is_some() {
                 for view in slot.technique.debug_views() {
@@ -721,6 +793,7 @@ impl Engine {
         self.in_flight = Some(InFlight {
             camera,
             key,
+            view: self.view_serial,
             running,
             reads,
             done: Vec::new(),

@@ -12,7 +12,8 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, mpsc};
 
 use super::app::{AaLabApp, Level};
-use super::magnifier::{Source, crop, lens_heatmap};
+use super::difference::lens_heatmap;
+use super::magnifier::{Source, crop};
 use crate::export::sheet::{self, Cell, Row};
 use crate::export::write_png;
 use crate::spec::{RenderSpec, TechniqueSpec};
@@ -206,11 +207,9 @@ impl AaLabApp {
                 Some(reference)
                     if self.settings.magnifier.difference && source != Source::Reference =>
                 {
-                    let (colors, _) = lens_heatmap(metric, &image.pixels, &reference.pixels, lens)?;
-                    image::RgbaImage::from_fn(lens.width, lens.height, |x, y| {
-                        let c = colors.pixels[(y * lens.width + x) as usize];
-                        image::Rgba([c.r(), c.g(), c.b(), 255])
-                    })
+                    lens_heatmap(metric, &reference.pixels, &image.pixels, lens)
+                        .ok()?
+                        .to_rgba()
                 }
                 _ => crop(&image.pixels, lens),
             };

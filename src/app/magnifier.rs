@@ -5,21 +5,24 @@
 //!
 //! Panes draw the published textures (nearest sampler, integer zoom, pixel-aligned), so they
 //! show the very pixels of the frame; pixel values and heatmaps come from the same published
-//! images on the CPU. Heatmaps are recomputed when the lens, the images or the metric change,
-//! from the lens region plus a margin so that windowed metrics see the pixels' neighbourhood.
+//! images on the CPU. Heatmaps (difference.rs) are recomputed in the background when the lens,
+//! the images or the metric change, from the lens region plus a margin so that windowed
+//! metrics see the pixels' neighbourhood.
 
 use egui::{Color32, Rect, Sense, Stroke, StrokeKind, TextureHandle, pos2, vec2};
 
-use super::app::AaLabApp;
+use super::app::{AaLabApp, Level};
+use super::difference::{self, HeatJob, HeatKey, HeatResult, heat_color};
 use super::engine::{Published, ReferenceState};
-use super::quality::{self, heatmap};
 use super::readback::Region;
 use super::settings::{DiffMetric, MagnifierSettings};
 use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, SLOT_LETTERS};
+use super::worker::Worker;
 
 /// The zoom factors offered.
 pub const ZOOM_STEPS: [u32; 9] = [2, 3, 4, 6, 8, 12, 16, 24, 32];
-/// Pixels read around the lens, so that windowed metrics (SSIM, FLIP) see context.
+/// Pixels read around the lens, so that windowed metrics see context: more than SSIM's window
+/// radius (5) and FLIP's widest filter radius (10 at 67 pixels per degree).
 pub const MARGIN: u32 = 12;
 /// Gap between panes, in points.
 const PANE_GAP: f32 = 8.0;
@@ -57,13 +60,12 @@ pub enum Source {
     Reference,
 }
 
-/// Identifies one set of heatmaps: same lens, same images, same metric.
-#[derive(Clone, Debug, PartialEq)]
-struct HeatKey {
-    lens: Region,
-    generation: u64,
-    metric: DiffMetric,
-    sources: Vec<Source>,
+/// The newest heatmap of a pane.
+struct PaneHeat {
+    source: Source,
+    key: HeatKey,
+    /// The texture, the lens it covers and its mean, or why there is none.
+    result: Result<(TextureHandle, Region, f64), String>,
 }
 
 /// Magnifier state kept between frames.
@@ -73,24 +75,23 @@ pub struct MagnifierState {
     pub lens_side: u32,
     /// The frame pixel under the pointer in a pane.
     pub hover: Option<(u32, u32)>,
-    generation: u64,
-    heat_key: Option<HeatKey>,
-    heatmaps: Vec<(Source, TextureHandle, f64)>,
+    worker: Option<Worker<HeatJob, HeatResult>>,
+    worker_error: Option<String>,
+    /// The heatmaps last asked for.
+    requested: Option<HeatKey>,
+    heatmaps: Vec<PaneHeat>,
 }
 
 impl MagnifierState {
     /// Forgets the heatmaps (new scene).
     pub fn clear(&mut self) {
-        *self = Self {
-            lens_side: self.lens_side,
-            generation: self.generation + 1,
-            ..Self::default()
-        };
+        self.heatmaps.clear();
+        self.requested = None;
     }
 
-    /// The images changed: heatmaps must be computed again.
-    pub fn outputs_changed(&mut self) {
-        self.generation += 1;
+    /// Whether heatmaps are being computed.
+    pub fn computing(&self) -> bool {
+        self.worker.as_ref().is_some_and(Worker::busy)
     }
 
     /// Steps the zoom through [`ZOOM_STEPS`].
@@ -104,41 +105,9 @@ impl MagnifierState {
     }
 }
 
-/// The lens plus [`MARGIN`] pixels around it, inside a `size` frame.
-pub fn with_margin(lens: Region, size: (u32, u32)) -> Option<Region> {
-    Region {
-        x: lens.x.saturating_sub(MARGIN),
-        y: lens.y.saturating_sub(MARGIN),
-        width: lens.width + 2 * MARGIN,
-        height: lens.height + 2 * MARGIN,
-    }
-    .clipped(size)
-}
-
 /// Pixels of `region` of an image.
 pub fn crop(image: &image::RgbaImage, region: Region) -> image::RgbaImage {
     image::imageops::crop_imm(image, region.x, region.y, region.width, region.height).to_image()
-}
-
-/// The heatmap of `test` against `reference` in the lens, computed on the lens plus margin:
-/// the colours and the mean error in the lens.
-pub fn lens_heatmap(
-    metric: DiffMetric,
-    test: &image::RgbaImage,
-    reference: &image::RgbaImage,
-    lens: Region,
-) -> Option<(egui::ColorImage, f64)> {
-    let area = with_margin(lens, test.dimensions())?;
-    let map = quality::error_map(metric, &crop(test, area), &crop(reference, area))?;
-    let window = (lens.x - area.x, lens.y - area.y, lens.width, lens.height);
-    let colors = heatmap(&map, area.width, window);
-    let mut sum = 0.0;
-    for y in window.1..window.1 + window.3 {
-        for x in window.0..window.0 + window.2 {
-            sum += f64::from(map[(y * area.width + x) as usize]);
-        }
-    }
-    Some((colors, sum / f64::from((lens.width * lens.height).max(1))))
 }
 
 impl AaLabApp {
@@ -174,48 +143,122 @@ impl AaLabApp {
         )
     }
 
-    /// Recomputes the difference heatmaps when the lens, the images or the metric changed.
+    /// Takes finished heatmaps and asks for new ones when the lens, the images or the metric
+    /// changed.
     pub(super) fn update_magnifier(&mut self, ctx: &egui::Context) {
+        let results = self
+            .magnifier
+            .worker
+            .as_mut()
+            .map(Worker::poll)
+            .unwrap_or_default();
+        for result in results {
+            let result_for_pane = result.heatmap.map(|heat| {
+                let handle = ctx.load_texture(
+                    format!("magnifier heatmap {:?}", result.source),
+                    heat.colors,
+                    egui::TextureOptions::NEAREST,
+                );
+                (handle, heat.lens, heat.mean)
+            });
+            self.magnifier
+                .heatmaps
+                .retain(|h| h.source != result.source);
+            self.magnifier.heatmaps.push(PaneHeat {
+                source: result.source,
+                key: result.key,
+                result: result_for_pane,
+            });
+        }
         if !self.settings.show_magnifier || !self.settings.magnifier.difference {
             return;
         }
-        let Some(lens) = self.lens() else { return };
-        let size = self.viewport.render_size;
-        let metric = self.settings.magnifier.metric;
-        let sources: Vec<Source> = self
-            .magnifier_sources()
-            .into_iter()
-            .filter(|s| self.source_image(*s).is_some_and(|i| i.size() == size))
-            .collect();
-        let key = HeatKey {
-            lens,
-            generation: self.magnifier.generation,
-            metric,
-            sources: sources.clone(),
-        };
-        if self.magnifier.heat_key.as_ref() == Some(&key) {
+        let Some(job) = self.heat_job() else { return };
+        if self.magnifier.requested.as_ref() == Some(&job.key) {
             return;
         }
-        let mut maps = Vec::new();
-        if let Some(reference) = self.source_image(Source::Reference) {
-            for source in sources.iter().filter(|s| **s != Source::Reference) {
-                let Some(test) = self.source_image(*source) else {
-                    continue;
-                };
-                if let Some((colors, mean)) =
-                    lens_heatmap(metric, &test.pixels, &reference.pixels, lens)
-                {
-                    let handle = ctx.load_texture(
-                        format!("magnifier heatmap {source:?}"),
-                        colors,
-                        egui::TextureOptions::NEAREST,
-                    );
-                    maps.push((*source, handle, mean));
+        let key = job.key.clone();
+        if self.magnifier.worker.is_none() && self.magnifier.worker_error.is_none() {
+            match difference::spawn_heat_worker(ctx) {
+                Ok(worker) => self.magnifier.worker = Some(worker),
+                Err(err) => {
+                    let text = format!("no thread for the magnifier's heatmaps: {err}");
+                    self.magnifier.worker_error = Some(text.clone());
+                    self.notify(Level::Error, text);
                 }
             }
         }
-        self.magnifier.heatmaps = maps;
-        self.magnifier.heat_key = Some(key);
+        if let Some(worker) = &mut self.magnifier.worker
+            && worker.submit(job)
+        {
+            self.magnifier.requested = Some(key);
+        }
+    }
+
+    /// The heatmaps the panes should show now: the lens, the newest images, the metric.
+    fn heat_job(&self) -> Option<HeatJob> {
+        let lens = self.lens()?;
+        let size = self.viewport.render_size;
+        let reference = self.source_image(Source::Reference)?;
+        let mut images = vec![reference.stamp.serial];
+        let mut tests = Vec::new();
+        for source in self.magnifier_sources() {
+            if source == Source::Reference {
+                continue;
+            }
+            if let Some(image) = self.source_image(source).filter(|i| i.size() == size) {
+                images.push(image.stamp.serial);
+                tests.push((source, std::sync::Arc::clone(&image.pixels)));
+            }
+        }
+        (!tests.is_empty()).then(|| HeatJob {
+            key: HeatKey {
+                lens,
+                images,
+                sources: tests.iter().map(|(s, _)| *s).collect(),
+                view: reference.stamp.view,
+                metric: self.settings.magnifier.metric,
+            },
+            reference: std::sync::Arc::clone(&reference.pixels),
+            tests,
+        })
+    }
+
+    /// In difference mode, once every technique pane shows the heatmap of the current lens,
+    /// images and metric: the lens means of the panes' maps, in pane order (SSIM itself for
+    /// the SSIM map).
+    pub fn difference_means(&self) -> Option<Vec<f64>> {
+        let job = self.heat_job()?;
+        job.key
+            .sources
+            .iter()
+            .map(|source| {
+                let heat = self
+                    .magnifier
+                    .heatmaps
+                    .iter()
+                    .find(|h| h.source == *source)?;
+                match &heat.result {
+                    Ok((_, _, mean)) if heat.key == job.key => Some(*mean),
+                    _ => None,
+                }
+            })
+            .collect()
+    }
+
+    /// The lens in frame pixels: x, y, width, height.
+    pub fn lens_region(&self) -> Option<(u32, u32, u32, u32)> {
+        self.lens().map(|r| (r.x, r.y, r.width, r.height))
+    }
+
+    /// The heatmap of a pane when it shows the displayed view with the selected metric.
+    fn pane_heat(&self, source: Source) -> Option<&PaneHeat> {
+        let view = self.engine.as_ref()?.current_view();
+        self.magnifier.heatmaps.iter().find(|h| {
+            h.source == source
+                && h.key.view == view
+                && h.key.metric == self.settings.magnifier.metric
+        })
     }
 
     /// The magnifier panel (bottom of the window).
@@ -272,6 +315,9 @@ impl AaLabApp {
                     })
                     .response
                     .on_hover_text(m.metric.help());
+                if m.difference {
+                    heat_legend(ui, m.metric);
+                }
             });
             if let Some(lens) = self.lens() {
                 ui.separator();
@@ -391,18 +437,35 @@ impl AaLabApp {
         let zoom = self.settings.magnifier.zoom.max(1);
         let difference = self.settings.magnifier.difference && source != Source::Reference;
         if difference {
-            match self
-                .magnifier
-                .heatmaps
-                .iter()
-                .find(|(s, _, _)| *s == source)
-            {
-                Some((_, handle, _)) => {
+            let heat = self.pane_heat(source).map(|h| &h.result);
+            match heat {
+                Some(Ok((handle, at, _))) => {
+                    // Drawn where it was computed: while the lens moves, the newest map stays
+                    // on its own pixels until the map of the new position arrives.
+                    let scale = zoom as f32 / ppp;
+                    let min = rect.min
+                        + vec2(
+                            (at.x as f32 - lens.x as f32) * scale,
+                            (at.y as f32 - lens.y as f32) * scale,
+                        );
+                    let placed = Rect::from_min_size(
+                        min,
+                        vec2(at.width as f32 * scale, at.height as f32 * scale),
+                    );
                     painter.image(
                         handle.id(),
-                        rect,
+                        placed,
                         Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
                         Color32::WHITE,
+                    );
+                }
+                Some(Err(err)) => {
+                    painter.text(
+                        rect.center(),
+                        egui::Align2::CENTER_CENTER,
+                        format!("no heatmap: {err}"),
+                        egui::FontId::proportional(12.0),
+                        style::ERROR,
                     );
                 }
                 None => {
@@ -488,20 +551,17 @@ impl AaLabApp {
             },
             Source::Technique(_, id) => {
                 let mut parts = Vec::new();
+                let lens = self.lens();
                 if self.settings.magnifier.difference
-                    && let Some((_, _, mean)) = self
-                        .magnifier
-                        .heatmaps
-                        .iter()
-                        .find(|(s, _, _)| *s == source)
+                    && let Some(PaneHeat {
+                        result: Ok((_, at, mean)),
+                        ..
+                    }) = self.pane_heat(source)
+                    && Some(*at) == lens
                 {
-                    parts.push(format!(
-                        "lens mean {} {:.3}",
-                        self.settings.magnifier.metric.label().to_lowercase(),
-                        mean
-                    ));
+                    parts.push(self.settings.magnifier.metric.mean_text(*mean));
                 }
-                if let Some(figures) = self.quality.figures_text(id) {
+                if let Some(figures) = self.figures_text(id) {
                     parts.push(figures);
                 }
                 parts.join(" · ")
@@ -512,7 +572,7 @@ impl AaLabApp {
     fn pane_caption(&self, ui: &mut egui::Ui, source: Source, width: f32) {
         ui.set_max_width(width);
         let text = self.pane_figures(source);
-        ui.add(egui::Label::new(egui::RichText::new(text).small().monospace()).truncate());
+        ui.add(egui::Label::new(egui::RichText::new(text).small().monospace()).wrap());
     }
 
     fn pixel_readout(&self, ui: &mut egui::Ui, (x, y): (u32, u32), sources: &[Source]) {
@@ -542,6 +602,22 @@ impl AaLabApp {
             }
         });
     }
+}
+
+/// A small colour bar with the values at its ends.
+fn heat_legend(ui: &mut egui::Ui, metric: DiffMetric) {
+    let (low, high) = metric.scale_ends();
+    ui.weak(low);
+    let (rect, _) = ui.allocate_exact_size(vec2(72.0, 10.0), Sense::hover());
+    let steps = 36;
+    let step = rect.width() / steps as f32;
+    for i in 0..steps {
+        let x = rect.min.x + i as f32 * step;
+        let cell = Rect::from_min_max(pos2(x, rect.min.y), pos2(x + step + 0.5, rect.max.y));
+        let color = heat_color(i as f32 / (steps - 1) as f32);
+        ui.painter().rect_filled(cell, 0.0, color);
+    }
+    ui.weak(high).on_hover_text(metric.help());
 }
 
 /// A tooltip with the action's shortcut appended.

@@ -11,6 +11,7 @@ use egui_plot::{Legend, Line, Plot};
 
 use super::app::AaLabApp;
 use super::engine::ReferenceState;
+use super::quality;
 use super::reference::REFERENCE_ID;
 use super::style::{self, ACCENT, SLOT_COLORS, SLOT_LETTERS};
 
@@ -18,6 +19,14 @@ use super::style::{self, ACCENT, SLOT_COLORS, SLOT_LETTERS};
 fn number(ui: &mut egui::Ui, text: String, tip: &str) {
     ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
         ui.label(RichText::new(text).monospace()).on_hover_text(tip);
+    });
+}
+
+/// A right-aligned greyed cell standing for a missing number, with why as its tooltip.
+fn number_weak(ui: &mut egui::Ui, text: &str, tip: &str) {
+    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+        ui.label(RichText::new(text).monospace().weak())
+            .on_hover_text(tip);
     });
 }
 
@@ -305,17 +314,134 @@ impl AaLabApp {
                     .desired_height(6.0),
             );
         }
-        for (slot, id) in self.compared().into_iter().enumerate() {
-            ui.horizontal(|ui| {
-                ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
-                ui.label(self.shown_label(id));
-                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                    match self.quality.figures_text(id) {
-                        Some(text) => ui.label(RichText::new(text).monospace().small()),
-                        None => ui.weak("—"),
-                    };
-                });
+        self.quality_table(ui, state);
+    }
+
+    /// Per enabled technique: SSIM, PSNR, MAE and FLIP, each with a tooltip saying what it
+    /// measures against which reference, or why there is no number.
+    fn quality_table(&self, ui: &mut egui::Ui, state: ReferenceState) {
+        let Some(engine) = &self.engine else { return };
+        let compared = self.compared();
+        let enabled: Vec<&'static str> = engine
+            .entries()
+            .iter()
+            .filter(|e| e.enabled)
+            .map(|e| e.id)
+            .collect();
+        if enabled.is_empty() {
+            ui.weak("Switch a technique on to measure it.");
+            return;
+        }
+        // Stale: the reference on hand is not of the view being rendered (the camera moved).
+        let stale = engine
+            .reference()
+            .is_none_or(|(r, _)| r.stamp.view != engine.current_view());
+        let (missing, missing_tip) = if !self.settings.quality || state == ReferenceState::Off {
+            ("off", "Measuring is off.")
+        } else if stale {
+            (
+                "stale",
+                "Stale: the view changed since this was measured. New figures follow once the camera stops and the reference has samples of the new view.",
+            )
+        } else {
+            (
+                "…",
+                "Being measured: the figures of the image on screen are computed in the background.",
+            )
+        };
+        let mut notes = Vec::new();
+        egui::Grid::new("quality table")
+            .num_columns(5)
+            .striped(true)
+            .spacing([10.0, 3.0])
+            .show(ui, |ui| {
+                ui.weak("technique");
+                for (title, tip) in [
+                    ("SSIM", "Structural similarity of luma; 1 = identical."),
+                    ("PSNR", "Peak signal-to-noise ratio of R'G'B' in dB; higher is closer."),
+                    ("MAE", "Mean absolute error of R'G'B', 0..255; 0 = identical."),
+                    ("FLIP", "NVIDIA's perceptual FLIP error, 0..1; 0 = indistinguishable."),
+                ] {
+                    ui.weak(title).on_hover_text(tip);
+                }
+                ui.end_row();
+                for id in &enabled {
+                    ui.horizontal(|ui| {
+                        if let Some(slot) = compared.iter().position(|c| c == id) {
+                            ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
+                        }
+                        ui.label(self.shown_label(id));
+                    });
+                    let pixels = self.quality.current_pixels(id, engine);
+                    match pixels.map(|m| (&m.value, m)) {
+                        Some((Ok(f), m)) => {
+                            let n = m.reference.samples;
+                            let how = format!("\n\nMeasured on the {} in {}.", m.on, style::ms(m.ms));
+                            number(ui, format!("{:.4}", f.ssim), &(quality::ssim_help(n) + &how));
+                            number(ui, quality::psnr_text(f.psnr), &(quality::psnr_help(n) + &how));
+                            number(ui, format!("{:.3}", f.mae), &(quality::mae_help(n) + &how));
+                        }
+                        Some((Err(err), _)) => {
+                            for _ in 0..3 {
+                                number_weak(ui, "error", err);
+                            }
+                            notes.push(format!("{}: {err}", self.shown_label(id)));
+                        }
+                        None => {
+                            for _ in 0..3 {
+                                number_weak(ui, missing, missing_tip);
+                            }
+                        }
+                    }
+                    match self.quality.current_flip(id, engine) {
+                        Some(m) => match &m.value {
+                            Ok(v) => {
+                                let tip = format!(
+                                    "{}\n\nMeasured in {}.",
+                                    quality::flip_help(m.reference.samples),
+                                    style::ms(m.ms)
+                                );
+                                number(ui, format!("{v:.4}"), &tip);
+                            }
+                            Err(err) => number_weak(ui, "error", err),
+                        },
+                        None if pixels.is_some() => number_weak(
+                            ui,
+                            "…",
+                            "FLIP is computed on the CPU, after the others: once the camera has been still for a moment, and again when the reference has converged.",
+                        ),
+                        None => number_weak(ui, missing, missing_tip),
+                    }
+                    ui.end_row();
+                }
             });
+        let samples: Vec<u32> = enabled
+            .iter()
+            .filter_map(|id| self.quality.current_pixels(id, engine))
+            .map(|m| m.reference.samples)
+            .collect();
+        if let (Some(lo), Some(hi)) = (samples.iter().min(), samples.iter().max()) {
+            let total = match state {
+                ReferenceState::Ready(p) => p.total,
+                _ => *hi,
+            };
+            let rest = if lo == hi {
+                format!("Figures rest on {hi} of {total} reference samples per pixel.")
+            } else {
+                format!("Figures rest on {lo} to {hi} of {total} reference samples per pixel.")
+            };
+            ui.label(RichText::new(rest).small()).on_hover_text(
+                "The reference the figures were measured against: they are refreshed as it gains samples, and exact once it has converged. FLIP may rest on fewer samples (see its tooltip).",
+            );
+        } else if stale && self.settings.quality {
+            ui.label(
+                RichText::new("Figures are stale while the view changes.")
+                    .small()
+                    .color(style::WARN),
+            );
+        }
+        for note in notes {
+            ui.label(RichText::new(note).small().color(style::ERROR));
         }
     }
 }

@@ -11,8 +11,9 @@
 //!   (linear and nearest samplers) through its `Rgba8Unorm` view, which holds the sRGB-encoded
 //!   bytes, and drawn at 1:1 physical pixels (no scaling, no dithering).
 //! - Pixel values, difference heatmaps and exports come from non-blocking readbacks
-//!   (readback.rs); scene loading and PNG encoding run on worker threads, so no frame waits for
-//!   long work.
+//!   (readback.rs); scene loading, PNG encoding, the quality figures (quality.rs) and the
+//!   magnifier's heatmaps (difference.rs) run on worker threads (worker.rs), so no frame waits
+//!   for long work.
 //! - Settings and layout persist through eframe's storage (settings.rs); keyboard shortcuts and
 //!   the help overlay share one table (shortcuts.rs).
 
@@ -20,6 +21,7 @@
 #[allow(clippy::module_inception)]
 mod app;
 mod camera;
+mod difference;
 mod engine;
 mod export;
 mod magnifier;
@@ -34,11 +36,13 @@ mod shortcuts;
 mod stats;
 mod style;
 mod viewport;
+mod worker;
 
 use std::sync::Arc;
 
 pub use app::{AaLabApp, LaunchOptions};
 pub use camera::CameraController;
+pub use quality::{Figures, PixelFigures};
 pub use settings::{DiffMetric, Layout, Settings};
 
 /// Application id: window class and the folder eframe persists settings in.

@@ -73,26 +73,50 @@ pub enum DiffMetric {
     /// Mean absolute difference of the sRGB-encoded channels.
     #[default]
     AbsoluteError,
+    /// The SSIM map (shown as dissimilarity, 1 - SSIM).
+    Ssim,
+    /// NVIDIA's FLIP error map.
+    Flip,
 }
 
 impl DiffMetric {
     /// Every metric, in menu order.
-    pub const ALL: [Self; 1] = [Self::AbsoluteError];
+    pub const ALL: [Self; 3] = [Self::AbsoluteError, Self::Ssim, Self::Flip];
 
     /// Menu label.
     pub fn label(self) -> &'static str {
         match self {
             Self::AbsoluteError => "Absolute error",
+            Self::Ssim => "SSIM map",
+            Self::Flip => "FLIP",
         }
     }
 
     /// What the heatmap shows.
-    pub fn help(self) -> &'static str {
+    pub fn help(self) -> String {
+        use crate::metrics::{flip, ssim};
+        let margin = super::magnifier::MARGIN;
         match self {
-            Self::AbsoluteError => {
-                "Per pixel: mean over R, G, B of |technique - reference| in sRGB-encoded 8-bit values, \
-                 scaled so that 64 (a quarter of the range) is the brightest colour."
-            }
+            Self::AbsoluteError => format!(
+                "Per pixel: mean over R', G', B' of |technique - reference| in sRGB-encoded 8-bit \
+                 values. Black is 0, the brightest colour {} or more.",
+                super::difference::ABSOLUTE_ERROR_FULL_SCALE
+            ),
+            Self::Ssim => format!(
+                "Per pixel: 1 - SSIM of BT.601 luma against the reference (Gaussian window \
+                 {w}x{w}, sigma {s}). Computed on the lens plus {margin} pixels around it, so \
+                 windows at the lens border see their real neighbours. Black is identical, the \
+                 brightest colour 1 - SSIM = 1 or more.",
+                w = ssim::WINDOW,
+                s = ssim::SIGMA,
+            ),
+            Self::Flip => format!(
+                "Per pixel: NVIDIA's FLIP (LDR) error against the reference for an observer at \
+                 {ppd:.0} pixels per degree. Computed on the lens plus {margin} pixels around \
+                 it, so FLIP's filters at the lens border see their real neighbours. Black is \
+                 indistinguishable, the brightest colour 1.",
+                ppd = flip::PIXELS_PER_DEGREE,
+            ),
         }
     }
 }

@@ -1,0 +1,151 @@
+//! Background workers for measurements that take longer than a UI frame (quality figures,
+//! the magnifier's error maps): one thread per worker running one job at a time. The UI hands
+//! a job over only while the worker is idle and always builds it from the newest images, so
+//! results never queue up behind outdated work ("latest wins"). A job streams its results
+//! back as they are ready and the worker wakes the UI for each; when the job ends the worker
+//! reports how long it took, which the caller uses to pace the next one.
+
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+enum Message<R> {
+    Result(R),
+    Done(Duration),
+}
+
+/// Hands a job's results back to the UI.
+pub struct Reporter<R> {
+    sender: mpsc::Sender<Message<R>>,
+    ctx: egui::Context,
+}
+
+impl<R> Reporter<R> {
+    /// Sends one result and wakes the UI.
+    pub fn send(&self, result: R) {
+        let _ = self.sender.send(Message::Result(result));
+        self.ctx.request_repaint();
+    }
+}
+
+/// A background thread running jobs of type `J` that produce results of type `R`.
+pub struct Worker<J, R> {
+    jobs: mpsc::Sender<J>,
+    results: mpsc::Receiver<Message<R>>,
+    busy: bool,
+    last_duration: Duration,
+    finished_at: Option<Instant>,
+}
+
+impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
+    /// Starts the thread; `run` handles one job, reporting results through the reporter.
+    pub fn spawn(
+        name: &str,
+        ctx: &egui::Context,
+        mut run: impl FnMut(J, &Reporter<R>) + Send + 'static,
+    ) -> std::io::Result<Self> {
+        let (jobs, job_receiver) = mpsc::channel::<J>();
+        let (sender, results) = mpsc::channel();
+        let reporter = Reporter {
+            sender,
+            ctx: ctx.clone(),
+        };
+        std::thread::Builder::new()
+            .name(name.to_owned())
+            .spawn(move || {
+                while let Ok(job) = job_receiver.recv() {
+                    let start = Instant::now();
+                    run(job, &reporter);
+                    let _ = reporter.sender.send(Message::Done(start.elapsed()));
+                    reporter.ctx.request_repaint();
+                }
+            })?;
+        Ok(Self {
+            jobs,
+            results,
+            busy: false,
+            last_duration: Duration::ZERO,
+            finished_at: None,
+        })
+    }
+
+    /// Whether a job is running.
+    pub fn busy(&self) -> bool {
+        self.busy
+    }
+
+    /// Idle, and at least `pause` (or the last job's duration, whichever is longer) has passed
+    /// since the last job ended, so that measuring takes at most about half the time.
+    pub fn rested(&self, pause: Duration) -> bool {
+        !self.busy
+            && self
+                .finished_at
+                .is_none_or(|at| at.elapsed() >= pause.max(self.last_duration))
+    }
+
+    /// Starts a job when idle; returns whether it was taken.
+    pub fn submit(&mut self, job: J) -> bool {
+        if self.busy {
+            return false;
+        }
+        self.busy = self.jobs.send(job).is_ok();
+        self.busy
+    }
+
+    /// The results that arrived since the last call, oldest first.
+    pub fn poll(&mut self) -> Vec<R> {
+        let mut out = Vec::new();
+        loop {
+            match self.results.try_recv() {
+                Ok(Message::Result(result)) => out.push(result),
+                Ok(Message::Done(duration)) => {
+                    self.busy = false;
+                    self.last_duration = duration;
+                    self.finished_at = Some(Instant::now());
+                }
+                Err(mpsc::TryRecvError::Empty) => break,
+                Err(mpsc::TryRecvError::Disconnected) => {
+                    // The thread ended (a job panicked): accept no more jobs.
+                    self.busy = true;
+                    break;
+                }
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wait_for<J: Send + 'static, R: Send + 'static>(worker: &mut Worker<J, R>) -> Vec<R> {
+        let start = Instant::now();
+        let mut out = Vec::new();
+        while worker.busy() {
+            assert!(start.elapsed() < Duration::from_secs(10), "worker stuck");
+            out.extend(worker.poll());
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        out
+    }
+
+    #[test]
+    fn runs_one_job_at_a_time_and_streams_results() {
+        let ctx = egui::Context::default();
+        let mut worker = Worker::spawn("test worker", &ctx, |n: u32, reporter| {
+            for i in 0..n {
+                reporter.send(i);
+            }
+        })
+        .unwrap();
+        assert!(worker.rested(Duration::from_secs(100)));
+        assert!(worker.submit(3));
+        assert!(!worker.submit(5), "busy workers take no second job");
+        assert_eq!(wait_for(&mut worker), vec![0, 1, 2]);
+        assert!(!worker.rested(Duration::from_secs(100)));
+        std::thread::sleep(Duration::from_millis(20));
+        assert!(worker.rested(Duration::ZERO));
+        assert!(worker.submit(2));
+        assert_eq!(wait_for(&mut worker), vec![0, 1]);
+    }
+}
