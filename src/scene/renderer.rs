@@ -6,6 +6,15 @@
 //! [`ViewParams`] (jitter, tile, mip bias). Pipelines are built on first use and cached by
 //! [`PipelineKey`]. Per-call view uniforms live in a ring of dynamic-offset slots so that many
 //! renders (supersampling tiles, accumulation passes) can be recorded into one encoder.
+//!
+//! Materials are sampled trilinearly with 8x anisotropic filtering on GPUs, and trilinearly
+//! without anisotropy on software rasterisers (see [`anisotropy_clamp`]): Mesa's llvmpipe
+//! (lavapipe) filters anisotropically by scanning every texel of the footprint ellipse's
+//! bounding box, with no bound from the anisotropy clamp or the texture size. Where a quad's
+//! texture-coordinate derivatives are extreme (sliver triangles seen edge-on, whose helper
+//! lanes extrapolate the coordinates far out, as in the hairball's sub-pixel tubes) that box
+//! spans millions of texels per axis and one fragment never finishes: the queue stalls and
+//! every later submission waits behind it.
 
 use std::collections::HashMap;
 
@@ -347,6 +356,12 @@ fn upload_texture(gpu: &Gpu, texture: &TextureImage) -> wgpu::Texture {
     gpu_texture
 }
 
+/// Anisotropy of the material sampler: 8 on GPUs, none (1) on software rasterisers, where
+/// lavapipe's unbounded footprint scan can hang a frame (see the module docs).
+pub fn anisotropy_clamp(gpu: &Gpu) -> u16 {
+    if gpu.caps.software { 1 } else { 8 }
+}
+
 impl SceneRenderer {
     /// Uploads `scene`: geometry, textures with full mip chains, materials.
     pub fn new(gpu: &Gpu, scene: &Scene) -> Self {
@@ -444,7 +459,7 @@ impl SceneRenderer {
             mag_filter: wgpu::FilterMode::Linear,
             min_filter: wgpu::FilterMode::Linear,
             mipmap_filter: wgpu::MipmapFilterMode::Linear,
-            anisotropy_clamp: 8,
+            anisotropy_clamp: anisotropy_clamp(gpu),
             ..Default::default()
         });
         let default_material = super::Material::default();
