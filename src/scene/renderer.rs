@@ -189,8 +189,9 @@ struct ObjectUniform {
     normal_matrix: [[f32; 4]; 4],
 }
 
-/// Uniform slots are aligned to the largest dynamic-offset alignment wgpu may demand.
-const UNIFORM_SLOT: u64 = 256;
+/// Stride of the view-uniform ring: one whole `ViewUniform` rounded up to the largest
+/// dynamic-offset alignment wgpu may demand (256), so that no slot overlaps the next.
+const UNIFORM_SLOT: u64 = (std::mem::size_of::<ViewUniform>() as u64).next_multiple_of(256);
 
 struct Draw {
     first_index: u32,
