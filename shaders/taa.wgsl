@@ -13,8 +13,11 @@
 //  3. Rectification: the history is forced into the current neighbourhood's colour box, which
 //     removes ghosts of content that has moved away: per-channel RGB clamp, clipping towards
 //     the box centre in YCoCg, or clipping to the variance box mean +/- gamma * sigma in YCoCg
-//     (intersected with min/max).
-//  4. Blend: the current frame gets `current_weight`, optionally weighed by 1 / (1 + luminance)
+//     (intersected with min/max). Where the pixel moves at the speed the history was written
+//     with (kept in the history's alpha), the history shows the same surface and the
+//     rectification is eased off, so thin lines that this frame's jitter missed stay.
+//  4. Blend: the current frame gets `current_weight`, more under motion (the resampling softens
+//     the history a little every frame), optionally weighed by 1 / (1 + luminance)
 //     against the history's so a lone bright sample does not flicker.
 // Colour is linear (the sRGB input decodes on load, the sRGB output encodes on store); the
 // history is Rgba16Float. fs_resolve writes output and history; fs_resolve_debug also writes
@@ -23,8 +26,12 @@
 struct TaaParams {
     // xy: image size in pixels, zw: one pixel in UV.
     size: vec4<f32>,
-    // x: current frame weight, y: variance-clip gamma, z: 1 when the history must be ignored.
+    // x: current frame weight, y: variance-clip gamma, z: 1 when the history must be ignored,
+    // w: current frame weight at one pixel per frame of motion and faster.
     blend: vec4<f32>,
+    // x: change of speed (pixels per frame) between the history and the current pixel at which
+    // rectification applies in full (0: always in full).
+    trust: vec4<f32>,
 }
 
 @group(0) @binding(0) var current: texture_2d<f32>;
@@ -89,9 +96,11 @@ fn catmull_rom_weights(t: vec2<f32>) -> array<vec2<f32>, 4> {
     );
 }
 
-fn history_at(uv: vec2<f32>) -> vec3<f32> {
+// The history's colour at `uv` (alpha: the speed it was written with, bilinear).
+fn history_at(uv: vec2<f32>) -> vec4<f32> {
+    let nearby = textureSampleLevel(history, bilinear, uv, 0.0);
     if HISTORY_FILTER == 0u {
-        return textureSampleLevel(history, bilinear, uv, 0.0).rgb;
+        return nearby;
     }
     // Texel whose centre is at or left/above the sample point, and the fraction past it.
     let position = uv * params.size.xy - 0.5;
@@ -122,12 +131,25 @@ fn history_at(uv: vec2<f32>) -> vec3<f32> {
         sum += weights[i] * textureSampleLevel(history, bilinear, taps[i], 0.0).rgb;
         total += weights[i];
     }
-    // The cubic's negative lobes can overshoot below zero next to sharp edges.
-    return max(sum / total, vec3<f32>(0.0));
+    // The cubic's negative lobes overshoot next to sharp edges (a ring that would build up
+    // frame after frame under motion): keep the result within the four texels around `uv`.
+    let corner = vec2<i32>(base);
+    let last = vec2<i32>(params.size.xy) - 1;
+    var low = vec3<f32>(1e9);
+    var high = vec3<f32>(-1e9);
+    for (var i = 0; i < 4; i++) {
+        let p = clamp(corner + vec2<i32>(i & 1, i >> 1u), vec2<i32>(0), last);
+        let c = textureLoad(history, p, 0).rgb;
+        low = min(low, c);
+        high = max(high, c);
+    }
+    return vec4<f32>(clamp(sum / total, low, high), nearby.a);
 }
 
 struct Resolved {
     colour: vec3<f32>,
+    // Speed of the pixel's content in pixels per frame (kept in the history's alpha).
+    speed: f32,
     // How far rectification moved the history (0 kept .. 1 replaced).
     rectified: f32,
     // The history was not used at all (reset, or reprojected off screen).
@@ -166,12 +188,15 @@ fn resolve(position: vec2<f32>) -> Resolved {
 
     // 2. Reprojection.
     let uv = (floor(position) + 0.5) * params.size.zw;
-    let previous = uv - textureLoad(motion, nearest, 0).xy;
+    let velocity = textureLoad(motion, nearest, 0).xy;
+    let speed = length(velocity * params.size.xy);
+    let previous = uv - velocity;
     let off_screen = any(previous < vec2<f32>(0.0)) || any(previous > vec2<f32>(1.0));
     if params.blend.z > 0.5 || off_screen {
-        return Resolved(centre, 1.0, true);
+        return Resolved(centre, speed, 1.0, true);
     }
-    let reprojected = history_at(previous);
+    let sampled = history_at(previous);
+    let reprojected = sampled.rgb;
 
     // 3. Rectification.
     var kept = reprojected;
@@ -193,9 +218,17 @@ fn resolve(position: vec2<f32>) -> Resolved {
         );
         kept = ycocg_to_rgb(clipped);
     }
+    // Velocity-weighted trust: where the content moves as it did when the history was written,
+    // the history shows the same surface and rectification, which cannot tell a thin feature
+    // missed by this frame's jitter from a ghost, is eased off; a change of speed (an occluder
+    // moving over its background) brings it back in full.
+    if params.trust.x > 0.0 {
+        let trust = saturate(1.0 - abs(speed - sampled.a) / params.trust.x);
+        kept = mix(kept, reprojected, trust);
+    }
 
     // 4. Blend.
-    let alpha = params.blend.x;
+    let alpha = mix(params.blend.x, max(params.blend.x, params.blend.w), saturate(speed));
     var colour: vec3<f32>;
     if LUMA_WEIGHT {
         let w_current = alpha / (1.0 + luminance(centre));
@@ -205,7 +238,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
         colour = mix(kept, centre, alpha);
     }
     let moved = length(kept - reprojected);
-    return Resolved(colour, saturate(moved * 4.0), false);
+    return Resolved(colour, speed, saturate(moved * 4.0), false);
 }
 
 struct Varying {
@@ -221,7 +254,7 @@ struct ResolveOutput {
 @fragment
 fn fs_resolve(in: Varying) -> ResolveOutput {
     let r = resolve(in.position.xy);
-    return ResolveOutput(vec4<f32>(r.colour, 1.0), vec4<f32>(r.colour, 1.0));
+    return ResolveOutput(vec4<f32>(r.colour, 1.0), vec4<f32>(r.colour, r.speed));
 }
 
 struct ResolveDebugOutput {
@@ -240,5 +273,5 @@ fn fs_resolve_debug(in: Varying) -> ResolveDebugOutput {
     if r.rejected {
         mask = vec3<f32>(0.9, 0.1, 0.1);
     }
-    return ResolveDebugOutput(vec4<f32>(r.colour, 1.0), vec4<f32>(r.colour, 1.0), vec4<f32>(mask, 1.0));
+    return ResolveDebugOutput(vec4<f32>(r.colour, 1.0), vec4<f32>(r.colour, r.speed), vec4<f32>(mask, 1.0));
 }

@@ -22,6 +22,25 @@
 //! luminance weighting, velocity dilation, debug output) are override constants with one cached
 //! pipeline each; the weights are uniforms.
 //!
+//! Thin geometry under motion. A line thinner than a pixel is hit by only some of the jitter
+//! positions, so the current 3x3 neighbourhood of a frame that missed it holds no trace of it,
+//! and clamping or clipping the history to that neighbourhood cuts the line out of the history
+//! again and again (a railing's balusters came out faint and broken, a quarter of their ink
+//! gone even on a still camera, and under the orbit TAA was further from the 64-sample
+//! reference than No AA). Colour alone cannot tell such a line from a ghost, but motion can: a
+//! ghost appears where an occluder slides over its background, whose speed differs from the
+//! occluder's, while a missed line moves with the surfaces around it. So the history keeps the
+//! speed it was written with (its alpha) and rectification is eased off in proportion as the
+//! speed of the pixel now matches it (`velocity_tolerance`: the change of speed, in pixels per
+//! frame, at which it applies in full; the idea follows the velocity weighting of Jimenez et
+//! al.'s SMAA T2x). Under motion the history is resampled between pixels every frame, which
+//! softens it, so the current frame's share rises with the speed (`motion_weight` at one pixel
+//! per frame and faster), and the Catmull-Rom result is kept within the four texels around the
+//! sample so that its overshoot cannot build up once the clip no longer removes it. Karis'
+//! 1 / (1 + luminance) weighting is off by default (the `karis` preset turns it on): on
+//! display-range colours it gives dark samples up to twice the weight of light ones and makes
+//! thin dark lines a quarter too dark once they are kept.
+//!
 //! Debug views: `velocity` (motion vectors), `rejection` (where the history was rectified or
 //! dropped) and `jitter` (the sample pattern inside one pixel).
 
@@ -117,6 +136,13 @@ pub struct TaaSettings {
     pub gamma: f32,
     /// Share of the current frame in the blend (before luminance weighting).
     pub current_weight: f32,
+    /// Share of the current frame where the content moves one pixel per frame or more (the
+    /// weight rises from `current_weight` with the speed; never below `current_weight`).
+    pub motion_weight: f32,
+    /// Change of speed (pixels per frame) between the history and the current pixel at which
+    /// rectification applies in full; smaller changes ease it off proportionally (0: always
+    /// rectify in full).
+    pub velocity_tolerance: f32,
     /// Karis' 1 / (1 + luminance) weighting of the blend.
     pub luma_weight: bool,
     /// Take the motion of the nearest pixel of the 3x3 neighbourhood.
@@ -133,7 +159,9 @@ impl Default for TaaSettings {
             rectify: Rectify::Variance,
             gamma: 1.0,
             current_weight: 0.1,
-            luma_weight: true,
+            motion_weight: 0.25,
+            velocity_tolerance: 1.0,
+            luma_weight: false,
             closest_velocity: true,
             mip_bias: -0.5,
         }
@@ -160,6 +188,7 @@ impl TaaSettings {
             "karis" => Self {
                 rectify: Rectify::Clip,
                 current_weight: 0.04,
+                luma_weight: true,
                 ..default
             },
             // Salvi 2016: variance clipping with gamma 1.
@@ -214,6 +243,7 @@ struct PipelineKey {
 struct TaaUniform {
     size: [f32; 4],
     blend: [f32; 4],
+    trust: [f32; 4],
 }
 
 #[repr(C)]
@@ -595,8 +625,9 @@ impl Technique for Taa {
                 self.settings.current_weight,
                 self.settings.gamma,
                 f32::from(u8::from(reset)),
-                0.0,
+                self.settings.motion_weight,
             ],
+            trust: [self.settings.velocity_tolerance, 0.0, 0.0, 0.0],
         };
         ctx.gpu
             .queue
@@ -716,6 +747,29 @@ impl Technique for Taa {
                 1.0,
                 s.current_weight,
             ),
+            Param::float(
+                "motion_weight",
+                "Current weight in motion",
+                "Share of the new frame where the image moves by a pixel per frame or more (it \
+                 rises from the current frame weight with the speed): every frame of motion \
+                 resamples the history between pixels, which softens it a little; a larger share \
+                 keeps thin lines sharp under motion at the cost of a little more aliasing.",
+                0.01,
+                1.0,
+                s.motion_weight,
+            ),
+            Param::float(
+                "velocity_tolerance",
+                "Velocity tolerance",
+                "Change of speed in pixels per frame between the history and the current pixel at \
+                 which rectification applies in full. Where the content moves as it did, the \
+                 history shows the same surface: rectification is eased off there, so thin lines \
+                 that this frame's jitter missed are kept; an occluder sliding over its background \
+                 changes the speed and brings it back. 0 always rectifies in full.",
+                0.0,
+                4.0,
+                s.velocity_tolerance,
+            ),
             Param::bool(
                 "luma_weight",
                 "Luminance weighting",
@@ -757,6 +811,8 @@ impl Technique for Taa {
             }
             "gamma" => s.gamma = as_f32(value),
             "current_weight" => s.current_weight = as_f32(value),
+            "motion_weight" => s.motion_weight = as_f32(value),
+            "velocity_tolerance" => s.velocity_tolerance = as_f32(value),
             "luma_weight" => s.luma_weight = as_bool(value),
             "closest_velocity" => s.closest_velocity = as_bool(value),
             "mip_bias" => s.mip_bias = as_f32(value),
@@ -901,7 +957,7 @@ mod tests {
             [
                 ("HISTORY_FILTER", 0.0),
                 ("RECTIFY", 1.0),
-                ("LUMA_WEIGHT", 1.0),
+                ("LUMA_WEIGHT", 0.0),
                 ("CLOSEST_VELOCITY", 0.0)
             ]
         );
