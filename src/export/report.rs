@@ -262,19 +262,12 @@ fn run_by_technique_table(
     out.push_str(&"---:|".repeat(columns.len()));
     out.push('\n');
     for run in &report.runs {
-        let density = if (run.density - 1.0).abs() > 1e-6 {
-            format!(
-                " (density {}, {} k tris)",
-                run.density,
-                run.triangles / 1000
-            )
-        } else {
-            String::new()
-        };
         let _ = write!(
             out,
-            "| {}{density} | {}x{} |",
-            run.scene, run.width, run.height
+            "| {} | {}x{} |",
+            scene_label(run),
+            run.width,
+            run.height
         );
         for (id, _) in &columns {
             let text = run
@@ -285,6 +278,21 @@ fn run_by_technique_table(
         out.push('\n');
     }
     out.push('\n');
+}
+
+/// The scene column of a run: its name, and its density and triangle count when a density
+/// sweep (or `--density`) changed them.
+fn scene_label(run: &RunReport) -> String {
+    if (run.density - 1.0).abs() > 1e-6 {
+        format!(
+            "{} (density {}, {} k tris)",
+            run.scene,
+            run.density,
+            run.triangles / 1000
+        )
+    } else {
+        run.scene.clone()
+    }
 }
 
 /// Renders the report as Markdown.
@@ -365,7 +373,7 @@ pub fn markdown(report: &BenchReport) -> String {
         let _ = writeln!(
             out,
             "| {} | {}x{} | {} | {} |",
-            run.scene,
+            scene_label(run),
             run.width,
             run.height,
             fmt_ms(run.floor_ms.median),
@@ -379,7 +387,7 @@ pub fn markdown(report: &BenchReport) -> String {
             let _ = writeln!(
                 out,
                 "| {} | {}x{} | {} | {} | {} | {} | {} |",
-                run.scene,
+                scene_label(run),
                 run.width,
                 run.height,
                 input.label,
@@ -394,7 +402,7 @@ pub fn markdown(report: &BenchReport) -> String {
         let _ = writeln!(
             out,
             "| {} | {}x{} | **whole frame** | all | {} | {} | |",
-            run.scene,
+            scene_label(run),
             run.width,
             run.height,
             fmt_ms(run.frame_ms.median),
