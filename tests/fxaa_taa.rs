@@ -17,15 +17,6 @@ use image::RgbaImage;
 
 const SIZE: (u32, u32) = (320, 180);
 
-fn technique(gpu: &Gpu, id: &str, settings: &[(&str, &str)]) -> Box<dyn Technique> {
-    let mut t = aa::create(gpu, id).unwrap_or_else(|e| panic!("{e}"));
-    for (key, value) in settings {
-        aa::set_param(t.as_mut(), key, aa::params::parse_value(value))
-            .unwrap_or_else(|e| panic!("{e}"));
-    }
-    t
-}
-
 fn graph(gpu: &Gpu, scene: &Scene, techniques: Vec<Box<dyn Technique>>) -> FrameGraph {
     let mut graph = FrameGraph::new(gpu.clone(), scene);
     for t in techniques {
@@ -158,7 +149,7 @@ fn with_reference_on(
     frames: u64,
     camera: &CameraPath<'_>,
 ) -> (RgbaImage, Vec<RgbaImage>) {
-    let mut all = vec![technique(
+    let mut all = vec![common::technique(
         gpu,
         "ssaa",
         &[("mode", "ordered"), ("factor", "8")],
@@ -179,9 +170,9 @@ fn fxaa_and_taa_change_edges_and_leave_flat_regions() {
         &gpu,
         &scene,
         vec![
-            technique(&gpu, "none", &[]),
-            technique(&gpu, "fxaa", &[]),
-            technique(&gpu, "taa", &[]),
+            common::technique(&gpu, "none", &[]),
+            common::technique(&gpu, "fxaa", &[]),
+            common::technique(&gpu, "taa", &[]),
         ],
     );
     let cameras: Vec<FrameCamera> = (0..16).map(|f| still(&scene, f, SIZE)).collect();
@@ -208,13 +199,13 @@ fn every_fxaa_quality_preset_and_luma_antialiases_the_edge() {
     let scene = common::flat_chart(5.0);
     let presets = aa::fxaa::QUALITY_NAMES;
     let mut techniques = vec![
-        technique(&gpu, "none", &[]),
-        technique(&gpu, "fxaa", &[("luma", "green")]),
+        common::technique(&gpu, "none", &[]),
+        common::technique(&gpu, "fxaa", &[("luma", "green")]),
     ];
     techniques.extend(
         presets
             .iter()
-            .map(|q| technique(&gpu, "fxaa", &[("quality", q)])),
+            .map(|q| common::technique(&gpu, "fxaa", &[("quality", q)])),
     );
     let (reference, images) = with_reference(&gpu, &scene, techniques, 1, SIZE);
     let none = window_error(&images[0], &reference, SLANTED_EDGE);
@@ -238,7 +229,10 @@ fn fxaa_lowers_the_error_against_the_reference() {
         let (reference, images) = with_reference(
             &gpu,
             &scene,
-            vec![technique(&gpu, "none", &[]), technique(&gpu, "fxaa", &[])],
+            vec![
+                common::technique(&gpu, "none", &[]),
+                common::technique(&gpu, "fxaa", &[]),
+            ],
             1,
             SIZE,
         );
@@ -261,9 +255,9 @@ fn fxaa_and_taa_approach_the_reference_on_the_builtin_chart_and_hairball() {
             &gpu,
             &scene,
             vec![
-                technique(&gpu, "none", &[]),
-                technique(&gpu, "fxaa", &[]),
-                technique(&gpu, "taa", &[]),
+                common::technique(&gpu, "none", &[]),
+                common::technique(&gpu, "fxaa", &[]),
+                common::technique(&gpu, "taa", &[]),
             ],
             33,
             (480, 270),
@@ -283,9 +277,9 @@ fn taa_converges_on_a_still_camera() {
         &gpu,
         &scene,
         vec![
-            technique(&gpu, "none", &[]),
-            technique(&gpu, "taa", &[]),
-            technique(
+            common::technique(&gpu, "none", &[]),
+            common::technique(&gpu, "taa", &[]),
+            common::technique(
                 &gpu,
                 "taa",
                 &[("samples", "16"), ("history_filter", "bilinear")],
@@ -319,11 +313,11 @@ fn taa_forgets_its_history_on_a_cut_a_resize_and_a_settings_change() {
     let scene = common::flat_chart(5.0);
     // A fresh TAA at one frame: what a reset must reproduce exactly.
     let fresh = |settings: &[(&str, &str)], camera: FrameCamera| {
-        let mut g = graph(&gpu, &scene, vec![technique(&gpu, "taa", settings)]);
+        let mut g = graph(&gpu, &scene, vec![common::technique(&gpu, "taa", settings)]);
         render(&mut g, camera, true);
         outputs(&gpu, &mut g).remove(0)
     };
-    let mut g = graph(&gpu, &scene, vec![technique(&gpu, "taa", &[])]);
+    let mut g = graph(&gpu, &scene, vec![common::technique(&gpu, "taa", &[])]);
     let step = |g: &mut FrameGraph, camera: FrameCamera, reset: bool| {
         render(g, camera, reset);
         outputs(&gpu, g).remove(0)
@@ -428,7 +422,10 @@ fn trail(
     let mut g = graph(
         gpu,
         scene,
-        vec![technique(gpu, "none", &[]), technique(gpu, "taa", settings)],
+        vec![
+            common::technique(gpu, "none", &[]),
+            common::technique(gpu, "taa", settings),
+        ],
     );
     let mut recent = Vec::new();
     for f in 0..=FRAMES {
@@ -501,7 +498,10 @@ fn taa_leaves_no_ghost_trail_behind_camera_or_object_motion() {
 fn debug_views_have_the_output_size_and_show_something() {
     let gpu = common::gpu();
     let scene = common::flat_chart(5.0);
-    let mut techniques = vec![technique(&gpu, "fxaa", &[]), technique(&gpu, "taa", &[])];
+    let mut techniques = vec![
+        common::technique(&gpu, "fxaa", &[]),
+        common::technique(&gpu, "taa", &[]),
+    ];
     for t in &mut techniques {
         t.set_debug_views(true);
     }
@@ -534,7 +534,7 @@ fn debug_views_have_the_output_size_and_show_something() {
 fn settings_and_presets_are_data() {
     let gpu = common::gpu();
     for id in ["fxaa", "taa"] {
-        let mut t = technique(&gpu, id, &[]);
+        let mut t = common::technique(&gpu, id, &[]);
         let params = t.params();
         assert!(!params.is_empty());
         // Every parameter accepts its own current value back.
@@ -557,7 +557,7 @@ fn settings_and_presets_are_data() {
         assert!(err.contains(id), "{err}");
         assert!(t.path_note().is_some());
     }
-    let mut fxaa = technique(&gpu, "fxaa", &[("quality", "39"), ("subpix", "0.5")]);
+    let mut fxaa = common::technique(&gpu, "fxaa", &[("quality", "39"), ("subpix", "0.5")]);
     assert!(
         aa::set_param(fxaa.as_mut(), "quality", aa::params::parse_value("16")).is_err(),
         "16 is not an FXAA preset"
@@ -566,7 +566,7 @@ fn settings_and_presets_are_data() {
     let map = aa::param_map(fxaa.as_ref());
     assert_eq!(map["quality"], aa::ParamValue::Choice("39".into()));
     assert_eq!(map["edge_threshold"], aa::ParamValue::Float(0.031));
-    let taa = technique(&gpu, "taa", &[("samples", "16"), ("mip_bias", "-1")]);
+    let taa = common::technique(&gpu, "taa", &[("samples", "16"), ("mip_bias", "-1")]);
     let frame = FrameInfo {
         camera: still(&common::flat_chart(0.0), 3, SIZE),
         reset_history: false,
@@ -666,7 +666,10 @@ fn taa_keeps_thin_lines_on_a_moving_camera() {
         let (reference, images) = with_reference_on(
             &gpu,
             &scene,
-            vec![technique(&gpu, "none", &[]), technique(&gpu, "taa", &[])],
+            vec![
+                common::technique(&gpu, "none", &[]),
+                common::technique(&gpu, "taa", &[]),
+            ],
             33,
             &|f| panning(&scene, f, speed, SIZE),
         );

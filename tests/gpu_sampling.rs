@@ -13,15 +13,6 @@ use aa_lab::scene::camera::FrameCamera;
 
 const SIZE: (u32, u32) = (320, 180);
 
-fn technique(gpu: &Gpu, id: &str, settings: &[(&str, &str)]) -> Box<dyn Technique> {
-    let mut t = aa::create(gpu, id).unwrap_or_else(|e| panic!("{e}"));
-    for (key, value) in settings {
-        aa::set_param(t.as_mut(), key, aa::params::parse_value(value))
-            .unwrap_or_else(|e| panic!("{e}"));
-    }
-    t
-}
-
 fn frame(scene: &Scene, size: (u32, u32)) -> FrameInfo {
     FrameInfo {
         camera: FrameCamera::from_rig(&scene.camera, 0, size),
@@ -112,8 +103,8 @@ fn msaa4_box_resolve_gives_exactly_the_coverage_levels() {
         &gpu,
         &scene,
         vec![
-            technique(&gpu, "msaa4", &[]),
-            technique(&gpu, "ssaa", &[("factor", "4")]),
+            common::technique(&gpu, "msaa4", &[]),
+            common::technique(&gpu, "ssaa", &[("factor", "4")]),
         ],
     );
     let allowed: Vec<u8> = [0.25f32, 0.5, 0.75]
@@ -145,7 +136,7 @@ fn rotated_grid_gives_more_levels_than_regular_grid_on_a_near_vertical_edge() {
     let gpu = common::gpu();
     let scene = common::flat_chart(3.0);
     let jittered = |pattern| {
-        technique(
+        common::technique(
             &gpu,
             "ssaa",
             &[("mode", "jittered"), ("samples", "4"), ("pattern", pattern)],
@@ -169,8 +160,8 @@ fn alpha_to_coverage_gives_partial_pixels_where_the_alpha_test_gives_none() {
         &gpu,
         &scene,
         vec![
-            technique(&gpu, "msaa4", &[]),
-            technique(&gpu, "msaa4", &[("alpha_to_coverage", "on")]),
+            common::technique(&gpu, "msaa4", &[]),
+            common::technique(&gpu, "msaa4", &[("alpha_to_coverage", "on")]),
         ],
     );
     // Interior rows of the card (away from its top and bottom geometric edges), across the
@@ -196,8 +187,8 @@ fn ssaa_reference_edge_has_intermediate_values() {
         &gpu,
         &scene,
         vec![
-            technique(&gpu, "ssaa", &[("factor", "8")]),
-            technique(&gpu, "none", &[]),
+            common::technique(&gpu, "ssaa", &[("factor", "8")]),
+            common::technique(&gpu, "none", &[]),
         ],
     );
     assert!(
@@ -223,7 +214,9 @@ fn every_technique_differs_from_no_aa_on_edges_and_matches_it_on_flat_areas() {
     let images = render_frames(
         &gpu,
         &scene,
-        ids.iter().map(|id| technique(&gpu, id, &[])).collect(),
+        ids.iter()
+            .map(|id| common::technique(&gpu, id, &[]))
+            .collect(),
         16,
     );
     let none = &images[ids
@@ -266,8 +259,8 @@ fn one_scene_render_per_distinct_input() {
             graph.add(t);
         }
     }
-    graph.add(technique(&gpu, "msaa4", &[]));
-    graph.add(technique(&gpu, "msaa4", &[("resolve", "tent")]));
+    graph.add(common::technique(&gpu, "msaa4", &[]));
+    graph.add(common::technique(&gpu, "msaa4", &[("resolve", "tent")]));
     graph.render(&info, FrameScope::All).expect("frame renders");
     graph.finish();
     assert!(one_x >= 1);
@@ -297,7 +290,7 @@ fn msaa4_memory_at_4k_matches_the_arithmetic() {
     let gpu = common::gpu();
     let scene = common::flat_chart(5.0);
     let mut graph = FrameGraph::new(gpu.clone(), &scene);
-    graph.add(technique(&gpu, "msaa4", &[]));
+    graph.add(common::technique(&gpu, "msaa4", &[]));
     let info = FrameInfo {
         camera: FrameCamera::from_rig(&scene.camera, 0, (3840, 2160)),
         reset_history: true,

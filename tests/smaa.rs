@@ -13,15 +13,6 @@ use image::RgbaImage;
 
 const SIZE: (u32, u32) = (320, 180);
 
-fn technique(gpu: &Gpu, id: &str, settings: &[(&str, &str)]) -> Box<dyn Technique> {
-    let mut t = aa::create(gpu, id).unwrap_or_else(|e| panic!("{e}"));
-    for (key, value) in settings {
-        aa::set_param(t.as_mut(), key, aa::params::parse_value(value))
-            .unwrap_or_else(|e| panic!("{e}"));
-    }
-    t
-}
-
 fn frame_info(scene: &Scene, frame: u64, reset: bool) -> FrameInfo {
     FrameInfo {
         camera: FrameCamera::from_rig(&scene.camera, frame, SIZE),
@@ -62,15 +53,6 @@ fn render(gpu: &Gpu, scene: &Scene, techniques: Vec<Box<dyn Technique>>) -> Vec<
 }
 
 /// Mean absolute difference of the RGB bytes.
-fn mean_error(a: &RgbaImage, b: &RgbaImage) -> f64 {
-    let sum: u64 = a
-        .pixels()
-        .zip(b.pixels())
-        .map(|(p, q)| (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>())
-        .sum();
-    sum as f64 / (3 * a.width() * a.height()) as f64
-}
-
 /// Mean absolute difference of the RGB bytes in the band of 12 pixels either side of the flat
 /// chart's slanted edge, rows 40..140 (away from the quad's corners). The chart's other
 /// edges are pixel-aligned: the reference has them exact, and there SMAA can only lose (it
@@ -136,11 +118,11 @@ fn smaa_changes_edges_only_in_every_edge_mode() {
         &gpu,
         &scene,
         vec![
-            technique(&gpu, "none", &[]),
-            technique(&gpu, "smaa", &[]),
-            technique(&gpu, "smaa", &[("edge_detection", "color")]),
-            technique(&gpu, "smaa", &[("edge_detection", "depth")]),
-            technique(&gpu, "smaa", &[("predication", "on")]),
+            common::technique(&gpu, "none", &[]),
+            common::technique(&gpu, "smaa", &[]),
+            common::technique(&gpu, "smaa", &[("edge_detection", "color")]),
+            common::technique(&gpu, "smaa", &[("edge_detection", "depth")]),
+            common::technique(&gpu, "smaa", &[("predication", "on")]),
         ],
     );
     for (i, image) in images.iter().enumerate().skip(1) {
@@ -165,11 +147,11 @@ fn smaa_moves_slanted_edges_towards_the_supersampled_reference() {
             &gpu,
             &scene,
             vec![
-                technique(&gpu, "ssaa", &[("mode", "ordered"), ("factor", "8")]),
-                technique(&gpu, "none", &[]),
-                technique(&gpu, "smaa", &[]),
-                technique(&gpu, "smaa-s2x", &[]),
-                technique(&gpu, "smaa", &[("diagonal_detection", "off")]),
+                common::technique(&gpu, "ssaa", &[("mode", "ordered"), ("factor", "8")]),
+                common::technique(&gpu, "none", &[]),
+                common::technique(&gpu, "smaa", &[]),
+                common::technique(&gpu, "smaa-s2x", &[]),
+                common::technique(&gpu, "smaa", &[("diagonal_detection", "off")]),
             ],
         );
         let error = |i: usize| edge_band_error(&images[i], &images[0], slant);
@@ -197,8 +179,8 @@ fn debug_views_show_edges_and_weights_only_on_edges() {
     let gpu = common::gpu();
     let scene = common::flat_chart(5.0);
     let mut graph = FrameGraph::new(gpu.clone(), &scene);
-    graph.add(technique(&gpu, "none", &[]));
-    let mut smaa = technique(&gpu, "smaa", &[]);
+    graph.add(common::technique(&gpu, "none", &[]));
+    let mut smaa = common::technique(&gpu, "smaa", &[]);
     smaa.set_debug_views(true);
     graph.add(smaa);
     let images = render_frames(&mut graph, &scene, 0..=0);
@@ -229,7 +211,7 @@ fn presets_and_settings_change_the_result() {
     let gpu = common::gpu();
     let scene = common::flat_chart(5.0);
     let preset = |name: &str| {
-        let mut t = technique(&gpu, "smaa", &[]);
+        let mut t = common::technique(&gpu, "smaa", &[]);
         t.apply_preset(name).unwrap_or_else(|e| panic!("{e}"));
         t
     };
@@ -237,11 +219,11 @@ fn presets_and_settings_change_the_result() {
         &gpu,
         &scene,
         vec![
-            technique(&gpu, "ssaa", &[("mode", "ordered"), ("factor", "8")]),
-            technique(&gpu, "none", &[]),
+            common::technique(&gpu, "ssaa", &[("mode", "ordered"), ("factor", "8")]),
+            common::technique(&gpu, "none", &[]),
             preset("low"),
             preset("ultra"),
-            technique(&gpu, "smaa", &[("max_search_steps", "1")]),
+            common::technique(&gpu, "smaa", &[("max_search_steps", "1")]),
         ],
     );
     let none = edge_band_error(&images[1], &images[0], 5.0);
@@ -263,9 +245,9 @@ fn t2x_is_deterministic_changes_edges_and_resets() {
     let scene = common::flat_chart(5.0);
     let run = |frames: std::ops::RangeInclusive<u64>| {
         let mut graph = FrameGraph::new(gpu.clone(), &scene);
-        graph.add(technique(&gpu, "none", &[]));
-        graph.add(technique(&gpu, "smaa-t2x", &[]));
-        graph.add(technique(
+        graph.add(common::technique(&gpu, "none", &[]));
+        graph.add(common::technique(&gpu, "smaa-t2x", &[]));
+        graph.add(common::technique(
             &gpu,
             "ssaa",
             &[("mode", "ordered"), ("factor", "8")],
@@ -287,8 +269,8 @@ fn t2x_is_deterministic_changes_edges_and_resets() {
     // from either frame alone.
     let single = run(3..=3);
     assert_ne!(single[1], a[1], "frame 3 alone equals the resolved frame 3");
-    let resolved = mean_error(&a[1], &a[2]);
-    let first = mean_error(&single[1], &single[2]);
+    let resolved = common::mean_error(&a[1], &a[2]);
+    let first = common::mean_error(&single[1], &single[2]);
     assert!(
         resolved < first,
         "resolved {resolved:.3} vs first frame {first:.3}"
@@ -296,7 +278,7 @@ fn t2x_is_deterministic_changes_edges_and_resets() {
 
     // A reset drops the history: frame 3 after a reset equals frame 3 rendered fresh.
     let mut graph = FrameGraph::new(gpu.clone(), &scene);
-    graph.add(technique(&gpu, "smaa-t2x", &[]));
+    graph.add(common::technique(&gpu, "smaa-t2x", &[]));
     render_frames(&mut graph, &scene, 0..=2);
     graph
         .render(&frame_info(&scene, 3, true), FrameScope::All)
@@ -305,7 +287,7 @@ fn t2x_is_deterministic_changes_edges_and_resets() {
     let after_reset = outputs(&graph);
     let fresh = {
         let mut graph = FrameGraph::new(gpu.clone(), &scene);
-        graph.add(technique(&gpu, "smaa-t2x", &[]));
+        graph.add(common::technique(&gpu, "smaa-t2x", &[]));
         render_frames(&mut graph, &scene, 3..=3)
     };
     assert_eq!(after_reset[0], fresh[0]);
@@ -316,7 +298,7 @@ fn t2x_is_deterministic_changes_edges_and_resets() {
 
     // Changing a setting also drops it.
     let mut graph = FrameGraph::new(gpu.clone(), &scene);
-    graph.add(technique(&gpu, "smaa-t2x", &[]));
+    graph.add(common::technique(&gpu, "smaa-t2x", &[]));
     render_frames(&mut graph, &scene, 0..=2);
     aa::set_param(
         graph.slots_mut()[0].technique.as_mut(),
@@ -331,7 +313,11 @@ fn t2x_is_deterministic_changes_edges_and_resets() {
     let changed_settings = outputs(&graph);
     let fresh = {
         let mut graph = FrameGraph::new(gpu.clone(), &scene);
-        graph.add(technique(&gpu, "smaa-t2x", &[("threshold", "0.05")]));
+        graph.add(common::technique(
+            &gpu,
+            "smaa-t2x",
+            &[("threshold", "0.05")],
+        ));
         render_frames(&mut graph, &scene, 3..=3)
     };
     assert_eq!(changed_settings[0], fresh[0]);
@@ -341,7 +327,7 @@ fn t2x_is_deterministic_changes_edges_and_resets() {
 fn s2x_reports_its_path_and_renders_once_per_sample_without_2x_msaa() {
     let gpu = common::gpu();
     let scene = common::flat_chart(5.0);
-    let s2x = technique(&gpu, "smaa-s2x", &[]);
+    let s2x = common::technique(&gpu, "smaa-s2x", &[]);
     let note = s2x.path_note().expect("path note");
     let mut graph = FrameGraph::new(gpu.clone(), &scene);
     graph.add(s2x);

@@ -495,16 +495,18 @@ impl AaLabApp {
             painter.image(image.id(), rect, uv, Color32::WHITE);
         } else {
             let text = match source {
-                Source::Reference => "reference: waiting for the camera to stop",
+                Source::Reference => "reference: waiting for a still camera",
                 Source::Technique(..) => "rendering…",
             };
-            painter.text(
-                rect.center(),
-                egui::Align2::CENTER_CENTER,
-                text,
+            // Wrapped to the pane, so that narrow panes show the whole message.
+            let color = ui.visuals().weak_text_color();
+            let galley = painter.layout(
+                text.to_owned(),
                 egui::FontId::proportional(12.0),
-                ui.visuals().weak_text_color(),
+                color,
+                (rect.width() - 8.0).max(1.0),
             );
+            painter.galley(rect.center() - galley.size() / 2.0, galley, color);
         }
         if self.settings.magnifier.pixel_grid && zoom >= 4 {
             let stroke = Stroke::new(1.0, Color32::from_black_alpha(90));

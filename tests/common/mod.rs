@@ -1,8 +1,10 @@
-//! Shared helpers of the GPU tests: the device (failing loudly when no adapter exists) and
-//! small generated scenes whose expected pixels are known exactly.
+//! Shared helpers of the GPU tests: the device (failing loudly when no adapter exists), a
+//! technique with settings, the mean RGB error of two images, and small generated scenes whose
+//! expected pixels are known exactly.
 
 #![allow(dead_code)]
 
+use aa_lab::aa::{self, Technique};
 use aa_lab::gpu::Gpu;
 use aa_lab::scene::{AlphaMode, CameraRig, Material, Mesh, Scene, TextureImage, Vertex};
 use glam::{Vec2, Vec3};
@@ -102,4 +104,25 @@ pub fn flat_chart(slant_degrees: f32) -> Scene {
         clear_color: Vec3::ONE,
         warnings: Vec::new(),
     }
+}
+
+/// Technique `id` from the registry with `settings` (key, value as typed on the command line).
+pub fn technique(gpu: &Gpu, id: &str, settings: &[(&str, &str)]) -> Box<dyn Technique> {
+    let mut t = aa::create(gpu, id).unwrap_or_else(|e| panic!("{e}"));
+    for (key, value) in settings {
+        aa::set_param(t.as_mut(), key, aa::params::parse_value(value))
+            .unwrap_or_else(|e| panic!("{e}"));
+    }
+    t
+}
+
+/// Mean absolute difference of the RGB bytes of two images of the same size, in 8-bit steps.
+pub fn mean_error(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    assert_eq!(a.dimensions(), b.dimensions());
+    let sum: u64 = a
+        .pixels()
+        .zip(b.pixels())
+        .map(|(p, q)| (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>())
+        .sum();
+    sum as f64 / (3 * a.width() * a.height()) as f64
 }
