@@ -1,22 +1,17 @@
 //! The `aa-lab` binary on good and bad input: it writes what it says, and every user error is a
 //! clear message and a non-zero exit, never a panic.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod common;
 
-fn aa_lab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_aa-lab"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
+use std::path::Path;
+use std::process::Output;
 
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
 fn fails_with(args: &[&str], needles: &[&str]) {
-    let out = aa_lab(args);
+    let out = common::aa_lab(args);
     let text = stderr(&out);
     assert!(!out.status.success(), "{args:?} succeeded");
     assert!(!text.contains("panicked"), "{args:?} panicked: {text}");
@@ -32,7 +27,7 @@ fn fails_with(args: &[&str], needles: &[&str]) {
 fn render_writes_a_png_with_its_record_and_reproduces_it() {
     let dir = tempfile::tempdir().expect("temp dir");
     let first = dir.path().join("chart.png");
-    let out = aa_lab(&[
+    let out = common::aa_lab(&[
         "render",
         "--scene",
         "chart",
@@ -52,7 +47,7 @@ fn render_writes_a_png_with_its_record_and_reproduces_it() {
         "{record}"
     );
     let again = dir.path().join("again.png");
-    let out = aa_lab(&[
+    let out = common::aa_lab(&[
         "render",
         "--from",
         first.to_str().expect("utf-8"),
@@ -68,7 +63,7 @@ fn render_writes_a_png_with_its_record_and_reproduces_it() {
 #[test]
 fn several_techniques_go_to_one_directory() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let out = aa_lab(&[
+    let out = common::aa_lab(&[
         "render",
         "--scene",
         "chart",
@@ -227,7 +222,7 @@ fn a_missing_texture_warns_and_strict_refuses() {
     let out = tmp.path().join("x.png");
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/obj/missing_texture.obj");
     let path = path.to_str().expect("utf-8");
-    let run = aa_lab(&[
+    let run = common::aa_lab(&[
         "render",
         "--scene",
         path,

@@ -75,31 +75,9 @@ fn outputs(gpu: &Gpu, graph: &mut FrameGraph) -> Vec<RgbaImage> {
         .collect()
 }
 
-/// Mean absolute difference over RGB, in 8-bit steps, over the whole image.
-fn mean_error(a: &RgbaImage, b: &RgbaImage) -> f64 {
-    window_error(a, b, (0, 0, a.width(), a.height()))
-}
-
-/// Mean absolute difference over RGB, in 8-bit steps, inside `(x, y, width, height)`.
-fn window_error(a: &RgbaImage, b: &RgbaImage, (x0, y0, w, h): (u32, u32, u32, u32)) -> f64 {
-    assert_eq!(a.dimensions(), b.dimensions());
-    let mut total = 0u64;
-    for y in y0..y0 + h {
-        for x in x0..x0 + w {
-            let (p, q) = (a.get_pixel(x, y), b.get_pixel(x, y));
-            total += (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>();
-        }
-    }
-    total as f64 / f64::from(3 * w * h)
-}
-
 /// The flat chart's slanted edge at 320x180 (its other edges are axis-aligned and fall exactly
 /// on pixel borders, where No AA is already exact and any filter can only add error).
 const SLANTED_EDGE: (u32, u32, u32, u32) = (112, 40, 78, 100);
-
-fn largest_channel_difference(a: &image::Rgba<u8>, b: &image::Rgba<u8>) -> u8 {
-    (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0)
-}
 
 /// Whether the (2r+1)^2 neighbourhood of (x, y) in `image` has one colour (never at the
 /// border).
@@ -117,7 +95,7 @@ fn flat_and_edge_changes(no_aa: &RgbaImage, image: &RgbaImage) -> (Vec<(u32, u32
     let mut flat_changes = Vec::new();
     let mut edge_changes = 0;
     for (x, y, p) in no_aa.enumerate_pixels() {
-        let d = largest_channel_difference(p, image.get_pixel(x, y));
+        let d = common::largest_channel_difference(p, image.get_pixel(x, y));
         if flat_within(no_aa, x, y, 1) {
             if d > 1 {
                 flat_changes.push((x, y, d));
@@ -208,12 +186,12 @@ fn every_fxaa_quality_preset_and_luma_antialiases_the_edge() {
             .map(|q| common::technique(&gpu, "fxaa", &[("quality", q)])),
     );
     let (reference, images) = with_reference(&gpu, &scene, techniques, 1, SIZE);
-    let none = window_error(&images[0], &reference, SLANTED_EDGE);
+    let none = common::window_error(&images[0], &reference, SLANTED_EDGE);
     for (name, image) in std::iter::once("green luma")
         .chain(presets.iter().copied())
         .zip(&images[1..])
     {
-        let error = window_error(image, &reference, SLANTED_EDGE);
+        let error = common::window_error(image, &reference, SLANTED_EDGE);
         assert!(
             error < none,
             "FXAA {name}: error {error:.3} is not below No AA's {none:.3}"
@@ -236,8 +214,8 @@ fn fxaa_lowers_the_error_against_the_reference() {
             1,
             SIZE,
         );
-        let none = window_error(&images[0], &reference, SLANTED_EDGE);
-        let fxaa = window_error(&images[1], &reference, SLANTED_EDGE);
+        let none = common::window_error(&images[0], &reference, SLANTED_EDGE);
+        let fxaa = common::window_error(&images[1], &reference, SLANTED_EDGE);
         println!("slant {slant}: No AA {none:.3}, FXAA {fxaa:.3}");
         assert!(
             fxaa < 0.9 * none,
@@ -262,7 +240,7 @@ fn fxaa_and_taa_approach_the_reference_on_the_builtin_chart_and_hairball() {
             33,
             (480, 270),
         );
-        let [none, fxaa, taa] = [0, 1, 2].map(|i| mean_error(&images[i], &reference));
+        let [none, fxaa, taa] = [0, 1, 2].map(|i| common::mean_error(&images[i], &reference));
         println!("{name} 480x270: No AA {none:.3}, FXAA {fxaa:.3}, TAA (32 frames) {taa:.3}");
         assert!(fxaa < none, "{name}: FXAA {fxaa:.3} vs No AA {none:.3}");
         assert!(taa < 0.5 * none, "{name}: TAA {taa:.3} vs No AA {none:.3}");
@@ -288,9 +266,9 @@ fn taa_converges_on_a_still_camera() {
         33,
         SIZE,
     );
-    let none = mean_error(&images[0], &reference);
+    let none = common::mean_error(&images[0], &reference);
     for (name, image) in [("default", &images[1]), ("16 bilinear", &images[2])] {
-        let taa = mean_error(image, &reference);
+        let taa = common::mean_error(image, &reference);
         println!("No AA {none:.3}, TAA {name} {taa:.3}");
         assert!(
             taa < 0.5 * none,
@@ -331,21 +309,28 @@ fn taa_forgets_its_history_on_a_cut_a_resize_and_a_settings_change() {
     // A cut the caller does not flag: the frame's previous pose is not the history's pose.
     let cut = step(&mut g, other_view(&scene, 10, SIZE), false);
     let expected = fresh(&[], other_view(&scene, 10, SIZE));
-    assert_eq!(mean_error(&cut, &expected), 0.0, "history survived the cut");
+    assert_eq!(
+        common::mean_error(&cut, &expected),
+        0.0,
+        "history survived the cut"
+    );
     assert!(
-        mean_error(&cut, &settled) > 1.0,
+        common::mean_error(&cut, &settled) > 1.0,
         "the cut did not change the view"
     );
 
     // A continuing camera keeps its history...
     let kept = step(&mut g, other_view(&scene, 11, SIZE), false);
     let alone = fresh(&[], other_view(&scene, 11, SIZE));
-    assert!(mean_error(&kept, &alone) > 0.01, "the history was not used");
+    assert!(
+        common::mean_error(&kept, &alone) > 0.01,
+        "the history was not used"
+    );
     // ...unless the caller flags a reset.
     let flagged = step(&mut g, other_view(&scene, 12, SIZE), true);
     let expected = fresh(&[], other_view(&scene, 12, SIZE));
     assert_eq!(
-        mean_error(&flagged, &expected),
+        common::mean_error(&flagged, &expected),
         0.0,
         "history survived the flagged reset"
     );
@@ -355,7 +340,7 @@ fn taa_forgets_its_history_on_a_cut_a_resize_and_a_settings_change() {
     let resized = step(&mut g, other_view(&scene, 13, small), false);
     let expected = fresh(&[], other_view(&scene, 13, small));
     assert_eq!(
-        mean_error(&resized, &expected),
+        common::mean_error(&resized, &expected),
         0.0,
         "history survived the resize"
     );
@@ -371,7 +356,7 @@ fn taa_forgets_its_history_on_a_cut_a_resize_and_a_settings_change() {
     let changed = step(&mut g, other_view(&scene, 15, small), false);
     let expected = fresh(&[("rectify", "clip")], other_view(&scene, 15, small));
     assert_eq!(
-        mean_error(&changed, &expected),
+        common::mean_error(&changed, &expected),
         0.0,
         "history survived the settings change"
     );
@@ -445,7 +430,7 @@ fn trail(
         if !moved {
             continue;
         }
-        let d = largest_channel_difference(p, taa.get_pixel(x, y));
+        let d = common::largest_channel_difference(p, taa.get_pixel(x, y));
         changed += 1;
         total += u64::from(d);
         if flat_within(no_aa, x, y, 2) {
@@ -673,7 +658,7 @@ fn taa_keeps_thin_lines_on_a_moving_camera() {
             33,
             &|f| panning(&scene, f, speed, SIZE),
         );
-        let [none, taa] = [0, 1].map(|i| mean_error(&images[i], &reference));
+        let [none, taa] = [0, 1].map(|i| common::mean_error(&images[i], &reference));
         let kept = ink(&images[1]) / ink(&reference);
         println!("pan {speed}: No AA {none:.3}, TAA {taa:.3}, TAA ink {kept:.3} of the reference");
         assert!(

@@ -2,15 +2,9 @@
 //! error messages of `compare`, and a tiny `bench` on the chart whose report, charts and
 //! sidecars are checked, and whose scored images `render --from` reproduces bit-exactly.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod common;
 
-fn aa_lab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_aa-lab"))
-        .args(args)
-        .output()
-        .expect("the aa-lab binary runs")
-}
+use std::path::Path;
 
 fn fixture(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -24,7 +18,7 @@ fn fixture(name: &str) -> String {
 fn compare_prints_json_writes_heatmaps_and_explains_errors() {
     let dir = tempfile::tempdir().unwrap();
     let heatmap = dir.path().join("ssim.png");
-    let out = aa_lab(&[
+    let out = common::aa_lab(&[
         "compare",
         &fixture("atrium_ssaa.png"),
         &fixture("atrium_msaa4.png"),
@@ -49,7 +43,7 @@ fn compare_prints_json_writes_heatmaps_and_explains_errors() {
     let image = image::open(&heatmap).unwrap();
     assert!(image.height() > 72, "the heatmap has a legend strip");
 
-    let mismatch = aa_lab(&[
+    let mismatch = common::aa_lab(&[
         "compare",
         &fixture("atrium_ssaa.png"),
         &fixture("noise_clean.png"),
@@ -62,7 +56,7 @@ fn compare_prints_json_writes_heatmaps_and_explains_errors() {
             && message.contains("noise_clean.png"),
         "{message}"
     );
-    let missing = aa_lab(&["compare", "/nonexistent/a.png", &fixture("noise_clean.png")]);
+    let missing = common::aa_lab(&["compare", "/nonexistent/a.png", &fixture("noise_clean.png")]);
     assert!(!missing.status.success());
     assert!(String::from_utf8_lossy(&missing.stderr).contains("/nonexistent/a.png"));
 }
@@ -71,7 +65,7 @@ fn compare_prints_json_writes_heatmaps_and_explains_errors() {
 fn bench_writes_a_report_whose_images_reproduce() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("report");
-    let run = aa_lab(&[
+    let run = common::aa_lab(&[
         "bench",
         "--scene",
         "chart",
@@ -122,7 +116,7 @@ fn bench_writes_a_report_whose_images_reproduce() {
     }
     // The scored image reproduces bit-exactly from its sidecar.
     let again = dir.path().join("again");
-    let render = aa_lab(&[
+    let render = common::aa_lab(&[
         "render",
         "--from",
         out.join("chart-160x90.spec.json").to_str().unwrap(),

@@ -23,7 +23,7 @@
 //!
 //! The probes include corner and edge pixels, where the window is mirrored.
 
-use std::path::PathBuf;
+mod common;
 
 use aa_lab::metrics::{self, ssim};
 
@@ -82,19 +82,13 @@ const EXPECTED: &[Expected] = &[
     ),
 ];
 
-fn fixture(name: &str) -> image::RgbaImage {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures/metrics")
-        .join(format!("{name}.png"));
-    image::open(&path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .to_rgba8()
-}
-
 #[test]
 fn ssim_psnr_and_mae_agree_with_scikit_image() {
     for &(reference, test, mean, psnr, mae, probes) in EXPECTED {
-        let (a, b) = (fixture(reference), fixture(test));
+        let (a, b) = (
+            common::metrics_fixture(reference),
+            common::metrics_fixture(test),
+        );
         let s = ssim::ssim(&a, &b).unwrap();
         assert!(
             (s.mean - mean).abs() < 1e-4,
@@ -122,8 +116,8 @@ fn ssim_psnr_and_mae_agree_with_scikit_image() {
 
 #[test]
 fn better_antialiasing_scores_better_on_every_metric() {
-    let reference = fixture("hairball_ssaa");
-    let aliased = metrics::compare(&reference, &fixture("hairball_none")).unwrap();
+    let reference = common::metrics_fixture("hairball_ssaa");
+    let aliased = metrics::compare(&reference, &common::metrics_fixture("hairball_none")).unwrap();
     let same = metrics::compare(&reference, &reference).unwrap();
     assert!(same.ssim > aliased.ssim);
     assert!(same.flip < aliased.flip && same.mae < aliased.mae);

@@ -4,8 +4,6 @@
 
 mod common;
 
-use std::path::PathBuf;
-
 use aa_lab::aa::{self, FrameInfo, ParamValue};
 use aa_lab::gpu::read_texture_rgba8;
 use aa_lab::graph::{FrameGraph, FrameScope};
@@ -15,13 +13,6 @@ use aa_lab::metrics::gpu::{GpuMetrics, upload_image};
 use aa_lab::metrics::{self, ssim};
 use aa_lab::scene::camera::FrameCamera;
 use aa_lab::scene::procedural::{SceneOptions, chart, chart_layout};
-
-fn fixture(name: &str) -> image::RgbaImage {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures/metrics")
-        .join(format!("{name}.png"));
-    image::open(&path).expect("fixture image").to_rgba8()
-}
 
 /// Renders `ids` (with settings) of a scene at frame 0 and reads every output back.
 fn render(
@@ -69,9 +60,18 @@ fn gpu_metrics_agree_with_the_cpu_reference() {
         false,
     );
     let mut pairs = vec![
-        (fixture("hairball_ssaa"), fixture("hairball_none")),
-        (fixture("atrium_ssaa"), fixture("atrium_msaa4")),
-        (fixture("noise_clean"), fixture("noise_noisy")),
+        (
+            common::metrics_fixture("hairball_ssaa"),
+            common::metrics_fixture("hairball_none"),
+        ),
+        (
+            common::metrics_fixture("atrium_ssaa"),
+            common::metrics_fixture("atrium_msaa4"),
+        ),
+        (
+            common::metrics_fixture("noise_clean"),
+            common::metrics_fixture("noise_noisy"),
+        ),
     ];
     pairs.push((rendered[1].clone(), rendered[0].clone()));
     for (i, (reference, test)) in pairs.iter().enumerate() {
@@ -117,7 +117,7 @@ fn gpu_metrics_agree_with_the_cpu_reference() {
         .unwrap();
     assert!((same.ssim - 1.0).abs() < 1e-5 && same.mae == 0.0 && same.psnr().is_infinite());
     // Size mismatch is an error, not a panic.
-    let small = upload_image(&gpu, &fixture("noise_clean"), "small");
+    let small = upload_image(&gpu, &common::metrics_fixture("noise_clean"), "small");
     assert!(
         metrics
             .compare(&gpu, &small, slots[0].output().unwrap())

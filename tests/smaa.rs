@@ -75,10 +75,6 @@ fn edge_band_error(a: &RgbaImage, b: &RgbaImage, slant_degrees: f32) -> f64 {
     sum as f64 / count as f64
 }
 
-fn max_channel_diff(a: &image::Rgba<u8>, b: &image::Rgba<u8>) -> u8 {
-    (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0)
-}
-
 /// Whether every pixel of the 5x5 block around (x, y) equals it in the No AA image: such a
 /// pixel lies in a flat region, farther than SMAA's reach (two pixels) from any edge.
 fn flat(image: &RgbaImage, x: u32, y: u32) -> bool {
@@ -100,7 +96,7 @@ fn changes(base: &RgbaImage, result: &RgbaImage) -> (usize, u8) {
     let mut changed = 0;
     let mut worst_flat = 0;
     for (x, y, p) in base.enumerate_pixels() {
-        let d = max_channel_diff(p, result.get_pixel(x, y));
+        let d = common::largest_channel_difference(p, result.get_pixel(x, y));
         if flat(base, x, y) {
             worst_flat = worst_flat.max(d);
         } else if d > 1 {

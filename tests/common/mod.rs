@@ -1,6 +1,6 @@
-//! Shared helpers of the GPU tests: the device (failing loudly when no adapter exists), a
-//! technique with settings, the mean RGB error of two images, and small generated scenes whose
-//! expected pixels are known exactly.
+//! Shared helpers of the tests: the device (failing loudly when no adapter exists), a
+//! technique with settings, image differences, fixture images, running the binary, and small
+//! generated scenes whose expected pixels are known exactly.
 
 #![allow(dead_code)]
 
@@ -116,13 +116,47 @@ pub fn technique(gpu: &Gpu, id: &str, settings: &[(&str, &str)]) -> Box<dyn Tech
     t
 }
 
-/// Mean absolute difference of the RGB bytes of two images of the same size, in 8-bit steps.
+/// Mean absolute difference over RGB of two images of the same size, in 8-bit steps.
 pub fn mean_error(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    window_error(a, b, (0, 0, a.width(), a.height()))
+}
+
+/// Mean absolute difference over RGB, in 8-bit steps, inside `(x, y, width, height)`.
+pub fn window_error(
+    a: &image::RgbaImage,
+    b: &image::RgbaImage,
+    (x0, y0, w, h): (u32, u32, u32, u32),
+) -> f64 {
     assert_eq!(a.dimensions(), b.dimensions());
-    let sum: u64 = a
-        .pixels()
-        .zip(b.pixels())
-        .map(|(p, q)| (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>())
-        .sum();
-    sum as f64 / (3 * a.width() * a.height()) as f64
+    let mut total = 0u64;
+    for y in y0..y0 + h {
+        for x in x0..x0 + w {
+            let (p, q) = (a.get_pixel(x, y), b.get_pixel(x, y));
+            total += (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>();
+        }
+    }
+    total as f64 / f64::from(3 * w * h)
+}
+
+/// The largest difference of the colour channels of two pixels.
+pub fn largest_channel_difference(a: &image::Rgba<u8>, b: &image::Rgba<u8>) -> u8 {
+    (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0)
+}
+
+/// `tests/fixtures/metrics/<name>.png`.
+pub fn metrics_fixture(name: &str) -> image::RgbaImage {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/metrics")
+        .join(format!("{name}.png"));
+    image::open(&path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgba8()
+}
+
+/// Runs the `aa-lab` binary with `args`.
+pub fn aa_lab(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_aa-lab"))
+        .args(args)
+        .output()
+        .expect("the aa-lab binary runs")
 }
