@@ -264,21 +264,15 @@ struct History {
 impl History {
     fn new(device: &wgpu::Device, size: (u32, u32)) -> Self {
         let texture = |label: &str| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: size.0,
-                    height: size.1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: HISTORY_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            })
+            crate::gpu::texture_2d(
+                device,
+                &crate::gpu::Texture2d::new(
+                    label,
+                    size,
+                    HISTORY_FORMAT,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                ),
+            )
         };
         Self {
             textures: [texture("taa history a"), texture("taa history b")],

@@ -62,23 +62,31 @@ impl<'a> Texture2d<'a> {
     }
 }
 
-/// Creates the 2D texture `desc` describes (one mip level, one layer): the one place every
-/// render target, history buffer, lookup table and output texture is made.
+impl<'a> Texture2d<'a> {
+    /// The wgpu descriptor: one mip level, one layer.
+    pub fn descriptor(&self) -> wgpu::TextureDescriptor<'a> {
+        wgpu::TextureDescriptor {
+            label: Some(self.label),
+            size: wgpu::Extent3d {
+                width: self.size.0,
+                height: self.size.1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: self.sample_count,
+            dimension: wgpu::TextureDimension::D2,
+            format: self.format,
+            usage: self.usage,
+            view_formats: self.view_formats,
+        }
+    }
+}
+
+/// Creates the 2D texture `desc` describes: the one place every render target, history buffer,
+/// lookup table and output texture is made (uploads pass [`Texture2d::descriptor`] to wgpu's
+/// `create_texture_with_data`).
 pub fn texture_2d(device: &wgpu::Device, desc: &Texture2d<'_>) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(desc.label),
-        size: wgpu::Extent3d {
-            width: desc.size.0,
-            height: desc.size.1,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: desc.sample_count,
-        dimension: wgpu::TextureDimension::D2,
-        format: desc.format,
-        usage: desc.usage,
-        view_formats: desc.view_formats,
-    })
+    device.create_texture(&desc.descriptor())
 }
 
 /// What installing a software Vulkan driver takes on Debian/Ubuntu, quoted in every

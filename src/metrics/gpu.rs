@@ -473,20 +473,13 @@ impl GpuMetrics {
 pub fn upload_image(gpu: &Gpu, image: &image::RgbaImage, label: &str) -> wgpu::Texture {
     gpu.device.create_texture_with_data(
         &gpu.queue,
-        &wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width: image.width(),
-                height: image.height(),
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: COLOR_FORMAT_ENCODED_VIEW,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        },
+        &crate::gpu::Texture2d::new(
+            label,
+            image.dimensions(),
+            COLOR_FORMAT_ENCODED_VIEW,
+            wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+        )
+        .descriptor(),
         wgpu::util::TextureDataOrder::LayerMajor,
         image.as_raw(),
     )
