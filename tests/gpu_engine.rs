@@ -116,16 +116,12 @@ fn render_together(
 ) -> Vec<(String, image::RgbaImage)> {
     let mut graph = FrameGraph::new(gpu.clone(), scene);
     for id in ids {
-        let mut technique = aa::create(gpu, id).expect("technique");
-        if *id == "ssaa" {
-            aa::set_param(
-                technique.as_mut(),
-                "mode",
-                aa::ParamValue::Choice("jittered".into()),
-            )
-            .expect("ssaa mode");
-        }
-        graph.add(technique);
+        let settings: &[(&str, &str)] = if *id == "ssaa" {
+            &[("mode", "jittered")]
+        } else {
+            &[]
+        };
+        graph.add(common::technique(gpu, id, settings));
     }
     for frame in 0..=last {
         let info = FrameInfo {
