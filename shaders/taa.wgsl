@@ -222,10 +222,15 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // the history shows the same surface and rectification, which cannot tell a thin feature
     // missed by this frame's jitter from a ghost, is eased off; a change of speed (an occluder
     // moving over its background) brings it back in full.
-    if params.trust.x > 0.0 {
-        let trust = saturate(1.0 - abs(speed - sampled.a) / params.trust.x);
-        kept = mix(kept, reprojected, trust);
-    }
+    // (A select, not a branch on the uniform: see "Uniforms never steer control flow" in
+    // gpu/shader.rs.)
+    let tolerance = params.trust.x;
+    let trust = select(
+        0.0,
+        saturate(1.0 - abs(speed - sampled.a) / max(tolerance, 1e-6)),
+        tolerance > 0.0,
+    );
+    kept = mix(kept, reprojected, trust);
 
     // 4. Blend.
     let alpha = mix(params.blend.x, max(params.blend.x, params.blend.w), saturate(speed));

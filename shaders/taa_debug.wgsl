@@ -60,9 +60,11 @@ fn fs_jitter(in: Varying) -> @location(0) vec4<f32> {
     }
     let radius = 0.025;
     let count = u32(debug.size.w);
-    for (var i = 0u; i < count; i++) {
+    // A constant trip count: a loop bounded by a uniform is specialised and recompiled at
+    // every draw by lavapipe (see the note on uniforms in gpu/shader.rs).
+    for (var i = 0u; i < 16u; i++) {
         let s = debug.samples[i];
-        if length(p - s.xy) < radius {
+        if i < count && length(p - s.xy) < radius {
             if s.z > 1.5 {
                 colour = vec3<f32>(1.0, 0.15, 0.1);
             } else if s.z > 0.5 {

@@ -1,6 +1,16 @@
 //! Loading WGSL from `shaders/`. The sources are compiled into the binary with
 //! `include_str!`, so an installed `aa-lab` needs no files beside it; the naga validation test
 //! reads the same files from disk.
+//!
+//! **Uniforms never steer control flow on their own.** Mesa's lavapipe (22.x, the driver of
+//! CI and of machines without a GPU) specialises a shader on the uniforms that alone decide an
+//! `if` condition or a loop bound ("inline uniforms"), compiles that variant at every draw and
+//! never frees it: TAA's `if params.trust.x > 0.0 { .. }` grew the process by 1.1 MB per frame
+//! until LLVM ran out of section memory. So a condition made of uniforms only is written as a
+//! `select`/`mix`, a loop runs to a constant bound and tests the uniform inside, and a setting
+//! that changes which code runs is an `override` constant. Conditions that also read a texture,
+//! a varying or the pixel position are not affected. `tests/long_runs.rs` renders hundreds of
+//! frames of every technique and fails on growth.
 
 /// Every WGSL file under `shaders/`, by file name. The naga test checks this list against the
 /// directory so that no shader escapes validation.
