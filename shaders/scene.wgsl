@@ -94,36 +94,34 @@ fn shade_fragment(
     let texel = textureSampleBias(base_texture, base_sampler, uv, view.params.x);
     let albedo = material.base_color.rgb * texel.rgb;
     var alpha = texel.a * material.base_color.a;
+    // Material switches choose results with select, never code paths: lavapipe recompiles a
+    // shader at every draw whose branch conditions read uniforms only (gpu/shader.rs).
     let masked = material.params.z > 0.5;
-    if masked {
-        if ALPHA_TO_COVERAGE {
-            // Sharpened alpha-to-coverage: the cutoff maps to 50% coverage and the transition
-            // spans about one pixel, so masked edges keep their shape in every mip level.
-            alpha = clamp((alpha - material.params.x) / max(fwidth(alpha), 1e-4) + 0.5, 0.0, 1.0);
-        } else if alpha < material.params.x {
-            discard;
-        }
+    if ALPHA_TO_COVERAGE {
+        // Sharpened alpha-to-coverage: the cutoff maps to 50% coverage and the transition
+        // spans about one pixel, so masked edges keep their shape in every mip level.
+        let coverage = clamp((alpha - material.params.x) / max(fwidth(alpha), 1e-4) + 0.5, 0.0, 1.0);
+        alpha = select(alpha, coverage, masked);
+    } else if masked & (alpha < material.params.x) {
+        discard;
     }
 
-    var rgb: vec3<f32>;
-    if material.params.y > 0.5 {
-        rgb = albedo;
-    } else {
-        var n = normalize(normal_in);
-        if !front_facing {
-            n = -n;
-        }
-        let l = -normalize(view.light_direction.xyz);
-        let v = normalize(view.eye.xyz - world_position);
-        let h = normalize(l + v);
-        let n_dot_l = max(dot(n, l), 0.0);
-        let diffuse = albedo * n_dot_l;
-        var specular = vec3<f32>(0.0);
-        if n_dot_l > 0.0 {
-            specular = material.specular.rgb * pow(max(dot(n, h), 0.0), material.specular.a);
-        }
-        rgb = view.ambient.rgb * albedo + view.light_color.rgb * (diffuse + specular);
+    var n = normalize(normal_in);
+    if !front_facing {
+        n = -n;
     }
+    let l = -normalize(view.light_direction.xyz);
+    let v = normalize(view.eye.xyz - world_position);
+    let h = normalize(l + v);
+    let n_dot_l = max(dot(n, l), 0.0);
+    let diffuse = albedo * n_dot_l;
+    var specular = vec3<f32>(0.0);
+    if n_dot_l > 0.0 {
+        specular = material.specular.rgb * pow(max(dot(n, h), 0.0), material.specular.a);
+    }
+    let lit = view.ambient.rgb * albedo + view.light_color.rgb * (diffuse + specular);
+    let unlit = material.params.y > 0.5;
+    let rgb = select(lit, albedo, unlit);
 
     var out: FragmentOutput;
     out.color = vec4<f32>(clamp(rgb, vec3<f32>(0.0), vec3<f32>(1.0)), alpha);

@@ -192,7 +192,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
     let speed = length(velocity * params.size.xy);
     let previous = uv - velocity;
     let off_screen = any(previous < vec2<f32>(0.0)) || any(previous > vec2<f32>(1.0));
-    if params.blend.z > 0.5 || off_screen {
+    if (params.blend.z > 0.5) | off_screen {
         return Resolved(centre, speed, 1.0, true);
     }
     let sampled = history_at(previous);

@@ -7,8 +7,10 @@
 //! `if` condition or a loop bound ("inline uniforms"), compiles that variant at every draw and
 //! never frees it: TAA's `if params.trust.x > 0.0 { .. }` grew the process by 1.1 MB per frame
 //! until LLVM ran out of section memory. So a condition made of uniforms only is written as a
-//! `select`/`mix`, a loop runs to a constant bound and tests the uniform inside, and a setting
-//! that changes which code runs is an `override` constant. Conditions that also read a texture,
+//! `select`/`mix`, a loop runs to a constant bound and tests the uniform inside, a uniform
+//! test is combined with `&`/`|` rather than `&&`/`||` (which naga lowers to an `if` on the
+//! uniform operand alone), and a setting that changes which code runs is an `override`
+//! constant. Conditions that also read a texture,
 //! a varying or the pixel position are not affected. `tests/long_runs.rs` renders hundreds of
 //! frames of every technique and fails on growth.
 
