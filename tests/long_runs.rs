@@ -1,5 +1,6 @@
 //! Long runs stay flat: every technique renders a hundred frames in a row without the process
-//! growing. Found on lavapipe, which specialises and recompiles at every draw the shaders whose
+//! growing and with the same live GPU objects (buffers, textures, views, bind groups,
+//! pipelines, GPU memory) at the end as at the start. Found on lavapipe, which specialises and recompiles at every draw the shaders whose
 //! `if` conditions read uniforms only, and never frees the old variants: TAA grew by 1.1 MB
 //! per frame, and every scene render of the atrium by about 4 MB (material switches). A test binary of its own, so that no other test's allocations
 //! show in this process's resident size.
@@ -18,6 +19,23 @@ const WARM_UP_FRAMES: u64 = 12;
 const MEASURED_FRAMES: u64 = 100;
 /// Growth allowed per frame: allocator noise is a few kB; the TAA leak was about 1100 kB.
 const ALLOWED_KB_PER_FRAME: f64 = 60.0;
+
+/// The live GPU objects and memory wgpu counts (dev-dependency feature `counters`).
+fn gpu_objects(device: &wgpu::Device) -> Vec<(&'static str, isize)> {
+    let hal = device.get_internal_counters().hal;
+    vec![
+        ("buffers", hal.buffers.read()),
+        ("textures", hal.textures.read()),
+        ("texture views", hal.texture_views.read()),
+        ("bind groups", hal.bind_groups.read()),
+        ("render pipelines", hal.render_pipelines.read()),
+        ("compute pipelines", hal.compute_pipelines.read()),
+        ("shader modules", hal.shader_modules.read()),
+        ("query sets", hal.query_sets.read()),
+        ("buffer memory", hal.buffer_memory.read()),
+        ("texture memory", hal.texture_memory.read()),
+    ]
+}
 
 /// Resident set size of this process in kB.
 fn resident_kb() -> u64 {
@@ -64,8 +82,10 @@ fn every_technique_renders_hundreds_of_frames_without_growing() {
         };
         render(0..WARM_UP_FRAMES);
         let before = resident_kb();
+        let objects_before = gpu_objects(&gpu.device);
         render(WARM_UP_FRAMES..WARM_UP_FRAMES + MEASURED_FRAMES);
         let after = resident_kb();
+        let objects_after = gpu_objects(&gpu.device);
         let per_frame = after.saturating_sub(before) as f64 / MEASURED_FRAMES as f64;
         let name = format!(
             "{}{}",
@@ -75,6 +95,14 @@ fn every_technique_renders_hundreds_of_frames_without_growing() {
         report.push(format!(
             "{name}: {before} -> {after} kB ({per_frame:.1} kB/frame)"
         ));
+        assert!(
+            objects_before.iter().any(|(_, n)| *n > 0),
+            "wgpu counts no GPU objects: the `counters` feature is off"
+        );
+        assert_eq!(
+            objects_after, objects_before,
+            "{name}: live GPU objects changed over {MEASURED_FRAMES} frames"
+        );
         assert!(
             per_frame <= ALLOWED_KB_PER_FRAME,
             "{name} grows by {per_frame:.0} kB per frame (allowed {ALLOWED_KB_PER_FRAME}):\n{}",
