@@ -167,8 +167,9 @@ impl FrameInfo {
     }
 }
 
-/// One antialiasing technique. See the module docs for the life cycle.
-pub trait Technique {
+/// One antialiasing technique. See the module docs for the life cycle. `Send`, so that a frame
+/// graph holding techniques can live on a render thread of its own.
+pub trait Technique: Send {
     /// Stable id (`none`, `msaa4`, `fxaa`...), as on the command line.
     fn id(&self) -> &'static str;
 

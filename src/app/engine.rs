@@ -19,14 +19,12 @@
 //! metrics and export then use without further readbacks. One engine frame is in flight at a
 //! time; the camera keeps moving meanwhile and the next frame renders where it has got to.
 
-use std::cell::RefCell;
-use std::rc::Rc;
 use std::sync::{Arc, mpsc};
 
 use egui::{TextureHandle, TextureId, TextureOptions};
 
 use super::readback::{PendingImage, Region};
-use super::reference::{ProgressiveReference, REFERENCE_ID, ReferenceControl};
+use super::reference::{ProgressiveReference, REFERENCE_ID, SharedControl};
 use super::stats::GpuStats;
 use crate::aa::ssaa::Progress;
 use crate::aa::{self, FrameInfo, Param, ParamError, ParamValue};
@@ -216,7 +214,7 @@ pub struct Engine {
     graph: FrameGraph,
     entries: Vec<TechniqueEntry>,
     reference_slot: usize,
-    reference: Rc<RefCell<ReferenceControl>>,
+    reference: SharedControl,
     reference_samples: u32,
     reference_image: Option<Published>,
     /// The view and progress of the published reference.
@@ -558,7 +556,7 @@ impl Engine {
         self.reference_wanted
             && !(self.reference_key.is_some()
                 && self.reference_key == self.last_key
-                && self.reference.borrow().progress.complete())
+                && self.reference.lock().progress.complete())
     }
 
     /// Collects the frame in flight once the GPU has delivered it and publishes its images.
@@ -688,12 +686,12 @@ impl Engine {
         if self.reference_key != Some(key) {
             self.reference_key = None;
         }
-        let before = self.reference.borrow().progress;
+        let before = self.reference.lock().progress;
         let restart = self.reference_key.is_none();
         let reference_runs = want_reference && still && (restart || !before.complete());
         if reference_runs {
             let budget = self.reference_budget();
-            let mut control = self.reference.borrow_mut();
+            let mut control = self.reference.lock();
             control.restart = restart;
             control.budget = budget;
         }
@@ -726,7 +724,7 @@ impl Engine {
         let mut reference_renders = 0;
         if reference_runs {
             self.reference_key = Some(key);
-            let after = self.reference.borrow().progress;
+            let after = self.reference.lock().progress;
             reference_renders = after.samples - if restart { 0 } else { before.samples };
             reference = Some((key, after));
         }
@@ -805,7 +803,7 @@ impl Engine {
 
     /// Reference samples to add this frame, from the measured cost of one sample.
     fn reference_budget(&self) -> u32 {
-        let budget = self.reference.borrow().budget.max(1);
+        let budget = self.reference.lock().budget.max(1);
         match self.gpu_stats.technique_ms(REFERENCE_ID) {
             Some(ms) if ms > 0.0 => ((REFERENCE_BUDGET_MS * f64::from(budget) / ms).floor() as u32)
                 .clamp(1, MAX_REFERENCE_SAMPLES_PER_FRAME),

@@ -8,8 +8,7 @@
 //! to start over (the view changed) and how many samples to add this frame; the technique
 //! reports back how many samples the image rests on.
 
-use std::cell::RefCell;
-use std::rc::Rc;
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use crate::aa::ssaa::{Progress, Ssaa, SsaaSettings};
 use crate::aa::{FrameInfo, SceneInput, Technique};
@@ -31,19 +30,32 @@ pub struct ReferenceControl {
     pub progress: Progress,
 }
 
+/// The control as the viewer and the technique share it (the technique may live on another
+/// thread than the viewer's panels).
+#[derive(Clone, Debug, Default)]
+pub struct SharedControl(Arc<Mutex<ReferenceControl>>);
+
+impl SharedControl {
+    /// Exclusive access; a panic elsewhere while it was held leaves plain data behind, which
+    /// stays usable.
+    pub fn lock(&self) -> MutexGuard<'_, ReferenceControl> {
+        self.0.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+}
+
 /// The progressive reference technique.
 pub struct ProgressiveReference {
     ssaa: Ssaa,
-    control: Rc<RefCell<ReferenceControl>>,
+    control: SharedControl,
 }
 
 impl ProgressiveReference {
     /// A reference of `samples` samples per pixel (a square: 16, 64, 256) and its control.
-    pub fn new(gpu: &Gpu, samples: u32) -> (Self, Rc<RefCell<ReferenceControl>>) {
-        let control = Rc::new(RefCell::new(ReferenceControl::default()));
+    pub fn new(gpu: &Gpu, samples: u32) -> (Self, SharedControl) {
+        let control = SharedControl::default();
         let reference = Self {
             ssaa: Ssaa::with_settings(gpu, SsaaSettings::reference(grid_factor(samples))),
-            control: Rc::clone(&control),
+            control: control.clone(),
         };
         (reference, control)
     }
@@ -69,7 +81,7 @@ impl Technique for ProgressiveReference {
         _input: Option<&SceneTargets>,
         output: &wgpu::Texture,
     ) {
-        let mut control = self.control.borrow_mut();
+        let mut control = self.control.lock();
         control.progress =
             self.ssaa
                 .encode_progressive(ctx, output, control.restart, control.budget.max(1));
@@ -81,7 +93,7 @@ impl Technique for ProgressiveReference {
     }
 
     fn path_note(&self) -> Option<String> {
-        let progress = self.control.borrow().progress;
+        let progress = self.control.lock().progress;
         Some(format!(
             "progressive {}-sample grid, box filter: {} of {} samples",
             progress.total, progress.samples, progress.total
