@@ -14,7 +14,8 @@ use plotters::prelude::*;
 use plotters::style::FontStyle;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::png::ExportError;
+use super::png::{ExportError, write_png};
+use crate::files::Overwrite;
 
 /// Family name the sans-serif UI font is registered under (plotters' default family).
 pub const SANS: &str = "sans-serif";
@@ -152,8 +153,26 @@ fn draw_legend<'n, DB: DrawingBackend>(
     Ok(())
 }
 
-/// Draws a [`BarChart`] to a PNG file.
-pub fn draw_bars(path: &Path, chart: &BarChart<'_>) -> Result<(), ChartError> {
+/// Writes a chart drawn into an RGB buffer as PNG, atomically under `policy`.
+fn save_chart(
+    path: &Path,
+    pixels: Vec<u8>,
+    size: (u32, u32),
+    policy: &Overwrite,
+) -> Result<bool, ChartError> {
+    let image = image::RgbImage::from_raw(size.0, size.1, pixels)
+        .ok_or_else(|| ChartError::draw(path, "the chart buffer has the wrong size"))?;
+    let image = image::DynamicImage::ImageRgb8(image).to_rgba8();
+    Ok(write_png(path, &image, None, policy)?)
+}
+
+/// Draws a [`BarChart`] to a PNG file (atomically, under `policy`); returns whether an
+/// existing file was replaced.
+pub fn draw_bars(
+    path: &Path,
+    chart: &BarChart<'_>,
+    policy: &Overwrite,
+) -> Result<bool, ChartError> {
     register_fonts().map_err(|e| ChartError::draw(path, e))?;
     let rows = chart.categories.len();
     if rows == 0 || chart.series.is_empty() {
@@ -180,7 +199,10 @@ pub fn draw_bars(path: &Path, chart: &BarChart<'_>) -> Result<(), ChartError> {
     let legend = chart.series.len() > 1;
     let header: u32 = if legend { 76 } else { 48 };
     let height = (header + 70 + (rows * (18 + 16 * bar_rows)) as u32).clamp(240, 1400);
-    let root = BitMapBackend::new(path, (960, height)).into_drawing_area();
+    let size = (960, height);
+    let mut pixels = vec![255u8; size.0 as usize * size.1 as usize * 3];
+    {
+    let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
     let err = drawing_error(path);
     root.fill(&WHITE).map_err(&err)?;
     let (top, body) = root.split_vertically(header);
@@ -278,7 +300,8 @@ pub fn draw_bars(path: &Path, chart: &BarChart<'_>) -> Result<(), ChartError> {
             .map_err(&err)?;
     }
     root.present().map_err(&err)?;
-    Ok(())
+    }
+    save_chart(path, pixels, size, policy)
 }
 
 /// One line of a [`LineChart`].
@@ -305,8 +328,13 @@ pub struct LineChart<'a> {
     pub log_y: bool,
 }
 
-/// Draws a [`LineChart`] to a PNG file.
-pub fn draw_lines(path: &Path, chart: &LineChart<'_>) -> Result<(), ChartError> {
+/// Draws a [`LineChart`] to a PNG file (atomically, under `policy`); returns whether an
+/// existing file was replaced.
+pub fn draw_lines(
+    path: &Path,
+    chart: &LineChart<'_>,
+    policy: &Overwrite,
+) -> Result<bool, ChartError> {
     register_fonts().map_err(|e| ChartError::draw(path, e))?;
     let points = || {
         chart
@@ -321,7 +349,10 @@ pub fn draw_lines(path: &Path, chart: &LineChart<'_>) -> Result<(), ChartError> 
     let (x_lo, x_hi) = points().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
     let (y_lo, y_hi) = points().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
     let x_pad = ((x_hi - x_lo) * 0.05).max(1e-9);
-    let root = BitMapBackend::new(path, (960, 640)).into_drawing_area();
+    let size = (960, 640);
+    let mut pixels = vec![255u8; size.0 as usize * size.1 as usize * 3];
+    {
+    let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
     let err = drawing_error(path);
     root.fill(&WHITE).map_err(&err)?;
     let (top, body) = root.split_vertically(76);
@@ -390,7 +421,8 @@ pub fn draw_lines(path: &Path, chart: &LineChart<'_>) -> Result<(), ChartError> 
         );
     }
     root.present().map_err(&err)?;
-    Ok(())
+    }
+    save_chart(path, pixels, size, policy)
 }
 
 #[cfg(test)]
@@ -424,6 +456,7 @@ mod tests {
                     range: None,
                     decimals: 2,
                 },
+                &Overwrite::new(true),
             )
             .unwrap();
             let image = image::open(&path).unwrap().to_rgb8();
@@ -444,6 +477,7 @@ mod tests {
                     lines: &lines,
                     log_y,
                 },
+                &Overwrite::new(true),
             )
             .unwrap();
         }
@@ -456,7 +490,8 @@ mod tests {
                     y_label: "",
                     lines: &[],
                     log_y: false
-                }
+                },
+                &Overwrite::new(true),
             ),
             Err(ChartError::Empty(_))
         ));
