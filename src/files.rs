@@ -208,7 +208,10 @@ impl Overwrite {
     }
 
     /// [`Overwrite::check`] for every path; none is written when one fails.
-    pub fn check_all<'p>(&self, paths: impl IntoIterator<Item = &'p Path>) -> Result<(), FileError> {
+    pub fn check_all<'p>(
+        &self,
+        paths: impl IntoIterator<Item = &'p Path>,
+    ) -> Result<(), FileError> {
         for path in paths {
             self.check(path)?;
         }
@@ -250,7 +253,9 @@ pub fn write_atomic(
             .open(&temporary)?;
         let mut writer = BufWriter::new(file);
         fill(&mut writer)?;
-        let file = writer.into_inner().map_err(io::IntoInnerError::into_error)?;
+        let file = writer
+            .into_inner()
+            .map_err(io::IntoInnerError::into_error)?;
         file.sync_all()
     })();
     if let Err(source) = result {

@@ -12,8 +12,8 @@ use aa_lab::export::png::{RECORD_KEYWORD, read_record};
 use aa_lab::spec::{RenderSpec, TechniqueSpec};
 
 /// Cases per target; each takes well under a millisecond.
-const OBJ_CASES: u64 = 1500;
-const RECORD_CASES: u64 = 1500;
+const OBJ_CASES: u64 = 800;
+const RECORD_CASES: u64 = 800;
 
 /// xorshift64* (Vigna 2016): the fuzzer's own small generator, seeded per case.
 struct Gen(u64);
@@ -41,49 +41,98 @@ impl Gen {
     fn chance(&mut self, percent: u64) -> bool {
         self.next() % 100 < percent
     }
+
+    /// From `usual` nineteen times in twenty, else from `hostile`.
+    fn mostly<'a>(&mut self, usual: &[&'a str], hostile: &[&'a str]) -> &'a str {
+        if self.chance(95) {
+            self.pick(usual)
+        } else {
+            self.pick(hostile)
+        }
+    }
 }
 
-const NUMBERS: &[&str] = &[
-    "0", "1", "-1", "0.5", "-2.25", "1e38", "3.4e39", "-1e-45", "nan", "inf", "-inf", "NaN",
-    "1e", "abc", "", "0x10", "+3", "1,5", "99999999999999999999", "-0",
+/// Ordinary numbers, drawn most of the time so that many files load.
+const NUMBERS: &[&str] = &["0", "1", "-1", "0.5", "-2.25", "1e3", "-0", "+3"];
+/// Hostile numbers.
+const BAD_NUMBERS: &[&str] = &[
+    "1e38",
+    "3.4e39",
+    "-1e-45",
+    "nan",
+    "inf",
+    "-inf",
+    "NaN",
+    "1e",
+    "abc",
+    "",
+    "0x10",
+    "1,5",
+    "99999999999999999999",
 ];
 
-const INDICES: &[&str] = &[
-    "1", "2", "3", "4", "-1", "-2", "-4", "0", "9", "2147483648", "-9223372036854775808",
-    "18446744073709551616", "a", "", "1.5",
+/// Indices that exist after the preamble.
+const INDICES: &[&str] = &["1", "2", "3", "-1", "-2"];
+/// Indices out of range or not indices at all.
+const BAD_INDICES: &[&str] = &[
+    "4",
+    "-4",
+    "0",
+    "9",
+    "2147483648",
+    "-9223372036854775808",
+    "18446744073709551616",
+    "a",
+    "",
+    "1.5",
 ];
 
 const NAMES: &[&str] = &[
     "a", "b c", "ünï", "m0", "m1", "m2", "", "\\", "..", "CON", "x\ty",
 ];
 
-fn numbers(g: &mut Gen, count: usize) -> String {
+/// `usual` numbers nineteen times in twenty, else 0 to 5 of them.
+fn numbers(g: &mut Gen, usual: usize) -> String {
+    let count = if g.chance(95) { usual } else { g.below(6) };
     (0..count)
-        .map(|_| g.pick(NUMBERS))
+        .map(|_| g.mostly(NUMBERS, BAD_NUMBERS))
         .collect::<Vec<_>>()
         .join(" ")
 }
 
 fn corner(g: &mut Gen) -> String {
-    match g.below(5) {
-        0 => g.pick(INDICES).to_owned(),
-        1 => format!("{}/{}", g.pick(INDICES), g.pick(INDICES)),
-        2 => format!("{}//{}", g.pick(INDICES), g.pick(INDICES)),
-        3 => format!(
-            "{}/{}/{}",
-            g.pick(INDICES),
-            g.pick(INDICES),
-            g.pick(INDICES)
+    match g.below(20) {
+        0..=9 => g.mostly(INDICES, BAD_INDICES).to_owned(),
+        10..=12 => format!(
+            "{}/{}",
+            g.mostly(INDICES, BAD_INDICES),
+            g.mostly(INDICES, BAD_INDICES)
         ),
-        _ => format!("{}/{}/{}/{}", g.pick(INDICES), "1", "1", "1"),
+        13..=15 => format!(
+            "{}//{}",
+            g.mostly(INDICES, BAD_INDICES),
+            g.mostly(INDICES, BAD_INDICES)
+        ),
+        16..=18 => format!(
+            "{}/{}/{}",
+            g.mostly(INDICES, BAD_INDICES),
+            g.mostly(INDICES, BAD_INDICES),
+            g.mostly(INDICES, BAD_INDICES)
+        ),
+        _ if g.chance(20) => format!("{}/1/1/1", g.mostly(INDICES, BAD_INDICES)),
+        _ => g.pick(INDICES).to_owned(),
     }
 }
 
+/// Three of each element, so that the faces the grammar draws often refer to existing ones.
+const PREAMBLE: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n\
+                        vn 0 0 1\nvn 0 0 1\nvn 0 0 1\nf 1 2 3\n";
+
 fn obj_line(g: &mut Gen) -> String {
     match g.below(16) {
-        0..=3 => format!("v {}", numbers(g, 2 + g.below(5))),
-        4 => format!("vt {}", numbers(g, 1 + g.below(3))),
-        5 => format!("vn {}", numbers(g, 2 + g.below(3))),
+        0..=3 => format!("v {}", numbers(g, 3)),
+        4 => format!("vt {}", numbers(g, 2)),
+        5 => format!("vn {}", numbers(g, 3)),
         6..=8 => {
             let corners: Vec<String> = (0..g.below(6)).map(|_| corner(g)).collect();
             format!("f {}", corners.join(" "))
@@ -118,15 +167,11 @@ fn obj_line(g: &mut Gen) -> String {
 fn mtl_line(g: &mut Gen) -> String {
     match g.below(10) {
         0 | 1 => format!("newmtl {}", g.pick(NAMES)),
-        2 | 3 => format!(
-            "{} {}",
-            g.pick(&["Kd", "Ks", "Ka", "Ke"]),
-            numbers(g, g.below(5))
-        ),
+        2 | 3 => format!("{} {}", g.pick(&["Kd", "Ks", "Ka", "Ke"]), numbers(g, 3)),
         4 => format!(
             "{} {}",
             g.pick(&["Ns", "d", "Tr", "Ni", "illum"]),
-            numbers(g, g.below(2))
+            numbers(g, 1)
         ),
         5..=7 => {
             let options = g.pick(&[
@@ -138,14 +183,7 @@ fn mtl_line(g: &mut Gen) -> String {
                 "-bm ",
                 "-clamp on ",
             ]);
-            let file = g.pick(&[
-                "tex.png",
-                "bad.png",
-                "missing.png",
-                "/dev/zero",
-                ".",
-                "",
-            ]);
+            let file = g.pick(&["tex.png", "bad.png", "missing.png", "/dev/zero", ".", ""]);
             format!("{} {options}{file}", g.pick(&["map_Kd", "map_d", "bump"]))
         }
         8 => "# comment".to_owned(),
@@ -173,7 +211,9 @@ fn mutate(g: &mut Gen, mut bytes: Vec<u8>) -> Vec<u8> {
     bytes
 }
 
-fn text(g: &mut Gen, lines: usize, line: fn(&mut Gen) -> String) -> Vec<u8> {
+/// `least` to `least + spread - 1` lines of the grammar, damaged now and then.
+fn text(g: &mut Gen, least: usize, spread: usize, line: fn(&mut Gen) -> String) -> Vec<u8> {
+    let lines = least + g.below(spread);
     let mut out = String::new();
     for _ in 0..lines {
         out += &line(g);
@@ -226,8 +266,13 @@ fn obj_and_mtl_loading_never_panics() {
     let (mut loaded, mut refused) = (0, 0);
     for case in 0..OBJ_CASES {
         let mut g = Gen::new(case);
-        let obj_text = text(&mut g, 4 + g.below(24), obj_line);
-        let mtl_text = text(&mut g, g.below(14), mtl_line);
+        let mut obj_text = if g.chance(60) {
+            PREAMBLE.as_bytes().to_vec()
+        } else {
+            Vec::new()
+        };
+        obj_text.extend(text(&mut g, 2, 12, obj_line));
+        let mtl_text = text(&mut g, 0, 14, mtl_line);
         std::fs::write(&obj, &obj_text).expect("obj");
         std::fs::write(dir.path().join("lib.mtl"), &mtl_text).expect("mtl");
         std::fs::write(dir.path().join("sub").join("lib.mtl"), &mtl_text).expect("mtl");
@@ -249,10 +294,15 @@ fn obj_and_mtl_loading_never_panics() {
             }
             Ok(Err(err)) => {
                 refused += 1;
-                assert!(!err.to_string().is_empty(), "empty error for {}", describe());
+                assert!(
+                    !err.to_string().is_empty(),
+                    "empty error for {}",
+                    describe()
+                );
             }
         }
     }
+    eprintln!("OBJ/MTL fuzz: {loaded} loaded, {refused} refused, no panic");
     // The grammar must reach both outcomes, or the harness tests nothing.
     assert!(
         loaded > 20 && refused > 20,
@@ -362,6 +412,7 @@ fn render_record_reading_never_panics() {
             Ok(None) => refused += 1,
         }
     }
+    eprintln!("record fuzz: {parsed} parsed, {refused} refused, no panic");
     assert!(
         parsed > 20 && refused > 20,
         "{parsed} parsed, {refused} refused"

@@ -44,7 +44,11 @@ fn succeeds(args: &[&str]) -> Output {
 /// A textured quad whose `map_Kd` is `texture` (written next to it).
 fn textured_quad(dir: &Path, texture: &image::RgbaImage) -> PathBuf {
     texture.save(dir.join("wide.png")).expect("texture");
-    std::fs::write(dir.join("quad.mtl"), "newmtl wide\nKd 1 1 1\nmap_Kd wide.png\n").expect("mtl");
+    std::fs::write(
+        dir.join("quad.mtl"),
+        "newmtl wide\nKd 1 1 1\nmap_Kd wide.png\n",
+    )
+    .expect("mtl");
     let obj = dir.join("quad.obj");
     std::fs::write(
         &obj,
@@ -164,7 +168,11 @@ fn non_regular_files_are_refused_up_front() {
         &["/dev/zero", "not a regular file"],
     );
     let obj = dir.path().join("zero.obj");
-    std::fs::write(&obj, "mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").expect("obj");
+    std::fs::write(
+        &obj,
+        "mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .expect("obj");
     refused(
         &["render", "--scene", utf8(&obj), "--out", utf8(&out)],
         &["/dev/zero", "not a regular file"],
@@ -251,7 +259,14 @@ fn outputs_are_never_clobbered_without_force_and_inputs_never() {
     }
     // Nor the record a render reproduces.
     refused(
-        &["render", "--from", utf8(&png), "--out", utf8(&png), "--force"],
+        &[
+            "render",
+            "--from",
+            utf8(&png),
+            "--out",
+            utf8(&png),
+            "--force",
+        ],
         &["input"],
     );
     // bench refuses to replace an earlier report before measuring anything.

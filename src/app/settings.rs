@@ -339,7 +339,8 @@ mod tests {
         let (back, notice) = Settings::from_stored(Some(&s.to_stored()), None);
         assert_eq!(back, s);
         assert!(notice.is_none());
-        let (partial, notice) = Settings::from_stored(Some(r#"{"layout":"Wipe","wipe":7.0}"#), None);
+        let (partial, notice) =
+            Settings::from_stored(Some(r#"{"layout":"Wipe","wipe":7.0}"#), None);
         assert!(notice.is_none());
         assert_eq!(partial.layout, Layout::Wipe);
         assert_eq!(partial.wipe, 1.0);
@@ -355,7 +356,10 @@ mod tests {
         assert!(notice.contains("defaults"), "{notice}");
         // Bad JSON inside a readable file names the file (issue 10, item 7).
         assert!(notice.contains("app.ron"), "{notice}");
-        assert_eq!(Settings::from_stored(None, None), (Settings::default(), None));
+        assert_eq!(
+            Settings::from_stored(None, None),
+            (Settings::default(), None)
+        );
     }
 
     #[test]
@@ -365,7 +369,10 @@ mod tests {
         assert!(notice.is_none());
         let notice = s.fit_to_adapter(16384).expect("a notice");
         assert_eq!(s.resolution, Resolution::FitViewport);
-        assert!(notice.contains("99999x99999") && notice.contains("16384"), "{notice}");
+        assert!(
+            notice.contains("99999x99999") && notice.contains("16384"),
+            "{notice}"
+        );
         s.resolution = Resolution::Fixed(1920, 1080);
         assert!(s.fit_to_adapter(16384).is_none());
         assert_eq!(s.resolution, Resolution::Fixed(1920, 1080));

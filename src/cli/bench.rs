@@ -759,7 +759,11 @@ fn sum_samples(a: &[f64], b: &[f64]) -> Vec<f64> {
 fn write_sidecars(out: &Path, run: &RunReport, policy: &Overwrite) -> anyhow::Result<()> {
     for (suffix, spec) in [("spec", &run.spec), ("reference.spec", &run.reference_spec)] {
         let path = out.join(format!("{}.{suffix}.json", run.key()));
-        files::write_bytes(&path, policy, serde_json::to_string_pretty(spec)?.as_bytes())?;
+        files::write_bytes(
+            &path,
+            policy,
+            serde_json::to_string_pretty(spec)?.as_bytes(),
+        )?;
     }
     Ok(())
 }

@@ -145,6 +145,9 @@ mod tests {
         let text = error_message(&err);
         let os = std::io::Error::from_raw_os_error(21).to_string();
         assert_eq!(text.matches(&os).count(), 1, "{text}");
-        assert!(text.starts_with("cannot load the scene: cannot read /tmp/x.obj"), "{text}");
+        assert!(
+            text.starts_with("cannot load the scene: cannot read /tmp/x.obj"),
+            "{text}"
+        );
     }
 }

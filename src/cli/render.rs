@@ -106,7 +106,8 @@ pub struct RenderArgs {
 
 /// Parses `WIDTHxHEIGHT`, both whole numbers of at least 1.
 pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
-    let expected = "a size is WIDTHxHEIGHT in pixels, both whole numbers of at least 1 (e.g. 1280x720)";
+    let expected =
+        "a size is WIDTHxHEIGHT in pixels, both whole numbers of at least 1 (e.g. 1280x720)";
     let (w, h) = text
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("`{text}`: {expected}"))?;
@@ -313,8 +314,7 @@ pub fn load_spec(path: &Path) -> anyhow::Result<RenderSpec> {
         })?
     } else {
         let bytes = files::read_bounded(path, MAX_RECORD_BYTES as u64, "a render record")?;
-        String::from_utf8(bytes)
-            .with_context(|| format!("{} is not UTF-8 text", path.display()))?
+        String::from_utf8(bytes).with_context(|| format!("{} is not UTF-8 text", path.display()))?
     };
     serde_json::from_str(&text)
         .with_context(|| format!("{} is not a valid aa-lab render record", path.display()))
@@ -393,7 +393,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     spec.build = Some(spec::build_id());
     let scene = load_scene(&spec, args.scene.strict)?;
     let policy = output_policy(args.force, args.from.as_deref(), &spec);
-    if args.out.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+    if args
+        .out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+    {
         // A single named output: refuse before rendering.
         policy.check(&args.out)?;
     }

@@ -124,9 +124,7 @@ pub fn read_image_limited(
     let reader = image::ImageReader::open(path)
         .and_then(image::ImageReader::with_guessed_format)
         .map_err(|e| read(e.to_string()))?;
-    let (width, height) = reader
-        .into_dimensions()
-        .map_err(|e| read(e.to_string()))?;
+    let (width, height) = reader.into_dimensions().map_err(|e| read(e.to_string()))?;
     if u64::from(width) * u64::from(height) > max_pixels {
         return Err(ExportError::TooManyPixels {
             path: path.to_owned(),
@@ -229,6 +227,9 @@ mod tests {
             err.to_string().contains("300x200") && err.to_string().contains("59999"),
             "{err}"
         );
-        assert_eq!(read_image_limited(&path, 60_000, "this test").unwrap(), image);
+        assert_eq!(
+            read_image_limited(&path, 60_000, "this test").unwrap(),
+            image
+        );
     }
 }

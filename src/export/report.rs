@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 use super::charts::{
     BarChart, BarLayout, BarSeries, ChartError, Line, LineChart, draw_bars, draw_lines,
 };
-use crate::files::Overwrite;
 use crate::aa::ParamMap;
+use crate::files::Overwrite;
 use crate::gpu::Capabilities;
 use crate::metrics::{Comparison, Summary};
 use crate::spec::RenderSpec;

@@ -73,7 +73,12 @@ fn check_side(what: &'static str, width: u64, height: u64) -> Result<(), TooLarg
 /// zoomed `zoom` times, without its labels: refused when over the limits (see the module docs).
 pub fn check_layout(columns: usize, regions: &[Rect], zoom: u32) -> Result<(), TooLarge> {
     let zoom = u64::from(zoom.max(1));
-    let cell_width = regions.iter().map(|r| u64::from(r.width)).max().unwrap_or(1) * zoom;
+    let cell_width = regions
+        .iter()
+        .map(|r| u64::from(r.width))
+        .max()
+        .unwrap_or(1)
+        * zoom;
     let columns = columns.max(1) as u64;
     let width = u64::from(MARGIN * 2) + columns * (cell_width + u64::from(GAP));
     let height: u64 = regions

@@ -175,8 +175,8 @@ pub enum ObjError {
 /// Problems that do not stop the load (missing or corrupt textures, unsupported translucency,
 /// unknown material names, skipped records) are listed in [`Scene::warnings`].
 pub fn load_obj(path: &Path) -> Result<Scene, ObjError> {
-    let text =
-        read_text(path, MAX_OBJ_BYTES, "an OBJ file").map_err(|failure| failure.into_error(path))?;
+    let text = read_text(path, MAX_OBJ_BYTES, "an OBJ file")
+        .map_err(|failure| failure.into_error(path))?;
     let checked = check_obj(path, &text)?;
     let mut warnings = checked.warnings;
 
@@ -597,14 +597,15 @@ type MaterialNames = Vec<(String, usize)>;
 
 /// Reads, validates and parses one MTL file.
 fn read_mtl(obj: &Path, mtl: &Path) -> Result<(Vec<tobj::Material>, MaterialNames), ObjError> {
-    let text = read_text(mtl, MAX_MTL_BYTES, "a material library").map_err(|failure| match failure {
-        ReadFailure::Io(source) => ObjError::MissingMtl {
-            obj: obj.to_owned(),
-            mtl: mtl.to_owned(),
-            source,
-        },
-        other => other.into_error(mtl),
-    })?;
+    let text =
+        read_text(mtl, MAX_MTL_BYTES, "a material library").map_err(|failure| match failure {
+            ReadFailure::Io(source) => ObjError::MissingMtl {
+                obj: obj.to_owned(),
+                mtl: mtl.to_owned(),
+                source,
+            },
+            other => other.into_error(mtl),
+        })?;
     let text = normalize_mtl(mtl, &text)?;
     let (materials, names) =
         tobj::load_mtl_buf(&mut text.as_bytes()).map_err(|source| ObjError::Parse {
