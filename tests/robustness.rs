@@ -204,13 +204,18 @@ fn huge_sheets_and_comparisons_are_refused_with_the_limit() {
         );
     }
     assert!(!sheet.exists());
-    // A PNG header claiming 11000x11000 is enough: the limit is checked before decoding.
+    // A PNG header claiming 11000x11000 (494 KB would hold the real thing) is enough: the
+    // limit is checked before decoding.
     let big = dir.path().join("big.png");
     {
         let file = std::fs::File::create(&big).expect("big");
         let mut encoder = png::Encoder::new(file, 11000, 11000);
         encoder.set_color(png::ColorType::Rgba);
-        let writer = encoder.write_header().expect("header");
+        let mut writer = encoder.write_header().expect("header");
+        // One token IDAT chunk: decoders read the header up to it.
+        writer
+            .write_chunk(png::chunk::IDAT, &[0x78, 0x9c])
+            .expect("idat");
         drop(writer);
     }
     refused(
