@@ -8,31 +8,20 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-fn stdout(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
+use common::{fails_with as refused, stderr, stdout};
 
 fn utf8(path: &Path) -> &str {
     path.to_str().expect("utf-8 path")
 }
 
-/// Runs `args` and checks that it failed cleanly with every needle in its message.
-fn refused(args: &[&str], needles: &[&str]) -> String {
-    let out = common::aa_lab(args);
-    let text = stderr(&out);
-    assert!(!out.status.success(), "{args:?} succeeded: {text}");
-    assert!(!text.contains("panicked"), "{args:?} panicked: {text}");
-    for needle in needles {
-        assert!(
-            text.contains(needle),
-            "{args:?}: `{needle}` missing from: {text}"
-        );
-    }
-    text
+/// `sheet` of the 64x36 chart with one region, written to `out`, plus `extra` arguments.
+fn sheet_args<'a>(region: &'a str, out: &'a Path, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec![
+        "sheet", "--scene", "chart", "--size", "64x36", "--region", region, "--out",
+    ];
+    args.push(utf8(out));
+    args.extend_from_slice(extra);
+    args
 }
 
 fn succeeds(args: &[&str]) -> Output {
@@ -187,19 +176,7 @@ fn huge_sheets_and_comparisons_are_refused_with_the_limit() {
     let sheet = dir.path().join("sheet.png");
     for zoom in ["1000", "100000", "2147483648"] {
         refused(
-            &[
-                "sheet",
-                "--scene",
-                "chart",
-                "--size",
-                "64x36",
-                "--region",
-                "a=0,0,32,18",
-                "--zoom",
-                zoom,
-                "--out",
-                utf8(&sheet),
-            ],
+            &sheet_args("a=0,0,32,18", &sheet, &["--zoom", zoom]),
             &["16384"],
         );
     }
@@ -322,18 +299,9 @@ fn wrapping_counts_duplicates_and_empty_regions_are_caught() {
     let wrote = stdout(&render);
     assert_eq!(wrote.matches("wrote").count(), 2, "{wrote}");
     assert_eq!(wrote.matches("chart-none.png").count(), 1, "{wrote}");
+    let sheet = dir.path().join("sheet.png");
     refused(
-        &[
-            "sheet",
-            "--scene",
-            "chart",
-            "--size",
-            "64x36",
-            "--region",
-            "far=500,500,10,10",
-            "--out",
-            utf8(&dir.path().join("sheet.png")),
-        ],
+        &sheet_args("far=500,500,10,10", &sheet, &[]),
         &["far=500,500,10,10", "outside", "64x36"],
     );
 }

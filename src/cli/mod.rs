@@ -21,9 +21,22 @@ pub use bench::{BenchArgs, Sweep};
 pub use compare::CompareArgs;
 pub use render::RenderArgs;
 
+/// The overwrite policy as `--help` states it (see the module docs).
+const FILES_HELP: &str = "Files: aa-lab never replaces an existing file unless the command is given \
+--force, and never writes over one of the command's inputs, even with --force. Outputs are \
+written to a temporary file in the same folder and renamed into place. The viewer's export \
+takes the next free numbered name instead.";
+
 /// Compare real-time antialiasing techniques on the same frame.
 #[derive(Debug, Parser)]
-#[command(name = "aa-lab", version, about, long_about = None, args_conflicts_with_subcommands = true)]
+#[command(
+    name = "aa-lab",
+    version,
+    about,
+    long_about = None,
+    after_help = FILES_HELP,
+    args_conflicts_with_subcommands = true
+)]
 pub struct Cli {
     /// What to do; without a subcommand the viewer opens.
     #[command(subcommand)]
