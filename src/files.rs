@@ -183,7 +183,7 @@ impl Overwrite {
     /// Whether `path` is one of the inputs (compared after resolving links and `..`).
     fn is_input(&self, path: &Path) -> bool {
         let resolved = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_owned());
-        self.inputs.iter().any(|input| *input == resolved)
+        self.inputs.contains(&resolved)
     }
 
     /// Checks that `path` may be written under this policy, before any work is done; returns
