@@ -11,6 +11,7 @@
 //! - [`metrics`]: SSIM, PSNR, MAE, FLIP (CPU and GPU), flicker, chart ground truth, timing
 //!   summaries;
 //! - [`export`]: PNG files with their render record;
+//! - [`files`]: bounded reads of user files, atomic writes and the overwrite policy;
 //! - [`cli`]: the command-line subcommands;
 //! - [`app`]: the viewer (eframe/egui on the same frame graph).
 
@@ -18,7 +19,7 @@ pub mod aa;
 pub mod app;
 pub mod cli;
 pub mod export;
-
+pub mod files;
 pub mod gpu;
 pub mod graph;
 pub mod metrics;

@@ -9,7 +9,7 @@ fn main() -> std::process::ExitCode {
     match aa_lab::cli::run(cli) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("error: {err:#}");
+            eprintln!("error: {}", aa_lab::cli::error_message(&err));
             std::process::ExitCode::FAILURE
         }
     }

@@ -53,6 +53,10 @@ pub struct RenderSpec {
     pub build: Option<String>,
 }
 
+/// Largest frame number of a render: temporal techniques run every frame up to it, so a
+/// larger one would take days and overflow frame arithmetic.
+pub const MAX_FRAME: u64 = 1_000_000;
+
 fn default_density() -> f32 {
     1.0
 }
@@ -84,6 +88,9 @@ pub enum RenderError {
     /// No technique was given.
     #[error("no technique to render")]
     NoTechnique,
+    /// The frame number is beyond [`MAX_FRAME`].
+    #[error("frame {0} is beyond the largest frame aa-lab renders ({MAX_FRAME})")]
+    FrameTooLarge(u64),
 }
 
 /// An image a technique produced.
@@ -159,6 +166,9 @@ pub fn run(
     spec: &RenderSpec,
     options: &RunOptions<'_>,
 ) -> Result<RenderOutput, RenderError> {
+    if spec.frame > MAX_FRAME {
+        return Err(RenderError::FrameTooLarge(spec.frame));
+    }
     let mut graph = build_graph(gpu, scene, spec)?;
     for slot in graph.slots_mut() {
         slot.technique.set_debug_views(options.debug_views);

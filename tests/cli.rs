@@ -3,25 +3,8 @@
 
 mod common;
 
+use common::{fails_with, stderr};
 use std::path::Path;
-use std::process::Output;
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-fn fails_with(args: &[&str], needles: &[&str]) {
-    let out = common::aa_lab(args);
-    let text = stderr(&out);
-    assert!(!out.status.success(), "{args:?} succeeded");
-    assert!(!text.contains("panicked"), "{args:?} panicked: {text}");
-    for needle in needles {
-        assert!(
-            text.contains(needle),
-            "{args:?}: `{needle}` missing from: {text}"
-        );
-    }
-}
 
 #[test]
 fn render_writes_a_png_with_its_record_and_reproduces_it() {

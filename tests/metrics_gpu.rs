@@ -79,8 +79,8 @@ fn gpu_metrics_agree_with_the_cpu_reference() {
         let errors = metrics::pixel::error_maps(reference, test)
             .unwrap()
             .pool(None);
-        let a = upload_image(&gpu, reference, "reference");
-        let b = upload_image(&gpu, test, "test");
+        let a = upload_image(&gpu, reference, "reference").unwrap();
+        let b = upload_image(&gpu, test, "test").unwrap();
         let got = metrics.compare(&gpu, &a, &b).unwrap();
         assert!(
             (got.ssim - cpu.mean).abs() < 1e-3,
@@ -117,7 +117,7 @@ fn gpu_metrics_agree_with_the_cpu_reference() {
         .unwrap();
     assert!((same.ssim - 1.0).abs() < 1e-5 && same.mae == 0.0 && same.psnr().is_infinite());
     // Size mismatch is an error, not a panic.
-    let small = upload_image(&gpu, &common::metrics_fixture("noise_clean"), "small");
+    let small = upload_image(&gpu, &common::metrics_fixture("noise_clean"), "small").unwrap();
     assert!(
         metrics
             .compare(&gpu, &small, slots[0].output().unwrap())

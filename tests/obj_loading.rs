@@ -374,7 +374,14 @@ fn malformed_mtl_is_an_error_naming_the_library() {
 fn unreadable_paths_are_io_errors() {
     let directory = fixture("");
     let error = load_obj(&directory).expect_err("a directory is not an OBJ file");
-    assert!(matches!(error, ObjError::Io { .. }), "{error:?}");
+    assert!(
+        matches!(
+            error,
+            ObjError::File(aa_lab::files::FileError::NotAFile { .. })
+        ),
+        "{error:?}"
+    );
+    assert!(error.to_string().contains("a directory"), "{error}");
 
     let error = load_obj(&fixture("nowhere.obj")).expect_err("missing file");
     assert!(matches!(error, ObjError::Io { .. }), "{error:?}");

@@ -282,9 +282,19 @@ pub fn create(gpu: &Gpu, id: &str) -> Result<Box<dyn Technique>, TechniqueError>
             all.iter().map(|t| t.id).collect::<Vec<_>>().join(", "),
         )
     })?;
-    (info.availability)(&gpu.caps).map_err(|reason| TechniqueError::Unavailable {
+    let unavailable = |reason| TechniqueError::Unavailable {
         technique: id.to_owned(),
         reason,
-    })?;
-    Ok((info.create)(gpu))
+    };
+    (info.availability)(&gpu.caps).map_err(unavailable)?;
+    // A pipeline the backend cannot build (a shader feature it cannot translate) is an error
+    // of this technique, not a panic of wgpu's default error handler.
+    let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let technique = (info.create)(gpu);
+    match pollster::block_on(scope.pop()) {
+        Some(error) => Err(unavailable(format!(
+            "its GPU pipelines could not be created: {error}"
+        ))),
+        None => Ok(technique),
+    }
 }

@@ -24,11 +24,39 @@ pub struct TechniqueInfo {
     pub create: fn(&Gpu) -> Box<dyn Technique>,
 }
 
-fn always(_: &Capabilities) -> Result<(), String> {
-    Ok(())
+/// What a Vulkan driver gives on a machine without a GPU, quoted where a technique cannot run.
+const FULL_SET_HINT: &str = "a Vulkan driver runs every technique (without a GPU: Mesa's \
+     software driver, `apt-get install mesa-vulkan-drivers libvulkan1`)";
+
+/// What every technique needs: sRGB and linear views of one texture (see
+/// [`Capabilities::view_formats`]).
+fn always(caps: &Capabilities) -> Result<(), String> {
+    if caps.view_formats {
+        Ok(())
+    } else {
+        Err(format!(
+            "the {} backend cannot view a texture both as sRGB and as linear values (wgpu's \
+             VIEW_FORMATS), which every technique's input and output need; {FULL_SET_HINT}",
+            caps.backend
+        ))
+    }
+}
+
+/// SMAA S2x reads depth with `textureLoad`, which wgpu cannot translate to GLSL.
+fn smaa_s2x_availability(caps: &Capabilities) -> Result<(), String> {
+    always(caps)?;
+    if caps.is_gl() {
+        Err(format!(
+            "SMAA S2x loads depth samples with textureLoad, which the OpenGL backend's GLSL \
+             cannot do; {FULL_SET_HINT}"
+        ))
+    } else {
+        Ok(())
+    }
 }
 
 fn msaa_availability(caps: &Capabilities, samples: u32) -> Result<(), String> {
+    always(caps)?;
     if caps.supports_sample_count(samples) {
         Ok(())
     } else {
@@ -138,7 +166,7 @@ pub fn registry() -> Vec<TechniqueInfo> {
                  MSAA's real sub-pixel coverage plus SMAA's gradients, better than either alone on thin geometry, \
                  at the cost of a 2x render and two SMAA runs. Without 2x MSAA on the adapter it renders the scene \
                  twice at the two positions instead.",
-            availability: always,
+            availability: smaa_s2x_availability,
             create: |gpu| Box::new(super::smaa::Smaa::new(gpu, super::smaa::Mode::S2x)),
         },
         TechniqueInfo {

@@ -111,9 +111,19 @@ impl AaLabApp {
         let (mut settings, notice) = if options.fresh_settings {
             (Settings::default(), None)
         } else {
-            Settings::from_stored(stored_settings(cc.storage).as_deref())
+            Settings::from_stored(
+                stored_settings(cc.storage).as_deref(),
+                settings_file().as_deref(),
+            )
         };
-        if let Some(text) = notice.or_else(|| unreadable_storage_notice(cc.storage)) {
+        let fitted = settings.fit_to_adapter(gpu.caps.max_texture_dimension_2d);
+        let warnings = notice
+            .or_else(|| unreadable_storage_notice(cc.storage))
+            .into_iter()
+            .chain(fitted);
+        for text in warnings {
+            // The status bar shows it for a few seconds; the log keeps it.
+            log::warn!("{text}");
             notices.push(Notice {
                 level: Level::Warning,
                 text,
@@ -587,13 +597,18 @@ fn stored_settings(storage: Option<&dyn eframe::Storage>) -> Option<String> {
     storage.and_then(|s| s.get_string(STORAGE_KEY))
 }
 
+/// eframe's settings file.
+fn settings_file() -> Option<PathBuf> {
+    Some(eframe::storage_dir(super::APP_ID)?.join("app.ron"))
+}
+
 /// A notice when eframe's settings file exists but gave no settings (it could not be parsed).
 fn unreadable_storage_notice(storage: Option<&dyn eframe::Storage>) -> Option<String> {
     let storage = storage?;
     if storage.get_string(STORAGE_KEY).is_some() {
         return None;
     }
-    let path = eframe::storage_dir(super::APP_ID)?.join("app.ron");
+    let path = settings_file()?;
     let size = std::fs::metadata(&path).ok()?.len();
     (size > 0).then(|| {
         format!(

@@ -16,6 +16,7 @@ use super::difference::lens_heatmap;
 use super::magnifier::{Source, crop};
 use crate::export::sheet::{self, Cell, Row};
 use crate::export::write_png;
+use crate::files::{self, Overwrite};
 use crate::spec::{RenderSpec, TechniqueSpec};
 
 /// The first name `stem`, `stem-2`, `stem-3`... for which none of the set's files exist.
@@ -139,20 +140,21 @@ fn write_files(plan: &Plan) -> Result<Vec<PathBuf>, String> {
         suffixes.push("-magnifier.png".to_owned());
     }
     let stem = free_stem(&plan.dir, &plan.stem, &suffixes);
+    // The stem is free; never replacing anything also guards against a file appearing meanwhile.
+    let policy = Overwrite::new(false);
     let mut written = Vec::new();
     for (suffix, image) in images {
         let path = plan.dir.join(format!("{stem}-{suffix}.png"));
-        write_png(&path, image, Some(&plan.record)).map_err(|e| e.to_string())?;
+        write_png(&path, image, Some(&plan.record), &policy).map_err(|e| e.to_string())?;
         written.push(path);
     }
     if let Some(sheet) = &plan.sheet {
         let path = plan.dir.join(format!("{stem}-magnifier.png"));
-        write_png(&path, sheet, Some(&plan.record)).map_err(|e| e.to_string())?;
+        write_png(&path, sheet, Some(&plan.record), &policy).map_err(|e| e.to_string())?;
         written.push(path);
     }
     let sidecar = plan.dir.join(format!("{stem}.json"));
-    std::fs::write(&sidecar, &plan.record)
-        .map_err(|e| format!("cannot write {}: {e}", sidecar.display()))?;
+    files::write_bytes(&sidecar, &policy, plan.record.as_bytes()).map_err(|e| e.to_string())?;
     written.push(sidecar);
     Ok(written)
 }
@@ -223,7 +225,7 @@ impl AaLabApp {
             columns.push(format!("{letter} · {title}"));
             let caption = self.pane_figures(source);
             cells.push(Cell {
-                image: sheet::crop_zoom(&pixels, whole, zoom),
+                image: sheet::crop_zoom(&pixels, whole, zoom).ok()?,
                 caption: (!caption.is_empty()).then_some(caption),
             });
         }

@@ -151,7 +151,7 @@ fn pixel_figures_gpu(
     reference: &wgpu::Texture,
     test: &image::RgbaImage,
 ) -> Result<PixelFigures, String> {
-    let test = upload_image(gpu, test, "quality test image");
+    let test = upload_image(gpu, test, "quality test image").map_err(|e| e.to_string())?;
     let scores = metrics
         .compare(gpu, reference, &test)
         .map_err(|e| e.to_string())?;
@@ -180,13 +180,20 @@ fn spawn_pixel_worker(
                 None
             }
         });
-        match opened {
-            Some((gpu, metrics)) => {
-                let reference = upload_image(gpu, &job.reference, "quality reference");
-                job.run(&current_view, reporter, |test| {
-                    (pixel_figures_gpu(gpu, metrics, &reference, test), "GPU")
-                });
-            }
+        let uploaded = match opened {
+            Some((gpu, metrics)) => match upload_image(gpu, &job.reference, "quality reference") {
+                Ok(reference) => Some((gpu, metrics, reference)),
+                Err(err) => {
+                    log::warn!("quality figures on the CPU: {err}");
+                    None
+                }
+            },
+            None => None,
+        };
+        match uploaded {
+            Some((gpu, metrics, reference)) => job.run(&current_view, reporter, |test| {
+                (pixel_figures_gpu(gpu, metrics, &reference, test), "GPU")
+            }),
             None => job.run(&current_view, reporter, |test| {
                 (pixel_figures_cpu(&job.reference, test), "CPU")
             }),

@@ -5,10 +5,13 @@
 //! The settings are one serde struct stored as JSON under one key of eframe's storage. Every
 //! field has a default (`#[serde(default)]`), so files from older or newer versions load with
 //! what they share; a value that cannot be read at all falls back to the defaults and the user
-//! is told why ([`Settings::from_stored`]).
+//! is told why ([`Settings::from_stored`], which names the settings file; the app also logs
+//! it). Values are brought into range on load, and against the adapter's limits once the
+//! device is known ([`Settings::fit_to_adapter`]): a saved 99999x99999 resolution would
+//! otherwise never render.
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use crate::aa::ParamMap;
 use crate::scene::camera::OrbitPose;
@@ -252,7 +255,8 @@ impl Default for Settings {
 impl Settings {
     /// Settings from the stored text: the defaults when nothing was stored, and the defaults
     /// plus a notice saying why when the text cannot be read.
-    pub fn from_stored(text: Option<&str>) -> (Self, Option<String>) {
+    /// `file` is where they were stored, for the notice.
+    pub fn from_stored(text: Option<&str>, file: Option<&Path>) -> (Self, Option<String>) {
         let Some(text) = text else {
             return (Self::default(), None);
         };
@@ -261,10 +265,27 @@ impl Settings {
             Err(err) => (
                 Self::default(),
                 Some(format!(
-                    "The saved viewer settings could not be read ({err}); the defaults are in use \
-                     and will replace them on exit."
+                    "The saved viewer settings{} could not be read ({err}); the defaults are in \
+                     use and will replace them on exit.",
+                    file.map(|f| format!(" in {}", f.display()))
+                        .unwrap_or_default()
                 )),
             ),
+        }
+    }
+
+    /// Brings what depends on the adapter into its limits: a fixed resolution larger than its
+    /// largest texture side falls back to the viewport size. Returns a notice saying so.
+    pub fn fit_to_adapter(&mut self, max_texture_side: u32) -> Option<String> {
+        match self.resolution {
+            Resolution::Fixed(w, h) if w > max_texture_side || h > max_texture_side => {
+                self.resolution = Resolution::FitViewport;
+                Some(format!(
+                    "The saved resolution {w}x{h} is larger than this adapter's largest texture \
+                     side ({max_texture_side}); the viewport size is used instead."
+                ))
+            }
+            _ => None,
         }
     }
 
@@ -315,10 +336,11 @@ mod tests {
             ..Settings::default()
         };
         s.remember_recent("/tmp/a.obj");
-        let (back, notice) = Settings::from_stored(Some(&s.to_stored()));
+        let (back, notice) = Settings::from_stored(Some(&s.to_stored()), None);
         assert_eq!(back, s);
         assert!(notice.is_none());
-        let (partial, notice) = Settings::from_stored(Some(r#"{"layout":"Wipe","wipe":7.0}"#));
+        let (partial, notice) =
+            Settings::from_stored(Some(r#"{"layout":"Wipe","wipe":7.0}"#), None);
         assert!(notice.is_none());
         assert_eq!(partial.layout, Layout::Wipe);
         assert_eq!(partial.wipe, 1.0);
@@ -327,11 +349,33 @@ mod tests {
 
     #[test]
     fn corrupt_settings_fall_back_with_a_notice() {
-        let (s, notice) = Settings::from_stored(Some("{not json"));
+        let file = Path::new("/home/u/.local/share/aa-lab/app.ron");
+        let (s, notice) = Settings::from_stored(Some("{not json"), Some(file));
         assert_eq!(s, Settings::default());
         let notice = notice.expect("a notice");
         assert!(notice.contains("defaults"), "{notice}");
-        assert_eq!(Settings::from_stored(None), (Settings::default(), None));
+        // Bad JSON inside a readable file names the file (issue 10, item 7).
+        assert!(notice.contains("app.ron"), "{notice}");
+        assert_eq!(
+            Settings::from_stored(None, None),
+            (Settings::default(), None)
+        );
+    }
+
+    #[test]
+    fn a_resolution_beyond_the_adapter_falls_back_to_the_viewport() {
+        let (mut s, notice) =
+            Settings::from_stored(Some(r#"{"resolution":{"Fixed":[99999,99999]}}"#), None);
+        assert!(notice.is_none());
+        let notice = s.fit_to_adapter(16384).expect("a notice");
+        assert_eq!(s.resolution, Resolution::FitViewport);
+        assert!(
+            notice.contains("99999x99999") && notice.contains("16384"),
+            "{notice}"
+        );
+        s.resolution = Resolution::Fixed(1920, 1080);
+        assert!(s.fit_to_adapter(16384).is_none());
+        assert_eq!(s.resolution, Resolution::Fixed(1920, 1080));
     }
 
     #[test]

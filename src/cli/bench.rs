@@ -29,6 +29,7 @@ use crate::export::report::{
     RunReport, TechniqueReport,
 };
 use crate::export::write_png;
+use crate::files::{self, Overwrite};
 use crate::gpu::{Gpu, read_texture_rgba8};
 use crate::graph::{FrameGraph, FrameScope, FrameStatistics, FrameTimings};
 use crate::metrics::coverage::chart_truth;
@@ -71,17 +72,18 @@ pub struct BenchArgs {
     /// Comma-separated image sizes, WIDTHxHEIGHT.
     #[arg(long, default_value = "1280x720")]
     pub size: String,
-    /// Timed frames per run.
-    #[arg(long, default_value_t = 60)]
+    /// Timed frames per run (1 to 100000).
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..=MAX_FRAMES))]
     pub frames: u32,
-    /// Untimed frames before the timed ones (shader compilation, caches, temporal history).
-    #[arg(long, default_value_t = 3)]
+    /// Untimed frames before the timed ones (shader compilation, caches, temporal history;
+    /// 0 to 100000).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=MAX_FRAMES))]
     pub warmup: u32,
     /// Timed frames (the last ones) read back for the flicker ratio; 0 skips flicker.
     #[arg(long, default_value_t = 4)]
     pub flicker_frames: u32,
     /// Frame of each scene's camera path whose images are scored against the reference.
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u64).range(0..=spec::MAX_FRAME))]
     pub quality_frame: u64,
     /// Measure cost only: no reference renders, no image metrics, no flicker.
     #[arg(long)]
@@ -102,7 +104,13 @@ pub struct BenchArgs {
     /// Also write the scored images, the reference and FLIP heatmaps (PNG, with records).
     #[arg(long)]
     pub images: bool,
+    /// Replace files of an earlier bench in --out (without it, aa-lab never replaces a file).
+    #[arg(long)]
+    pub force: bool,
 }
+
+/// Most timed or warm-up frames per run.
+const MAX_FRAMES: i64 = 100_000;
 
 /// One run to measure.
 #[derive(Clone, Debug)]
@@ -346,6 +354,7 @@ fn progress_bar(total: u64) -> ProgressBar {
 struct Bench<'a> {
     gpu: &'a Gpu,
     args: &'a BenchArgs,
+    policy: Overwrite,
     techniques: Vec<TechniqueSpec>,
     reference: TechniqueSpec,
     quality: bool,
@@ -354,7 +363,7 @@ struct Bench<'a> {
 
 /// Steps one run advances the progress bar by.
 fn run_steps(args: &BenchArgs, quality: bool) -> u64 {
-    let timing = u64::from(args.warmup + args.frames) + 1;
+    let timing = u64::from(args.warmup) + u64::from(args.frames) + 1;
     if quality {
         timing + u64::from(args.flicker_frames.min(args.frames)) + args.quality_frame + 2
     } else {
@@ -447,7 +456,7 @@ impl Bench<'_> {
             .iter()
             .map(|id| ((*id).to_owned(), ChangeMeter::new()))
             .collect();
-        let total_frames = u64::from(args.warmup + args.frames);
+        let total_frames = u64::from(args.warmup) + u64::from(args.frames);
         let flicker_from = total_frames - u64::from(flicker_frames);
         for frame in 0..total_frames {
             self.message(
@@ -696,6 +705,7 @@ impl Bench<'_> {
                 &self.args.out.join(format!("{key}-reference.png")),
                 &reference_image,
                 Some(&record),
+                &self.policy,
             )?;
         }
         let mut scores = Vec::new();
@@ -715,6 +725,7 @@ impl Bench<'_> {
                     &self.args.out.join(format!("{key}-{}.png", image.id)),
                     &image.image,
                     Some(&record),
+                    &self.policy,
                 )?;
                 let sidecar = serde_json::json!({
                     "heatmap": { "metric": Metric::Flip, "technique": image.id, "scores": quality },
@@ -729,6 +740,7 @@ impl Bench<'_> {
                         range: (0.0, 1.0),
                     },
                     Some(&serde_json::to_string_pretty(&sidecar)?),
+                    &self.policy,
                 )?;
             }
             scores.push((image.id.clone(), quality, truth_score));
@@ -744,11 +756,14 @@ fn sum_samples(a: &[f64], b: &[f64]) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| x + y).collect()
 }
 
-fn write_sidecars(out: &Path, run: &RunReport) -> anyhow::Result<()> {
+fn write_sidecars(out: &Path, run: &RunReport, policy: &Overwrite) -> anyhow::Result<()> {
     for (suffix, spec) in [("spec", &run.spec), ("reference.spec", &run.reference_spec)] {
         let path = out.join(format!("{}.{suffix}.json", run.key()));
-        std::fs::write(&path, serde_json::to_string_pretty(spec)?)
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        files::write_bytes(
+            &path,
+            policy,
+            serde_json::to_string_pretty(spec)?.as_bytes(),
+        )?;
     }
     Ok(())
 }
@@ -759,10 +774,12 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let started_unix = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
-    if args.frames == 0 {
-        bail!("--frames must be at least 1");
-    }
     let runs = plan(args)?;
+    let policy = Overwrite::new(args.force);
+    let json = args.out.join("report.json");
+    let md = args.out.join("report.md");
+    // Refuse before hours of measuring, not after.
+    policy.check_all([json.as_path(), md.as_path()])?;
     let gpu = Gpu::headless()?;
     if !gpu.caps.timestamps {
         bail!(
@@ -777,6 +794,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let bench = Bench {
         gpu: &gpu,
         args,
+        policy: policy.clone(),
         techniques: technique_specs(&gpu, &ids)?,
         reference: reference_spec(&gpu)?,
         quality,
@@ -785,7 +803,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let mut reports = Vec::new();
     for run in &runs {
         let report = bench.run(run)?;
-        write_sidecars(&args.out, &report)?;
+        write_sidecars(&args.out, &report, &policy)?;
         reports.push(report);
     }
     bench.bar.finish_and_clear();
@@ -816,14 +834,15 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         },
         runs: reports,
     };
-    let json = args.out.join("report.json");
-    std::fs::write(&json, serde_json::to_string_pretty(&report)?)
-        .with_context(|| format!("cannot write {}", json.display()))?;
-    let md = args.out.join("report.md");
-    std::fs::write(&md, report::markdown(&report))
-        .with_context(|| format!("cannot write {}", md.display()))?;
-    let charts = report::write_charts(&report, &args.out)?;
-    println!("wrote {} and {}", json.display(), md.display());
+    let replaced = files::write_bytes(
+        &json,
+        &policy,
+        serde_json::to_string_pretty(&report)?.as_bytes(),
+    )?;
+    println!("{}", files::wrote_line(&json, replaced));
+    let replaced = files::write_bytes(&md, &policy, report::markdown(&report).as_bytes())?;
+    println!("{}", files::wrote_line(&md, replaced));
+    let charts = report::write_charts(&report, &args.out, &policy)?;
     for chart in charts {
         println!("wrote {}", chart.display());
     }

@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, bail};
 
 use crate::export::heatmap::{HeatmapStyle, write_heatmap};
-use crate::export::png::{read_image, read_record};
+use crate::export::png::{read_image_limited, read_record};
+use crate::files::{self, Overwrite};
 use crate::gpu::Gpu;
 use crate::metrics::gpu::{GpuMetrics, upload_image};
 use crate::metrics::{Comparison, Metric, MetricsError, compare_with_maps};
@@ -32,7 +33,15 @@ pub struct CompareArgs {
     /// Also compute SSIM, MAE and PSNR with the GPU compute path.
     #[arg(long)]
     pub gpu: bool,
+    /// Replace an existing heatmap file (without it, aa-lab never replaces a file; the
+    /// compared images are never replaced).
+    #[arg(long)]
+    pub force: bool,
 }
+
+/// Most pixels an image compared may have: 8K UHD (7680x4320) fits. The error maps take
+/// about 50 bytes a pixel, so this bounds compare to under 2 GB.
+pub const MAX_COMPARE_PIXELS: u64 = 1 << 25;
 
 fn parse_metric(text: &str) -> Result<Metric, String> {
     Metric::from_name(text).ok_or_else(|| {
@@ -67,8 +76,8 @@ struct CompareOutput<'a> {
 
 fn gpu_scores(reference: &image::RgbaImage, test: &image::RgbaImage) -> anyhow::Result<GpuScores> {
     let gpu = Gpu::headless()?;
-    let a = upload_image(&gpu, reference, "compare reference");
-    let b = upload_image(&gpu, test, "compare test");
+    let a = upload_image(&gpu, reference, "compare reference")?;
+    let b = upload_image(&gpu, test, "compare test")?;
     let scores = GpuMetrics::new(&gpu).compare(&gpu, &a, &b)?;
     Ok(GpuScores {
         ssim: scores.ssim,
@@ -89,8 +98,15 @@ fn heatmap_range(metric: Metric, map: &crate::metrics::Plane) -> (f32, f32) {
 
 /// Runs `aa-lab compare`.
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    let reference = read_image(&args.reference)?;
-    let test = read_image(&args.test)?;
+    let policy = Overwrite::new(args.force)
+        .with_input(&args.reference)
+        .with_input(&args.test);
+    if let Some(path) = &args.heatmap {
+        policy.check(path)?;
+    }
+    let read = |path: &Path| read_image_limited(path, MAX_COMPARE_PIXELS, "compare");
+    let reference = read(&args.reference)?;
+    let test = read(&args.test)?;
     let (comparison, maps) = match compare_with_maps(&reference, &test) {
         Ok(result) => result,
         Err(MetricsError::SizeMismatch {
@@ -138,7 +154,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             },
             "build": crate::spec::build_id(),
         });
-        write_heatmap(
+        let replaced = write_heatmap(
             path,
             &map,
             &HeatmapStyle {
@@ -146,8 +162,9 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
                 range: heatmap_range(args.metric, &map),
             },
             Some(&serde_json::to_string_pretty(&sidecar)?),
+            &policy,
         )?;
-        eprintln!("wrote {}", path.display());
+        eprintln!("{}", files::wrote_line(path, replaced));
     }
     let output = CompareOutput {
         reference: &args.reference,

@@ -1,7 +1,13 @@
 //! The command line: `aa-lab` opens the viewer (without a display it renders every technique
 //! headless instead); `render`, `compare`, `bench`, `info` and
 //! `techniques` run headless on the same engine. Parsing is clap's; each subcommand lives in
-//! its own file and returns `anyhow::Result` (errors are printed once, by `main`).
+//! its own file and returns `anyhow::Result` (errors are printed once, by `main`, through
+//! [`error_message`]).
+//!
+//! Overwrite policy, the same for every subcommand: an existing file is never replaced unless
+//! `--force` is given, an input of the command is never replaced even then, and every output
+//! is written to a temporary file and renamed into place (see [`crate::files`]). The main job
+//! without a display renders into `out/` with `--force`: that folder is its own scratch space.
 
 mod bench;
 mod compare;
@@ -15,9 +21,22 @@ pub use bench::{BenchArgs, Sweep};
 pub use compare::CompareArgs;
 pub use render::RenderArgs;
 
+/// The overwrite policy as `--help` states it (see the module docs).
+const FILES_HELP: &str = "Files: aa-lab never replaces an existing file unless the command is given \
+--force, and never writes over one of the command's inputs, even with --force. Outputs are \
+written to a temporary file in the same folder and renamed into place. The viewer's export \
+takes the next free numbered name instead.";
+
 /// Compare real-time antialiasing techniques on the same frame.
 #[derive(Debug, Parser)]
-#[command(name = "aa-lab", version, about, long_about = None, args_conflicts_with_subcommands = true)]
+#[command(
+    name = "aa-lab",
+    version,
+    about,
+    long_about = None,
+    after_help = FILES_HELP,
+    args_conflicts_with_subcommands = true
+)]
 pub struct Cli {
     /// What to do; without a subcommand the viewer opens.
     #[command(subcommand)]
@@ -82,7 +101,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
 fn render_headless(scene: Option<String>) -> anyhow::Result<()> {
     eprintln!(
         "no display (neither DISPLAY nor WAYLAND_DISPLAY is set): rendering every technique \
-         headless into out/ instead of opening the viewer (see `aa-lab render --help`)"
+         headless into out/ (replacing earlier renders there) instead of opening the viewer \
+         (see `aa-lab render --help`)"
     );
     /// `aa-lab render`'s arguments parsed on their own.
     #[derive(Parser)]
@@ -90,9 +110,57 @@ fn render_headless(scene: Option<String>) -> anyhow::Result<()> {
         #[command(flatten)]
         render: RenderArgs,
     }
-    let mut argv = vec!["aa-lab", "--technique", "all", "--out", "out", "--timings"];
+    let mut argv = vec![
+        "aa-lab",
+        "--technique",
+        "all",
+        "--out",
+        "out",
+        "--timings",
+        "--force",
+    ];
     if let Some(scene) = scene.as_deref() {
         argv.extend(["--scene", scene]);
     }
     render::run(&Headless::try_parse_from(argv)?.render)
+}
+
+/// The text `main` prints for an error: the error and its causes joined by `: `, leaving out a
+/// cause whose text the message already contains (errors that quote their source would
+/// otherwise print it twice: `Is a directory (os error 21): Is a directory (os error 21)`).
+pub fn error_message(err: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in err.chain() {
+        let cause = cause.to_string();
+        if text.contains(&cause) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&cause);
+    }
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn causes_already_quoted_are_printed_once() {
+        let io = std::io::Error::from_raw_os_error(21);
+        let quoted = crate::files::FileError::Read {
+            path: "/tmp/x.obj".into(),
+            source: io,
+        };
+        let err = anyhow::Error::new(quoted).context("cannot load the scene");
+        let text = error_message(&err);
+        let os = std::io::Error::from_raw_os_error(21).to_string();
+        assert_eq!(text.matches(&os).count(), 1, "{text}");
+        assert!(
+            text.starts_with("cannot load the scene: cannot read /tmp/x.obj"),
+            "{text}"
+        );
+    }
 }

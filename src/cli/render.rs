@@ -8,7 +8,11 @@ use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::aa::{self, ParamValue, params::parse_value};
-use crate::export::{self, png::read_record};
+use crate::export::{
+    self,
+    png::{MAX_RECORD_BYTES, read_record},
+};
+use crate::files::{self, Overwrite};
 use crate::gpu::Gpu;
 use crate::scene::procedural::SceneOptions;
 use crate::scene::source::{self, DEFAULT_SCENE};
@@ -55,11 +59,13 @@ pub struct SceneArgs {
     /// Built-in scene random seed.
     #[arg(long, default_value_t = SceneOptions::default().seed)]
     pub seed: u64,
-    /// Image size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    /// Image size, WIDTHxHEIGHT in pixels (each at least 1, at most the adapter's largest
+    /// texture side, e.g. 16384).
+    #[arg(long, default_value = "1280x720", value_parser = parse_size, allow_hyphen_values = true)]
     pub size: (u32, u32),
-    /// Frame of the deterministic camera path (temporal techniques run frames 0..=N).
-    #[arg(long, default_value_t = 0)]
+    /// Frame of the deterministic camera path (temporal techniques run frames 0..=N; at most
+    /// 1000000).
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=spec::MAX_FRAME))]
     pub frame: u64,
     /// Treat scene warnings (a missing texture replaced by a checker) as errors.
     #[arg(long)]
@@ -92,17 +98,22 @@ pub struct RenderArgs {
     /// camera and every technique setting come from the record).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "technique", "size", "frame", "density", "seed"])]
     pub from: Option<PathBuf>,
+    /// Replace existing output files (without it, aa-lab never replaces a file; an input is
+    /// never replaced).
+    #[arg(long)]
+    pub force: bool,
 }
 
-/// Parses `WIDTHxHEIGHT`.
+/// Parses `WIDTHxHEIGHT`, both whole numbers of at least 1.
 pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let expected =
+        "a size is WIDTHxHEIGHT in pixels, both whole numbers of at least 1 (e.g. 1280x720)";
     let (w, h) = text
         .split_once(['x', 'X'])
-        .ok_or_else(|| format!("`{text}` is not WIDTHxHEIGHT (e.g. 1280x720)"))?;
-    let parse = |s: &str| {
-        s.trim()
-            .parse::<u32>()
-            .map_err(|_| format!("`{s}` in `{text}` is not a whole number"))
+        .ok_or_else(|| format!("`{text}`: {expected}"))?;
+    let parse = |s: &str| match s.trim().parse::<u32>() {
+        Ok(0) | Err(_) => Err(format!("`{s}` in `{text}` is not a size; {expected}")),
+        Ok(v) => Ok(v),
     };
     Ok((parse(w)?, parse(h)?))
 }
@@ -123,7 +134,16 @@ pub(super) fn technique_ids(gpu: &Gpu, list: &str) -> anyhow::Result<Vec<String>
             ids.push(item.to_owned());
         }
     }
-    ids.dedup();
+    // Each technique once, in first-mention order (`none,fxaa,none` renders none once).
+    let mut seen = std::collections::HashSet::new();
+    ids.retain(|id| seen.insert(id.clone()));
+    if ids.is_empty() && list.split(',').any(|item| item.trim() == "all") {
+        bail!(
+            "no technique can run on {} ({}); the reasons are above",
+            gpu.caps.adapter_name,
+            gpu.caps.backend
+        );
+    }
     if ids.is_empty() {
         bail!("no technique given; use --technique with ids from `aa-lab techniques`, or `all`");
     }
@@ -293,10 +313,25 @@ pub fn load_spec(path: &Path) -> anyhow::Result<RenderSpec> {
             )
         })?
     } else {
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?
+        let bytes = files::read_bounded(path, MAX_RECORD_BYTES as u64, "a render record")?;
+        String::from_utf8(bytes).with_context(|| format!("{} is not UTF-8 text", path.display()))?
     };
     serde_json::from_str(&text)
         .with_context(|| format!("{} is not a valid aa-lab render record", path.display()))
+}
+
+/// The overwrite policy of `render` and `sheet`: `--force` or not, with the record the spec
+/// came from and an OBJ scene as inputs that are never written.
+pub fn output_policy(force: bool, from: Option<&Path>, spec: &RenderSpec) -> Overwrite {
+    let mut policy = Overwrite::new(force);
+    if let Some(from) = from {
+        policy = policy.with_input(from);
+    }
+    let scene = Path::new(&spec.scene);
+    if scene.is_file() {
+        policy = policy.with_input(scene);
+    }
+    policy
 }
 
 fn output_paths(
@@ -357,6 +392,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
     spec.build = Some(spec::build_id());
     let scene = load_scene(&spec, args.scene.strict)?;
+    let policy = output_policy(args.force, args.from.as_deref(), &spec);
+    if args
+        .out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+    {
+        // A single named output: refuse before rendering.
+        policy.check(&args.out)?;
+    }
     let loaded = started.elapsed();
 
     let bar = progress_bar(spec.frame + 1);
@@ -377,14 +421,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
 
     let record = serde_json::to_string_pretty(&spec)?;
     let paths = output_paths(&args.out, &scene.name, &output.images)?;
+    // Every output is checked before the first is written: all or nothing.
+    policy.check_all(paths.iter().map(PathBuf::as_path))?;
     for (image, path) in output.images.iter().zip(&paths) {
-        let existed = path.exists();
-        export::write_png(path, &image.image, Some(&record))?;
-        println!(
-            "{}{}",
-            if existed { "overwrote " } else { "wrote " },
-            path.display()
-        );
+        let replaced = export::write_png(path, &image.image, Some(&record), &policy)?;
+        println!("{}", files::wrote_line(path, replaced));
     }
     for (id, note) in &output.notes {
         println!("{id}: {note}");
@@ -432,9 +473,11 @@ mod tests {
     #[test]
     fn sizes_parse_and_reject_garbage() {
         assert_eq!(parse_size("1280x720"), Ok((1280, 720)));
-        assert_eq!(parse_size("0x5"), Ok((0, 5)));
         assert!(parse_size("1280").is_err());
         assert!(parse_size("ax5").is_err());
-        assert!(parse_size("-1x5").is_err());
+        for bad in ["-5x5", "0x5", "5x0"] {
+            let err = parse_size(bad).unwrap_err();
+            assert!(err.contains("WIDTHxHEIGHT"), "{err}");
+        }
     }
 }

@@ -2,13 +2,14 @@
 //! one labelled PNG. The `thesis` preset reproduces the thesis' five zoom categories (shape
 //! preservation, diagonals, textures, multiple edges, fine geometry) across the built-in scenes.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
 
 use super::render::{SceneArgs, TechniqueArgs, load_scene, spec_for_scene, technique_specs};
 use crate::export::sheet::{self, Cell, Rect, Row, Sheet};
 use crate::export::write_png;
+use crate::files::{self, Overwrite};
 use crate::gpu::Gpu;
 use crate::spec::{self, RunOptions};
 
@@ -27,12 +28,16 @@ pub struct SheetArgs {
     /// A region of --scene to show: LABEL=X,Y,W,H in pixels of the rendered image (repeatable).
     #[arg(long, value_name = "LABEL=X,Y,W,H")]
     pub region: Vec<String>,
-    /// Zoom factor of the crops (nearest neighbour).
-    #[arg(long, default_value_t = 5)]
+    /// Zoom factor of the crops (nearest neighbour); the sheet may be at most 16384 pixels a
+    /// side.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..))]
     pub zoom: u32,
     /// Output PNG.
     #[arg(long, short, default_value = "sheet.png")]
     pub out: PathBuf,
+    /// Replace an existing output file (without it, aa-lab never replaces a file).
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// A row of a curated sheet: a scene and a region given in pixels of a 1280x720 render
@@ -107,6 +112,28 @@ fn parse_region(text: &str) -> anyhow::Result<(String, Rect)> {
     ))
 }
 
+/// A user's region checked against the render size: refused when it lies entirely outside,
+/// cropped (with a warning) when it sticks out.
+fn inside_render(text: &str, rect: Rect, size: (u32, u32)) -> anyhow::Result<Rect> {
+    if rect.x >= size.0 || rect.y >= size.1 {
+        bail!(
+            "--region {text}: the region lies outside the {}x{} render (--size); X must be below {} and Y below {}",
+            size.0,
+            size.1,
+            size.0,
+            size.1
+        );
+    }
+    let inside = rect.clamped(size);
+    if inside != rect {
+        eprintln!(
+            "warning: --region {text} sticks out of the {}x{} render; showing {},{},{},{}",
+            size.0, size.1, inside.x, inside.y, inside.width, inside.height
+        );
+    }
+    Ok(inside)
+}
+
 fn scaled(rect: Rect, size: (u32, u32)) -> Rect {
     let sx = f64::from(size.0) / 1280.0;
     let sy = f64::from(size.1) / 720.0;
@@ -142,14 +169,26 @@ pub fn run(args: &SheetArgs) -> anyhow::Result<()> {
             .region
             .iter()
             .map(|text| {
-                parse_region(text).map(|(label, rect)| (label, args.scene.scene.clone(), rect))
+                let (label, rect) = parse_region(text)?;
+                let rect = inside_render(text, rect, size)?;
+                Ok((label, args.scene.scene.clone(), rect))
             })
             .collect::<anyhow::Result<_>>()?,
     };
+    let regions: Vec<Rect> = rows.iter().map(|(_, _, rect)| *rect).collect();
     let mut scenes: Vec<String> = rows.iter().map(|(_, scene, _)| scene.clone()).collect();
-    scenes.dedup();
+    let mut seen = std::collections::HashSet::new();
+    scenes.retain(|scene| seen.insert(scene.clone()));
 
     let techniques = technique_specs(&gpu, &args.techniques)?;
+    sheet::check_layout(techniques.len(), &regions, args.zoom)?;
+    let mut policy = Overwrite::new(args.force);
+    for scene in &scenes {
+        if Path::new(scene).is_file() {
+            policy = policy.with_input(Path::new(scene));
+        }
+    }
+    policy.check(&args.out)?;
     let mut columns = Vec::new();
     let mut sheet_rows: Vec<Option<Row>> = rows.iter().map(|_| None).collect();
     let mut record = None;
@@ -181,11 +220,13 @@ pub fn run(args: &SheetArgs) -> anyhow::Result<()> {
                 .images
                 .iter()
                 .filter(|image| image.view.is_none())
-                .map(|image| Cell {
-                    image: sheet::crop_zoom(&image.image, *rect, args.zoom),
-                    caption: None,
+                .map(|image| {
+                    Ok(Cell {
+                        image: sheet::crop_zoom(&image.image, *rect, args.zoom)?,
+                        caption: None,
+                    })
                 })
-                .collect();
+                .collect::<Result<_, sheet::TooLarge>>()?;
             let detail = format!(
                 "{} {}x{} at {},{}",
                 scene.name, rect.width, rect.height, rect.x, rect.y
@@ -219,16 +260,12 @@ pub fn run(args: &SheetArgs) -> anyhow::Result<()> {
         std::fs::create_dir_all(parent)
             .with_context(|| format!("cannot create directory {}", parent.display()))?;
     }
-    let existed = args.out.exists();
-    write_png(
+    let replaced = write_png(
         &args.out,
         &image,
         Some(&serde_json::to_string_pretty(&record)?),
+        &policy,
     )?;
-    println!(
-        "{}{}",
-        if existed { "overwrote " } else { "wrote " },
-        args.out.display()
-    );
+    println!("{}", files::wrote_line(&args.out, replaced));
     Ok(())
 }

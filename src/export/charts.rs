@@ -14,7 +14,8 @@ use plotters::prelude::*;
 use plotters::style::FontStyle;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::png::ExportError;
+use super::png::{ExportError, write_png};
+use crate::files::Overwrite;
 
 /// Family name the sans-serif UI font is registered under (plotters' default family).
 pub const SANS: &str = "sans-serif";
@@ -152,8 +153,26 @@ fn draw_legend<'n, DB: DrawingBackend>(
     Ok(())
 }
 
-/// Draws a [`BarChart`] to a PNG file.
-pub fn draw_bars(path: &Path, chart: &BarChart<'_>) -> Result<(), ChartError> {
+/// Writes a chart drawn into an RGB buffer as PNG, atomically under `policy`.
+fn save_chart(
+    path: &Path,
+    pixels: Vec<u8>,
+    size: (u32, u32),
+    policy: &Overwrite,
+) -> Result<bool, ChartError> {
+    let image = image::RgbImage::from_raw(size.0, size.1, pixels)
+        .ok_or_else(|| ChartError::draw(path, "the chart buffer has the wrong size"))?;
+    let image = image::DynamicImage::ImageRgb8(image).to_rgba8();
+    Ok(write_png(path, &image, None, policy)?)
+}
+
+/// Draws a [`BarChart`] to a PNG file (atomically, under `policy`); returns whether an
+/// existing file was replaced.
+pub fn draw_bars(
+    path: &Path,
+    chart: &BarChart<'_>,
+    policy: &Overwrite,
+) -> Result<bool, ChartError> {
     register_fonts().map_err(|e| ChartError::draw(path, e))?;
     let rows = chart.categories.len();
     if rows == 0 || chart.series.is_empty() {
@@ -180,105 +199,109 @@ pub fn draw_bars(path: &Path, chart: &BarChart<'_>) -> Result<(), ChartError> {
     let legend = chart.series.len() > 1;
     let header: u32 = if legend { 76 } else { 48 };
     let height = (header + 70 + (rows * (18 + 16 * bar_rows)) as u32).clamp(240, 1400);
-    let root = BitMapBackend::new(path, (960, height)).into_drawing_area();
-    let err = drawing_error(path);
-    root.fill(&WHITE).map_err(&err)?;
-    let (top, body) = root.split_vertically(header);
-    top.draw(&Text::new(
-        chart.title.to_owned(),
-        (16, 12),
-        (SANS, 24).into_font(),
-    ))
-    .map_err(&err)?;
-    if legend {
-        draw_legend(&top, chart.series.iter().map(|s| s.name.as_str()), 48).map_err(&err)?;
-    }
-    let label_width = chart
-        .categories
-        .iter()
-        .map(|c| c.chars().count())
-        .max()
-        .unwrap_or(4) as u32
-        * 9
-        + 20;
-    let mut ctx = ChartBuilder::on(&body)
-        .margin(16)
-        .margin_top(4)
-        .x_label_area_size(44)
-        .y_label_area_size(label_width.clamp(80, 320))
-        .build_cartesian_2d(lo..hi, 0.0..rows as f64)
+    let size = (960, height);
+    let mut pixels = vec![255u8; size.0 as usize * size.1 as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+        let err = drawing_error(path);
+        root.fill(&WHITE).map_err(&err)?;
+        let (top, body) = root.split_vertically(header);
+        top.draw(&Text::new(
+            chart.title.to_owned(),
+            (16, 12),
+            (SANS, 24).into_font(),
+        ))
         .map_err(&err)?;
-    let number = |v: &f64| format_number(*v);
-    ctx.configure_mesh()
-        .disable_y_mesh()
-        .y_labels(0)
-        .x_label_formatter(&number)
-        .x_desc(chart.value_label)
-        .axis_desc_style((SANS, 17))
-        .label_style((SANS, 15))
-        .light_line_style(RGBColor(238, 238, 238))
-        .draw()
-        .map_err(&err)?;
-    let slot = 0.78 / bar_rows as f64;
-    for (s, series) in chart.series.iter().enumerate() {
-        let color = series_color(s);
-        let mut bars = Vec::new();
-        let mut labels = Vec::new();
-        for row in 0..rows {
-            let value = series.values.get(row).copied().unwrap_or(f64::NAN);
-            if !value.is_finite() {
-                continue;
-            }
-            // Row 0 at the top.
-            let top = (rows - row) as f64 - 0.11;
-            let (start, end, y0) = match chart.layout {
-                BarLayout::Grouped => (lo, value, top - s as f64 * slot),
-                BarLayout::Stacked => {
-                    let before: f64 = chart.series[..s]
-                        .iter()
-                        .filter_map(|o| o.values.get(row).copied().filter(|v| v.is_finite()))
-                        .sum();
-                    (lo + before, lo + before + value, top)
+        if legend {
+            draw_legend(&top, chart.series.iter().map(|s| s.name.as_str()), 48).map_err(&err)?;
+        }
+        let label_width = chart
+            .categories
+            .iter()
+            .map(|c| c.chars().count())
+            .max()
+            .unwrap_or(4) as u32
+            * 9
+            + 20;
+        let mut ctx = ChartBuilder::on(&body)
+            .margin(16)
+            .margin_top(4)
+            .x_label_area_size(44)
+            .y_label_area_size(label_width.clamp(80, 320))
+            .build_cartesian_2d(lo..hi, 0.0..rows as f64)
+            .map_err(&err)?;
+        let number = |v: &f64| format_number(*v);
+        ctx.configure_mesh()
+            .disable_y_mesh()
+            .y_labels(0)
+            .x_label_formatter(&number)
+            .x_desc(chart.value_label)
+            .axis_desc_style((SANS, 17))
+            .label_style((SANS, 15))
+            .light_line_style(RGBColor(238, 238, 238))
+            .draw()
+            .map_err(&err)?;
+        let slot = 0.78 / bar_rows as f64;
+        for (s, series) in chart.series.iter().enumerate() {
+            let color = series_color(s);
+            let mut bars = Vec::new();
+            let mut labels = Vec::new();
+            for row in 0..rows {
+                let value = series.values.get(row).copied().unwrap_or(f64::NAN);
+                if !value.is_finite() {
+                    continue;
                 }
-            };
-            bars.push(Rectangle::new(
-                [(start, y0), (end.max(start), y0 - slot)],
-                color.filled(),
-            ));
-            let last_of_row = chart.series[s + 1..]
-                .iter()
-                .all(|o| !o.values.get(row).is_some_and(|v| v.is_finite()));
-            if chart.layout == BarLayout::Grouped || last_of_row {
-                let shown = if chart.layout == BarLayout::Stacked {
-                    row_total(row)
-                } else {
-                    value
+                // Row 0 at the top.
+                let top = (rows - row) as f64 - 0.11;
+                let (start, end, y0) = match chart.layout {
+                    BarLayout::Grouped => (lo, value, top - s as f64 * slot),
+                    BarLayout::Stacked => {
+                        let before: f64 = chart.series[..s]
+                            .iter()
+                            .filter_map(|o| o.values.get(row).copied().filter(|v| v.is_finite()))
+                            .sum();
+                        (lo + before, lo + before + value, top)
+                    }
                 };
-                labels.push((end.max(start), y0 - slot * 0.5, shown));
+                bars.push(Rectangle::new(
+                    [(start, y0), (end.max(start), y0 - slot)],
+                    color.filled(),
+                ));
+                let last_of_row = chart.series[s + 1..]
+                    .iter()
+                    .all(|o| !o.values.get(row).is_some_and(|v| v.is_finite()));
+                if chart.layout == BarLayout::Grouped || last_of_row {
+                    let shown = if chart.layout == BarLayout::Stacked {
+                        row_total(row)
+                    } else {
+                        value
+                    };
+                    labels.push((end.max(start), y0 - slot * 0.5, shown));
+                }
+            }
+            ctx.draw_series(bars).map_err(&err)?;
+            for (x, y, value) in labels {
+                let at = ctx.backend_coord(&(x.min(hi), y));
+                let style =
+                    TextStyle::from((SANS, 14).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
+                root.draw(&Text::new(
+                    format!("{value:.*}", chart.decimals),
+                    (at.0 + 5, at.1),
+                    style,
+                ))
+                .map_err(&err)?;
             }
         }
-        ctx.draw_series(bars).map_err(&err)?;
-        for (x, y, value) in labels {
-            let at = ctx.backend_coord(&(x.min(hi), y));
+        for (row, name) in chart.categories.iter().enumerate() {
+            let at = ctx.backend_coord(&(lo, (rows - row) as f64 - 0.5));
             let style =
-                TextStyle::from((SANS, 14).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
-            root.draw(&Text::new(
-                format!("{value:.*}", chart.decimals),
-                (at.0 + 5, at.1),
-                style,
-            ))
-            .map_err(&err)?;
+                TextStyle::from((SANS, 16).into_font()).pos(Pos::new(HPos::Right, VPos::Center));
+            root.draw(&Text::new(name.clone(), (at.0 - 8, at.1), style))
+                .map_err(&err)?;
         }
+        root.present().map_err(&err)?;
     }
-    for (row, name) in chart.categories.iter().enumerate() {
-        let at = ctx.backend_coord(&(lo, (rows - row) as f64 - 0.5));
-        let style =
-            TextStyle::from((SANS, 16).into_font()).pos(Pos::new(HPos::Right, VPos::Center));
-        root.draw(&Text::new(name.clone(), (at.0 - 8, at.1), style))
-            .map_err(&err)?;
-    }
-    root.present().map_err(&err)?;
-    Ok(())
+    save_chart(path, pixels, size, policy)
 }
 
 /// One line of a [`LineChart`].
@@ -305,8 +328,13 @@ pub struct LineChart<'a> {
     pub log_y: bool,
 }
 
-/// Draws a [`LineChart`] to a PNG file.
-pub fn draw_lines(path: &Path, chart: &LineChart<'_>) -> Result<(), ChartError> {
+/// Draws a [`LineChart`] to a PNG file (atomically, under `policy`); returns whether an
+/// existing file was replaced.
+pub fn draw_lines(
+    path: &Path,
+    chart: &LineChart<'_>,
+    policy: &Overwrite,
+) -> Result<bool, ChartError> {
     register_fonts().map_err(|e| ChartError::draw(path, e))?;
     let points = || {
         chart
@@ -321,76 +349,82 @@ pub fn draw_lines(path: &Path, chart: &LineChart<'_>) -> Result<(), ChartError> 
     let (x_lo, x_hi) = points().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
     let (y_lo, y_hi) = points().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
     let x_pad = ((x_hi - x_lo) * 0.05).max(1e-9);
-    let root = BitMapBackend::new(path, (960, 640)).into_drawing_area();
-    let err = drawing_error(path);
-    root.fill(&WHITE).map_err(&err)?;
-    let (top, body) = root.split_vertically(76);
-    top.draw(&Text::new(
-        chart.title.to_owned(),
-        (16, 12),
-        (SANS, 24).into_font(),
-    ))
-    .map_err(&err)?;
-    draw_legend(&top, chart.lines.iter().map(|l| l.name.as_str()), 48).map_err(&err)?;
-    let mut builder = ChartBuilder::on(&body);
-    builder
-        .margin(16)
-        .margin_top(4)
-        .x_label_area_size(48)
-        .y_label_area_size(72);
-    let x_range = (x_lo - x_pad)..(x_hi + x_pad);
-    let number = |v: &f64| format_number(*v);
-    macro_rules! finish {
-        ($ctx:expr) => {{
-            let mut ctx = $ctx;
-            ctx.configure_mesh()
-                .x_desc(chart.x_label)
-                .y_desc(chart.y_label)
-                .x_label_formatter(&number)
-                .y_label_formatter(&number)
-                .axis_desc_style((SANS, 17))
-                .label_style((SANS, 15))
-                .light_line_style(RGBColor(238, 238, 238))
-                .draw()
-                .map_err(&err)?;
-            for (i, line) in chart.lines.iter().enumerate() {
-                let color = series_color(i);
-                let pts: Vec<(f64, f64)> = line
-                    .points
-                    .iter()
-                    .copied()
-                    .filter(|p| p.0.is_finite() && p.1.is_finite() && (!chart.log_y || p.1 > 0.0))
-                    .collect();
-                ctx.draw_series(LineSeries::new(pts.clone(), color.stroke_width(3)))
+    let size = (960, 640);
+    let mut pixels = vec![255u8; size.0 as usize * size.1 as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+        let err = drawing_error(path);
+        root.fill(&WHITE).map_err(&err)?;
+        let (top, body) = root.split_vertically(76);
+        top.draw(&Text::new(
+            chart.title.to_owned(),
+            (16, 12),
+            (SANS, 24).into_font(),
+        ))
+        .map_err(&err)?;
+        draw_legend(&top, chart.lines.iter().map(|l| l.name.as_str()), 48).map_err(&err)?;
+        let mut builder = ChartBuilder::on(&body);
+        builder
+            .margin(16)
+            .margin_top(4)
+            .x_label_area_size(48)
+            .y_label_area_size(72);
+        let x_range = (x_lo - x_pad)..(x_hi + x_pad);
+        let number = |v: &f64| format_number(*v);
+        macro_rules! finish {
+            ($ctx:expr) => {{
+                let mut ctx = $ctx;
+                ctx.configure_mesh()
+                    .x_desc(chart.x_label)
+                    .y_desc(chart.y_label)
+                    .x_label_formatter(&number)
+                    .y_label_formatter(&number)
+                    .axis_desc_style((SANS, 17))
+                    .label_style((SANS, 15))
+                    .light_line_style(RGBColor(238, 238, 238))
+                    .draw()
                     .map_err(&err)?;
-                ctx.draw_series(pts.into_iter().map(|p| Circle::new(p, 4, color.filled())))
-                    .map_err(&err)?;
-            }
-        }};
-    }
-    if chart.log_y {
-        let lo = points()
-            .map(|p| p.1)
-            .filter(|&v| v > 0.0)
-            .fold(f64::MAX, f64::min);
-        if lo == f64::MAX {
-            return Err(ChartError::Empty(path.to_owned()));
+                for (i, line) in chart.lines.iter().enumerate() {
+                    let color = series_color(i);
+                    let pts: Vec<(f64, f64)> = line
+                        .points
+                        .iter()
+                        .copied()
+                        .filter(|p| {
+                            p.0.is_finite() && p.1.is_finite() && (!chart.log_y || p.1 > 0.0)
+                        })
+                        .collect();
+                    ctx.draw_series(LineSeries::new(pts.clone(), color.stroke_width(3)))
+                        .map_err(&err)?;
+                    ctx.draw_series(pts.into_iter().map(|p| Circle::new(p, 4, color.filled())))
+                        .map_err(&err)?;
+                }
+            }};
         }
-        finish!(
-            builder
-                .build_cartesian_2d(x_range, ((lo * 0.7)..(y_hi * 1.4)).log_scale())
-                .map_err(&err)?
-        );
-    } else {
-        let pad = ((y_hi - y_lo.min(0.0)) * 0.08).max(1e-9);
-        finish!(
-            builder
-                .build_cartesian_2d(x_range, y_lo.min(0.0)..(y_hi + pad))
-                .map_err(&err)?
-        );
+        if chart.log_y {
+            let lo = points()
+                .map(|p| p.1)
+                .filter(|&v| v > 0.0)
+                .fold(f64::MAX, f64::min);
+            if lo == f64::MAX {
+                return Err(ChartError::Empty(path.to_owned()));
+            }
+            finish!(
+                builder
+                    .build_cartesian_2d(x_range, ((lo * 0.7)..(y_hi * 1.4)).log_scale())
+                    .map_err(&err)?
+            );
+        } else {
+            let pad = ((y_hi - y_lo.min(0.0)) * 0.08).max(1e-9);
+            finish!(
+                builder
+                    .build_cartesian_2d(x_range, y_lo.min(0.0)..(y_hi + pad))
+                    .map_err(&err)?
+            );
+        }
+        root.present().map_err(&err)?;
     }
-    root.present().map_err(&err)?;
-    Ok(())
+    save_chart(path, pixels, size, policy)
 }
 
 #[cfg(test)]
@@ -424,6 +458,7 @@ mod tests {
                     range: None,
                     decimals: 2,
                 },
+                &Overwrite::new(true),
             )
             .unwrap();
             let image = image::open(&path).unwrap().to_rgb8();
@@ -444,6 +479,7 @@ mod tests {
                     lines: &lines,
                     log_y,
                 },
+                &Overwrite::new(true),
             )
             .unwrap();
         }
@@ -456,7 +492,8 @@ mod tests {
                     y_label: "",
                     lines: &[],
                     log_y: false
-                }
+                },
+                &Overwrite::new(true),
             ),
             Err(ChartError::Empty(_))
         ));

@@ -12,6 +12,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::charts::{ChartError, SANS, register_fonts};
 use super::png::write_png;
+use crate::files::Overwrite;
 use crate::metrics::Plane;
 
 /// Height of the legend strip below the map, pixels.
@@ -126,16 +127,17 @@ pub fn render_heatmap(plane: &Plane, style: &HeatmapStyle<'_>) -> Result<image::
     Ok(image::DynamicImage::ImageRgb8(rgb).to_rgba8())
 }
 
-/// Writes a map with its legend as PNG, with `record` (JSON saying how it was made) embedded.
+/// Writes a map with its legend as PNG, with `record` (JSON saying how it was made) embedded,
+/// atomically under `policy`; returns whether an existing file was replaced.
 pub fn write_heatmap(
     path: &Path,
     plane: &Plane,
     style: &HeatmapStyle<'_>,
     record: Option<&str>,
-) -> Result<(), ChartError> {
+    policy: &Overwrite,
+) -> Result<bool, ChartError> {
     let image = render_heatmap(plane, style).map_err(|e| ChartError::draw(path, e))?;
-    write_png(path, &image, record)?;
-    Ok(())
+    Ok(write_png(path, &image, record, policy)?)
 }
 
 #[cfg(test)]

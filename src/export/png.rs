@@ -1,70 +1,82 @@
 //! Lossless PNG output with an `aa-lab` text chunk holding the JSON record of how the image was
 //! made (scene, frame, camera, technique settings, adapter, build), so any exported image can
 //! be reproduced with `aa-lab render --from image.png`.
+//!
+//! Files are written atomically under the caller's overwrite policy ([`crate::files`]).
+//! Reading is bounded: a record inflates to at most [`MAX_RECORD_BYTES`], and an image is
+//! refused from its header when it has more than the caller's pixel limit.
 
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
+
+use crate::files::{self, FileError, Overwrite};
 
 /// Keyword of the PNG text chunk carrying the render record.
 pub const RECORD_KEYWORD: &str = "aa-lab";
 
+/// Largest render record read from a PNG (records are a few kilobytes of JSON).
+pub const MAX_RECORD_BYTES: usize = 4 << 20;
+
+/// Largest image file read (compressed size on disk).
+pub const MAX_IMAGE_FILE_BYTES: u64 = 1 << 30;
+
 /// Errors of writing or reading exported files.
 #[derive(Debug, thiserror::Error)]
 pub enum ExportError {
-    /// The file could not be created or written.
-    #[error("cannot write {path}: {source}")]
-    Io {
-        /// The path.
-        path: PathBuf,
-        /// The OS error.
-        source: std::io::Error,
-    },
-    /// The PNG encoder failed.
-    #[error("cannot encode {path} as PNG: {source}")]
-    Encode {
-        /// The path.
-        path: PathBuf,
-        /// The encoder's error.
-        source: ::png::EncodingError,
-    },
+    /// The file could not be read or written, or the overwrite policy refused it.
+    #[error(transparent)]
+    File(#[from] FileError),
     /// The file could not be read or decoded.
-    #[error("cannot read {path}: {reason}")]
+    #[error("cannot read {}: {reason}", path.display())]
     Read {
         /// The path.
         path: PathBuf,
         /// What went wrong.
         reason: String,
     },
+    /// The image has more pixels than the command can process in reasonable memory.
+    #[error(
+        "{} is {width}x{height} ({pixels} pixels); {purpose} handles at most {limit} pixels",
+        path.display(),
+        pixels = u64::from(*width) * u64::from(*height)
+    )]
+    TooManyPixels {
+        /// The path.
+        path: PathBuf,
+        /// Width from the header.
+        width: u32,
+        /// Height from the header.
+        height: u32,
+        /// The limit in pixels.
+        limit: u64,
+        /// What the image was read for.
+        purpose: &'static str,
+    },
 }
 
-/// Writes an RGBA8 image (sRGB-encoded) as PNG, with `record` in an `aa-lab` text chunk.
+/// Writes an RGBA8 image (sRGB-encoded) as PNG, with `record` in an `aa-lab` text chunk,
+/// atomically under `policy`; returns whether an existing file was replaced.
 pub fn write_png(
     path: &Path,
     image: &image::RgbaImage,
     record: Option<&str>,
-) -> Result<(), ExportError> {
-    let io = |source| ExportError::Io {
-        path: path.to_owned(),
-        source,
-    };
-    let encode = |source| ExportError::Encode {
-        path: path.to_owned(),
-        source,
-    };
-    let file = File::create(path).map_err(io)?;
-    let mut encoder = ::png::Encoder::new(BufWriter::new(file), image.width(), image.height());
-    encoder.set_color(::png::ColorType::Rgba);
-    encoder.set_depth(::png::BitDepth::Eight);
-    encoder.set_source_srgb(::png::SrgbRenderingIntent::Perceptual);
-    if let Some(record) = record {
-        encoder
-            .add_itxt_chunk(RECORD_KEYWORD.to_owned(), record.to_owned())
-            .map_err(encode)?;
-    }
-    let mut writer = encoder.write_header().map_err(encode)?;
-    writer.write_image_data(image.as_raw()).map_err(encode)?;
-    writer.finish().map_err(encode)
+    policy: &Overwrite,
+) -> Result<bool, ExportError> {
+    let invalid = |e: ::png::EncodingError| std::io::Error::other(e.to_string());
+    let replaced = files::write_atomic(path, policy, |out| {
+        let mut encoder = ::png::Encoder::new(out, image.width(), image.height());
+        encoder.set_color(::png::ColorType::Rgba);
+        encoder.set_depth(::png::BitDepth::Eight);
+        encoder.set_source_srgb(::png::SrgbRenderingIntent::Perceptual);
+        if let Some(record) = record {
+            encoder
+                .add_itxt_chunk(RECORD_KEYWORD.to_owned(), record.to_owned())
+                .map_err(invalid)?;
+        }
+        let mut writer = encoder.write_header().map_err(invalid)?;
+        writer.write_image_data(image.as_raw()).map_err(invalid)?;
+        writer.finish().map_err(invalid)
+    })?;
+    Ok(replaced)
 }
 
 /// Reads the `aa-lab` record of a PNG written by [`write_png`], if it has one.
@@ -73,27 +85,74 @@ pub fn read_record(path: &Path) -> Result<Option<String>, ExportError> {
         path: path.to_owned(),
         reason,
     };
-    let file = File::open(path).map_err(|e| read(e.to_string()))?;
+    files::check_regular(path, MAX_IMAGE_FILE_BYTES, "an image")?;
+    let file = std::fs::File::open(path).map_err(|e| read(e.to_string()))?;
     let decoder = ::png::Decoder::new(std::io::BufReader::new(file));
     let reader = decoder.read_info().map_err(|e| read(e.to_string()))?;
     let info = reader.info();
-    let text = info
+    let Some(chunk) = info
         .utf8_text
         .iter()
         .find(|chunk| chunk.keyword == RECORD_KEYWORD)
-        .map(|chunk| chunk.get_text().map_err(|e| read(e.to_string())))
-        .transpose()?;
-    Ok(text)
+    else {
+        return Ok(None);
+    };
+    // Inflate with a bound: a small compressed chunk can expand to gigabytes.
+    let mut chunk = chunk.clone();
+    chunk
+        .decompress_text_with_limit(MAX_RECORD_BYTES)
+        .map_err(|e| {
+            read(format!(
+                "its aa-lab record is not readable or larger than {MAX_RECORD_BYTES} bytes ({e})"
+            ))
+        })?;
+    chunk.get_text().map(Some).map_err(|e| read(e.to_string()))
 }
 
-/// Reads any PNG/JPEG/TGA image as RGBA8.
-pub fn read_image(path: &Path) -> Result<image::RgbaImage, ExportError> {
-    image::open(path)
-        .map(|i| i.to_rgba8())
-        .map_err(|e| ExportError::Read {
+/// Reads any PNG/JPEG/TGA image as RGBA8, refusing from its header an image of more than
+/// `max_pixels` pixels (`purpose` names the command in that message).
+pub fn read_image_limited(
+    path: &Path,
+    max_pixels: u64,
+    purpose: &'static str,
+) -> Result<image::RgbaImage, ExportError> {
+    let read = |reason: String| ExportError::Read {
+        path: path.to_owned(),
+        reason,
+    };
+    files::check_regular(path, MAX_IMAGE_FILE_BYTES, "an image")?;
+    let reader = image::ImageReader::open(path)
+        .and_then(image::ImageReader::with_guessed_format)
+        .map_err(|e| read(e.to_string()))?;
+    let (width, height) = reader.into_dimensions().map_err(|e| read(e.to_string()))?;
+    if u64::from(width) * u64::from(height) > max_pixels {
+        return Err(ExportError::TooManyPixels {
             path: path.to_owned(),
-            reason: e.to_string(),
-        })
+            width,
+            height,
+            limit: max_pixels,
+            purpose,
+        });
+    }
+    let mut reader = image::ImageReader::open(path)
+        .and_then(image::ImageReader::with_guessed_format)
+        .map_err(|e| read(e.to_string()))?;
+    // The header was checked; lift the decoder's own default allocation cap to what it allows.
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(max_pixels.saturating_mul(16));
+    reader.limits(limits);
+    reader
+        .decode()
+        .map(|i| i.to_rgba8())
+        .map_err(|e| read(e.to_string()))
+}
+
+/// Most pixels [`read_image`] accepts: 16384 x 16384.
+pub const MAX_IMAGE_PIXELS: u64 = 1 << 28;
+
+/// Reads any PNG/JPEG/TGA image as RGBA8 (at most [`MAX_IMAGE_PIXELS`]).
+pub fn read_image(path: &Path) -> Result<image::RgbaImage, ExportError> {
+    read_image_limited(path, MAX_IMAGE_PIXELS, "aa-lab")
 }
 
 #[cfg(test)]
@@ -107,7 +166,13 @@ mod tests {
         let image = image::RgbaImage::from_fn(3, 2, |x, y| {
             image::Rgba([x as u8 * 80, y as u8 * 100, 7, 255])
         });
-        write_png(&path, &image, Some(r#"{"scene":"chart"}"#)).unwrap();
+        write_png(
+            &path,
+            &image,
+            Some(r#"{"scene":"chart"}"#),
+            &Overwrite::default(),
+        )
+        .unwrap();
         assert_eq!(
             read_record(&path).unwrap().as_deref(),
             Some(r#"{"scene":"chart"}"#)
@@ -121,8 +186,52 @@ mod tests {
             Path::new("/nonexistent-dir/x.png"),
             &image::RgbaImage::new(1, 1),
             None,
+            &Overwrite::default(),
         )
         .unwrap_err();
         assert!(err.to_string().contains("/nonexistent-dir/x.png"), "{err}");
+    }
+
+    /// A small PNG whose record inflates to far more than any record (issue 10, item 4)
+    /// fails with the limit instead of inflating it all.
+    #[test]
+    fn an_inflating_record_is_refused_with_its_limit() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bomb.png");
+        let file = std::fs::File::create(&path).unwrap();
+        let mut encoder = ::png::Encoder::new(file, 1, 1);
+        encoder.set_color(::png::ColorType::Rgba);
+        let mut writer = encoder.write_header().unwrap();
+        let mut chunk =
+            ::png::text_metadata::ITXtChunk::new(RECORD_KEYWORD, " ".repeat(4 * MAX_RECORD_BYTES));
+        chunk.compressed = true;
+        chunk.compress_text().unwrap();
+        writer.write_text_chunk(&chunk).unwrap();
+        writer.write_image_data(&[0; 4]).unwrap();
+        writer.finish().unwrap();
+        // Only inflation can exceed the limit: the file itself is far smaller than it.
+        assert!(std::fs::metadata(&path).unwrap().len() < MAX_RECORD_BYTES as u64 / 8);
+        let err = read_record(&path).expect_err("the record is over the limit");
+        assert!(
+            err.to_string().contains(&MAX_RECORD_BYTES.to_string()),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn images_over_the_pixel_limit_are_refused_from_the_header() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("wide.png");
+        let image = image::RgbaImage::new(300, 200);
+        write_png(&path, &image, None, &Overwrite::default()).unwrap();
+        let err = read_image_limited(&path, 59_999, "this test").unwrap_err();
+        assert!(
+            err.to_string().contains("300x200") && err.to_string().contains("59999"),
+            "{err}"
+        );
+        assert_eq!(
+            read_image_limited(&path, 60_000, "this test").unwrap(),
+            image
+        );
     }
 }

@@ -15,6 +15,7 @@ use super::charts::{
     BarChart, BarLayout, BarSeries, ChartError, Line, LineChart, draw_bars, draw_lines,
 };
 use crate::aa::ParamMap;
+use crate::files::Overwrite;
 use crate::gpu::Capabilities;
 use crate::metrics::{Comparison, Summary};
 use crate::spec::RenderSpec;
@@ -588,7 +589,11 @@ fn scaling_markdown(out: &mut String, report: &BenchReport) {
 /// Writes the report's charts into `dir` and returns their paths: per run, GPU time per
 /// technique (scene input and own passes stacked); per scene, SSIM per technique (one series
 /// per size); per scene of a sweep, the scaling curves (total and overhead over No AA).
-pub fn write_charts(report: &BenchReport, dir: &Path) -> Result<Vec<PathBuf>, ChartError> {
+pub fn write_charts(
+    report: &BenchReport,
+    dir: &Path,
+    policy: &Overwrite,
+) -> Result<Vec<PathBuf>, ChartError> {
     let mut written = Vec::new();
     for run in &report.runs {
         let names: Vec<String> = run.techniques.iter().map(|t| t.name.clone()).collect();
@@ -622,6 +627,7 @@ pub fn write_charts(report: &BenchReport, dir: &Path) -> Result<Vec<PathBuf>, Ch
                     2
                 },
             },
+            policy,
         )?;
         written.push(path);
     }
@@ -663,6 +669,7 @@ pub fn write_charts(report: &BenchReport, dir: &Path) -> Result<Vec<PathBuf>, Ch
                     range: Some((floor.clamp(0.0, 0.9), 1.0)),
                     decimals: 3,
                 },
+                policy,
             )?;
             written.push(path);
         }
@@ -710,6 +717,7 @@ pub fn write_charts(report: &BenchReport, dir: &Path) -> Result<Vec<PathBuf>, Ch
                         lines: &lines,
                         log_y,
                     },
+                    policy,
                 )?;
                 written.push(path);
             }

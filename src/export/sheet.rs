@@ -2,6 +2,10 @@
 //! region, with column headers, row labels and optional per-cell captions (metrics). Crops are
 //! enlarged with nearest-neighbour sampling so every source pixel stays a crisp square: a sheet
 //! shows exactly the pixels each technique produced.
+//!
+//! Sizes are bounded: a zoomed crop is at most [`MAX_SHEET_SIDE`] pixels a side, and
+//! [`check_layout`] refuses a sheet wider or taller than that (or of more than
+//! [`MAX_SHEET_PIXELS`] pixels) before anything is rendered.
 
 use super::text::Typeface;
 
@@ -32,13 +36,77 @@ impl Rect {
     }
 }
 
-/// `rect` of `image` enlarged `zoom` times with nearest-neighbour sampling.
-pub fn crop_zoom(image: &image::RgbaImage, rect: Rect, zoom: u32) -> image::RgbaImage {
+/// Longest side of a sheet and of any zoomed crop, in pixels.
+pub const MAX_SHEET_SIDE: u64 = 16384;
+/// Most pixels of a sheet (256 MiB of RGBA).
+pub const MAX_SHEET_PIXELS: u64 = 1 << 26;
+
+/// A sheet or crop that would not fit in reasonable memory.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{what} would be {width}x{height} pixels; sheets are limited to {MAX_SHEET_SIDE} pixels a \
+     side and {MAX_SHEET_PIXELS} pixels in all (lower --zoom or the region size, or use fewer \
+     techniques)"
+)]
+pub struct TooLarge {
+    /// What was measured (`the sheet`, `a zoomed crop`).
+    pub what: &'static str,
+    /// Width it would have.
+    pub width: u64,
+    /// Height it would have.
+    pub height: u64,
+}
+
+fn check_side(what: &'static str, width: u64, height: u64) -> Result<(), TooLarge> {
+    if width > MAX_SHEET_SIDE || height > MAX_SHEET_SIDE || width * height > MAX_SHEET_PIXELS {
+        Err(TooLarge {
+            what,
+            width,
+            height,
+        })
+    } else {
+        Ok(())
+    }
+}
+
+/// The size of a sheet of `columns` cells per row, one row per crop in `regions`, each
+/// zoomed `zoom` times, without its labels: refused when over the limits (see the module docs).
+pub fn check_layout(columns: usize, regions: &[Rect], zoom: u32) -> Result<(), TooLarge> {
+    let zoom = u64::from(zoom.max(1));
+    let cell_width = regions
+        .iter()
+        .map(|r| u64::from(r.width))
+        .max()
+        .unwrap_or(1)
+        * zoom;
+    let columns = columns.max(1) as u64;
+    let width = u64::from(MARGIN * 2) + columns * (cell_width + u64::from(GAP));
+    let height: u64 = regions
+        .iter()
+        .map(|r| u64::from(r.height) * zoom + u64::from(GAP))
+        .sum::<u64>()
+        + u64::from(MARGIN);
+    check_side("the sheet", width, height)
+}
+
+/// `rect` of `image` enlarged `zoom` times with nearest-neighbour sampling; refused when the
+/// result is over the limits (see the module docs).
+pub fn crop_zoom(
+    image: &image::RgbaImage,
+    rect: Rect,
+    zoom: u32,
+) -> Result<image::RgbaImage, TooLarge> {
     let rect = rect.clamped(image.dimensions());
     let zoom = zoom.max(1);
-    image::RgbaImage::from_fn(rect.width * zoom, rect.height * zoom, |x, y| {
-        *image.get_pixel(rect.x + x / zoom, rect.y + y / zoom)
-    })
+    let width = u64::from(rect.width) * u64::from(zoom);
+    let height = u64::from(rect.height) * u64::from(zoom);
+    check_side("a zoomed crop", width, height)?;
+    // Both fit in u32: they are at most MAX_SHEET_SIDE.
+    Ok(image::RgbaImage::from_fn(
+        width as u32,
+        height as u32,
+        |x, y| *image.get_pixel(rect.x + x / zoom, rect.y + y / zoom),
+    ))
 }
 
 /// One cell: an already zoomed crop and an optional caption under it.
@@ -234,7 +302,8 @@ mod tests {
                 height: 2,
             },
             3,
-        );
+        )
+        .unwrap();
         assert_eq!(z.dimensions(), (6, 6));
         assert_eq!(z.get_pixel(0, 0), image.get_pixel(1, 2));
         assert_eq!(z.get_pixel(2, 2), image.get_pixel(1, 2));
@@ -248,8 +317,29 @@ mod tests {
                 height: 10,
             },
             1,
-        );
+        )
+        .unwrap();
         assert_eq!(clamped.dimensions(), (1, 1));
+    }
+
+    /// `--zoom 100000` asked for 122 TB and `--zoom 2147483648` wrapped (issue 10, items 4
+    /// and 6): both are refused with the limit.
+    #[test]
+    fn oversized_zooms_are_refused_with_the_limit() {
+        let image = image::RgbaImage::new(64, 48);
+        let region = Rect {
+            x: 0,
+            y: 0,
+            width: 64,
+            height: 48,
+        };
+        for zoom in [1000, 100_000, 2_147_483_648] {
+            let err = crop_zoom(&image, region, zoom).unwrap_err();
+            assert!(err.to_string().contains("16384"), "{err}");
+            assert!(check_layout(12, &[region], zoom).is_err());
+        }
+        assert!(check_layout(12, &[region; 5], 5).is_ok());
+        assert!(check_layout(400, &[region; 5], 5).is_err());
     }
 
     #[test]

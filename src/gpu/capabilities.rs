@@ -40,6 +40,10 @@ pub struct Capabilities {
     pub max_texture_dimension_2d: u32,
     /// Largest buffer size in bytes.
     pub max_buffer_size: u64,
+    /// A texture can be viewed in its sRGB and its linear format (wgpu's `VIEW_FORMATS`
+    /// downlevel flag, which the OpenGL backend lacks): every technique reads its input's
+    /// sRGB-encoded values through such a view.
+    pub view_formats: bool,
 }
 
 impl Capabilities {
@@ -84,7 +88,16 @@ impl Capabilities {
             pipeline_statistics: features.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY),
             max_texture_dimension_2d: limits.max_texture_dimension_2d,
             max_buffer_size: limits.max_buffer_size,
+            view_formats: adapter
+                .get_downlevel_capabilities()
+                .flags
+                .contains(wgpu::DownlevelFlags::VIEW_FORMATS),
         }
+    }
+
+    /// Whether the device runs on wgpu's OpenGL backend.
+    pub fn is_gl(&self) -> bool {
+        self.backend == format!("{:?}", wgpu::Backend::Gl)
     }
 
     /// Whether a whole scene render can use `count` samples.
@@ -115,7 +128,7 @@ impl Capabilities {
             out += &format!("  {:<18}{:?}\n", f.format, f.sample_counts);
         }
         out += &format!(
-            "timestamp queries:  {}{}\npipeline statistics: {}\nmax texture size:   {}\nmax buffer size:    {} MiB\n",
+            "timestamp queries:  {}{}\npipeline statistics: {}\nmax texture size:   {}\nmax buffer size:    {} MiB\nsRGB/linear views:  {}\n",
             yes_no(self.timestamps),
             if self.timestamps {
                 format!(" ({} ns per tick)", self.timestamp_period_ns)
@@ -125,6 +138,11 @@ impl Capabilities {
             yes_no(self.pipeline_statistics),
             self.max_texture_dimension_2d,
             self.max_buffer_size >> 20,
+            if self.view_formats {
+                "yes"
+            } else {
+                "no (no technique can run: install a Vulkan driver)"
+            },
         );
         out
     }

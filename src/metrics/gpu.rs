@@ -40,6 +40,19 @@ pub enum GpuMetricsError {
     /// Reading the results back failed.
     #[error(transparent)]
     Readback(#[from] ReadbackError),
+    /// An image is larger than the adapter's largest texture.
+    #[error(
+        "the GPU path cannot take a {width}x{height} image: this adapter's largest texture side \
+         is {limit} (the CPU figures do not have this limit)"
+    )]
+    TooLarge {
+        /// Image width.
+        width: u32,
+        /// Image height.
+        height: u32,
+        /// The adapter's `max_texture_dimension_2d`.
+        limit: u32,
+    },
 }
 
 /// The scores the GPU computes.
@@ -469,9 +482,23 @@ impl GpuMetrics {
     }
 }
 
-/// Uploads an sRGB-encoded image as a texture [`GpuMetrics`] can read.
-pub fn upload_image(gpu: &Gpu, image: &image::RgbaImage, label: &str) -> wgpu::Texture {
-    gpu.device.create_texture_with_data(
+/// Uploads an sRGB-encoded image as a texture [`GpuMetrics`] can read; an image wider or
+/// taller than the adapter's largest texture is refused.
+pub fn upload_image(
+    gpu: &Gpu,
+    image: &image::RgbaImage,
+    label: &str,
+) -> Result<wgpu::Texture, GpuMetricsError> {
+    let (width, height) = image.dimensions();
+    let limit = gpu.caps.max_texture_dimension_2d;
+    if width > limit || height > limit || width == 0 || height == 0 {
+        return Err(GpuMetricsError::TooLarge {
+            width,
+            height,
+            limit,
+        });
+    }
+    Ok(gpu.device.create_texture_with_data(
         &gpu.queue,
         &crate::gpu::Texture2d::new(
             label,
@@ -482,5 +509,5 @@ pub fn upload_image(gpu: &Gpu, image: &image::RgbaImage, label: &str) -> wgpu::T
         .descriptor(),
         wgpu::util::TextureDataOrder::LayerMajor,
         image.as_raw(),
-    )
+    ))
 }

@@ -2,7 +2,9 @@
 //! their textures into a [`Scene`] whose camera is framed to the model.
 //!
 //! # How it works
-//! 1. The OBJ file is read whole and must be UTF-8 text without NUL bytes (a BOM is skipped).
+//! 1. The OBJ file is read whole and must be a regular file of UTF-8 text without NUL bytes
+//!    (a BOM is skipped), at most [`MAX_OBJ_BYTES`] long ([`MAX_MTL_BYTES`] for a material
+//!    library), so a device or FIFO named as a model is refused instead of read forever.
 //! 2. A validation pass walks every line before `tobj` sees the text. `tobj` reports errors
 //!    without line numbers, accepts `nan`/`inf` coordinates, turns 3-point polylines into faces
 //!    and can overflow on absurd relative indices, so this pass rejects non-finite or malformed
@@ -62,11 +64,22 @@ use glam::Vec3;
 use image::imageops::FilterType;
 use image::{DynamicImage, GrayImage, RgbaImage};
 
+use crate::export::png::MAX_IMAGE_FILE_BYTES;
+use crate::files::{self, FileError};
+
 use super::{AlphaMode, CameraRig, DirectionalLight, Material, Mesh, Scene, TextureImage, Vertex};
+
+/// Largest OBJ file read.
+pub const MAX_OBJ_BYTES: u64 = 2 << 30;
+/// Largest MTL file read.
+pub const MAX_MTL_BYTES: u64 = 64 << 20;
 
 /// Why an OBJ file could not be loaded. Every message names the file at fault.
 #[derive(Debug, thiserror::Error)]
 pub enum ObjError {
+    /// The file is not a regular file or is too large to read.
+    #[error(transparent)]
+    File(FileError),
     /// The file could not be read (missing, a directory, no permission, ...).
     #[error("cannot read {}: {source}", path.display())]
     Io {
@@ -162,7 +175,8 @@ pub enum ObjError {
 /// Problems that do not stop the load (missing or corrupt textures, unsupported translucency,
 /// unknown material names, skipped records) are listed in [`Scene::warnings`].
 pub fn load_obj(path: &Path) -> Result<Scene, ObjError> {
-    let text = read_text(path).map_err(|failure| failure.into_error(path))?;
+    let text = read_text(path, MAX_OBJ_BYTES, "an OBJ file")
+        .map_err(|failure| failure.into_error(path))?;
     let checked = check_obj(path, &text)?;
     let mut warnings = checked.warnings;
 
@@ -227,6 +241,7 @@ const CLEAR_COLOR: Vec3 = Vec3::splat(0.1);
 /// Why a file could not be turned into text.
 enum ReadFailure {
     Io(io::Error),
+    File(FileError),
     NotText(String),
 }
 
@@ -235,14 +250,19 @@ impl ReadFailure {
         let path = path.to_owned();
         match self {
             Self::Io(source) => ObjError::Io { path, source },
+            Self::File(error) => ObjError::File(error),
             Self::NotText(reason) => ObjError::NotText { path, reason },
         }
     }
 }
 
-/// Reads a whole file as UTF-8 text, rejecting binary data and skipping a byte-order mark.
-fn read_text(path: &Path) -> Result<String, ReadFailure> {
-    let bytes = std::fs::read(path).map_err(ReadFailure::Io)?;
+/// Reads a whole regular file of at most `limit` bytes as UTF-8 text, rejecting binary data
+/// and skipping a byte-order mark.
+fn read_text(path: &Path, limit: u64, what: &'static str) -> Result<String, ReadFailure> {
+    let bytes = files::read_bounded(path, limit, what).map_err(|error| match error {
+        FileError::Read { source, .. } => ReadFailure::Io(source),
+        other => ReadFailure::File(other),
+    })?;
     if let Some(at) = bytes.iter().position(|&b| b == 0) {
         return Err(ReadFailure::NotText(format!(
             "NUL byte at offset {at} (binary data)"
@@ -577,14 +597,15 @@ type MaterialNames = Vec<(String, usize)>;
 
 /// Reads, validates and parses one MTL file.
 fn read_mtl(obj: &Path, mtl: &Path) -> Result<(Vec<tobj::Material>, MaterialNames), ObjError> {
-    let text = read_text(mtl).map_err(|failure| match failure {
-        ReadFailure::Io(source) => ObjError::MissingMtl {
-            obj: obj.to_owned(),
-            mtl: mtl.to_owned(),
-            source,
-        },
-        other => other.into_error(mtl),
-    })?;
+    let text =
+        read_text(mtl, MAX_MTL_BYTES, "a material library").map_err(|failure| match failure {
+            ReadFailure::Io(source) => ObjError::MissingMtl {
+                obj: obj.to_owned(),
+                mtl: mtl.to_owned(),
+                source,
+            },
+            other => other.into_error(mtl),
+        })?;
     let text = normalize_mtl(mtl, &text)?;
     let (materials, names) =
         tobj::load_mtl_buf(&mut text.as_bytes()).map_err(|source| ObjError::Parse {
@@ -813,9 +834,13 @@ impl Textures {
         warnings: &mut Vec<String>,
     ) -> Option<&DynamicImage> {
         let decoded = self.decoded.entry(texture.path.clone()).or_insert_with(|| {
-            let decoded = image::ImageReader::open(&texture.path)
-                .and_then(|reader| reader.with_guessed_format())
+            let decoded = files::check_regular(&texture.path, MAX_IMAGE_FILE_BYTES, "a texture")
                 .map_err(|e| e.to_string())
+                .and_then(|_| {
+                    image::ImageReader::open(&texture.path)
+                        .and_then(|reader| reader.with_guessed_format())
+                        .map_err(|e| e.to_string())
+                })
                 .and_then(|reader| reader.decode().map_err(|e| e.to_string()));
             if let Err(reason) = &decoded {
                 warnings.push(format!(

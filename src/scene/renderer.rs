@@ -310,8 +310,39 @@ pub fn downsample_srgb(image: &image::RgbaImage) -> image::RgbaImage {
     })
 }
 
+/// `image` shrunk (keeping its aspect ratio) to fit within `limit` texels a side, with a
+/// warning naming the texture; borrowed unchanged when it fits.
+fn fit_texture<'a>(
+    image: &'a image::RgbaImage,
+    label: &str,
+    limit: u32,
+) -> std::borrow::Cow<'a, image::RgbaImage> {
+    let (width, height) = image.dimensions();
+    if width <= limit && height <= limit {
+        return std::borrow::Cow::Borrowed(image);
+    }
+    let scale = f64::from(limit) / f64::from(width.max(height));
+    let fit = |side: u32| ((f64::from(side) * scale).round() as u32).clamp(1, limit);
+    let (new_width, new_height) = (fit(width), fit(height));
+    log::warn!(
+        "texture {label} is {width}x{height}, larger than this adapter's largest texture side \
+         ({limit}): downscaled to {new_width}x{new_height}"
+    );
+    std::borrow::Cow::Owned(image::imageops::resize(
+        image,
+        new_width,
+        new_height,
+        image::imageops::FilterType::Triangle,
+    ))
+}
+
 fn upload_texture(gpu: &Gpu, texture: &TextureImage) -> wgpu::Texture {
-    let (width, height) = texture.image.dimensions();
+    let image = fit_texture(
+        &texture.image,
+        &texture.label,
+        gpu.caps.max_texture_dimension_2d,
+    );
+    let (width, height) = image.dimensions();
     let levels = mip_level_count(width, height);
     let gpu_texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(&texture.label),
@@ -327,7 +358,7 @@ fn upload_texture(gpu: &Gpu, texture: &TextureImage) -> wgpu::Texture {
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     });
-    let mut level_image = texture.image.clone();
+    let mut level_image = image.into_owned();
     for level in 0..levels {
         let (w, h) = level_image.dimensions();
         gpu.queue.write_texture(

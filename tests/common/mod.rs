@@ -153,6 +153,32 @@ pub fn metrics_fixture(name: &str) -> image::RgbaImage {
         .to_rgba8()
 }
 
+/// A command's standard error as text.
+pub fn stderr(out: &std::process::Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// A command's standard output as text.
+pub fn stdout(out: &std::process::Output) -> String {
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Runs the binary with `args` and checks that it failed cleanly (no panic) with every needle
+/// in its message; returns the message.
+pub fn fails_with(args: &[&str], needles: &[&str]) -> String {
+    let out = aa_lab(args);
+    let text = stderr(&out);
+    assert!(!out.status.success(), "{args:?} succeeded: {text}");
+    assert!(!text.contains("panicked"), "{args:?} panicked: {text}");
+    for needle in needles {
+        assert!(
+            text.contains(needle),
+            "{args:?}: `{needle}` missing from: {text}"
+        );
+    }
+    text
+}
+
 /// Runs the `aa-lab` binary with `args`.
 pub fn aa_lab(args: &[&str]) -> std::process::Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_aa-lab"))

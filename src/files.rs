@@ -1,0 +1,372 @@
+//! How aa-lab touches the file system for the user: bounded reads of the files a user names
+//! (OBJ, MTL, render records, images) and atomic writes of everything it produces.
+//!
+//! # Reading
+//! [`read_bounded`] reads only regular files (so `/dev/zero`, a FIFO or a directory named
+//! as a scene is refused up front instead of being read until memory runs out) and only up to
+//! a stated size, which the error message quotes.
+//!
+//! # Writing, and the overwrite policy
+//! Every output is written to a temporary file in the destination's folder and renamed into
+//! place ([`write_atomic`]), so a failed write (a full disk, a killed process) leaves at most a
+//! hidden temporary file behind, never a truncated output or a destroyed earlier file.
+//!
+//! One policy for every command ([`Overwrite`]): the command line never replaces an existing
+//! file unless `--force` is given, and never writes over one of the command's own inputs, even
+//! with `--force`. Without `--force` the file is moved into place with a hard link, which
+//! fails atomically when the name is taken, so a file appearing meanwhile is not clobbered
+//! either. The viewer's export never replaces anything: it picks the next free numbered name.
+
+use std::fs::File;
+use std::io::{self, BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Errors of reading a user's file or writing an output.
+#[derive(Debug, thiserror::Error)]
+pub enum FileError {
+    /// The file could not be opened or read.
+    #[error("cannot read {}: {source}", path.display())]
+    Read {
+        /// The path.
+        path: PathBuf,
+        /// The operating system's error.
+        source: io::Error,
+    },
+    /// The path names a directory, device, FIFO or socket.
+    #[error("cannot read {}: it is {kind}, not a regular file", path.display())]
+    NotAFile {
+        /// The path.
+        path: PathBuf,
+        /// What it is instead (`a directory`, `a device`, ...).
+        kind: &'static str,
+    },
+    /// The file is larger than what aa-lab reads for its purpose.
+    #[error(
+        "cannot read {}: it has {size} bytes, more than the {limit} bytes aa-lab reads for {what}",
+        path.display()
+    )]
+    TooLarge {
+        /// The path.
+        path: PathBuf,
+        /// Its size (or a lower bound, for a file that grew while being read).
+        size: u64,
+        /// The limit.
+        limit: u64,
+        /// What the file was read as (`an OBJ file`, ...).
+        what: &'static str,
+    },
+    /// The output exists and the policy forbids replacing it.
+    #[error("{} exists; aa-lab replaces existing files only with --force", path.display())]
+    Exists {
+        /// The path.
+        path: PathBuf,
+    },
+    /// The output is one of the command's inputs.
+    #[error(
+        "refusing to write {}: it is an input of this command (choose another output path)",
+        path.display()
+    )]
+    IsInput {
+        /// The path.
+        path: PathBuf,
+    },
+    /// Creating, writing or renaming the output failed.
+    #[error("cannot write {}: {source}", path.display())]
+    Write {
+        /// The output path.
+        path: PathBuf,
+        /// The operating system's error.
+        source: io::Error,
+    },
+}
+
+/// What a file system object is, for messages about things that are not regular files.
+fn kind_of(metadata: &std::fs::Metadata) -> &'static str {
+    let kind = metadata.file_type();
+    if kind.is_dir() {
+        "a directory"
+    } else if kind.is_symlink() {
+        "a symbolic link"
+    } else {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::FileTypeExt;
+            if kind.is_fifo() {
+                return "a FIFO";
+            }
+            if kind.is_socket() {
+                return "a socket";
+            }
+            if kind.is_block_device() || kind.is_char_device() {
+                return "a device";
+            }
+        }
+        "not a regular file"
+    }
+}
+
+/// Checks that `path` is a regular file (following links) of at most `limit` bytes and
+/// returns its size. `what` names its purpose in the error.
+pub fn check_regular(path: &Path, limit: u64, what: &'static str) -> Result<u64, FileError> {
+    let metadata = std::fs::metadata(path).map_err(|source| FileError::Read {
+        path: path.to_owned(),
+        source,
+    })?;
+    if !metadata.is_file() {
+        return Err(FileError::NotAFile {
+            path: path.to_owned(),
+            kind: kind_of(&metadata),
+        });
+    }
+    if metadata.len() > limit {
+        return Err(FileError::TooLarge {
+            path: path.to_owned(),
+            size: metadata.len(),
+            limit,
+            what,
+        });
+    }
+    Ok(metadata.len())
+}
+
+/// Reads a whole regular file of at most `limit` bytes (see the module docs).
+pub fn read_bounded(path: &Path, limit: u64, what: &'static str) -> Result<Vec<u8>, FileError> {
+    let size = check_regular(path, limit, what)?;
+    let read_error = |source| FileError::Read {
+        path: path.to_owned(),
+        source,
+    };
+    let file = File::open(path).map_err(read_error)?;
+    let mut bytes = Vec::with_capacity(usize::try_from(size).unwrap_or(0));
+    // The file may grow between the check and the read: never take more than the limit.
+    file.take(limit.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(read_error)?;
+    if bytes.len() as u64 > limit {
+        return Err(FileError::TooLarge {
+            path: path.to_owned(),
+            size: bytes.len() as u64,
+            limit,
+            what,
+        });
+    }
+    Ok(bytes)
+}
+
+/// Whether existing outputs may be replaced, and which paths are inputs (never written).
+#[derive(Clone, Debug, Default)]
+pub struct Overwrite {
+    /// Replace existing files (`--force`).
+    pub force: bool,
+    /// The command's inputs, as given and canonicalised.
+    inputs: Vec<PathBuf>,
+}
+
+impl Overwrite {
+    /// The policy of a command line with or without `--force`.
+    pub fn new(force: bool) -> Self {
+        Self {
+            force,
+            inputs: Vec::new(),
+        }
+    }
+
+    /// Adds an input of the command: it is never written, even with `--force`.
+    #[must_use]
+    pub fn with_input(mut self, path: &Path) -> Self {
+        self.inputs
+            .push(std::fs::canonicalize(path).unwrap_or_else(|_| path.to_owned()));
+        self
+    }
+
+    /// Whether `path` is one of the inputs (compared after resolving links and `..`).
+    fn is_input(&self, path: &Path) -> bool {
+        let resolved = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_owned());
+        self.inputs.contains(&resolved)
+    }
+
+    /// Checks that `path` may be written under this policy, before any work is done; returns
+    /// whether it exists (and will be replaced).
+    pub fn check(&self, path: &Path) -> Result<bool, FileError> {
+        if self.is_input(path) {
+            return Err(FileError::IsInput {
+                path: path.to_owned(),
+            });
+        }
+        match std::fs::symlink_metadata(path) {
+            Ok(metadata) if metadata.is_dir() => Err(FileError::Write {
+                path: path.to_owned(),
+                source: io::Error::new(io::ErrorKind::IsADirectory, "it is a directory"),
+            }),
+            Ok(_) if !self.force => Err(FileError::Exists {
+                path: path.to_owned(),
+            }),
+            Ok(_) => Ok(true),
+            Err(_) => Ok(false),
+        }
+    }
+
+    /// [`Overwrite::check`] for every path; none is written when one fails.
+    pub fn check_all<'p>(
+        &self,
+        paths: impl IntoIterator<Item = &'p Path>,
+    ) -> Result<(), FileError> {
+        for path in paths {
+            self.check(path)?;
+        }
+        Ok(())
+    }
+}
+
+/// The temporary file's path next to `path`: hidden, unique to this process and call.
+fn temporary_path(path: &Path) -> PathBuf {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let name = path
+        .file_name()
+        .map_or_else(|| "output".into(), |n| n.to_string_lossy());
+    let serial = COUNTER.fetch_add(1, Ordering::Relaxed);
+    path.with_file_name(format!(
+        ".{name}.aa-lab-tmp-{}-{serial}",
+        std::process::id()
+    ))
+}
+
+/// Writes a file atomically under `policy`: `fill` writes the contents to a temporary file in
+/// the same folder, which is flushed to disk and then moved to `path` (see the module docs).
+/// Returns whether an existing file was replaced.
+pub fn write_atomic(
+    path: &Path,
+    policy: &Overwrite,
+    fill: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> Result<bool, FileError> {
+    let existed = policy.check(path)?;
+    let temporary = temporary_path(path);
+    let write_error = |source| FileError::Write {
+        path: path.to_owned(),
+        source,
+    };
+    let result = (|| {
+        let file = File::options()
+            .write(true)
+            .create_new(true)
+            .open(&temporary)?;
+        let mut writer = BufWriter::new(file);
+        fill(&mut writer)?;
+        let file = writer
+            .into_inner()
+            .map_err(io::IntoInnerError::into_error)?;
+        file.sync_all()
+    })();
+    if let Err(source) = result {
+        let _ = std::fs::remove_file(&temporary);
+        return Err(write_error(source));
+    }
+    let placed = if policy.force {
+        std::fs::rename(&temporary, path)
+    } else {
+        // A hard link fails when the name is taken, even if the file appeared after the check.
+        match std::fs::hard_link(&temporary, path) {
+            Ok(()) => std::fs::remove_file(&temporary),
+            Err(err) if err.kind() == io::ErrorKind::AlreadyExists => {
+                let _ = std::fs::remove_file(&temporary);
+                return Err(FileError::Exists {
+                    path: path.to_owned(),
+                });
+            }
+            // File systems without hard links: the check above is all there is.
+            Err(_) => std::fs::rename(&temporary, path),
+        }
+    };
+    if let Err(source) = placed {
+        let _ = std::fs::remove_file(&temporary);
+        return Err(write_error(source));
+    }
+    Ok(existed)
+}
+
+/// [`write_atomic`] of bytes already in memory.
+pub fn write_bytes(path: &Path, policy: &Overwrite, bytes: &[u8]) -> Result<bool, FileError> {
+    write_atomic(path, policy, |w| w.write_all(bytes))
+}
+
+/// The line a command prints for a written file: `wrote PATH` or `replaced PATH`.
+pub fn wrote_line(path: &Path, replaced: bool) -> String {
+    format!(
+        "{} {}",
+        if replaced { "replaced" } else { "wrote" },
+        path.display()
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn leftovers(dir: &Path) -> Vec<String> {
+        std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.contains("aa-lab-tmp"))
+            .collect()
+    }
+
+    #[test]
+    fn existing_files_are_kept_without_force_and_replaced_with_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.txt");
+        assert!(!write_bytes(&path, &Overwrite::new(false), b"one").unwrap());
+        let err = write_bytes(&path, &Overwrite::new(false), b"two").unwrap_err();
+        assert!(matches!(err, FileError::Exists { .. }), "{err}");
+        assert!(err.to_string().contains("--force"), "{err}");
+        assert_eq!(std::fs::read(&path).unwrap(), b"one");
+        assert!(write_bytes(&path, &Overwrite::new(true), b"two").unwrap());
+        assert_eq!(std::fs::read(&path).unwrap(), b"two");
+        assert!(leftovers(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn a_failed_write_leaves_the_old_file_and_no_temporary() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.png");
+        std::fs::write(&path, b"precious").unwrap();
+        let err = write_atomic(&path, &Overwrite::new(true), |w| {
+            w.write_all(b"half")?;
+            Err(io::Error::new(io::ErrorKind::StorageFull, "disk full"))
+        })
+        .unwrap_err();
+        assert!(err.to_string().contains("disk full"), "{err}");
+        assert_eq!(std::fs::read(&path).unwrap(), b"precious");
+        assert!(leftovers(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn inputs_are_never_written_even_with_force() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("ref.png");
+        std::fs::write(&input, b"reference").unwrap();
+        let policy = Overwrite::new(true).with_input(&input);
+        // The same file under another spelling.
+        let other = dir.path().join(".").join("ref.png");
+        let err = write_bytes(&other, &policy, b"heatmap").unwrap_err();
+        assert!(matches!(err, FileError::IsInput { .. }), "{err}");
+        assert_eq!(std::fs::read(&input).unwrap(), b"reference");
+    }
+
+    #[test]
+    fn bounded_reads_refuse_devices_directories_and_large_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let err = read_bounded(dir.path(), 100, "a test").unwrap_err();
+        assert!(err.to_string().contains("a directory"), "{err}");
+        #[cfg(unix)]
+        {
+            let err = read_bounded(Path::new("/dev/zero"), 100, "a test").unwrap_err();
+            assert!(err.to_string().contains("a device"), "{err}");
+        }
+        let path = dir.path().join("big");
+        std::fs::write(&path, [b'x'; 101]).unwrap();
+        let err = read_bounded(&path, 100, "a test").unwrap_err();
+        assert!(err.to_string().contains("100 bytes"), "{err}");
+        assert_eq!(read_bounded(&path, 101, "a test").unwrap().len(), 101);
+    }
+}
