@@ -254,13 +254,13 @@ impl AaLabApp {
         });
     }
 
-    /// Starts loading a scene (built-in name or OBJ path) on the worker thread.
+    /// Starts loading a scene (built-in name or OBJ/glTF/GLB path) on the worker thread.
     pub(super) fn load_scene(&mut self, ctx: &egui::Context, spec: &str) {
         let ctx = ctx.clone();
         self.loader.load(spec, move || ctx.request_repaint());
     }
 
-    /// Asks the OS for an OBJ file on a helper thread (the dialog never blocks frames).
+    /// Asks the OS for a model file (OBJ, glTF, GLB) on a helper thread (the dialog never blocks frames).
     pub(super) fn open_file_dialog(&mut self, ctx: &egui::Context) {
         if self.file_dialog.is_some() {
             return;
@@ -272,7 +272,10 @@ impl AaLabApp {
             .spawn(move || {
                 let picked = rfd::FileDialog::new()
                     .set_title("Open a model")
-                    .add_filter("Wavefront OBJ", &["obj", "OBJ"])
+                    .add_filter(
+                        "Models (OBJ, glTF, GLB)",
+                        &["obj", "OBJ", "gltf", "GLTF", "glb", "GLB"],
+                    )
                     .pick_file();
                 let _ = sender.send(picked);
                 ctx.request_repaint();

@@ -737,7 +737,7 @@ const CHECKER_SIZE: u32 = 64;
 const CHECKER_SQUARE: u32 = 8;
 
 /// The magenta/black checker drawn in place of a texture that could not be loaded.
-fn checker_image() -> RgbaImage {
+pub(crate) fn checker_image() -> RgbaImage {
     RgbaImage::from_fn(CHECKER_SIZE, CHECKER_SIZE, |x, y| {
         if (x / CHECKER_SQUARE + y / CHECKER_SQUARE).is_multiple_of(2) {
             image::Rgba([255, 0, 255, 255])
@@ -1069,6 +1069,7 @@ impl SceneBuilder<'_> {
             camera: CameraRig::default(),
             light: DirectionalLight::default(),
             clear_color: CLEAR_COLOR,
+            views: Vec::new(),
             warnings: self.warnings,
         }
     }
@@ -1122,7 +1123,7 @@ const ORBIT_DEGREES_PER_FRAME: f32 = 0.5;
 
 /// The sphere about the centre of the scene's bounding box through its farthest vertex
 /// (tighter than the box's own bounding sphere), or `None` without vertices.
-fn bounding_sphere(scene: &Scene) -> Option<(Vec3, f32)> {
+pub(crate) fn bounding_sphere(scene: &Scene) -> Option<(Vec3, f32)> {
     let (lo, hi) = scene.bounds()?;
     let center = (lo + hi) * 0.5;
     let radius = scene
@@ -1135,7 +1136,7 @@ fn bounding_sphere(scene: &Scene) -> Option<(Vec3, f32)> {
 }
 
 /// A camera rig orbiting `target` that keeps a sphere of `radius` about it in view.
-fn framed_camera(target: Vec3, radius: f32) -> CameraRig {
+pub(crate) fn framed_camera(target: Vec3, radius: f32) -> CameraRig {
     // A model of zero size still needs a camera that is not inside it.
     let radius = radius.max(1e-6);
     let distance = radius * FRAME_MARGIN / (FOV_Y_DEGREES.to_radians() * 0.5).sin();
