@@ -40,9 +40,16 @@ pub struct RenderSpec {
     pub height: u32,
     /// Frame number of the deterministic camera and animation.
     pub frame: u64,
-    /// A fixed camera pose (the viewer's); `None` follows the scene's camera path.
+    /// A fixed camera pose (the viewer's): every frame is seen from it. `None` follows the
+    /// camera path (`rig`, else the scene's). Any field left out takes its default (see
+    /// [`OrbitPose`]).
     #[serde(default)]
     pub camera: Option<OrbitPose>,
+    /// A camera path replacing the scene's default view (`--camera-eye`/`--camera-look-at`,
+    /// `--fov`, `--camera-motion`); frame N turns `N * orbit_degrees_per_frame` about its
+    /// target. Any field left out takes its default (see [`crate::scene::CameraRig`]).
+    #[serde(default)]
+    pub rig: Option<crate::scene::CameraRig>,
     /// Techniques in output order.
     pub techniques: Vec<TechniqueSpec>,
     /// Adapter that produced the image (informational; not used when rendering).

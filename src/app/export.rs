@@ -180,6 +180,7 @@ impl AaLabApp {
             height: camera.size.1,
             frame: camera.frame,
             camera: Some(camera.pose),
+            rig: None,
             techniques,
             adapter: Some(format!(
                 "{} ({})",

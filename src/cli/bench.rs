@@ -62,7 +62,7 @@ pub enum Sweep {
 /// Arguments of `aa-lab bench`.
 #[derive(Debug, clap::Args)]
 pub struct BenchArgs {
-    /// Comma-separated scenes (hairball, atrium, chart or .obj paths).
+    /// Comma-separated scenes (hairball, atrium, chart or .obj/.gltf/.glb paths).
     #[arg(long, default_value = "hairball,atrium")]
     pub scene: String,
     /// Comma-separated technique ids, or `all` (every technique this adapter can run).
@@ -102,6 +102,10 @@ pub struct BenchArgs {
     /// Also write the scored images, the reference and FLIP heatmaps (PNG, with records).
     #[arg(long)]
     pub images: bool,
+    /// The camera of every scene, when not its default view (the timed frames then follow
+    /// this camera's slow track).
+    #[command(flatten)]
+    pub camera: super::render::CameraArgs,
 }
 
 /// One run to measure.
@@ -372,6 +376,7 @@ impl Bench<'_> {
             height: run.size.1,
             frame: self.args.quality_frame,
             camera: None,
+            rig: None,
             techniques,
             adapter: Some(format!(
                 "{} ({})",
@@ -420,12 +425,14 @@ impl Bench<'_> {
             density: run.density,
             seed: args.seed,
         };
-        let scene = source::load(&run.scene, &options)?;
+        let mut scene = source::load(&run.scene, &options)?;
         for warning in &scene.warnings {
             self.bar.println(format!("warning: {warning}"));
         }
-        let spec = self.spec(run, self.techniques.clone());
-        let reference_spec = self.spec(run, vec![self.reference.clone()]);
+        let mut spec = self.spec(run, self.techniques.clone());
+        let mut reference_spec = self.spec(run, vec![self.reference.clone()]);
+        args.camera.apply(&mut spec, &mut scene)?;
+        reference_spec.rig = spec.rig;
         let track = SlowTrack::new(&scene.camera, run.size, TRACK_STEP_PX);
         let flicker_frames = if self.quality {
             args.flicker_frames.min(args.frames)
@@ -634,7 +641,8 @@ impl Bench<'_> {
             .find(|m| m.technique == COPY_FLOOR_ID)
             .map_or(0, |m| m.own_bytes());
         Ok(RunReport {
-            scene: scene.name.clone(),
+            // Model files get a hash of their path, so two `sponza.obj` never share files.
+            scene: super::render::output_stem(&scene.name, &run.scene),
             density: run.density,
             triangles: scene.triangle_count(),
             width: run.size.0,
