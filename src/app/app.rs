@@ -369,6 +369,9 @@ impl AaLabApp {
     }
 
     fn install_scene(&mut self, ctx: &egui::Context, spec: &str, scene: &Scene) {
+        for note in &scene.notes {
+            self.notify(Level::Info, format!("{}: {note}", scene.name));
+        }
         for warning in &scene.warnings {
             self.notify(Level::Warning, format!("{}: {warning}", scene.name));
         }

@@ -426,6 +426,9 @@ impl Bench<'_> {
             seed: args.seed,
         };
         let mut scene = source::load(&run.scene, &options)?;
+        for note in &scene.notes {
+            self.bar.println(format!("note: {note}"));
+        }
         for warning in &scene.warnings {
             self.bar.println(format!("warning: {warning}"));
         }

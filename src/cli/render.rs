@@ -362,6 +362,9 @@ pub fn load_scene(spec: &RenderSpec, strict: bool) -> anyhow::Result<crate::scen
     if let Some(rig) = spec.rig {
         scene.camera = rig;
     }
+    for note in &scene.notes {
+        eprintln!("note: {note}");
+    }
     for warning in &scene.warnings {
         eprintln!("warning: {warning}");
     }

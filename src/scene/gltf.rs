@@ -188,6 +188,7 @@ pub fn load_gltf(path: &Path) -> Result<Scene, GltfError> {
         light: DirectionalLight::default(),
         clear_color: CLEAR_COLOR,
         views: Vec::new(),
+        notes: Vec::new(),
         warnings,
     };
     let Some((center, radius)) = bounding_sphere(&scene).filter(|_| scene.triangle_count() > 0)

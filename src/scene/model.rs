@@ -330,6 +330,9 @@ pub struct Scene {
     /// Problems found while building the scene that did not stop it (a missing texture
     /// replaced by a checker, say). Front ends must show these to the user.
     pub warnings: Vec<String>,
+    /// Things worth knowing that are not problems (material statements a loader ignores,
+    /// say); front ends show these too, and `--strict` does not count them.
+    pub notes: Vec<String>,
 }
 
 impl Scene {

@@ -44,7 +44,10 @@
 //! * A texture that is missing or cannot be decoded never fails the load: the material draws a
 //!   magenta/black checker at full brightness and [`Scene::warnings`] names the texture path
 //!   and the reason.
-//! * `illum` and the other MTL records (`Ka`, `Ke`, `Ni`, bump and specular maps) are ignored.
+//! * `illum` and the other MTL records (`Ka`, `Ke`, `Ni`, `Tf`, bump and specular maps) are
+//!   ignored; one note in [`Scene::notes`] lists every ignored keyword with its count.
+//! * A material without `Kd` and without a texture is the neutral mid grey of
+//!   [`Material::default`], and so are faces without a material.
 //!
 //! # Camera
 //! The camera orbits the centre of the model's bounding box, slightly from above, at
@@ -54,7 +57,7 @@
 
 use std::borrow::Cow;
 use std::cell::RefCell;
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::io;
 use std::path::{Path, PathBuf};
 
@@ -209,7 +212,19 @@ pub fn load_obj(path: &Path) -> Result<Scene, ObjError> {
     for model in &models {
         builder.add_model(model);
     }
-    let scene = builder.finish();
+    let mut scene = builder.finish();
+    if !libraries.ignored.is_empty() {
+        let list: Vec<String> = libraries
+            .ignored
+            .iter()
+            .map(|(keyword, count)| format!("{keyword} ({count})"))
+            .collect();
+        scene.notes.push(format!(
+            "{}: material statements aa-lab does not use were ignored: {}",
+            path.display(),
+            list.join(", ")
+        ));
+    }
     match bounding_sphere(&scene) {
         Some((center, radius)) if scene.triangle_count() > 0 => Ok(Scene {
             camera: framed_camera(center, radius),
@@ -531,6 +546,8 @@ struct Libraries {
     sources: Vec<PathBuf>,
     /// The first library that failed; it fails the whole load.
     error: Option<ObjError>,
+    /// Keywords of the statements no material reads, with how often they occur.
+    ignored: BTreeMap<String, usize>,
 }
 
 impl Libraries {
@@ -555,7 +572,7 @@ impl Libraries {
         let mut materials = Vec::new();
         let mut names = Vec::new();
         for file in files {
-            match read_mtl(obj, &file) {
+            match read_mtl(obj, &file, &mut self.ignored) {
                 Ok((loaded, map)) => {
                     let offset = materials.len();
                     names.extend(map.into_iter().map(|(name, i)| (name, i + offset)));
@@ -576,7 +593,11 @@ impl Libraries {
 type MaterialNames = Vec<(String, usize)>;
 
 /// Reads, validates and parses one MTL file.
-fn read_mtl(obj: &Path, mtl: &Path) -> Result<(Vec<tobj::Material>, MaterialNames), ObjError> {
+fn read_mtl(
+    obj: &Path,
+    mtl: &Path,
+    ignored: &mut BTreeMap<String, usize>,
+) -> Result<(Vec<tobj::Material>, MaterialNames), ObjError> {
     let text = read_text(mtl).map_err(|failure| match failure {
         ReadFailure::Io(source) => ObjError::MissingMtl {
             obj: obj.to_owned(),
@@ -585,7 +606,7 @@ fn read_mtl(obj: &Path, mtl: &Path) -> Result<(Vec<tobj::Material>, MaterialName
         },
         other => other.into_error(mtl),
     })?;
-    let text = normalize_mtl(mtl, &text)?;
+    let text = normalize_mtl(mtl, &text, ignored)?;
     let (materials, names) =
         tobj::load_mtl_buf(&mut text.as_bytes()).map_err(|source| ObjError::Parse {
             path: mtl.to_owned(),
@@ -594,15 +615,27 @@ fn read_mtl(obj: &Path, mtl: &Path) -> Result<(Vec<tobj::Material>, MaterialName
     Ok((materials, names.into_iter().collect()))
 }
 
+/// MTL statements the loader reads; every other one is listed in a note.
+const READ_MTL_STATEMENTS: &[&str] = &["newmtl", "Kd", "Ks", "Ns", "d", "Tr", "map_Kd", "map_d"];
+
 /// Validates MTL text and rewrites it into what `tobj` parses without surprises (see the
-/// module docs); line numbers are kept.
-fn normalize_mtl(path: &Path, text: &str) -> Result<String, ObjError> {
+/// module docs); line numbers are kept. Keywords of statements that are not read are counted
+/// in `ignored`.
+fn normalize_mtl(
+    path: &Path,
+    text: &str,
+    ignored: &mut BTreeMap<String, usize>,
+) -> Result<String, ObjError> {
     let mut out = Vec::new();
     for (number, line) in text.lines().enumerate() {
         let line_no = number + 1;
         let mut words = line.split_whitespace();
         let keyword = words.next().unwrap_or("");
         let values: Vec<&str> = words.collect();
+        if !keyword.is_empty() && !keyword.starts_with('#') && !READ_MTL_STATEMENTS.contains(&keyword)
+        {
+            *ignored.entry(keyword.to_owned()).or_default() += 1;
+        }
         let finite = |word: &str| -> Result<f32, ObjError> {
             let value = parse_number(path, line_no, keyword, word)?;
             if value.is_finite() {
@@ -1070,6 +1103,7 @@ impl SceneBuilder<'_> {
             light: DirectionalLight::default(),
             clear_color: CLEAR_COLOR,
             views: Vec::new(),
+            notes: Vec::new(),
             warnings: self.warnings,
         }
     }

@@ -103,6 +103,7 @@ pub fn flat_chart(slant_degrees: f32) -> Scene {
         light: Default::default(),
         clear_color: Vec3::ONE,
         views: Vec::new(),
+        notes: Vec::new(),
         warnings: Vec::new(),
     }
 }

@@ -567,6 +567,7 @@ pub fn chart(_options: &SceneOptions) -> Scene {
         light: DirectionalLight::default(),
         clear_color: Vec3::ONE,
         views: Vec::new(),
+        notes: Vec::new(),
         warnings: Vec::new(),
     }
 }

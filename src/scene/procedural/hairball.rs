@@ -153,6 +153,7 @@ pub fn hairball(options: &SceneOptions) -> Scene {
         },
         clear_color: Vec3::new(0.012, 0.014, 0.02),
         views: Vec::new(),
+        notes: Vec::new(),
         warnings,
     }
 }

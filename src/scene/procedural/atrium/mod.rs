@@ -713,6 +713,7 @@ pub fn atrium(options: &SceneOptions) -> Scene {
         },
         clear_color: Vec3::new(0.50, 0.66, 0.85),
         views: Vec::new(),
+        notes: Vec::new(),
         warnings: Vec::new(),
     }
 }
