@@ -50,6 +50,10 @@ pub struct RenderSpec {
     /// target. Any field left out takes its default (see [`crate::scene::CameraRig`]).
     #[serde(default)]
     pub rig: Option<crate::scene::CameraRig>,
+    /// Image mode: the full path of a finished PNG/JPEG image the techniques ran on instead
+    /// of a render of `scene` (then only a label); `None` renders the scene.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub image: Option<String>,
     /// Techniques in output order.
     pub techniques: Vec<TechniqueSpec>,
     /// Adapter that produced the image (informational; not used when rendering).
@@ -91,6 +95,9 @@ pub enum RenderError {
     /// No technique was given.
     #[error("no technique to render")]
     NoTechnique,
+    /// A technique cannot run on a finished image (image mode).
+    #[error("{0}; techniques that run on an image: none, fxaa, smaa (SMAA 1x with luma or colour edges)")]
+    NotOnImage(String),
 }
 
 /// An image a technique produced.
@@ -129,6 +136,9 @@ pub struct RunOptions<'a> {
     pub timing_repeats: u32,
     /// Called after each frame with (frames done, frames total).
     pub progress: Option<&'a dyn Fn(u64, u64)>,
+    /// Image mode: this finished image (the spec's size) replaces the 1x scene render; a
+    /// technique that needs more than its colour is refused with the reason.
+    pub image: Option<&'a image::RgbaImage>,
 }
 
 /// The camera of frame `frame` for a spec.
@@ -169,6 +179,20 @@ pub fn run(
     let mut graph = build_graph(gpu, scene, spec)?;
     for slot in graph.slots_mut() {
         slot.technique.set_debug_views(options.debug_views);
+    }
+    if let Some(image) = options.image {
+        let info = FrameInfo {
+            camera: frame_camera(spec, scene, spec.frame),
+            reset_history: true,
+        };
+        if let Some(reason) = graph
+            .slots()
+            .iter()
+            .find_map(|s| aa::image_refusal(s.technique.as_ref(), &info))
+        {
+            return Err(RenderError::NotOnImage(reason));
+        }
+        graph.set_image_input(Some(image.clone()));
     }
     let temporal = graph.slots().iter().any(|s| s.technique.temporal());
     let first = if temporal { 0 } else { spec.frame };

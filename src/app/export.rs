@@ -181,6 +181,7 @@ impl AaLabApp {
             frame: camera.frame,
             camera: Some(camera.pose),
             rig: None,
+            image: None,
             techniques,
             adapter: Some(format!(
                 "{} ({})",

@@ -377,6 +377,7 @@ impl Bench<'_> {
             frame: self.args.quality_frame,
             camera: None,
             rig: None,
+            image: None,
             techniques,
             adapter: Some(format!(
                 "{} ({})",
@@ -687,6 +688,7 @@ impl Bench<'_> {
             debug_views: false,
             timing_repeats: 0,
             progress: Some(&progress),
+            image: None,
         };
         let output = spec::run(self.gpu, scene, spec, &options)?;
         self.bar.set_position(base + spec.frame + 1);

@@ -181,6 +181,50 @@ pub struct RenderArgs {
     /// camera and every technique setting come from the record).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "technique", "size", "frame", "density", "seed"])]
     pub from: Option<PathBuf>,
+    /// Run the techniques that work on a finished image (No AA, FXAA, SMAA 1x) on this PNG or
+    /// JPEG instead of a scene, e.g. a capture from another engine; others are refused with
+    /// the reason.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "from", "size", "frame", "density", "seed", "camera_eye", "fov"])]
+    pub image: Option<PathBuf>,
+}
+
+/// The spec of image mode: the techniques run on the image at `path`, at its size.
+pub fn spec_for_image(
+    path: &Path,
+    techniques: Vec<TechniqueSpec>,
+) -> anyhow::Result<(RenderSpec, image::RgbaImage)> {
+    let full = std::fs::canonicalize(path)
+        .with_context(|| format!("cannot read image {}", path.display()))?;
+    let image = load_input_image(&full)?;
+    let name = full
+        .file_stem()
+        .map_or_else(|| "image".to_owned(), |s| s.to_string_lossy().into_owned());
+    let spec = RenderSpec {
+        scene: name,
+        density: 1.0,
+        seed: SceneOptions::default().seed,
+        width: image.width(),
+        height: image.height(),
+        frame: 0,
+        camera: None,
+        rig: None,
+        image: Some(full.display().to_string()),
+        techniques,
+        adapter: None,
+        build: Some(spec::build_id()),
+    };
+    Ok((spec, image))
+}
+
+/// Decodes a PNG or JPEG input image to sRGB-encoded RGBA8.
+pub fn load_input_image(path: &Path) -> anyhow::Result<image::RgbaImage> {
+    let decoded = image::ImageReader::open(path)
+        .with_context(|| format!("cannot read image {}", path.display()))?
+        .with_guessed_format()
+        .with_context(|| format!("cannot read image {}", path.display()))?
+        .decode()
+        .with_context(|| format!("{} is not a PNG or JPEG image aa-lab can decode", path.display()))?;
+    Ok(decoded.to_rgba8())
 }
 
 /// Parses `WIDTHxHEIGHT`.
@@ -345,6 +389,7 @@ pub fn spec_for_scene(scene: &SceneArgs, techniques: Vec<TechniqueSpec>) -> Rend
         frame: scene.frame,
         camera: None,
         rig: None,
+        image: None,
         techniques,
         adapter: None,
         build: Some(spec::build_id()),
@@ -464,14 +509,43 @@ fn progress_bar(total: u64) -> ProgressBar {
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     let gpu = Gpu::headless()?;
-    let mut spec = match &args.from {
-        Some(path) => load_spec(path)?,
-        None => spec_for_scene(&args.scene, technique_specs(&gpu, &args.techniques)?),
+    let (mut spec, mut input) = match (&args.from, &args.image) {
+        (Some(path), _) => (load_spec(path)?, None),
+        (None, Some(path)) => {
+            let (spec, image) = spec_for_image(path, technique_specs(&gpu, &args.techniques)?)?;
+            (spec, Some(image))
+        }
+        (None, None) => (
+            spec_for_scene(&args.scene, technique_specs(&gpu, &args.techniques)?),
+            None,
+        ),
     };
     spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
     spec.build = Some(spec::build_id());
-    let mut scene = load_scene(&spec, args.scene.strict)?;
-    args.scene.camera.apply(&mut spec, &mut scene)?;
+    let scene = match &spec.image {
+        Some(path) => {
+            let image = match input.take() {
+                Some(image) => image,
+                None => load_input_image(Path::new(path))?,
+            };
+            if image.dimensions() != (spec.width, spec.height) {
+                bail!(
+                    "{path} is {}x{} now; the record was made from a {}x{} image",
+                    image.width(),
+                    image.height(),
+                    spec.width,
+                    spec.height
+                );
+            }
+            input = Some(image);
+            crate::scene::Scene::empty(&spec.scene)
+        }
+        None => {
+            let mut scene = load_scene(&spec, args.scene.strict)?;
+            args.scene.camera.apply(&mut spec, &mut scene)?;
+            scene
+        }
+    };
     let loaded = started.elapsed();
 
     let bar = progress_bar(spec.frame + 1);
@@ -485,6 +559,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         debug_views: args.debug_views,
         timing_repeats: if args.timings { 5 } else { 0 },
         progress: temporal_frames.then_some(&progress as &dyn Fn(u64, u64)),
+        image: input.as_ref(),
     };
     let output = spec::run(&gpu, &scene, &spec, &run_options)?;
     bar.finish_and_clear();
@@ -493,7 +568,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let record = serde_json::to_string_pretty(&spec)?;
     let paths = output_paths(
         &args.out,
-        &output_stem(&scene.name, &spec.scene),
+        &output_stem(&scene.name, spec.image.as_deref().unwrap_or(&spec.scene)),
         &output.images,
     )?;
     for (image, path) in output.images.iter().zip(&paths) {

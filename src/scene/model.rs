@@ -336,6 +336,22 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene with nothing in it (image mode draws no scene), called `name`.
+    pub fn empty(name: &str) -> Self {
+        Self {
+            name: name.to_owned(),
+            meshes: Vec::new(),
+            materials: Vec::new(),
+            textures: Vec::new(),
+            camera: CameraRig::default(),
+            light: DirectionalLight::default(),
+            clear_color: Vec3::ZERO,
+            views: Vec::new(),
+            warnings: Vec::new(),
+            notes: Vec::new(),
+        }
+    }
+
     /// Total triangle count over all meshes.
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(Mesh::triangle_count).sum()

@@ -92,7 +92,8 @@ fn target_texture(
     let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
         | wgpu::TextureUsages::TEXTURE_BINDING
         | if sample_count == 1 {
-            wgpu::TextureUsages::COPY_SRC
+            // COPY_DST: image mode uploads a finished image into the 1x colour target.
+            wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST
         } else {
             wgpu::TextureUsages::empty()
         };
@@ -330,26 +331,7 @@ fn upload_texture(gpu: &Gpu, texture: &TextureImage) -> wgpu::Texture {
     });
     let mut level_image = texture.image.clone();
     for level in 0..levels {
-        let (w, h) = level_image.dimensions();
-        gpu.queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &gpu_texture,
-                mip_level: level,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            level_image.as_raw(),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(4 * w),
-                rows_per_image: Some(h),
-            },
-            wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-        );
+        gpu::write_rgba8_level(gpu, &gpu_texture, level, &level_image);
         if level + 1 < levels {
             level_image = downsample_srgb(&level_image);
         }
