@@ -75,6 +75,8 @@ pub struct SceneInfo {
     pub name: String,
     /// Triangles.
     pub triangles: usize,
+    /// Cameras the scene file defines (glTF), offered as views.
+    pub views: Vec<crate::scene::SceneView>,
 }
 
 /// The viewer application.
@@ -424,6 +426,7 @@ impl AaLabApp {
             spec,
             name: scene.name.clone(),
             triangles: scene.triangle_count(),
+            views: scene.views.clone(),
         });
         self.quality.clear();
         self.magnifier.clear();
@@ -488,6 +491,7 @@ impl AaLabApp {
                 self.settings.auto_rotate = self.camera.auto_rotate;
             }
             Action::ResetView => self.camera.reset(),
+            Action::FlyMode => self.camera.toggle_mode(),
             Action::AddBookmark => self.add_bookmark(),
             Action::GoToBookmark(n) => {
                 if let Some(pose) = self.scene_bookmarks().get(n).map(|b| b.pose) {
@@ -617,8 +621,16 @@ impl eframe::App for AaLabApp {
             self.styled = true;
         }
         self.poll_background(&ctx);
-        for action in shortcuts::pressed_actions(&ctx) {
+        let flying = self.camera.mode == super::camera::CameraMode::Fly;
+        for action in shortcuts::pressed_actions(&ctx, flying) {
             self.handle_action(&ctx, action);
+        }
+        if flying {
+            let input = shortcuts::fly_input(&ctx);
+            if input.moving() {
+                self.camera.fly(input, ctx.input(|i| i.stable_dt));
+                ctx.request_repaint();
+            }
         }
         if ctx.input(|i| i.key_pressed(egui::Key::Escape)) {
             self.help_open = false;
