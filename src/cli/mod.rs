@@ -13,7 +13,7 @@ use clap::{Parser, Subcommand};
 
 pub use bench::{BenchArgs, Sweep};
 pub use compare::CompareArgs;
-pub use render::RenderArgs;
+pub use render::{RenderArgs, parse_vec3};
 
 /// Compare real-time antialiasing techniques on the same frame.
 #[derive(Debug, Parser)]
