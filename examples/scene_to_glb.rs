@@ -33,7 +33,8 @@ impl Writer {
         while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
-        let mut view = json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()});
+        let mut view =
+            json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()});
         if let Some(target) = target {
             view["target"] = json!(target);
         }
@@ -50,7 +51,13 @@ impl Writer {
         if bounds {
             let pick = |f: fn(f32, f32) -> f32, start: f32| -> Vec<f32> {
                 (0..components)
-                    .map(|c| values.iter().skip(c).step_by(components).fold(start, |a, &b| f(a, b)))
+                    .map(|c| {
+                        values
+                            .iter()
+                            .skip(c)
+                            .step_by(components)
+                            .fold(start, |a, &b| f(a, b))
+                    })
                     .collect()
             };
             accessor["min"] = json!(pick(f32::min, f32::INFINITY));
@@ -63,7 +70,8 @@ impl Writer {
     fn indices(&mut self, values: &[u32]) -> usize {
         let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
         let view = self.view(&bytes, Some(34963));
-        self.accessors.push(json!({"bufferView": view, "componentType": 5125,
+        self.accessors
+            .push(json!({"bufferView": view, "componentType": 5125,
                                    "count": values.len(), "type": "SCALAR"}));
         self.accessors.len() - 1
     }
@@ -81,7 +89,9 @@ fn convert(scene: &Scene, camera: Option<(Vec3, Vec3, f32)>) -> anyhow::Result<V
         let view = w.view(&png, None);
         images.push(json!({"bufferView": view, "mimeType": "image/png", "name": texture.label}));
     }
-    let textures: Vec<Value> = (0..scene.textures.len()).map(|i| json!({"source": i})).collect();
+    let textures: Vec<Value> = (0..scene.textures.len())
+        .map(|i| json!({"source": i}))
+        .collect();
     let materials: Vec<Value> = scene
         .materials
         .iter()
@@ -110,7 +120,10 @@ fn convert(scene: &Scene, camera: Option<(Vec3, Vec3, f32)>) -> anyhow::Result<V
             continue;
         }
         let flat = |f: fn(&aa_lab::scene::Vertex) -> &[f32]| -> Vec<f32> {
-            mesh.vertices.iter().flat_map(|v| f(v).iter().copied()).collect()
+            mesh.vertices
+                .iter()
+                .flat_map(|v| f(v).iter().copied())
+                .collect()
         };
         let position = w.floats(&flat(|v| &v.position), "VEC3", 3, true);
         let normal = w.floats(&flat(|v| &v.normal), "VEC3", 3, false);
@@ -174,7 +187,9 @@ fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let (input, output, rest) = match args.as_slice() {
         [input, output, rest @ ..] => (input, Path::new(output), rest),
-        _ => bail!("usage: scene_to_glb MODEL OUT.glb [EYE_X,EYE_Y,EYE_Z LOOK_X,LOOK_Y,LOOK_Z [FOV_DEG]]"),
+        _ => bail!(
+            "usage: scene_to_glb MODEL OUT.glb [EYE_X,EYE_Y,EYE_Z LOOK_X,LOOK_Y,LOOK_Z [FOV_DEG]]"
+        ),
     };
     let camera = match rest {
         [] => None,
@@ -196,8 +211,7 @@ fn main() -> anyhow::Result<()> {
     let bytes = convert(&scene, camera)?;
     let temp = output.with_extension("glb.tmp");
     std::fs::write(&temp, &bytes).with_context(|| format!("cannot write {}", temp.display()))?;
-    std::fs::rename(&temp, output)
-        .with_context(|| format!("cannot write {}", output.display()))?;
+    std::fs::rename(&temp, output).with_context(|| format!("cannot write {}", output.display()))?;
     println!(
         "wrote {} ({} triangles, {} materials, {} textures, {} bytes)",
         output.display(),

@@ -96,7 +96,9 @@ pub enum RenderError {
     #[error("no technique to render")]
     NoTechnique,
     /// A technique cannot run on a finished image (image mode).
-    #[error("{0}; techniques that run on an image: none, fxaa, smaa (SMAA 1x with luma or colour edges)")]
+    #[error(
+        "{0}; techniques that run on an image: none, fxaa, smaa (SMAA 1x with luma or colour edges)"
+    )]
     NotOnImage(String),
 }
 

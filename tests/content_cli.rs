@@ -39,13 +39,28 @@ fn image_mode_reproduces_the_scene_path_exactly() {
     let dir = tempfile::tempdir().expect("temp dir");
     let scene_out = dir.path().join("scene");
     run_ok(&[
-        "render", "--scene", "atrium", "--size", "240x136", "--frame", "5", "--technique",
-        "none,fxaa,smaa", "--out", text(&scene_out),
+        "render",
+        "--scene",
+        "atrium",
+        "--size",
+        "240x136",
+        "--frame",
+        "5",
+        "--technique",
+        "none,fxaa,smaa",
+        "--out",
+        text(&scene_out),
     ]);
     let none = scene_out.join("atrium-none.png");
     let image_out = dir.path().join("image");
     run_ok(&[
-        "render", "--image", text(&none), "--technique", "fxaa,smaa", "--out", text(&image_out),
+        "render",
+        "--image",
+        text(&none),
+        "--technique",
+        "fxaa,smaa",
+        "--out",
+        text(&image_out),
     ]);
     for id in ["fxaa", "smaa"] {
         let from_scene = pixels(&scene_out.join(format!("atrium-{id}.png")));
@@ -74,15 +89,22 @@ fn image_mode_reproduces_the_scene_path_exactly() {
 fn image_mode_refuses_techniques_that_need_the_scene_and_bad_images() {
     let dir = tempfile::tempdir().expect("temp dir");
     let input = dir.path().join("capture.png");
-    image::RgbaImage::from_fn(64, 32, |x, y| image::Rgba([(x * 4) as u8, (y * 8) as u8, 90, 255]))
-        .save(&input)
-        .expect("write input");
+    image::RgbaImage::from_fn(64, 32, |x, y| {
+        image::Rgba([(x * 4) as u8, (y * 8) as u8, 90, 255])
+    })
+    .save(&input)
+    .expect("write input");
     for (technique, reason) in [
         ("taa", "jittered renders of several frames"),
         ("ssaa", "renders the scene itself"),
     ] {
         let out = common::aa_lab(&[
-            "render", "--image", text(&input), "--technique", technique, "--out",
+            "render",
+            "--image",
+            text(&input),
+            "--technique",
+            technique,
+            "--out",
             text(dir.path()),
         ]);
         let stderr = String::from_utf8_lossy(&out.stderr);
@@ -95,8 +117,15 @@ fn image_mode_refuses_techniques_that_need_the_scene_and_bad_images() {
     }
     // SMAA with depth edges reads depth, which an image has not.
     let out = common::aa_lab(&[
-        "render", "--image", text(&input), "--technique", "smaa", "--set",
-        "smaa.edge_detection=depth", "--out", text(dir.path()),
+        "render",
+        "--image",
+        text(&input),
+        "--technique",
+        "smaa",
+        "--set",
+        "smaa.edge_detection=depth",
+        "--out",
+        text(dir.path()),
     ]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("depth"));
@@ -105,7 +134,10 @@ fn image_mode_refuses_techniques_that_need_the_scene_and_bad_images() {
     std::fs::write(&bogus, b"not a png").expect("write");
     let out = common::aa_lab(&["render", "--image", text(&bogus), "--technique", "fxaa"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && stderr.contains("bogus.png"), "{stderr}");
+    assert!(
+        !out.status.success() && stderr.contains("bogus.png"),
+        "{stderr}"
+    );
     // A JPEG works like a PNG.
     let jpeg = dir.path().join("capture.jpg");
     image::DynamicImage::ImageRgba8(pixels(&input))
@@ -113,7 +145,12 @@ fn image_mode_refuses_techniques_that_need_the_scene_and_bad_images() {
         .save(&jpeg)
         .expect("write jpeg");
     run_ok(&[
-        "render", "--image", text(&jpeg), "--technique", "fxaa", "--out",
+        "render",
+        "--image",
+        text(&jpeg),
+        "--technique",
+        "fxaa",
+        "--out",
         text(&dir.path().join("jpeg")),
     ]);
 }
@@ -123,19 +160,40 @@ fn camera_flags_set_and_record_the_view() {
     let dir = tempfile::tempdir().expect("temp dir");
     let default = dir.path().join("default.png");
     let moved = dir.path().join("moved.png");
-    let common_args = ["render", "--scene", "atrium", "--size", "160x90", "--technique", "none"];
+    let common_args = [
+        "render",
+        "--scene",
+        "atrium",
+        "--size",
+        "160x90",
+        "--technique",
+        "none",
+    ];
     run_ok(&[&common_args[..], &["--out", text(&default)]].concat());
     run_ok(
         &[
             &common_args[..],
             &[
-                "--camera-eye", "0,1.6,0", "--camera-look-at", "5,2,-3", "--fov", "75",
-                "--camera-motion", "still", "--frame", "3", "--out", text(&moved),
+                "--camera-eye",
+                "0,1.6,0",
+                "--camera-look-at",
+                "5,2,-3",
+                "--fov",
+                "75",
+                "--camera-motion",
+                "still",
+                "--frame",
+                "3",
+                "--out",
+                text(&moved),
             ],
         ]
         .concat(),
     );
-    assert!(pixels(&default) != pixels(&moved), "the camera flags changed nothing");
+    assert!(
+        pixels(&default) != pixels(&moved),
+        "the camera flags changed nothing"
+    );
     let record = aa_lab::export::png::read_record(&moved)
         .expect("readable")
         .expect("a record");
@@ -153,7 +211,11 @@ fn camera_flags_set_and_record_the_view() {
     assert_eq!(pose(0), pose(3));
     // Bad values are errors, not panics.
     let out = common::aa_lab(
-        &[&common_args[..], &["--camera-eye", "1,2", "--camera-look-at", "0,0,0"]].concat(),
+        &[
+            &common_args[..],
+            &["--camera-eye", "1,2", "--camera-look-at", "0,0,0"],
+        ]
+        .concat(),
     );
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("X,Y,Z"));
@@ -173,8 +235,15 @@ fn same_named_models_from_different_folders_do_not_collide() {
         )
         .expect("write obj");
         run_ok(&[
-            "render", "--scene", text(&model.join("model.obj")), "--size", "64x64",
-            "--technique", "none", "--out", text(&out),
+            "render",
+            "--scene",
+            text(&model.join("model.obj")),
+            "--size",
+            "64x64",
+            "--technique",
+            "none",
+            "--out",
+            text(&out),
         ]);
     }
     let names: Vec<String> = std::fs::read_dir(&out)
@@ -182,7 +251,11 @@ fn same_named_models_from_different_folders_do_not_collide() {
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
         .collect();
     assert_eq!(names.len(), 2, "{names:?}");
-    assert!(names.iter().all(|n| n.starts_with("model-") && n.ends_with("-none.png")));
+    assert!(
+        names
+            .iter()
+            .all(|n| n.starts_with("model-") && n.ends_with("-none.png"))
+    );
     // The untextured triangle is mid grey, not near-white.
     let image = pixels(&out.join(&names[0]));
     let centre = image.get_pixel(32, 34);

@@ -63,7 +63,13 @@ impl Asset {
         if components == 3 {
             let bound = |f: fn(f32, f32) -> f32, start: f32| -> Vec<f32> {
                 (0..3)
-                    .map(|c| values.iter().skip(c).step_by(3).fold(start, |a, &b| f(a, b)))
+                    .map(|c| {
+                        values
+                            .iter()
+                            .skip(c)
+                            .step_by(3)
+                            .fold(start, |a, &b| f(a, b))
+                    })
                     .collect()
             };
             accessor["min"] = json!(bound(f32::min, f32::INFINITY));
@@ -122,7 +128,10 @@ impl Asset {
             image::Rgba([255 * (x as u8), 0, 0, if x == 0 { 0 } else { 255 }])
         }));
         let view = self.view(&png);
-        let image = self.push("images", json!({"bufferView": view, "mimeType": "image/png"}));
+        let image = self.push(
+            "images",
+            json!({"bufferView": view, "mimeType": "image/png"}),
+        );
         let sampler = self.push(
             "samplers",
             json!({"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33648}),
@@ -182,10 +191,7 @@ impl Asset {
 
     /// Writes a .gltf with the buffer in `<stem>.bin` beside it.
     fn write_gltf(&mut self, path: &Path) {
-        let bin_name = format!(
-            "{}.bin",
-            path.file_stem().expect("stem").to_string_lossy()
-        );
+        let bin_name = format!("{}.bin", path.file_stem().expect("stem").to_string_lossy());
         self.finish_buffer(Some(&bin_name));
         std::fs::write(path.with_file_name(&bin_name), &self.bin).expect("write bin");
         self.write_json(path);
@@ -300,7 +306,11 @@ fn glb_with_embedded_texture_loads_materials_transforms_and_camera() {
     assert_eq!(scene.views[0].name, "front");
     assert_eq!(scene.camera, scene.views[0].camera);
     let pose = aa_lab::scene::camera::OrbitPose::at_frame(&scene.camera, 0);
-    assert!((pose.eye() - Vec3::new(6.0, 0.0, 10.0)).length() < 1e-3, "{}", pose.eye());
+    assert!(
+        (pose.eye() - Vec3::new(6.0, 0.0, 10.0)).length() < 1e-3,
+        "{}",
+        pose.eye()
+    );
     let forward = (pose.target - pose.eye()).normalize();
     assert!((forward - Vec3::NEG_Z).length() < 1e-4, "{forward}");
     assert!((scene.camera.fov_y_degrees - 0.8f32.to_degrees()).abs() < 1e-3);
@@ -355,7 +365,10 @@ fn data_uri_buffers_and_missing_normals_and_blend() {
         AlphaMode::Mask { cutoff: 0.5 }
     );
     assert!(
-        scene.warnings.iter().any(|w| w.contains("BLEND") && w.contains("glass")),
+        scene
+            .warnings
+            .iter()
+            .any(|w| w.contains("BLEND") && w.contains("glass")),
         "{:?}",
         scene.warnings
     );
@@ -437,13 +450,21 @@ fn malformed_files_are_clear_errors() {
         let path = temp_file(&dir, name);
         asset.write_glb(&path);
         let text = error(&path);
-        assert!(text.contains(needle), "{name}: `{needle}` missing from: {text}");
+        assert!(
+            text.contains(needle),
+            "{name}: `{needle}` missing from: {text}"
+        );
     };
     // A vertex index past the last vertex.
     case(
         "bad-index.glb",
         &|a| {
-            let view = a.view(&[0u16, 1, 7].iter().flat_map(|v| v.to_le_bytes()).collect::<Vec<_>>());
+            let view = a.view(
+                &[0u16, 1, 7]
+                    .iter()
+                    .flat_map(|v| v.to_le_bytes())
+                    .collect::<Vec<_>>(),
+            );
             let accessor = a.push(
                 "accessors",
                 json!({"bufferView": view, "componentType": UNSIGNED_SHORT, "count": 3, "type": "SCALAR"}),
@@ -501,7 +522,10 @@ fn malformed_files_are_clear_errors() {
     asset.write_gltf(&path);
     std::fs::remove_file(dir.path().join("missing-buffer.bin")).expect("remove bin");
     let text = error(&path);
-    assert!(text.contains("buffer 0") && text.contains("missing-buffer.bin"), "{text}");
+    assert!(
+        text.contains("buffer 0") && text.contains("missing-buffer.bin"),
+        "{text}"
+    );
     let path = temp_file(&dir, "short-buffer.gltf");
     asset.write_gltf(&path);
     std::fs::write(dir.path().join("short-buffer.bin"), [0u8; 8]).expect("truncate");

@@ -409,13 +409,23 @@ fn ignored_material_statements_are_listed_in_one_note() {
     )
     .expect("write mtl");
     let obj = dir.path().join("m.obj");
-    std::fs::write(&obj, "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n")
-        .expect("write obj");
+    std::fs::write(
+        &obj,
+        "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n",
+    )
+    .expect("write obj");
     let scene = load_obj(&obj).unwrap_or_else(|e| panic!("{e}"));
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     assert_eq!(scene.notes.len(), 1, "{:?}", scene.notes);
     let note = &scene.notes[0];
-    for listed in ["Ni (2)", "bump (1)", "map_bump (1)", "Tf (1)", "Ke (1)", "illum (1)"] {
+    for listed in [
+        "Ni (2)",
+        "bump (1)",
+        "map_bump (1)",
+        "Tf (1)",
+        "Ke (1)",
+        "illum (1)",
+    ] {
         assert!(note.contains(listed), "`{listed}` missing from: {note}");
     }
     assert!(!note.contains("Kd"), "{note}");

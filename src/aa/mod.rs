@@ -261,8 +261,7 @@ pub fn image_refusal(technique: &dyn Technique, frame: &FrameInfo) -> Option<Str
         Some(SceneInput::Jittered1x { .. }) => "it needs jittered scene renders".to_owned(),
         Some(SceneInput::Shared1x) if technique.color_only() => return None,
         Some(SceneInput::Shared1x) => {
-            "with these settings it reads the scene's depth (depth edges or predication)"
-                .to_owned()
+            "with these settings it reads the scene's depth (depth edges or predication)".to_owned()
         }
     };
     Some(format!(

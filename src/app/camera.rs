@@ -279,7 +279,10 @@ mod tests {
         assert_eq!(cam.mode, CameraMode::Fly);
         assert!((cam.pose().eye() - start_eye).length() < 1e-4);
         cam.orbit(Vec2::new(40.0, -20.0));
-        assert!((cam.pose().eye() - start_eye).length() < 1e-4, "looking moved the eye");
+        assert!(
+            (cam.pose().eye() - start_eye).length() < 1e-4,
+            "looking moved the eye"
+        );
         let forward = (cam.pose().target - cam.pose().eye()).normalize();
         let input = FlyInput {
             forward: 1.0,

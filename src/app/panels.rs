@@ -165,7 +165,11 @@ impl AaLabApp {
         {
             self.camera.toggle_mode();
         }
-        let views = self.scene.as_ref().map(|s| s.views.clone()).unwrap_or_default();
+        let views = self
+            .scene
+            .as_ref()
+            .map(|s| s.views.clone())
+            .unwrap_or_default();
         if !views.is_empty() {
             ui.separator();
             ui.label("Cameras in the file");
@@ -249,7 +253,10 @@ impl AaLabApp {
                 Level::Info,
                 format!("Wrote {} bookmark(s) to {}", marks.len(), path.display()),
             ),
-            Err(e) => self.notify(Level::Error, format!("cannot write {}: {e}", path.display())),
+            Err(e) => self.notify(
+                Level::Error,
+                format!("cannot write {}: {e}", path.display()),
+            ),
         }
     }
 
@@ -272,7 +279,11 @@ impl AaLabApp {
             Ok(marks) => {
                 self.notify(
                     Level::Info,
-                    format!("Imported {} bookmark(s) from {}", marks.len(), path.display()),
+                    format!(
+                        "Imported {} bookmark(s) from {}",
+                        marks.len(),
+                        path.display()
+                    ),
                 );
                 self.settings.bookmarks.extend(marks);
             }

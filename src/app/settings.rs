@@ -206,9 +206,15 @@ pub fn bookmarks_from_json(text: &str, scene: &str) -> Result<Vec<Bookmark>, Str
         .map(|b| {
             let p = &b.pose;
             let finite = p.target.is_finite()
-                && [p.distance, p.yaw_degrees, p.pitch_degrees, p.fov_y_degrees, p.near]
-                    .iter()
-                    .all(|v| v.is_finite())
+                && [
+                    p.distance,
+                    p.yaw_degrees,
+                    p.pitch_degrees,
+                    p.fov_y_degrees,
+                    p.near,
+                ]
+                .iter()
+                .all(|v| v.is_finite())
                 && p.distance > 0.0
                 && p.near > 0.0
                 && p.fov_y_degrees > 0.0

@@ -143,7 +143,10 @@ pub const OTHER_KEYS: &[(&str, &str)] = &[
     ("hold B", "A/B flip: show technique B"),
     ("hold R", "A/B flip: show the reference"),
     ("arrows", "Move the magnifier lens one pixel (Shift: ten)"),
-    ("drag", "Orbit; fly camera: look around (on the lens: move the lens)"),
+    (
+        "drag",
+        "Orbit; fly camera: look around (on the lens: move the lens)",
+    ),
     (
         "W A S D / Q E",
         "Fly camera: move / down, up (Shift: fast); these keys' shortcuts pause while flying",

@@ -106,7 +106,11 @@ impl CameraArgs {
     }
 
     /// Applies these flags to a loaded scene and records the result in its spec.
-    pub fn apply(&self, spec: &mut RenderSpec, scene: &mut crate::scene::Scene) -> anyhow::Result<()> {
+    pub fn apply(
+        &self,
+        spec: &mut RenderSpec,
+        scene: &mut crate::scene::Scene,
+    ) -> anyhow::Result<()> {
         if let Some(rig) = self.rig(&scene.camera)? {
             scene.camera = rig;
             spec.rig = Some(rig);
@@ -223,7 +227,12 @@ pub fn load_input_image(path: &Path) -> anyhow::Result<image::RgbaImage> {
         .with_guessed_format()
         .with_context(|| format!("cannot read image {}", path.display()))?
         .decode()
-        .with_context(|| format!("{} is not a PNG or JPEG image aa-lab can decode", path.display()))?;
+        .with_context(|| {
+            format!(
+                "{} is not a PNG or JPEG image aa-lab can decode",
+                path.display()
+            )
+        })?;
     Ok(decoded.to_rgba8())
 }
 
@@ -638,7 +647,10 @@ mod tests {
         let a = output_stem("sponza", "/a/sponza.obj");
         let b = output_stem("sponza", "/b/sponza.obj");
         assert_ne!(a, b);
-        assert!(a.starts_with("sponza-") && a.len() == "sponza-".len() + 6, "{a}");
+        assert!(
+            a.starts_with("sponza-") && a.len() == "sponza-".len() + 6,
+            "{a}"
+        );
         assert_eq!(a, output_stem("sponza", "/a/sponza.obj"));
     }
 

@@ -144,20 +144,22 @@ pub fn load_gltf(path: &Path) -> Result<Scene, GltfError> {
         blended: Vec::new(),
         warnings: Vec::new(),
     };
-    let roots: Vec<gltf::Node<'_>> =
-        match document.default_scene().or_else(|| document.scenes().next()) {
-            Some(scene) => scene.nodes().collect(),
-            None => {
-                let children: std::collections::HashSet<usize> = document
-                    .nodes()
-                    .flat_map(|n| n.children().map(|c| c.index()))
-                    .collect();
-                document
-                    .nodes()
-                    .filter(|n| !children.contains(&n.index()))
-                    .collect()
-            }
-        };
+    let roots: Vec<gltf::Node<'_>> = match document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            let children: std::collections::HashSet<usize> = document
+                .nodes()
+                .flat_map(|n| n.children().map(|c| c.index()))
+                .collect();
+            document
+                .nodes()
+                .filter(|n| !children.contains(&n.index()))
+                .collect()
+        }
+    };
     for node in roots {
         loader.add_node(&node, Mat4::IDENTITY, 0)?;
     }
@@ -217,11 +219,10 @@ fn check_extensions(path: &Path, json: &[u8]) -> Result<Vec<String>, GltfError> 
         #[serde(default, rename = "extensionsRequired")]
         required: Vec<String>,
     }
-    let extensions: Extensions =
-        serde_json::from_slice(json).map_err(|e| GltfError::Parse {
-            path: path.to_owned(),
-            message: e.to_string(),
-        })?;
+    let extensions: Extensions = serde_json::from_slice(json).map_err(|e| GltfError::Parse {
+        path: path.to_owned(),
+        message: e.to_string(),
+    })?;
     if let Some(extension) = extensions
         .required
         .iter()
@@ -574,7 +575,8 @@ impl Loader<'_> {
         match accessor.view() {
             Some(view) => {
                 let stride = view.stride().unwrap_or(element);
-                let bytes = self.strided(&view, accessor.offset(), count, element, stride, &what)?;
+                let bytes =
+                    self.strided(&view, accessor.offset(), count, element, stride, &what)?;
                 for i in 0..count {
                     decode(&bytes[i * stride..], &mut values);
                 }
@@ -724,8 +726,10 @@ impl Loader<'_> {
                 triangle.swap(1, 2);
             }
         }
-        let world_positions: Vec<Vec3> =
-            positions.iter().map(|&p| world.transform_point3(p)).collect();
+        let world_positions: Vec<Vec3> = positions
+            .iter()
+            .map(|&p| world.transform_point3(p))
+            .collect();
         let (vertices, indices) = match normals {
             Some(normals) => {
                 let vertices = world_positions
@@ -930,10 +934,7 @@ mod tests {
             decode_data_uri("data:application/octet-stream;base64,AAEC").as_deref(),
             Ok(&[0u8, 1, 2][..])
         );
-        assert_eq!(
-            decode_data_uri("data:,a%20b").as_deref(),
-            Ok(&b"a b"[..])
-        );
+        assert_eq!(decode_data_uri("data:,a%20b").as_deref(), Ok(&b"a b"[..]));
         assert!(decode_data_uri("data:;base64,@@@").is_err());
         assert!(decode_data_uri("data:nocomma").is_err());
     }

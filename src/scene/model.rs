@@ -273,7 +273,12 @@ pub fn orbit_angles(eye: Vec3, target: Vec3) -> Option<(f32, f32, f32)> {
         return None;
     }
     let dir = offset / distance;
-    let pitch = dir.y.clamp(-1.0, 1.0).asin().to_degrees().clamp(-89.9, 89.9);
+    let pitch = dir
+        .y
+        .clamp(-1.0, 1.0)
+        .asin()
+        .to_degrees()
+        .clamp(-89.9, 89.9);
     let yaw = dir.x.atan2(dir.z).to_degrees();
     Some((distance, yaw, pitch))
 }

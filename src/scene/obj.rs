@@ -632,7 +632,9 @@ fn normalize_mtl(
         let mut words = line.split_whitespace();
         let keyword = words.next().unwrap_or("");
         let values: Vec<&str> = words.collect();
-        if !keyword.is_empty() && !keyword.starts_with('#') && !READ_MTL_STATEMENTS.contains(&keyword)
+        if !keyword.is_empty()
+            && !keyword.starts_with('#')
+            && !READ_MTL_STATEMENTS.contains(&keyword)
         {
             *ignored.entry(keyword.to_owned()).or_default() += 1;
         }

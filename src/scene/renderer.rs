@@ -377,11 +377,7 @@ fn create_sampler(gpu: &Gpu, sampler: &TextureSampler) -> wgpu::Sampler {
         } else {
             0.0
         },
-        anisotropy_clamp: if all_linear {
-            anisotropy_clamp(gpu)
-        } else {
-            1
-        },
+        anisotropy_clamp: if all_linear { anisotropy_clamp(gpu) } else { 1 },
         ..defaults
     })
 }

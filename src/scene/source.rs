@@ -52,9 +52,9 @@ pub fn load(spec: &str, options: &SceneOptions) -> Result<Scene, SceneError> {
     if !is_scene_file(path) && !path.exists() {
         return Err(SceneError::Unknown(spec.to_owned()));
     }
-    let is_gltf = path.extension().is_some_and(|e| {
-        e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb")
-    });
+    let is_gltf = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"));
     let scene = if is_gltf {
         gltf::load_gltf(path)?
     } else {
