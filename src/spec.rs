@@ -40,9 +40,20 @@ pub struct RenderSpec {
     pub height: u32,
     /// Frame number of the deterministic camera and animation.
     pub frame: u64,
-    /// A fixed camera pose (the viewer's); `None` follows the scene's camera path.
+    /// A fixed camera pose (the viewer's): every frame is seen from it. `None` follows the
+    /// camera path (`rig`, else the scene's). Any field left out takes its default (see
+    /// [`OrbitPose`]).
     #[serde(default)]
     pub camera: Option<OrbitPose>,
+    /// A camera path replacing the scene's default view (`--camera-eye`/`--camera-look-at`,
+    /// `--fov`, `--camera-motion`); frame N turns `N * orbit_degrees_per_frame` about its
+    /// target. Any field left out takes its default (see [`crate::scene::CameraRig`]).
+    #[serde(default)]
+    pub rig: Option<crate::scene::CameraRig>,
+    /// Image mode: the full path of a finished PNG/JPEG image the techniques ran on instead
+    /// of a render of `scene` (then only a label); `None` renders the scene.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub image: Option<String>,
     /// Techniques in output order.
     pub techniques: Vec<TechniqueSpec>,
     /// Adapter that produced the image (informational; not used when rendering).
@@ -91,6 +102,11 @@ pub enum RenderError {
     /// The frame number is beyond [`MAX_FRAME`].
     #[error("frame {0} is beyond the largest frame aa-lab renders ({MAX_FRAME})")]
     FrameTooLarge(u64),
+    /// A technique cannot run on a finished image (image mode).
+    #[error(
+        "{0}; techniques that run on an image: none, fxaa, smaa (SMAA 1x with luma or colour edges)"
+    )]
+    NotOnImage(String),
 }
 
 /// An image a technique produced.
@@ -129,6 +145,9 @@ pub struct RunOptions<'a> {
     pub timing_repeats: u32,
     /// Called after each frame with (frames done, frames total).
     pub progress: Option<&'a dyn Fn(u64, u64)>,
+    /// Image mode: this finished image (the spec's size) replaces the 1x scene render; a
+    /// technique that needs more than its colour is refused with the reason.
+    pub image: Option<&'a image::RgbaImage>,
 }
 
 /// The camera of frame `frame` for a spec.
@@ -172,6 +191,20 @@ pub fn run(
     let mut graph = build_graph(gpu, scene, spec)?;
     for slot in graph.slots_mut() {
         slot.technique.set_debug_views(options.debug_views);
+    }
+    if let Some(image) = options.image {
+        let info = FrameInfo {
+            camera: frame_camera(spec, scene, spec.frame),
+            reset_history: true,
+        };
+        if let Some(reason) = graph
+            .slots()
+            .iter()
+            .find_map(|s| aa::image_refusal(s.technique.as_ref(), &info))
+        {
+            return Err(RenderError::NotOnImage(reason));
+        }
+        graph.set_image_input(Some(image.clone()));
     }
     let temporal = graph.slots().iter().any(|s| s.technique.temporal());
     let first = if temporal { 0 } else { spec.frame };

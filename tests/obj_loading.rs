@@ -405,3 +405,35 @@ fn records_tobj_would_mishandle_are_normalised() {
             .any(|w| w.contains("fewer than three"))
     );
 }
+
+#[test]
+fn ignored_material_statements_are_listed_in_one_note() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(
+        dir.path().join("m.mtl"),
+        "newmtl a\nKd 1 0 0\nNi 1.5\nbump n.png\nmap_bump n.png\nTf 1 1 1\nKe 0 0 0\nillum 2\n\
+         newmtl b\nNi 1.2\n",
+    )
+    .expect("write mtl");
+    let obj = dir.path().join("m.obj");
+    std::fs::write(
+        &obj,
+        "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n",
+    )
+    .expect("write obj");
+    let scene = load_obj(&obj).unwrap_or_else(|e| panic!("{e}"));
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert_eq!(scene.notes.len(), 1, "{:?}", scene.notes);
+    let note = &scene.notes[0];
+    for listed in [
+        "Ni (2)",
+        "bump (1)",
+        "map_bump (1)",
+        "Tf (1)",
+        "Ke (1)",
+        "illum (1)",
+    ] {
+        assert!(note.contains(listed), "`{listed}` missing from: {note}");
+    }
+    assert!(!note.contains("Kd"), "{note}");
+}

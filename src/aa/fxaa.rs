@@ -286,6 +286,10 @@ impl Technique for Fxaa {
         "fxaa"
     }
 
+    fn color_only(&self) -> bool {
+        true
+    }
+
     fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
         Some(SceneInput::Shared1x)
     }

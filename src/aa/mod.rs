@@ -234,10 +234,42 @@ pub trait Technique: Send {
         None
     }
 
+    /// Whether the technique reads nothing but the colour of the [`SceneInput::Shared1x`]
+    /// render, so it can run on a finished image (see [`image_refusal`]). Post-process
+    /// techniques say so; the default is no.
+    fn color_only(&self) -> bool {
+        false
+    }
+
     /// Short name for labels, including the settings that change what it is (`SSAA 16x`).
     fn label(&self) -> String {
         registry::info(self.id()).map_or_else(|| self.id().to_owned(), |info| info.name.to_owned())
     }
+}
+
+/// Why a technique cannot run on a finished image (image mode), or `None` when it can: only
+/// techniques that read nothing but one 1x render's colour can.
+pub fn image_refusal(technique: &dyn Technique, frame: &FrameInfo) -> Option<String> {
+    let why = match technique.scene_input(frame) {
+        _ if technique.temporal() => {
+            "it accumulates jittered renders of several frames, with motion vectors".to_owned()
+        }
+        None => "it renders the scene itself (several jittered or larger renders)".to_owned(),
+        Some(SceneInput::Msaa { samples, .. }) => format!(
+            "it reads {samples} samples per pixel of the scene render, which a finished image \
+             does not have"
+        ),
+        Some(SceneInput::Jittered1x { .. }) => "it needs jittered scene renders".to_owned(),
+        Some(SceneInput::Shared1x) if technique.color_only() => return None,
+        Some(SceneInput::Shared1x) => {
+            "with these settings it reads the scene's depth (depth edges or predication)".to_owned()
+        }
+    };
+    Some(format!(
+        "{} ({}) cannot run on an image: {why}",
+        technique.label(),
+        technique.id()
+    ))
 }
 
 /// Sets a parameter from any value form, validating it against the technique's description.

@@ -13,6 +13,10 @@ impl Technique for NoAa {
         "none"
     }
 
+    fn color_only(&self) -> bool {
+        true
+    }
+
     fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
         Some(SceneInput::Shared1x)
     }

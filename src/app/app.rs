@@ -75,6 +75,8 @@ pub struct SceneInfo {
     pub name: String,
     /// Triangles.
     pub triangles: usize,
+    /// Cameras the scene file defines (glTF), offered as views.
+    pub views: Vec<crate::scene::SceneView>,
 }
 
 /// The viewer application.
@@ -264,13 +266,13 @@ impl AaLabApp {
         });
     }
 
-    /// Starts loading a scene (built-in name or OBJ path) on the worker thread.
+    /// Starts loading a scene (built-in name or OBJ/glTF/GLB path) on the worker thread.
     pub(super) fn load_scene(&mut self, ctx: &egui::Context, spec: &str) {
         let ctx = ctx.clone();
         self.loader.load(spec, move || ctx.request_repaint());
     }
 
-    /// Asks the OS for an OBJ file on a helper thread (the dialog never blocks frames).
+    /// Asks the OS for a model file (OBJ, glTF, GLB) on a helper thread (the dialog never blocks frames).
     pub(super) fn open_file_dialog(&mut self, ctx: &egui::Context) {
         if self.file_dialog.is_some() {
             return;
@@ -282,7 +284,10 @@ impl AaLabApp {
             .spawn(move || {
                 let picked = rfd::FileDialog::new()
                     .set_title("Open a model")
-                    .add_filter("Wavefront OBJ", &["obj", "OBJ"])
+                    .add_filter(
+                        "Models (OBJ, glTF, GLB)",
+                        &["obj", "OBJ", "gltf", "GLTF", "glb", "GLB"],
+                    )
                     .pick_file();
                 let _ = sender.send(picked);
                 ctx.request_repaint();
@@ -376,6 +381,9 @@ impl AaLabApp {
     }
 
     fn install_scene(&mut self, ctx: &egui::Context, spec: &str, scene: &Scene) {
+        for note in &scene.notes {
+            self.notify(Level::Info, format!("{}: {note}", scene.name));
+        }
         for warning in &scene.warnings {
             self.notify(Level::Warning, format!("{}: {warning}", scene.name));
         }
@@ -428,6 +436,7 @@ impl AaLabApp {
             spec,
             name: scene.name.clone(),
             triangles: scene.triangle_count(),
+            views: scene.views.clone(),
         });
         self.quality.clear();
         self.magnifier.clear();
@@ -492,6 +501,7 @@ impl AaLabApp {
                 self.settings.auto_rotate = self.camera.auto_rotate;
             }
             Action::ResetView => self.camera.reset(),
+            Action::FlyMode => self.camera.toggle_mode(),
             Action::AddBookmark => self.add_bookmark(),
             Action::GoToBookmark(n) => {
                 if let Some(pose) = self.scene_bookmarks().get(n).map(|b| b.pose) {
@@ -626,8 +636,16 @@ impl eframe::App for AaLabApp {
             self.styled = true;
         }
         self.poll_background(&ctx);
-        for action in shortcuts::pressed_actions(&ctx) {
+        let flying = self.camera.mode == super::camera::CameraMode::Fly;
+        for action in shortcuts::pressed_actions(&ctx, flying) {
             self.handle_action(&ctx, action);
+        }
+        if flying {
+            let input = shortcuts::fly_input(&ctx);
+            if input.moving() {
+                self.camera.fly(input, ctx.input(|i| i.stable_dt));
+                ctx.request_repaint();
+            }
         }
         if ctx.input(|i| i.key_pressed(egui::Key::Escape)) {
             self.help_open = false;

@@ -2,6 +2,12 @@
 //! top, the thesis' auto-rotation (the rig's degrees per frame), pause and single-frame steps,
 //! and cut detection so temporal techniques drop their history when the view jumps.
 //!
+//! Two modes share one [`OrbitPose`], so bookmarks, exports and render records work in both:
+//! *orbit* turns the eye about the target; *fly* (for interiors) keeps the eye where it is and
+//! turns the view about it (mouse look), and WASD/QE move eye and target together, at a speed
+//! scaled to the scene (a quarter of the framing distance per second, four times that with
+//! Shift).
+//!
 //! The frame number is the scene's animation clock and the temporal techniques' jitter index:
 //! it advances by one per rendered frame while playing and stands still while paused. The
 //! pose of the previous rendered frame is kept so that motion vectors describe what the user
@@ -18,6 +24,40 @@ const ORBIT_DEGREES_PER_PIXEL: f32 = 0.3;
 const MAX_PITCH: f32 = 89.0;
 /// Distance factor per scroll point.
 const ZOOM_PER_POINT: f32 = 0.002;
+/// Fly speed in framing distances (the rig's distance) per second.
+const FLY_SPEED: f32 = 0.25;
+/// Fly speed factor with Shift held.
+const FLY_FAST: f32 = 4.0;
+
+/// How mouse and keys move the camera.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CameraMode {
+    /// Dragging orbits about the target.
+    #[default]
+    Orbit,
+    /// First person: dragging looks around from the eye; WASD/QE move.
+    Fly,
+}
+
+/// Fly movement asked for this frame, each axis -1, 0 or 1.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FlyInput {
+    /// D minus A.
+    pub right: f32,
+    /// E minus Q (world up).
+    pub up: f32,
+    /// W minus S.
+    pub forward: f32,
+    /// Shift held.
+    pub fast: bool,
+}
+
+impl FlyInput {
+    /// Whether any movement is asked for.
+    pub fn moving(&self) -> bool {
+        self.right != 0.0 || self.up != 0.0 || self.forward != 0.0
+    }
+}
 
 /// See the module docs.
 #[derive(Clone, Debug)]
@@ -32,6 +72,8 @@ pub struct CameraController {
     pub playing: bool,
     step_requested: bool,
     cut: bool,
+    /// Orbit or fly.
+    pub mode: CameraMode,
 }
 
 impl CameraController {
@@ -47,6 +89,7 @@ impl CameraController {
             playing: true,
             step_requested: false,
             cut: true,
+            mode: CameraMode::Orbit,
         }
     }
 
@@ -55,6 +98,7 @@ impl CameraController {
         *self = Self {
             auto_rotate: self.auto_rotate,
             playing: self.playing,
+            mode: self.mode,
             ..Self::new(rig)
         };
     }
@@ -69,12 +113,52 @@ impl CameraController {
         self.frame
     }
 
-    /// Orbits by a mouse drag of `delta` points (right drags the scene to the right).
+    /// A primary-button drag of `delta` points: orbits in orbit mode (right drags the scene
+    /// to the right), looks around in fly mode (right turns the view right).
     pub fn orbit(&mut self, delta: Vec2) {
+        let eye = self.pose.eye();
         self.pose.yaw_degrees =
             (self.pose.yaw_degrees - delta.x * ORBIT_DEGREES_PER_PIXEL).rem_euclid(360.0);
         self.pose.pitch_degrees = (self.pose.pitch_degrees + delta.y * ORBIT_DEGREES_PER_PIXEL)
             .clamp(-MAX_PITCH, MAX_PITCH);
+        if self.mode == CameraMode::Fly {
+            // The same angles about the eye instead of the target: the eye stays put.
+            self.pose.target += eye - self.pose.eye();
+        }
+    }
+
+    /// Moves the eye (and the target with it) in fly mode for `seconds` of `input`; the
+    /// horizontal axes follow the view direction, up is world +Y.
+    pub fn fly(&mut self, input: FlyInput, seconds: f32) {
+        if self.mode != CameraMode::Fly || !input.moving() {
+            return;
+        }
+        let forward = (self.pose.target - self.pose.eye()).normalize_or_zero();
+        let right = forward.cross(Vec3::Y).normalize_or_zero();
+        let speed = self.rig.distance
+            * FLY_SPEED
+            * if input.fast { FLY_FAST } else { 1.0 }
+            * seconds.clamp(0.0, 0.25);
+        let step = (forward * input.forward + right * input.right + Vec3::Y * input.up) * speed;
+        if step.is_finite() {
+            self.pose.target += step;
+        }
+    }
+
+    /// Switches between orbit and fly. Entering fly mode puts the point the view turns about
+    /// close in front of the eye, so looking around feels like turning one's head.
+    pub fn toggle_mode(&mut self) {
+        self.mode = match self.mode {
+            CameraMode::Orbit => {
+                let eye = self.pose.eye();
+                let forward = (self.pose.target - eye).normalize_or_zero();
+                let distance = (self.rig.distance * 0.05).max(self.pose.near * 4.0);
+                self.pose.target = eye + forward * distance;
+                self.pose.distance = distance;
+                CameraMode::Fly
+            }
+            CameraMode::Fly => CameraMode::Orbit,
+        };
     }
 
     /// Pans by a drag of `delta` points in a viewport `height` points tall: the point under the
@@ -185,6 +269,40 @@ mod tests {
         assert_eq!(fourth.frame, second.frame + 1);
         let (fifth, _) = cam.next_frame((64, 64));
         assert_eq!(fifth.frame, fourth.frame);
+    }
+
+    #[test]
+    fn fly_mode_looks_about_the_eye_and_moves_it() {
+        let mut cam = CameraController::new(CameraRig::default());
+        let start_eye = cam.pose().eye();
+        cam.toggle_mode();
+        assert_eq!(cam.mode, CameraMode::Fly);
+        assert!((cam.pose().eye() - start_eye).length() < 1e-4);
+        cam.orbit(Vec2::new(40.0, -20.0));
+        assert!(
+            (cam.pose().eye() - start_eye).length() < 1e-4,
+            "looking moved the eye"
+        );
+        let forward = (cam.pose().target - cam.pose().eye()).normalize();
+        let input = FlyInput {
+            forward: 1.0,
+            ..FlyInput::default()
+        };
+        cam.fly(input, 0.1);
+        let moved = cam.pose().eye() - start_eye;
+        let expected = CameraRig::default().distance * FLY_SPEED * 0.1;
+        assert!((moved - forward * expected).length() < 1e-4, "{moved}");
+        let fast = FlyInput {
+            fast: true,
+            ..input
+        };
+        let before = cam.pose().eye();
+        cam.fly(fast, 0.1);
+        assert!(((cam.pose().eye() - before).length() - expected * FLY_FAST).abs() < 1e-4);
+        cam.toggle_mode();
+        let eye = cam.pose().eye();
+        cam.fly(input, 0.1);
+        assert_eq!(cam.pose().eye(), eye, "orbit mode ignores fly keys");
     }
 
     #[test]

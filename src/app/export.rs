@@ -182,6 +182,8 @@ impl AaLabApp {
             height: camera.size.1,
             frame: camera.frame,
             camera: Some(camera.pose),
+            rig: None,
+            image: None,
             techniques,
             adapter: Some(format!(
                 "{} ({})",

@@ -157,6 +157,29 @@ impl AaLabApp {
         if menu_item(ui, "Reset view", Some(Action::ResetView)) {
             self.camera.reset();
         }
+        let mut flying = self.camera.mode == super::camera::CameraMode::Fly;
+        if ui
+            .checkbox(&mut flying, "Fly camera")
+            .on_hover_text("First person for interiors: drag to look, W A S D / Q E to move, Shift for fast (C)")
+            .changed()
+        {
+            self.camera.toggle_mode();
+        }
+        let views = self
+            .scene
+            .as_ref()
+            .map(|s| s.views.clone())
+            .unwrap_or_default();
+        if !views.is_empty() {
+            ui.separator();
+            ui.label("Cameras in the file");
+            for view in &views {
+                if ui.button(&view.name).clicked() {
+                    self.camera
+                        .jump_to(crate::scene::camera::OrbitPose::at_frame(&view.camera, 0));
+                }
+            }
+        }
         ui.separator();
         if menu_item(ui, "Bookmark this view", Some(Action::AddBookmark)) {
             self.add_bookmark();
@@ -202,6 +225,69 @@ impl AaLabApp {
         }
         if let Some(i) = remove {
             self.settings.bookmarks.remove(i);
+        }
+        ui.separator();
+        if ui.button("Export bookmarks…").clicked() {
+            self.export_bookmarks();
+        }
+        if ui.button("Import bookmarks…").clicked() {
+            self.import_bookmarks();
+        }
+    }
+
+    /// Writes the loaded scene's bookmarks to a JSON file the user picks.
+    fn export_bookmarks(&mut self) {
+        let marks: Vec<_> = self.scene_bookmarks().into_iter().cloned().collect();
+        let name = self.scene.as_ref().map_or("scene", |s| s.name.as_str());
+        let Some(path) = rfd::FileDialog::new()
+            .set_title("Export camera bookmarks")
+            .set_file_name(format!("{name}-bookmarks.json"))
+            .add_filter("JSON", &["json"])
+            .save_file()
+        else {
+            return;
+        };
+        let json = super::settings::bookmarks_to_json(&marks);
+        match super::settings::write_atomically(&path, &json) {
+            Ok(()) => self.notify(
+                Level::Info,
+                format!("Wrote {} bookmark(s) to {}", marks.len(), path.display()),
+            ),
+            Err(e) => self.notify(
+                Level::Error,
+                format!("cannot write {}: {e}", path.display()),
+            ),
+        }
+    }
+
+    /// Adds the bookmarks of a JSON file the user picks to the loaded scene.
+    fn import_bookmarks(&mut self) {
+        let Some(scene) = self.scene.as_ref().map(|s| s.spec.clone()) else {
+            return;
+        };
+        let Some(path) = rfd::FileDialog::new()
+            .set_title("Import camera bookmarks")
+            .add_filter("JSON", &["json"])
+            .pick_file()
+        else {
+            return;
+        };
+        let loaded = std::fs::read_to_string(&path)
+            .map_err(|e| e.to_string())
+            .and_then(|text| super::settings::bookmarks_from_json(&text, &scene));
+        match loaded {
+            Ok(marks) => {
+                self.notify(
+                    Level::Info,
+                    format!(
+                        "Imported {} bookmark(s) from {}",
+                        marks.len(),
+                        path.display()
+                    ),
+                );
+                self.settings.bookmarks.extend(marks);
+            }
+            Err(e) => self.notify(Level::Error, format!("{}: {e}", path.display())),
         }
     }
 

@@ -173,12 +173,77 @@ impl Resolution {
 /// A saved camera position for one scene.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Bookmark {
-    /// The scene (built-in name or OBJ path) it belongs to.
+    /// The scene (built-in name or model path) it belongs to.
     pub scene: String,
     /// Name shown in the menu.
     pub name: String,
     /// The camera.
     pub pose: OrbitPose,
+}
+
+/// The JSON file camera bookmarks are exported to and imported from.
+#[derive(Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BookmarkFile {
+    /// Format marker and version (1).
+    pub aa_lab_bookmarks: u32,
+    /// The bookmarks (each camera is an orbit pose; fly-mode views are poses too).
+    pub bookmarks: Vec<Bookmark>,
+}
+
+/// The bookmarks as the JSON of a [`BookmarkFile`].
+pub fn bookmarks_to_json(bookmarks: &[Bookmark]) -> String {
+    let file = BookmarkFile {
+        aa_lab_bookmarks: 1,
+        bookmarks: bookmarks.to_vec(),
+    };
+    serde_json::to_string_pretty(&file).unwrap_or_else(|_| "{}".to_owned())
+}
+
+/// Bookmarks from the JSON of a [`BookmarkFile`], moved to `scene` (a file exported for a
+/// model elsewhere names that model's path); every pose must be finite.
+pub fn bookmarks_from_json(text: &str, scene: &str) -> Result<Vec<Bookmark>, String> {
+    let file: BookmarkFile =
+        serde_json::from_str(text).map_err(|e| format!("not an aa-lab bookmarks file: {e}"))?;
+    file.bookmarks
+        .into_iter()
+        .map(|b| {
+            let p = &b.pose;
+            let finite = p.target.is_finite()
+                && [
+                    p.distance,
+                    p.yaw_degrees,
+                    p.pitch_degrees,
+                    p.fov_y_degrees,
+                    p.near,
+                ]
+                .iter()
+                .all(|v| v.is_finite())
+                && p.distance > 0.0
+                && p.near > 0.0
+                && p.fov_y_degrees > 0.0
+                && p.fov_y_degrees < 180.0;
+            if finite {
+                Ok(Bookmark {
+                    scene: scene.to_owned(),
+                    ..b
+                })
+            } else {
+                Err(format!("bookmark \"{}\" has an unusable camera", b.name))
+            }
+        })
+        .collect()
+}
+
+/// Writes `text` to `path` through a temporary file in the same folder and a rename, so a
+/// failed write never leaves half a file.
+pub fn write_atomically(path: &std::path::Path, text: &str) -> std::io::Result<()> {
+    let mut temp = path.as_os_str().to_owned();
+    temp.push(".tmp");
+    let temp = std::path::PathBuf::from(temp);
+    std::fs::write(&temp, text)?;
+    std::fs::rename(&temp, path).inspect_err(|_| {
+        let _ = std::fs::remove_file(&temp);
+    })
 }
 
 /// Everything persisted. See the module docs.
@@ -388,5 +453,30 @@ mod tests {
         assert_eq!(s.recent.len(), MAX_RECENT);
         assert_eq!(s.recent[0], "5.obj");
         assert_eq!(s.recent.iter().filter(|p| *p == "5.obj").count(), 1);
+    }
+
+    #[test]
+    fn bookmarks_round_trip_through_json() {
+        let pose = crate::scene::camera::OrbitPose::default();
+        let marks = vec![Bookmark {
+            scene: "/a/model.glb".to_owned(),
+            name: "hall".to_owned(),
+            pose,
+        }];
+        let json = bookmarks_to_json(&marks);
+        let back = bookmarks_from_json(&json, "/b/model.glb").expect("parses");
+        assert_eq!(back.len(), 1);
+        assert_eq!(back[0].pose, pose);
+        assert_eq!(back[0].name, "hall");
+        assert_eq!(back[0].scene, "/b/model.glb");
+        assert!(bookmarks_from_json("{}", "x").is_err());
+        let bad = json.replace("\"distance\": 5.0", "\"distance\": -1.0");
+        assert_ne!(bad, json);
+        assert!(bookmarks_from_json(&bad, "x").is_err());
+        // Left-out camera fields take their defaults.
+        let sparse = r#"{"aa_lab_bookmarks": 1, "bookmarks": [{"scene": "s", "name": "n", "pose": {"distance": 2.0}}]}"#;
+        let loaded = bookmarks_from_json(sparse, "s").expect("defaults fill in");
+        assert_eq!(loaded[0].pose.distance, 2.0);
+        assert_eq!(loaded[0].pose.fov_y_degrees, pose.fov_y_degrees);
     }
 }

@@ -19,6 +19,8 @@ pub enum Action {
     AutoRotate,
     /// Back to the scene's camera.
     ResetView,
+    /// Switch between the orbit and the fly camera.
+    FlyMode,
     /// Save the camera as a bookmark.
     AddBookmark,
     /// Go to bookmark n (0-based).
@@ -37,7 +39,7 @@ pub enum Action {
     Export,
     /// Copy the magnifier sheet to the clipboard.
     CopySheet,
-    /// Open an OBJ file.
+    /// Open a model file (OBJ, glTF, GLB).
     Open,
     /// Hide or show the side panels.
     TogglePanels,
@@ -96,6 +98,11 @@ pub const SHORTCUTS: &[Shortcut] = &[
         "Auto-rotate (the thesis' camera path) on / off",
     ),
     plain(Key::Home, Action::ResetView, "Reset the view"),
+    plain(
+        Key::C,
+        Action::FlyMode,
+        "Fly camera (interiors) / orbit camera",
+    ),
     command(Key::D, Action::AddBookmark, "Bookmark the camera"),
     plain(Key::S, Action::Layout(Layout::Single), "Single view"),
     plain(Key::W, Action::Layout(Layout::Wipe), "Wipe between A and B"),
@@ -119,7 +126,7 @@ pub const SHORTCUTS: &[Shortcut] = &[
         action: Action::CopySheet,
         help: "Copy the magnifier sheet to the clipboard",
     },
-    command(Key::O, Action::Open, "Open an OBJ file"),
+    command(Key::O, Action::Open, "Open a model (OBJ, glTF, GLB)"),
     plain(
         Key::Tab,
         Action::TogglePanels,
@@ -136,16 +143,45 @@ pub const OTHER_KEYS: &[(&str, &str)] = &[
     ("hold B", "A/B flip: show technique B"),
     ("hold R", "A/B flip: show the reference"),
     ("arrows", "Move the magnifier lens one pixel (Shift: ten)"),
-    ("drag", "Orbit (on the lens: move the lens)"),
+    (
+        "drag",
+        "Orbit; fly camera: look around (on the lens: move the lens)",
+    ),
+    (
+        "W A S D / Q E",
+        "Fly camera: move / down, up (Shift: fast); these keys' shortcuts pause while flying",
+    ),
     ("right / middle drag", "Pan"),
     ("wheel", "Zoom the camera"),
     ("Ctrl + click", "Put the lens here"),
     ("Esc", "Close this help"),
 ];
 
+/// Keys that move the fly camera; their shortcuts do not fire while it is on.
+pub const FLY_KEYS: [Key; 6] = [Key::W, Key::A, Key::S, Key::D, Key::Q, Key::E];
+
+/// The fly movement the held keys ask for (nothing while a text field has focus).
+pub fn fly_input(ctx: &egui::Context) -> super::camera::FlyInput {
+    if ctx.egui_wants_keyboard_input() {
+        return super::camera::FlyInput::default();
+    }
+    ctx.input(|i| {
+        let axis = |neg: Key, pos: Key| {
+            f32::from(u8::from(i.key_down(pos))) - f32::from(u8::from(i.key_down(neg)))
+        };
+        super::camera::FlyInput {
+            right: axis(Key::A, Key::D),
+            up: axis(Key::Q, Key::E),
+            forward: axis(Key::S, Key::W),
+            fast: i.modifiers.shift,
+        }
+    })
+}
+
 /// The actions whose keys were pressed this frame (consumed, so egui widgets do not see them).
-/// Nothing is consumed while a text field has keyboard focus.
-pub fn pressed_actions(ctx: &egui::Context) -> Vec<Action> {
+/// Nothing is consumed while a text field has keyboard focus; with `flying`, the plain
+/// shortcuts on [`FLY_KEYS`] are left to the fly camera.
+pub fn pressed_actions(ctx: &egui::Context, flying: bool) -> Vec<Action> {
     if ctx.egui_wants_keyboard_input() {
         return Vec::new();
     }
@@ -155,6 +191,11 @@ pub fn pressed_actions(ctx: &egui::Context) -> Vec<Action> {
         let mut table: Vec<&Shortcut> = SHORTCUTS.iter().collect();
         table.sort_by_key(|s| std::cmp::Reverse(modifier_count(s.shortcut.modifiers)));
         for entry in table {
+            let fly_key = FLY_KEYS.contains(&entry.shortcut.logical_key)
+                && entry.shortcut.modifiers == Modifiers::NONE;
+            if flying && fly_key {
+                continue;
+            }
             if input.consume_shortcut(&entry.shortcut) {
                 actions.push(entry.action);
             }

@@ -397,7 +397,7 @@ impl AaLabApp {
             painter.text(
                 rect.center(),
                 egui::Align2::CENTER_CENTER,
-                "Drop an OBJ file to open it",
+                "Drop an OBJ, glTF or GLB file to open it",
                 egui::FontId::proportional(22.0),
                 Color32::WHITE,
             );

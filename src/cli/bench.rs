@@ -63,7 +63,7 @@ pub enum Sweep {
 /// Arguments of `aa-lab bench`.
 #[derive(Debug, clap::Args)]
 pub struct BenchArgs {
-    /// Comma-separated scenes (hairball, atrium, chart or .obj paths).
+    /// Comma-separated scenes (hairball, atrium, chart or .obj/.gltf/.glb paths).
     #[arg(long, default_value = "hairball,atrium")]
     pub scene: String,
     /// Comma-separated technique ids, or `all` (every technique this adapter can run).
@@ -107,6 +107,10 @@ pub struct BenchArgs {
     /// Replace files of an earlier bench in --out (without it, aa-lab never replaces a file).
     #[arg(long)]
     pub force: bool,
+    /// The camera of every scene, when not its default view (the timed frames then follow
+    /// this camera's slow track).
+    #[command(flatten)]
+    pub camera: super::render::CameraArgs,
 }
 
 /// Most timed or warm-up frames per run.
@@ -381,6 +385,8 @@ impl Bench<'_> {
             height: run.size.1,
             frame: self.args.quality_frame,
             camera: None,
+            rig: None,
+            image: None,
             techniques,
             adapter: Some(format!(
                 "{} ({})",
@@ -429,12 +435,17 @@ impl Bench<'_> {
             density: run.density,
             seed: args.seed,
         };
-        let scene = source::load(&run.scene, &options)?;
+        let mut scene = source::load(&run.scene, &options)?;
+        for note in &scene.notes {
+            self.bar.println(format!("note: {note}"));
+        }
         for warning in &scene.warnings {
             self.bar.println(format!("warning: {warning}"));
         }
-        let spec = self.spec(run, self.techniques.clone());
-        let reference_spec = self.spec(run, vec![self.reference.clone()]);
+        let mut spec = self.spec(run, self.techniques.clone());
+        let mut reference_spec = self.spec(run, vec![self.reference.clone()]);
+        args.camera.apply(&mut spec, &mut scene)?;
+        reference_spec.rig = spec.rig;
         let track = SlowTrack::new(&scene.camera, run.size, TRACK_STEP_PX);
         let flicker_frames = if self.quality {
             args.flicker_frames.min(args.frames)
@@ -643,7 +654,8 @@ impl Bench<'_> {
             .find(|m| m.technique == COPY_FLOOR_ID)
             .map_or(0, |m| m.own_bytes());
         Ok(RunReport {
-            scene: scene.name.clone(),
+            // Model files get a hash of their path, so two `sponza.obj` never share files.
+            scene: super::render::output_stem(&scene.name, &run.scene),
             density: run.density,
             triangles: scene.triangle_count(),
             width: run.size.0,
@@ -685,6 +697,7 @@ impl Bench<'_> {
             debug_views: false,
             timing_repeats: 0,
             progress: Some(&progress),
+            image: None,
         };
         let output = spec::run(self.gpu, scene, spec, &options)?;
         self.bar.set_position(base + spec.frame + 1);

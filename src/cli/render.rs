@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, bail};
+use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::aa::{self, ParamValue, params::parse_value};
@@ -14,6 +15,7 @@ use crate::export::{
 };
 use crate::files::{self, Overwrite};
 use crate::gpu::Gpu;
+use crate::scene::CameraRig;
 use crate::scene::procedural::SceneOptions;
 use crate::scene::source::{self, DEFAULT_SCENE};
 use crate::spec::{self, RenderSpec, RunOptions, TechniqueSpec};
@@ -47,10 +49,97 @@ pub struct TechniqueArgs {
     pub set: Vec<String>,
 }
 
+/// Whether the camera given on the command line moves with the frame number.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum CameraMotion {
+    /// Frame N turns the camera N times the scene's orbit step about the look-at point.
+    #[default]
+    Orbit,
+    /// Every frame is seen from the same place.
+    Still,
+}
+
+/// A camera given on the command line; shared by `render`, `sheet` and `bench`.
+#[derive(Clone, Debug, Default, clap::Args)]
+pub struct CameraArgs {
+    /// Camera position X,Y,Z in scene units (with --camera-look-at), e.g. to look around
+    /// inside a building; replaces the scene's default view.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, requires = "camera_look_at", allow_hyphen_values = true)]
+    pub camera_eye: Option<Vec3>,
+    /// Point the camera looks at, X,Y,Z; frame N of the orbit turns about it.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, requires = "camera_eye", allow_hyphen_values = true)]
+    pub camera_look_at: Option<Vec3>,
+    /// Vertical field of view in degrees (default: the scene's).
+    #[arg(long, value_name = "DEG")]
+    pub fov: Option<f32>,
+    /// `orbit` (frame N turns about the look-at point) or `still` (no camera motion).
+    #[arg(long, value_enum, default_value_t)]
+    pub camera_motion: CameraMotion,
+}
+
+impl CameraArgs {
+    /// The camera path these flags make of a scene's default one; `None` when no flag
+    /// changes it.
+    pub fn rig(&self, scene: &CameraRig) -> anyhow::Result<Option<CameraRig>> {
+        if let Some(fov) = self.fov
+            && !(fov.is_finite() && fov > 0.0 && fov < 180.0)
+        {
+            bail!("--fov {fov} is not a vertical field of view between 0 and 180 degrees");
+        }
+        let mut rig = match (self.camera_eye, self.camera_look_at) {
+            (Some(eye), Some(look_at)) => CameraRig::looking_at(
+                eye,
+                look_at,
+                scene.fov_y_degrees,
+                scene.near,
+                scene.orbit_degrees_per_frame,
+            )
+            .with_context(|| {
+                format!("--camera-eye {eye} and --camera-look-at {look_at} must be different finite points")
+            })?,
+            _ if self.fov.is_none() && self.camera_motion == CameraMotion::Orbit => return Ok(None),
+            _ => *scene,
+        };
+        if let Some(fov) = self.fov {
+            rig.fov_y_degrees = fov;
+        }
+        if self.camera_motion == CameraMotion::Still {
+            rig.orbit_degrees_per_frame = 0.0;
+        }
+        Ok(Some(rig))
+    }
+
+    /// Applies these flags to a loaded scene and records the result in its spec.
+    pub fn apply(
+        &self,
+        spec: &mut RenderSpec,
+        scene: &mut crate::scene::Scene,
+    ) -> anyhow::Result<()> {
+        if let Some(rig) = self.rig(&scene.camera)? {
+            scene.camera = rig;
+            spec.rig = Some(rig);
+        }
+        Ok(())
+    }
+}
+
+/// Parses `X,Y,Z` (three finite numbers).
+pub fn parse_vec3(text: &str) -> Result<Vec3, String> {
+    let values: Vec<f32> = text
+        .split(',')
+        .map(|v| v.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("expected X,Y,Z, e.g. 1.5,2,-3 ({e})"))?;
+    match values.as_slice() {
+        [x, y, z] if values.iter().all(|v| v.is_finite()) => Ok(Vec3::new(*x, *y, *z)),
+        _ => Err(format!("expected three finite numbers X,Y,Z, got `{text}`")),
+    }
+}
+
 /// Which scene and frame to render; shared by `render` and `sheet`.
 #[derive(Clone, Debug, clap::Args)]
 pub struct SceneArgs {
-    /// Built-in scene (hairball, atrium, chart) or path to an .obj file.
+    /// Built-in scene (hairball, atrium, chart) or path to an .obj, .gltf or .glb file.
     #[arg(long, default_value = DEFAULT_SCENE)]
     pub scene: String,
     /// Built-in scene density (hairball: 1 is about 300k triangles, 7 over 2M).
@@ -70,6 +159,9 @@ pub struct SceneArgs {
     /// Treat scene warnings (a missing texture replaced by a checker) as errors.
     #[arg(long)]
     pub strict: bool,
+    /// The camera, when not the scene's default view.
+    #[command(flatten)]
+    pub camera: CameraArgs,
 }
 
 /// Arguments of `aa-lab render`.
@@ -82,7 +174,8 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub techniques: TechniqueArgs,
     /// Output: a .png file for a single image, otherwise a directory that receives
-    /// <scene>-<technique>.png per technique.
+    /// <scene>-<technique>.png per technique (<stem>-<hash of the path>-<technique>.png for
+    /// a model file).
     #[arg(long, short, default_value = "out")]
     pub out: PathBuf,
     /// Print GPU milliseconds per pass (median of 5 extra renders of the frame).
@@ -102,6 +195,45 @@ pub struct RenderArgs {
     /// never replaced).
     #[arg(long)]
     pub force: bool,
+    /// Run the techniques that work on a finished image (No AA, FXAA, SMAA 1x) on this PNG or
+    /// JPEG instead of a scene, e.g. a capture from another engine; others are refused with
+    /// the reason.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "from", "size", "frame", "density", "seed", "camera_eye", "fov"])]
+    pub image: Option<PathBuf>,
+}
+
+/// The spec of image mode: the techniques run on the image at `path`, at its size.
+pub fn spec_for_image(
+    path: &Path,
+    techniques: Vec<TechniqueSpec>,
+) -> anyhow::Result<(RenderSpec, image::RgbaImage)> {
+    let full = std::fs::canonicalize(path)
+        .with_context(|| format!("cannot read image {}", path.display()))?;
+    let image = load_input_image(&full)?;
+    let name = full
+        .file_stem()
+        .map_or_else(|| "image".to_owned(), |s| s.to_string_lossy().into_owned());
+    let spec = RenderSpec {
+        scene: name,
+        density: 1.0,
+        seed: SceneOptions::default().seed,
+        width: image.width(),
+        height: image.height(),
+        frame: 0,
+        camera: None,
+        rig: None,
+        image: Some(full.display().to_string()),
+        techniques,
+        adapter: None,
+        build: Some(spec::build_id()),
+    };
+    Ok((spec, image))
+}
+
+/// Decodes a PNG or JPEG input image to sRGB-encoded RGBA8, within the limits of every image
+/// aa-lab reads (a regular file of bounded size, pixel count checked from the header).
+pub fn load_input_image(path: &Path) -> anyhow::Result<image::RgbaImage> {
+    Ok(crate::export::png::read_image(path)?)
 }
 
 /// Parses `WIDTHxHEIGHT`, both whole numbers of at least 1.
@@ -275,6 +407,8 @@ pub fn spec_for_scene(scene: &SceneArgs, techniques: Vec<TechniqueSpec>) -> Rend
         height: scene.size.1,
         frame: scene.frame,
         camera: None,
+        rig: None,
+        image: None,
         techniques,
         adapter: None,
         build: Some(spec::build_id()),
@@ -282,12 +416,19 @@ pub fn spec_for_scene(scene: &SceneArgs, techniques: Vec<TechniqueSpec>) -> Rend
 }
 
 /// Loads the scene of a spec, printing its warnings; `strict` turns warnings into an error.
+/// A camera path the spec records replaces the scene's.
 pub fn load_scene(spec: &RenderSpec, strict: bool) -> anyhow::Result<crate::scene::Scene> {
     let options = SceneOptions {
         density: spec.density,
         seed: spec.seed,
     };
-    let scene = source::load(&spec.scene, &options)?;
+    let mut scene = source::load(&spec.scene, &options)?;
+    if let Some(rig) = spec.rig {
+        scene.camera = rig;
+    }
+    for note in &scene.notes {
+        eprintln!("note: {note}");
+    }
     for warning in &scene.warnings {
         eprintln!("warning: {warning}");
     }
@@ -331,7 +472,27 @@ pub fn output_policy(force: bool, from: Option<&Path>, spec: &RenderSpec) -> Ove
     if scene.is_file() {
         policy = policy.with_input(scene);
     }
+    if let Some(image) = &spec.image {
+        policy = policy.with_input(Path::new(image));
+    }
     policy
+}
+
+/// The stem of output file names for a scene: its name for a built-in scene, and for a file
+/// the file stem plus a short hash of its full path (`sponza-3fa9c1`), so models of the same
+/// name from different folders never overwrite each other's images. The PNG record keeps the
+/// full path.
+pub fn output_stem(scene_name: &str, scene_spec: &str) -> String {
+    if crate::scene::procedural::BUILTIN_SCENES.contains(&scene_spec) {
+        return scene_name.to_owned();
+    }
+    let full = std::fs::canonicalize(scene_spec)
+        .map_or_else(|_| scene_spec.to_owned(), |p| p.display().to_string());
+    // FNV-1a: stable across runs, platforms and Rust versions, unlike std's hasher.
+    let hash = full.bytes().fold(0x811c_9dc5_u32, |h, b| {
+        (h ^ u32::from(b)).wrapping_mul(0x0100_0193)
+    });
+    format!("{scene_name}-{:06x}", hash & 0xff_ffff)
 }
 
 fn output_paths(
@@ -385,13 +546,43 @@ fn progress_bar(total: u64) -> ProgressBar {
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     let gpu = Gpu::headless()?;
-    let mut spec = match &args.from {
-        Some(path) => load_spec(path)?,
-        None => spec_for_scene(&args.scene, technique_specs(&gpu, &args.techniques)?),
+    let (mut spec, mut input) = match (&args.from, &args.image) {
+        (Some(path), _) => (load_spec(path)?, None),
+        (None, Some(path)) => {
+            let (spec, image) = spec_for_image(path, technique_specs(&gpu, &args.techniques)?)?;
+            (spec, Some(image))
+        }
+        (None, None) => (
+            spec_for_scene(&args.scene, technique_specs(&gpu, &args.techniques)?),
+            None,
+        ),
     };
     spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
     spec.build = Some(spec::build_id());
-    let scene = load_scene(&spec, args.scene.strict)?;
+    let scene = match &spec.image {
+        Some(path) => {
+            let image = match input.take() {
+                Some(image) => image,
+                None => load_input_image(Path::new(path))?,
+            };
+            if image.dimensions() != (spec.width, spec.height) {
+                bail!(
+                    "{path} is {}x{} now; the record was made from a {}x{} image",
+                    image.width(),
+                    image.height(),
+                    spec.width,
+                    spec.height
+                );
+            }
+            input = Some(image);
+            crate::scene::Scene::empty(&spec.scene)
+        }
+        None => {
+            let mut scene = load_scene(&spec, args.scene.strict)?;
+            args.scene.camera.apply(&mut spec, &mut scene)?;
+            scene
+        }
+    };
     let policy = output_policy(args.force, args.from.as_deref(), &spec);
     if args
         .out
@@ -414,13 +605,18 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         debug_views: args.debug_views,
         timing_repeats: if args.timings { 5 } else { 0 },
         progress: temporal_frames.then_some(&progress as &dyn Fn(u64, u64)),
+        image: input.as_ref(),
     };
     let output = spec::run(&gpu, &scene, &spec, &run_options)?;
     bar.finish_and_clear();
     let rendered = started.elapsed();
 
     let record = serde_json::to_string_pretty(&spec)?;
-    let paths = output_paths(&args.out, &scene.name, &output.images)?;
+    let paths = output_paths(
+        &args.out,
+        &output_stem(&scene.name, spec.image.as_deref().unwrap_or(&spec.scene)),
+        &output.images,
+    )?;
     // Every output is checked before the first is written: all or nothing.
     policy.check_all(paths.iter().map(PathBuf::as_path))?;
     for (image, path) in output.images.iter().zip(&paths) {
@@ -479,5 +675,53 @@ mod tests {
             let err = parse_size(bad).unwrap_err();
             assert!(err.contains("WIDTHxHEIGHT"), "{err}");
         }
+    }
+
+    #[test]
+    fn output_stems_differ_by_folder() {
+        assert_eq!(output_stem("atrium", "atrium"), "atrium");
+        let a = output_stem("sponza", "/a/sponza.obj");
+        let b = output_stem("sponza", "/b/sponza.obj");
+        assert_ne!(a, b);
+        assert!(
+            a.starts_with("sponza-") && a.len() == "sponza-".len() + 6,
+            "{a}"
+        );
+        assert_eq!(a, output_stem("sponza", "/a/sponza.obj"));
+    }
+
+    #[test]
+    fn vectors_parse_and_reject_garbage() {
+        assert_eq!(parse_vec3("1,-2.5, 3"), Ok(Vec3::new(1.0, -2.5, 3.0)));
+        assert!(parse_vec3("1,2").is_err());
+        assert!(parse_vec3("1,2,nan").is_err());
+        assert!(parse_vec3("a,b,c").is_err());
+    }
+
+    #[test]
+    fn camera_flags_make_a_rig() {
+        let scene = CameraRig::default();
+        assert_eq!(CameraArgs::default().rig(&scene).ok(), Some(None));
+        let args = CameraArgs {
+            camera_eye: Some(Vec3::new(0.0, 1.0, 4.0)),
+            camera_look_at: Some(Vec3::new(0.0, 1.0, 0.0)),
+            fov: Some(70.0),
+            camera_motion: CameraMotion::Still,
+        };
+        let rig = args.rig(&scene).ok().flatten().expect("a rig");
+        assert_eq!(rig.fov_y_degrees, 70.0);
+        assert_eq!(rig.orbit_degrees_per_frame, 0.0);
+        assert!((rig.distance - 4.0).abs() < 1e-5);
+        assert!(rig.pitch_degrees.abs() < 1e-4 && rig.yaw_degrees.abs() < 1e-4);
+        let same = CameraArgs {
+            camera_look_at: args.camera_eye,
+            ..args.clone()
+        };
+        assert!(same.rig(&scene).is_err());
+        let bad_fov = CameraArgs {
+            fov: Some(180.0),
+            ..CameraArgs::default()
+        };
+        assert!(bad_fov.rig(&scene).is_err());
     }
 }

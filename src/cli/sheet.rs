@@ -199,7 +199,8 @@ pub fn run(args: &SheetArgs) -> anyhow::Result<()> {
         };
         let mut spec = spec_for_scene(&scene_args, techniques.clone());
         spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
-        let scene = load_scene(&spec, args.scene.strict)?;
+        let mut scene = load_scene(&spec, args.scene.strict)?;
+        args.scene.camera.apply(&mut spec, &mut scene)?;
         eprintln!(
             "rendering {} ({} techniques)...",
             scene.name,

@@ -219,6 +219,36 @@ impl Gpu {
     }
 }
 
+/// Writes an RGBA8 image into mip level `level` of a texture of the same size (the texture
+/// needs `COPY_DST`; its bytes are taken as they are, sRGB-encoded for sRGB formats).
+pub fn write_rgba8_level(gpu: &Gpu, texture: &wgpu::Texture, level: u32, image: &image::RgbaImage) {
+    let (width, height) = image.dimensions();
+    gpu.queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: level,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        image.as_raw(),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(4 * width),
+            rows_per_image: Some(height),
+        },
+        wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+    );
+}
+
+/// [`write_rgba8_level`] into level 0.
+pub fn write_rgba8(gpu: &Gpu, texture: &wgpu::Texture, image: &image::RgbaImage) {
+    write_rgba8_level(gpu, texture, 0, image);
+}
+
 /// Bytes a texture occupies: every mip level times its sample count. Formats without a fixed
 /// copy size (combined depth-stencil) are counted at 4 bytes a texel, what drivers allocate
 /// for `Depth24PlusStencil8`.

@@ -45,6 +45,9 @@ pub enum GraphError {
     /// The GPU reported an error while the frame ran (out of memory, device lost, validation).
     #[error("the GPU failed while rendering: {0}")]
     Device(String),
+    /// The image given as input does not have the frame's size.
+    #[error("the input image is {0}x{1}, but the frame is {2}x{3}")]
+    ImageSize(u32, u32, u32, u32),
 }
 
 /// A technique in the graph, with its output texture.
@@ -221,6 +224,8 @@ pub struct FrameGraph {
     timings_serial: u64,
     scene_renders: usize,
     statistics: StatisticsRecorder,
+    /// A finished image that stands in for the 1x scene render (image mode).
+    image_input: Option<image::RgbaImage>,
 }
 
 impl FrameGraph {
@@ -256,7 +261,19 @@ impl FrameGraph {
             timings_serial: 0,
             scene_renders: 0,
             statistics: StatisticsRecorder::new(),
+            image_input: None,
         }
+    }
+
+    /// Image mode: `Some(image)` makes every frame's [`SceneInput::Shared1x`] input this
+    /// finished image (sRGB-encoded RGBA8, the frame's size) instead of a render of the scene,
+    /// so the techniques that read only that input's colour (FXAA, SMAA 1x, No AA; see
+    /// [`crate::aa::image_refusal`]) run on any picture, e.g. another engine's capture. Its
+    /// bytes are uploaded unchanged, so aa-lab's own No AA image reproduces the scene path's
+    /// outputs exactly. The input's depth is not written: techniques that read depth must not
+    /// run in image mode. `None` renders the scene again.
+    pub fn set_image_input(&mut self, image: Option<image::RgbaImage>) {
+        self.image_input = image;
     }
 
     /// The device.
@@ -369,6 +386,16 @@ impl FrameGraph {
     pub fn render(&mut self, frame: &FrameInfo, scope: FrameScope) -> Result<(), GraphError> {
         let size = frame.size();
         self.check_size(size)?;
+        if let Some(image) = &self.image_input
+            && image.dimensions() != size
+        {
+            return Err(GraphError::ImageSize(
+                image.width(),
+                image.height(),
+                size.0,
+                size.1,
+            ));
+        }
         if size != self.size {
             self.input_pool.clear();
             for slot in &mut self.slots {
@@ -431,6 +458,10 @@ impl FrameGraph {
         // 2. One scene render per distinct input.
         for (input, desc, index) in &self.inputs_used {
             let targets = &self.input_pool[desc][*index];
+            if let (Some(image), SceneInput::Shared1x) = (&self.image_input, input) {
+                crate::gpu::write_rgba8(&self.gpu, &targets.color, image);
+                continue;
+            }
             let view = camera.params(input.offset(), input.mip_bias());
             let label = input.label();
             let query = self.profiler.begin_pass_query(label.clone(), &mut encoder);

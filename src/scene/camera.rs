@@ -15,7 +15,12 @@ use glam::{Mat4, Vec2, Vec3};
 use super::CameraRig;
 
 /// Where the camera is: an orbit about a target.
+///
+/// In a render record (`"camera": {...}`) every field may be left out and takes the value of
+/// [`OrbitPose::default`] (frame 0 of the default [`CameraRig`]: target at the origin, 5 units
+/// away, yaw 0, 15 degrees above, 45 degree vertical field of view, near plane 0.05).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct OrbitPose {
     /// Point looked at.
     pub target: Vec3,
@@ -31,7 +36,27 @@ pub struct OrbitPose {
     pub near: f32,
 }
 
+impl Default for OrbitPose {
+    fn default() -> Self {
+        Self::at_frame(&CameraRig::default(), 0)
+    }
+}
+
 impl OrbitPose {
+    /// A pose at `eye` looking at `target`; `None` when the points coincide or are not
+    /// finite.
+    pub fn looking_at(eye: Vec3, target: Vec3, fov_y_degrees: f32, near: f32) -> Option<Self> {
+        let (distance, yaw_degrees, pitch_degrees) = super::model::orbit_angles(eye, target)?;
+        Some(Self {
+            target,
+            distance,
+            yaw_degrees,
+            pitch_degrees,
+            fov_y_degrees,
+            near,
+        })
+    }
+
     /// The pose of `rig` at a frame of its auto-rotation.
     pub fn at_frame(rig: &CameraRig, frame: u64) -> Self {
         // f64 keeps the angle exact for long runs; the result is reduced before narrowing.

@@ -1,8 +1,9 @@
 //! Everything about what is drawn: the scene data model, built-in procedural scenes, the
-//! OBJ/MTL loader, the deterministic camera and the forward renderer that draws a scene into
+//! OBJ/MTL and glTF 2.0 loaders, the deterministic camera and the forward renderer that draws a scene into
 //! the targets a technique asks for.
 
 pub mod camera;
+pub mod gltf;
 pub mod model;
 pub mod obj;
 pub mod procedural;
@@ -10,5 +11,6 @@ pub mod renderer;
 pub mod source;
 
 pub use model::{
-    AlphaMode, CameraRig, DirectionalLight, Material, Mesh, Scene, Spin, TextureImage, Vertex,
+    AlphaMode, CameraRig, DirectionalLight, Filter, Material, Mesh, Scene, SceneView, Spin,
+    TextureImage, TextureSampler, Vertex, Wrap,
 };

@@ -52,6 +52,60 @@ pub enum AlphaMode {
     },
 }
 
+/// How a texture is filtered when magnified or minified.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Filter {
+    /// The nearest texel (or mip level).
+    Nearest,
+    /// Linear interpolation between texels (or mip levels).
+    #[default]
+    Linear,
+}
+
+/// What texture coordinates outside 0..1 read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Wrap {
+    /// The texture tiles.
+    #[default]
+    Repeat,
+    /// The texture tiles, every other copy mirrored.
+    MirroredRepeat,
+    /// The edge texels extend outwards.
+    ClampToEdge,
+}
+
+/// How a material's texture is sampled (glTF samplers; OBJ/MTL and the built-in scenes use
+/// the default: trilinear, repeating).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TextureSampler {
+    /// Filter when a texel covers more than a pixel.
+    pub mag_filter: Filter,
+    /// Filter within a mip level when a texel covers less than a pixel.
+    pub min_filter: Filter,
+    /// Filter between mip levels; `None` samples the full-size image only.
+    pub mipmap_filter: Option<Filter>,
+    /// Wrapping of the horizontal coordinate.
+    pub wrap_u: Wrap,
+    /// Wrapping of the vertical coordinate.
+    pub wrap_v: Wrap,
+}
+
+impl Default for TextureSampler {
+    fn default() -> Self {
+        Self {
+            mag_filter: Filter::Linear,
+            min_filter: Filter::Linear,
+            mipmap_filter: Some(Filter::Linear),
+            wrap_u: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
+        }
+    }
+}
+
+/// Linear base colour of a material that names none: a neutral mid grey (sRGB 118), dark
+/// enough that lit faces of an untextured model stay distinguishable from white.
+pub const DEFAULT_BASE_COLOR: f32 = 0.18;
+
 /// A Blinn-Phong material.
 #[derive(Clone, Debug)]
 pub struct Material {
@@ -61,6 +115,10 @@ pub struct Material {
     pub base_color: Vec3,
     /// Index into [`Scene::textures`] of the base-colour texture (alpha in its alpha channel).
     pub base_color_texture: Option<usize>,
+    /// How the base-colour texture is sampled.
+    pub sampler: TextureSampler,
+    /// Alpha factor multiplied with the texture's alpha (glTF `baseColorFactor[3]`).
+    pub opacity: f32,
     /// Specular colour in linear RGB.
     pub specular: Vec3,
     /// Blinn-Phong exponent (MTL `Ns`).
@@ -77,8 +135,10 @@ impl Default for Material {
     fn default() -> Self {
         Self {
             name: "default".to_owned(),
-            base_color: Vec3::splat(0.8),
+            base_color: Vec3::splat(DEFAULT_BASE_COLOR),
             base_color_texture: None,
+            sampler: TextureSampler::default(),
+            opacity: 1.0,
             specular: Vec3::splat(0.0),
             shininess: 32.0,
             alpha_mode: AlphaMode::Opaque,
@@ -141,7 +201,10 @@ impl Mesh {
 }
 
 /// The deterministic camera path of a scene: an orbit about the vertical axis through `target`.
+///
+/// In a render record every field may be left out and takes its [`Default`] value.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct CameraRig {
     /// Point the camera looks at and orbits around.
     pub target: Vec3,
@@ -176,6 +239,59 @@ impl Default for CameraRig {
     }
 }
 
+impl CameraRig {
+    /// A rig whose frame 0 looks from `eye` at `look_at` (turning about `look_at` at
+    /// `orbit_degrees_per_frame`); `None` when the two points coincide or are not finite.
+    pub fn looking_at(
+        eye: Vec3,
+        look_at: Vec3,
+        fov_y_degrees: f32,
+        near: f32,
+        orbit_degrees_per_frame: f32,
+    ) -> Option<Self> {
+        let (distance, yaw_degrees, pitch_degrees) = orbit_angles(eye, look_at)?;
+        Some(Self {
+            target: look_at,
+            distance,
+            yaw_degrees,
+            pitch_degrees,
+            fov_y_degrees,
+            near,
+            far: Self::default().far.max(distance * 100.0),
+            orbit_degrees_per_frame,
+        })
+    }
+}
+
+/// Distance, yaw and pitch (degrees) of an orbit about `target` that puts the camera at
+/// `eye`; pitch is kept within ±89.9° so the view never looks straight up or down (where the
+/// orbit's up vector is undefined). `None` when the points coincide or are not finite.
+pub fn orbit_angles(eye: Vec3, target: Vec3) -> Option<(f32, f32, f32)> {
+    let offset = eye - target;
+    let distance = offset.length();
+    if !distance.is_finite() || distance <= f32::EPSILON * target.abs().max_element().max(1.0) {
+        return None;
+    }
+    let dir = offset / distance;
+    let pitch = dir
+        .y
+        .clamp(-1.0, 1.0)
+        .asin()
+        .to_degrees()
+        .clamp(-89.9, 89.9);
+    let yaw = dir.x.atan2(dir.z).to_degrees();
+    Some((distance, yaw, pitch))
+}
+
+/// A named camera a scene file defines (a glTF camera node), offered as a view.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneView {
+    /// The camera's name in the file (or `camera N`).
+    pub name: String,
+    /// The camera as a rig whose frame 0 is the file's camera.
+    pub camera: CameraRig,
+}
+
 /// One directional light with an ambient term.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DirectionalLight {
@@ -208,8 +324,10 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Textures referenced by the materials.
     pub textures: Vec<TextureImage>,
-    /// Camera path.
+    /// Camera path (the default view).
     pub camera: CameraRig,
+    /// Cameras the scene file defines, in file order; the first is `camera` when there is one.
+    pub views: Vec<SceneView>,
     /// Light.
     pub light: DirectionalLight,
     /// Background colour, linear RGB.
@@ -217,9 +335,28 @@ pub struct Scene {
     /// Problems found while building the scene that did not stop it (a missing texture
     /// replaced by a checker, say). Front ends must show these to the user.
     pub warnings: Vec<String>,
+    /// Things worth knowing that are not problems (material statements a loader ignores,
+    /// say); front ends show these too, and `--strict` does not count them.
+    pub notes: Vec<String>,
 }
 
 impl Scene {
+    /// A scene with nothing in it (image mode draws no scene), called `name`.
+    pub fn empty(name: &str) -> Self {
+        Self {
+            name: name.to_owned(),
+            meshes: Vec::new(),
+            materials: Vec::new(),
+            textures: Vec::new(),
+            camera: CameraRig::default(),
+            light: DirectionalLight::default(),
+            clear_color: Vec3::ZERO,
+            views: Vec::new(),
+            warnings: Vec::new(),
+            notes: Vec::new(),
+        }
+    }
+
     /// Total triangle count over all meshes.
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(Mesh::triangle_count).sum()
@@ -248,6 +385,18 @@ mod tests {
     #[test]
     fn vertex_is_32_bytes() {
         assert_eq!(std::mem::size_of::<Vertex>(), 32);
+    }
+
+    #[test]
+    fn looking_at_reproduces_eye_and_target() {
+        let eye = Vec3::new(3.0, 2.0, -1.0);
+        let look_at = Vec3::new(-1.0, 0.5, 2.0);
+        let rig = CameraRig::looking_at(eye, look_at, 60.0, 0.01, 0.0).expect("distinct points");
+        let pose = crate::scene::camera::OrbitPose::at_frame(&rig, 0);
+        assert!((pose.eye() - eye).length() < 1e-4, "{}", pose.eye());
+        assert_eq!(pose.target, look_at);
+        assert!(CameraRig::looking_at(eye, eye, 60.0, 0.01, 0.0).is_none());
+        assert!(CameraRig::looking_at(Vec3::NAN, eye, 60.0, 0.01, 0.0).is_none());
     }
 
     #[test]

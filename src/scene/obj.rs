@@ -46,7 +46,10 @@
 //! * A texture that is missing or cannot be decoded never fails the load: the material draws a
 //!   magenta/black checker at full brightness and [`Scene::warnings`] names the texture path
 //!   and the reason.
-//! * `illum` and the other MTL records (`Ka`, `Ke`, `Ni`, bump and specular maps) are ignored.
+//! * `illum` and the other MTL records (`Ka`, `Ke`, `Ni`, `Tf`, bump and specular maps) are
+//!   ignored; one note in [`Scene::notes`] lists every ignored keyword with its count.
+//! * A material without `Kd` and without a texture is the neutral mid grey of
+//!   [`Material::default`], and so are faces without a material.
 //!
 //! # Camera
 //! The camera orbits the centre of the model's bounding box, slightly from above, at
@@ -56,7 +59,7 @@
 
 use std::borrow::Cow;
 use std::cell::RefCell;
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::io;
 use std::path::{Path, PathBuf};
 
@@ -223,7 +226,19 @@ pub fn load_obj(path: &Path) -> Result<Scene, ObjError> {
     for model in &models {
         builder.add_model(model);
     }
-    let scene = builder.finish();
+    let mut scene = builder.finish();
+    if !libraries.ignored.is_empty() {
+        let list: Vec<String> = libraries
+            .ignored
+            .iter()
+            .map(|(keyword, count)| format!("{keyword} ({count})"))
+            .collect();
+        scene.notes.push(format!(
+            "{}: material statements aa-lab does not use were ignored: {}",
+            path.display(),
+            list.join(", ")
+        ));
+    }
     match bounding_sphere(&scene) {
         Some((center, radius)) if scene.triangle_count() > 0 => Ok(Scene {
             camera: framed_camera(center, radius),
@@ -551,6 +566,8 @@ struct Libraries {
     sources: Vec<PathBuf>,
     /// The first library that failed; it fails the whole load.
     error: Option<ObjError>,
+    /// Keywords of the statements no material reads, with how often they occur.
+    ignored: BTreeMap<String, usize>,
 }
 
 impl Libraries {
@@ -575,7 +592,7 @@ impl Libraries {
         let mut materials = Vec::new();
         let mut names = Vec::new();
         for file in files {
-            match read_mtl(obj, &file) {
+            match read_mtl(obj, &file, &mut self.ignored) {
                 Ok((loaded, map)) => {
                     let offset = materials.len();
                     names.extend(map.into_iter().map(|(name, i)| (name, i + offset)));
@@ -596,7 +613,11 @@ impl Libraries {
 type MaterialNames = Vec<(String, usize)>;
 
 /// Reads, validates and parses one MTL file.
-fn read_mtl(obj: &Path, mtl: &Path) -> Result<(Vec<tobj::Material>, MaterialNames), ObjError> {
+fn read_mtl(
+    obj: &Path,
+    mtl: &Path,
+    ignored: &mut BTreeMap<String, usize>,
+) -> Result<(Vec<tobj::Material>, MaterialNames), ObjError> {
     let text =
         read_text(mtl, MAX_MTL_BYTES, "a material library").map_err(|failure| match failure {
             ReadFailure::Io(source) => ObjError::MissingMtl {
@@ -606,7 +627,7 @@ fn read_mtl(obj: &Path, mtl: &Path) -> Result<(Vec<tobj::Material>, MaterialName
             },
             other => other.into_error(mtl),
         })?;
-    let text = normalize_mtl(mtl, &text)?;
+    let text = normalize_mtl(mtl, &text, ignored)?;
     let (materials, names) =
         tobj::load_mtl_buf(&mut text.as_bytes()).map_err(|source| ObjError::Parse {
             path: mtl.to_owned(),
@@ -615,15 +636,29 @@ fn read_mtl(obj: &Path, mtl: &Path) -> Result<(Vec<tobj::Material>, MaterialName
     Ok((materials, names.into_iter().collect()))
 }
 
+/// MTL statements the loader reads; every other one is listed in a note.
+const READ_MTL_STATEMENTS: &[&str] = &["newmtl", "Kd", "Ks", "Ns", "d", "Tr", "map_Kd", "map_d"];
+
 /// Validates MTL text and rewrites it into what `tobj` parses without surprises (see the
-/// module docs); line numbers are kept.
-fn normalize_mtl(path: &Path, text: &str) -> Result<String, ObjError> {
+/// module docs); line numbers are kept. Keywords of statements that are not read are counted
+/// in `ignored`.
+fn normalize_mtl(
+    path: &Path,
+    text: &str,
+    ignored: &mut BTreeMap<String, usize>,
+) -> Result<String, ObjError> {
     let mut out = Vec::new();
     for (number, line) in text.lines().enumerate() {
         let line_no = number + 1;
         let mut words = line.split_whitespace();
         let keyword = words.next().unwrap_or("");
         let values: Vec<&str> = words.collect();
+        if !keyword.is_empty()
+            && !keyword.starts_with('#')
+            && !READ_MTL_STATEMENTS.contains(&keyword)
+        {
+            *ignored.entry(keyword.to_owned()).or_default() += 1;
+        }
         let finite = |word: &str| -> Result<f32, ObjError> {
             let value = parse_number(path, line_no, keyword, word)?;
             if value.is_finite() {
@@ -758,7 +793,7 @@ const CHECKER_SIZE: u32 = 64;
 const CHECKER_SQUARE: u32 = 8;
 
 /// The magenta/black checker drawn in place of a texture that could not be loaded.
-fn checker_image() -> RgbaImage {
+pub(crate) fn checker_image() -> RgbaImage {
     RgbaImage::from_fn(CHECKER_SIZE, CHECKER_SIZE, |x, y| {
         if (x / CHECKER_SQUARE + y / CHECKER_SQUARE).is_multiple_of(2) {
             image::Rgba([255, 0, 255, 255])
@@ -1094,6 +1129,8 @@ impl SceneBuilder<'_> {
             camera: CameraRig::default(),
             light: DirectionalLight::default(),
             clear_color: CLEAR_COLOR,
+            views: Vec::new(),
+            notes: Vec::new(),
             warnings: self.warnings,
         }
     }
@@ -1147,7 +1184,7 @@ const ORBIT_DEGREES_PER_FRAME: f32 = 0.5;
 
 /// The sphere about the centre of the scene's bounding box through its farthest vertex
 /// (tighter than the box's own bounding sphere), or `None` without vertices.
-fn bounding_sphere(scene: &Scene) -> Option<(Vec3, f32)> {
+pub(crate) fn bounding_sphere(scene: &Scene) -> Option<(Vec3, f32)> {
     let (lo, hi) = scene.bounds()?;
     let center = (lo + hi) * 0.5;
     let radius = scene
@@ -1160,7 +1197,7 @@ fn bounding_sphere(scene: &Scene) -> Option<(Vec3, f32)> {
 }
 
 /// A camera rig orbiting `target` that keeps a sphere of `radius` about it in view.
-fn framed_camera(target: Vec3, radius: f32) -> CameraRig {
+pub(crate) fn framed_camera(target: Vec3, radius: f32) -> CameraRig {
     // A model of zero size still needs a camera that is not inside it.
     let radius = radius.max(1e-6);
     let distance = radius * FRAME_MARGIN / (FOV_Y_DEGREES.to_radians() * 0.5).sin();

@@ -7,8 +7,9 @@
 //! [`PipelineKey`]. Per-call view uniforms live in a ring of dynamic-offset slots so that many
 //! renders (supersampling tiles, accumulation passes) can be recorded into one encoder.
 //!
-//! Materials are sampled trilinearly with 8x anisotropic filtering on GPUs, and trilinearly
-//! without anisotropy on software rasterisers (see [`anisotropy_clamp`]): Mesa's llvmpipe
+//! Materials are sampled as their [`TextureSampler`] says (trilinearly, repeating, unless a
+//! glTF sampler asks otherwise), with 8x anisotropic filtering on GPUs when every filter is
+//! linear, and without anisotropy on software rasterisers (see [`anisotropy_clamp`]): Mesa's llvmpipe
 //! (lavapipe) filters anisotropically by scanning every texel of the footprint ellipse's
 //! bounding box, with no bound from the anisotropy clamp or the texture size. Where a quad's
 //! texture-coordinate derivatives are extreme (sliver triangles seen edge-on, whose helper
@@ -22,7 +23,7 @@ use glam::{Mat4, Vec3, Vec4};
 use wgpu::util::DeviceExt;
 
 use super::camera::ViewParams;
-use super::{AlphaMode, Scene, TextureImage, Vertex};
+use super::{AlphaMode, Filter, Scene, TextureImage, TextureSampler, Vertex, Wrap};
 use crate::gpu::{self, COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, DEPTH_FORMAT, Gpu, MOTION_FORMAT};
 
 /// Where varyings are evaluated inside a multisampled pixel.
@@ -91,7 +92,8 @@ fn target_texture(
     let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
         | wgpu::TextureUsages::TEXTURE_BINDING
         | if sample_count == 1 {
-            wgpu::TextureUsages::COPY_SRC
+            // COPY_DST: image mode uploads a finished image into the 1x colour target.
+            wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST
         } else {
             wgpu::TextureUsages::empty()
         };
@@ -360,26 +362,7 @@ fn upload_texture(gpu: &Gpu, texture: &TextureImage) -> wgpu::Texture {
     });
     let mut level_image = image.into_owned();
     for level in 0..levels {
-        let (w, h) = level_image.dimensions();
-        gpu.queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &gpu_texture,
-                mip_level: level,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            level_image.as_raw(),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(4 * w),
-                rows_per_image: Some(h),
-            },
-            wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-        );
+        gpu::write_rgba8_level(gpu, &gpu_texture, level, &level_image);
         if level + 1 < levels {
             level_image = downsample_srgb(&level_image);
         }
@@ -391,6 +374,43 @@ fn upload_texture(gpu: &Gpu, texture: &TextureImage) -> wgpu::Texture {
 /// lavapipe's unbounded footprint scan can hang a frame (see the module docs).
 pub fn anisotropy_clamp(gpu: &Gpu) -> u16 {
     if gpu.caps.software { 1 } else { 8 }
+}
+
+/// The wgpu sampler of a material's [`TextureSampler`]; anisotropic filtering (where the
+/// adapter gets it) only when every filter is linear, as wgpu requires.
+fn create_sampler(gpu: &Gpu, sampler: &TextureSampler) -> wgpu::Sampler {
+    let filter = |f: Filter| match f {
+        Filter::Nearest => wgpu::FilterMode::Nearest,
+        Filter::Linear => wgpu::FilterMode::Linear,
+    };
+    let wrap = |w: Wrap| match w {
+        Wrap::Repeat => wgpu::AddressMode::Repeat,
+        Wrap::MirroredRepeat => wgpu::AddressMode::MirrorRepeat,
+        Wrap::ClampToEdge => wgpu::AddressMode::ClampToEdge,
+    };
+    let all_linear = sampler.mag_filter == Filter::Linear
+        && sampler.min_filter == Filter::Linear
+        && sampler.mipmap_filter == Some(Filter::Linear);
+    let defaults = wgpu::SamplerDescriptor::default();
+    gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("scene material sampler"),
+        address_mode_u: wrap(sampler.wrap_u),
+        address_mode_v: wrap(sampler.wrap_v),
+        mag_filter: filter(sampler.mag_filter),
+        min_filter: filter(sampler.min_filter),
+        mipmap_filter: match sampler.mipmap_filter {
+            Some(Filter::Linear) => wgpu::MipmapFilterMode::Linear,
+            Some(Filter::Nearest) | None => wgpu::MipmapFilterMode::Nearest,
+        },
+        // Without mipmapping only the full-size level is read.
+        lod_max_clamp: if sampler.mipmap_filter.is_some() {
+            defaults.lod_max_clamp
+        } else {
+            0.0
+        },
+        anisotropy_clamp: if all_linear { anisotropy_clamp(gpu) } else { 1 },
+        ..defaults
+    })
 }
 
 impl SceneRenderer {
@@ -483,16 +503,7 @@ impl SceneRenderer {
             .iter()
             .map(|t| t.create_view(&Default::default()))
             .collect();
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("scene material sampler"),
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            mipmap_filter: wgpu::MipmapFilterMode::Linear,
-            anisotropy_clamp: anisotropy_clamp(gpu),
-            ..Default::default()
-        });
+        let mut samplers: HashMap<TextureSampler, wgpu::Sampler> = HashMap::new();
         let default_material = super::Material::default();
         let materials = (0..scene.materials.len().max(1))
             .map(|i| {
@@ -502,7 +513,7 @@ impl SceneRenderer {
                     AlphaMode::Mask { cutoff } => (1.0, cutoff),
                 };
                 let uniform = MaterialUniform {
-                    base_color: m.base_color.extend(1.0).to_array(),
+                    base_color: m.base_color.extend(m.opacity).to_array(),
                     specular: m.specular.extend(m.shininess.max(1.0)).to_array(),
                     params: [cutoff, f32::from(u8::from(m.unlit)), masked, 0.0],
                 };
@@ -515,6 +526,9 @@ impl SceneRenderer {
                     .base_color_texture
                     .and_then(|t| views.get(t))
                     .unwrap_or_else(|| &views[views.len() - 1]);
+                let sampler = samplers
+                    .entry(m.sampler)
+                    .or_insert_with(|| create_sampler(gpu, &m.sampler));
                 let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some(&format!("material {}", m.name)),
                     layout: &material_layout,
@@ -529,7 +543,7 @@ impl SceneRenderer {
                         },
                         wgpu::BindGroupEntry {
                             binding: 2,
-                            resource: wgpu::BindingResource::Sampler(&sampler),
+                            resource: wgpu::BindingResource::Sampler(sampler),
                         },
                     ],
                 });

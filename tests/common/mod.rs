@@ -102,6 +102,8 @@ pub fn flat_chart(slant_degrees: f32) -> Scene {
         },
         light: Default::default(),
         clear_color: Vec3::ONE,
+        views: Vec::new(),
+        notes: Vec::new(),
         warnings: Vec::new(),
     }
 }

@@ -121,6 +121,12 @@ impl Technique for Smaa {
         self.mode == Mode::T2x
     }
 
+    fn color_only(&self) -> bool {
+        matches!(self.state, State::X1)
+            && self.settings.edge_mode != EdgeMode::Depth
+            && !self.settings.predication
+    }
+
     fn encode(
         &mut self,
         ctx: &mut PassContext<'_>,

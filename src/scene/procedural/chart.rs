@@ -566,6 +566,8 @@ pub fn chart(_options: &SceneOptions) -> Scene {
         },
         light: DirectionalLight::default(),
         clear_color: Vec3::ONE,
+        views: Vec::new(),
+        notes: Vec::new(),
         warnings: Vec::new(),
     }
 }

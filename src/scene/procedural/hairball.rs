@@ -152,6 +152,8 @@ pub fn hairball(options: &SceneOptions) -> Scene {
             ambient: Vec3::splat(0.06),
         },
         clear_color: Vec3::new(0.012, 0.014, 0.02),
+        views: Vec::new(),
+        notes: Vec::new(),
         warnings,
     }
 }

@@ -712,6 +712,8 @@ pub fn atrium(options: &SceneOptions) -> Scene {
             ambient: Vec3::new(0.28, 0.29, 0.32),
         },
         clear_color: Vec3::new(0.50, 0.66, 0.85),
+        views: Vec::new(),
+        notes: Vec::new(),
         warnings: Vec::new(),
     }
 }
