@@ -319,6 +319,8 @@ fn sample_spec() -> RenderSpec {
         height: 90,
         frame: 3,
         camera: None,
+        rig: None,
+        image: None,
         techniques: vec![TechniqueSpec {
             id: "msaa4".to_owned(),
             settings: Default::default(),
