@@ -19,7 +19,8 @@
 //     was written with (kept in the history's alpha), the history shows the same surface and
 //     the rectification is eased off, so thin lines that this frame's jitter missed stay.
 //  4. Blend: the current frame gets `current_weight`, more under motion (the resampling softens
-//     the history a little every frame), optionally weighed by 1 / (1 + luminance)
+//     the history a little every frame: the weight follows the speed, or the blur of the read
+//     between texels), optionally weighed by 1 / (1 + luminance)
 //     against the history's so a lone bright sample does not flicker.
 // Colour is linear (the sRGB input decodes on load, the sRGB output encodes on store); the
 // history is Rgba16Float. fs_resolve writes output and history; fs_resolve_debug also writes
@@ -33,7 +34,9 @@ struct TaaParams {
     blend: vec4<f32>,
     // x: change of speed (pixels per frame) between the history and the current pixel at which
     // rectification applies in full (0: always in full); y: 1 to compare the pixel's own speed
-    // (else the speed of the nearest surface it reprojects with).
+    // (else the speed of the nearest surface it reprojects with); z: 1 to raise the current
+    // weight with the blur of resampling the history (else with the speed); w: 1 to ease the
+    // trust off as that blur grows.
     trust: vec4<f32>,
 }
 
@@ -213,6 +216,11 @@ fn resolve(position: vec2<f32>) -> Resolved {
     }
     let sampled = history_at(previous);
     let reprojected = sampled.rgb;
+    // How much reading between texels blurs the history: 4 f (1 - f) of the fraction f past a
+    // texel centre, 0 on a texel, 1 half-way.
+    let f = fract(previous * params.size.xy - 0.5);
+    let blur2 = 4.0 * f * (1.0 - f);
+    let blur = max(blur2.x, blur2.y);
 
     // 3. Rectification.
     var kept = reprojected;
@@ -239,12 +247,25 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // missed by this frame's jitter from a ghost, is eased off; a change of speed (an occluder
     // moving over its background) brings it back in full.
     if params.trust.x > 0.0 {
-        let trust = saturate(1.0 - abs(own_speed - sampled.a) / params.trust.x);
+        var trust = saturate(1.0 - abs(own_speed - sampled.a) / params.trust.x);
+        // A blurred history spreads a little into its neighbours every frame; trusted, that
+        // spread is never rectified away.
+        if params.trust.w > 0.5 {
+            trust *= 1.0 - blur;
+        }
+
         kept = mix(kept, reprojected, trust);
     }
 
-    // 4. Blend.
-    let alpha = mix(params.blend.x, max(params.blend.x, params.blend.w), saturate(speed));
+    // 4. Blend. Motion-adaptive feedback: the current frame's share rises from blend.x towards
+    // blend.w with the speed, or with how much the read between texels blurs the history (a
+    // still camera and whole-pixel motion keep the history sharp; half-pixel motion softens it
+    // most).
+    var adapt = saturate(speed);
+    if params.trust.z > 0.5 {
+        adapt = blur;
+    }
+    let alpha = mix(params.blend.x, max(params.blend.x, params.blend.w), adapt);
     var colour: vec3<f32>;
     if LUMA_WEIGHT {
         let w_current = alpha / (1.0 + luminance(centre));

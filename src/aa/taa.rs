@@ -5,13 +5,28 @@
 //!
 //! Each frame reads the shared jittered render (`SceneInput::jittered`): the projection is
 //! shifted by the next offset of a Halton(2,3) sequence of 8 or 16 samples, so over a cycle
-//! every pixel is sampled at that many places, and textures get a negative mip bias to stay as
-//! sharp as the accumulated image. The resolve (`shaders/taa.wgsl`, one fullscreen pass with
-//! two targets) reprojects the history with the renderer's motion vectors (camera and object
-//! motion, without jitter; taken from the nearest pixel of the 3x3 neighbourhood), rectifies it
-//! against the current neighbourhood's colours (clamp, YCoCg clip or variance clip) and blends
-//! it with the current sample, writing the output and the next history (ping-pong Rgba16Float
-//! textures, linear colour).
+//! every pixel is sampled at that many places, and textures get a negative mip bias (-1.5 by
+//! default: -1/2 log2 of the 8 samples the history averages, so textures come out as sharp as
+//! in a supersampled image). The resolve (`shaders/taa.wgsl`, one fullscreen pass with two
+//! targets) reprojects the history with the renderer's motion vectors (camera and object
+//! motion, without jitter; taken from the nearest surface among the pixel and its diagonal
+//! neighbours), rectifies it against the current neighbourhood's colours (clamp, YCoCg clip or
+//! variance clip) and blends it with the current sample, writing the output and the next
+//! history (ping-pong Rgba16Float textures, linear colour).
+//!
+//! What each read earns (SSIM against the 64-sample reference at 640x360, orbit frames 16 and
+//! 40, measured when the defaults were chosen): the nearest-surface velocity is worth .02 on
+//! hairball (thin strands smear with their own motion), so it stays, but from the 4 diagonal
+//! neighbours instead of all 8; the 5-pixel cross bounds the history as well as the 3x3 block
+//! (within .0003) with 4 fewer reads; the 4 texel loads that kept the Catmull-Rom result
+//! within its bilinear footprint, and a separate bilinear read of the history's speed, are
+//! dropped (the rectification removes the overshoot). The default resolve reads 16 texels per
+//! pixel (5 colours, 5 depths, 1 motion, 5 history taps) where it read 29. A bilinear history
+//! (`fast` preset, 12 reads) was .002-.003 better on hairball, but where the velocity
+//! tolerance trusts it, its blur spreads a slow object into its background a little every
+//! frame and leaves a faint ghost (13/255 in `tests/fxaa_taa.rs`), and atrium's textures come
+//! out .02 softer. Under motion the current frame's share rises with how much the read between
+//! texels blurs the history (`resample_feedback`), none on whole-pixel motion.
 //!
 //! The history is dropped when the frame asks for it (camera cut, scene change, first frame),
 //! when the camera does not continue the previous frame (an unflagged cut: the frame's
@@ -35,8 +50,7 @@
 //! frame, at which it applies in full; the idea follows the velocity weighting of Jimenez et
 //! al.'s SMAA T2x). Under motion the history is resampled between pixels every frame, which
 //! softens it, so the current frame's share rises with the speed (`motion_weight` at one pixel
-//! per frame and faster), and the Catmull-Rom result is kept within the four texels around the
-//! sample so that its overshoot cannot build up once the clip no longer removes it. Karis'
+//! per frame and faster, or with the blur of the read). Karis'
 //! 1 / (1 + luminance) weighting is off by default (the `karis` preset turns it on): on
 //! display-range colours it gives dark samples up to twice the weight of light ones and makes
 //! thin dark lines a quarter too dark once they are kept.
@@ -177,6 +191,11 @@ pub struct TaaSettings {
     /// rectification applies in full; smaller changes ease it off proportionally (0: always
     /// rectify in full).
     pub velocity_tolerance: f32,
+    /// Raise the current frame's share with the blur of reading the history between texels
+    /// (else with the speed).
+    pub resample_feedback: bool,
+    /// Ease the velocity trust off as the read between texels blurs the history.
+    pub trust_sharp_only: bool,
     /// Compare the history's speed with the pixel's own surface's (else with the speed of the
     /// nearest surface it reprojects with).
     pub trust_own_speed: bool,
@@ -194,17 +213,19 @@ impl Default for TaaSettings {
     fn default() -> Self {
         Self {
             samples: 8,
-            history_filter: HistoryFilter::Bilinear,
+            history_filter: HistoryFilter::CatmullRom,
             rectify: Rectify::Variance,
-            gamma: 1.0,
+            gamma: 0.5,
             current_weight: 0.1,
-            motion_weight: 0.25,
+            motion_weight: 0.3,
             velocity_tolerance: 1.0,
-            trust_own_speed: true,
+            resample_feedback: true,
+            trust_own_speed: false,
+            trust_sharp_only: false,
             luma_weight: false,
             velocity: VelocityTaps::Diagonals,
-            neighbourhood: Neighbourhood::Box,
-            mip_bias: -1.0,
+            neighbourhood: Neighbourhood::Cross,
+            mip_bias: -1.5,
         }
     }
 }
@@ -234,12 +255,13 @@ impl TaaSettings {
                 neighbourhood: Neighbourhood::Cross,
                 ..default
             },
-            // The most reads: Catmull-Rom history, nearest surface of the 3x3 block, 16 jitter
-            // positions (sharper textures in motion, softer fine geometry).
+            // The most reads: nearest surface and colour box of the 3x3 block, 16 jitter
+            // positions and a mip bias of -2 to match them.
             "quality" => Self {
                 samples: 16,
-                history_filter: HistoryFilter::CatmullRom,
                 velocity: VelocityTaps::Box,
+                neighbourhood: Neighbourhood::Box,
+                mip_bias: -2.0,
                 ..default
             },
             // Karis 2014: YCoCg clip, a small current weight with luminance weighting.
@@ -691,8 +713,8 @@ impl Technique for Taa {
             trust: [
                 self.settings.velocity_tolerance,
                 f32::from(u8::from(self.settings.trust_own_speed)),
-                0.0,
-                0.0,
+                f32::from(u8::from(self.settings.resample_feedback)),
+                f32::from(u8::from(self.settings.trust_sharp_only)),
             ],
         };
         ctx.gpu
@@ -864,6 +886,24 @@ impl Technique for Taa {
                 name_of(&Neighbourhood::ALL, Neighbourhood::NAMES, &s.neighbourhood),
             ),
             Param::bool(
+                "resample_feedback",
+                "Resampling-adaptive feedback",
+                "What raises the current frame's share from the current frame weight towards the \
+                 motion weight: on, the blur of reading the history between texels (none on a \
+                 still camera or whole-pixel motion, most at half-pixel offsets); off, the speed \
+                 (in full at one pixel per frame).",
+                s.resample_feedback,
+            ),
+            Param::bool(
+                "trust_sharp_only",
+                "Trust sharp history only",
+                "Ease the velocity tolerance's trust off as the read between texels blurs the \
+                 history: a blurred history spreads a little into its neighbours every frame, and \
+                 trusted, that spread is never rectified away (a dark veil creeping out of moving \
+                 thin geometry, ghosts beside slow objects).",
+                s.trust_sharp_only,
+            ),
+            Param::bool(
                 "trust_own_speed",
                 "Trust by own speed",
                 "Velocity tolerance compares the history's speed with the speed of the pixel's own \
@@ -912,6 +952,8 @@ impl Technique for Taa {
                         .unwrap_or(s.neighbourhood);
             }
             "trust_own_speed" => s.trust_own_speed = as_bool(value),
+            "resample_feedback" => s.resample_feedback = as_bool(value),
+            "trust_sharp_only" => s.trust_sharp_only = as_bool(value),
             "mip_bias" => s.mip_bias = as_f32(value),
             _ => return Err(ParamError::unknown_key("taa", key, &self.params())),
         }
