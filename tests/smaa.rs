@@ -343,8 +343,8 @@ fn t2x_is_at_least_as_close_to_the_charts_exact_truth_as_smaa_1x() {
     // its textures came out softer than the reference. On the built-in chart (still camera)
     // both are scored against the exact analytic coverage, over the chart's test elements.
     let gpu = common::gpu();
-    let scene = aa_lab::scene::source::load("chart", &Default::default())
-        .unwrap_or_else(|e| panic!("{e}"));
+    let scene =
+        aa_lab::scene::source::load("chart", &Default::default()).unwrap_or_else(|e| panic!("{e}"));
     let mut graph = FrameGraph::new(gpu.clone(), &scene);
     for t in [
         common::technique(&gpu, "none", &[]),
@@ -354,13 +354,10 @@ fn t2x_is_at_least_as_close_to_the_charts_exact_truth_as_smaa_1x() {
         graph.add(t);
     }
     let images = render_frames(&mut graph, &scene, 0..=8);
-    let truth = aa_lab::metrics::coverage::chart_truth(
-        &aa_lab::scene::procedural::chart_layout(),
-        SIZE,
-    );
+    let truth =
+        aa_lab::metrics::coverage::chart_truth(&aa_lab::scene::procedural::chart_layout(), SIZE);
     let score = |image: &RgbaImage| {
-        let (_, maps) =
-            aa_lab::metrics::compare_with_maps(&truth.image, image).expect("same size");
+        let (_, maps) = aa_lab::metrics::compare_with_maps(&truth.image, image).expect("same size");
         maps.pool(Some(&truth.mask))
     };
     let [none, smaa, t2x] = [0, 1, 2].map(|i| score(&images[i]));

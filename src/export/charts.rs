@@ -510,7 +510,9 @@ pub fn draw_tradeoff(path: &Path, chart: &TradeoffChart<'_>) -> Result<(), Chart
     ctx.draw_series(LineSeries::new(steps, front_color.stroke_width(2)))
         .map_err(&err)?
         .label("Pareto front: the best quality for the cost")
-        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], front_color.stroke_width(2)));
+        .legend(move |(x, y)| {
+            PathElement::new(vec![(x, y), (x + 18, y)], front_color.stroke_width(2))
+        });
     for (i, p) in chart.points.iter().enumerate() {
         if !(p.cost.is_finite() && p.quality.is_finite()) {
             continue;
