@@ -1,4 +1,4 @@
-// FXAA 3.11, quality path (after Timothy Lottes, NVIDIA 2011), on the sRGB-encoded LDR image.
+// FXAA 3.11, quality path (after Timothy Lottes, NVIDIA 2011).
 //
 // Per pixel:
 //  1. Local contrast: luma of the pixel and its four direct neighbours. When their range is
@@ -18,9 +18,15 @@
 //     isolated features that have no edge span.
 //  5. One bilinear read at the pixel centre moved across the edge by that offset.
 //
-// The image is read through an Rgba8Unorm view, so the values (and the bilinear blends) are the
-// encoded ones FXAA is tuned for, and written through an Rgba8Unorm view of the output.
-// fs_fxaa writes the antialiased image; fs_mask writes the debug mask of the same analysis.
+// Colour spaces, as FXAA 3.11 prescribes for sRGB targets: every luma test (steps 1-4) reads
+// the sRGB-encoded values through an Rgba8Unorm view (`image`), because the thresholds are
+// tuned for perceptual luma, and unchanged pixels are written back as they were read; the
+// blend of step 5 reads through the sRGB view (`image_linear`), so the bilinear read mixes
+// linear light, and is encoded again for the Rgba8Unorm view of the output. Mixing the
+// encoded values instead darkens every blended edge pixel (a half-covered black/white pixel
+// comes out at half the encoded scale, 21% of the light, instead of half the light).
+// fs_fxaa writes the antialiased image; fs_mask writes the debug mask of the same analysis
+// (through an Rgba8Unorm view: the mask colours are display values).
 
 struct FxaaParams {
     // xy: size of one pixel in UV, z: subpix (0 off .. 1 softest), w: unused.
@@ -32,6 +38,7 @@ struct FxaaParams {
 @group(0) @binding(0) var image: texture_2d<f32>;
 @group(0) @binding(1) var bilinear: sampler;
 @group(0) @binding(2) var<uniform> params: FxaaParams;
+@group(0) @binding(3) var image_linear: texture_2d<f32>;
 
 // Luma from the green channel instead of BT.601 weights.
 override GREEN_AS_LUMA: bool = false;
@@ -75,6 +82,14 @@ fn luma_of(encoded: vec3<f32>) -> f32 {
     return dot(encoded, vec3<f32>(0.299, 0.587, 0.114));
 }
 
+// Linear light to the sRGB transfer function (IEC 61966-2-1).
+fn encode_srgb(linear: vec3<f32>) -> vec3<f32> {
+    let c = saturate(linear);
+    let low = c * 12.92;
+    let high = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(high, low, c <= vec3<f32>(0.0031308));
+}
+
 fn luma_at(pixel: vec2<i32>) -> f32 {
     let last = vec2<i32>(textureDimensions(image)) - 1;
     return luma_of(textureLoad(image, clamp(pixel, vec2<i32>(0), last), 0).rgb);
@@ -85,7 +100,7 @@ fn luma_between(uv: vec2<f32>) -> f32 {
 }
 
 struct Analysis {
-    // The antialiased colour (encoded).
+    // The antialiased colour (sRGB-encoded).
     colour: vec4<f32>,
     // Luma of the pixel.
     luma: f32,
@@ -220,7 +235,8 @@ fn analyse(position: vec2<f32>) -> Analysis {
     } else {
         read_at.x += offset * across;
     }
-    result.colour = vec4<f32>(textureSampleLevel(image, bilinear, read_at, 0.0).rgb, 1.0);
+    let mixed = textureSampleLevel(image_linear, bilinear, read_at, 0.0).rgb;
+    result.colour = vec4<f32>(encode_srgb(mixed), 1.0);
     return result;
 }
 

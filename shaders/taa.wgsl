@@ -3,21 +3,24 @@
 //
 // Every frame the scene is rendered with a different sub-pixel jitter (Halton 2,3), and this
 // pass blends that one-sample image into an accumulated history:
-//  1. Neighbourhood: the 3x3 current colours around the pixel give the colour box (min/max,
-//     mean and variance), and the nearest surface among them (reverse-Z: largest depth) gives
-//     the motion vector, so silhouettes carry the foreground's motion.
+//  1. Neighbourhood: the current colours around the pixel (3x3, or the 5-pixel cross) give the
+//     colour box (min/max, mean and variance), and the nearest surface among the pixel and its
+//     neighbours (reverse-Z: largest depth; the 4 diagonal ones or all 8) gives the motion
+//     vector, so silhouettes carry the foreground's motion.
 //  2. Reprojection: the history is read at uv - motion (the motion vectors hold no jitter) with
-//     a bilinear tap or a five-tap bilinear-optimised Catmull-Rom filter (sharper; fewer taps
-//     than the 4x4 cubic by dropping its corners). History that falls off screen, or a reset
-//     (camera cut, resize, new settings), leaves the current frame alone.
+//     one bilinear tap or a five-tap bilinear-optimised Catmull-Rom filter (sharper; fewer taps
+//     than the 4x4 cubic by dropping its corners; its overshoot is removed by the
+//     rectification). History that falls off screen, or a reset (camera cut, resize, new
+//     settings), leaves the current frame alone.
 //  3. Rectification: the history is forced into the current neighbourhood's colour box, which
 //     removes ghosts of content that has moved away: per-channel RGB clamp, clipping towards
 //     the box centre in YCoCg, or clipping to the variance box mean +/- gamma * sigma in YCoCg
-//     (intersected with min/max). Where the pixel moves at the speed the history was written
-//     with (kept in the history's alpha), the history shows the same surface and the
-//     rectification is eased off, so thin lines that this frame's jitter missed stay.
+//     (intersected with min/max). Where the pixel's own surface moves at the speed the history
+//     was written with (kept in the history's alpha), the history shows the same surface and
+//     the rectification is eased off, so thin lines that this frame's jitter missed stay.
 //  4. Blend: the current frame gets `current_weight`, more under motion (the resampling softens
-//     the history a little every frame), optionally weighed by 1 / (1 + luminance)
+//     the history a little every frame: the weight follows the speed, or the blur of the read
+//     between texels), optionally weighed by 1 / (1 + luminance)
 //     against the history's so a lone bright sample does not flicker.
 // Colour is linear (the sRGB input decodes on load, the sRGB output encodes on store); the
 // history is Rgba16Float. fs_resolve writes output and history; fs_resolve_debug also writes
@@ -30,7 +33,10 @@ struct TaaParams {
     // w: current frame weight at one pixel per frame of motion and faster.
     blend: vec4<f32>,
     // x: change of speed (pixels per frame) between the history and the current pixel at which
-    // rectification applies in full (0: always in full).
+    // rectification applies in full (0: always in full); y: 1 to compare the pixel's own speed
+    // (else the speed of the nearest surface it reprojects with); z: 1 to raise the current
+    // weight with the blur of resampling the history (else with the speed); w: 1 to ease the
+    // trust off as that blur grows.
     trust: vec4<f32>,
 }
 
@@ -48,8 +54,11 @@ override HISTORY_FILTER: u32 = 1u;
 override RECTIFY: u32 = 3u;
 // Karis' 1 / (1 + luminance) weighting of the blend.
 override LUMA_WEIGHT: bool = true;
-// Motion of the nearest pixel of the 3x3 neighbourhood (else the pixel's own).
-override CLOSEST_VELOCITY: bool = true;
+// Motion of the nearest surface among: 0 the pixel alone, 1 the pixel and its 4 diagonal
+// neighbours, 2 the 3x3 neighbourhood.
+override VELOCITY_TAPS: u32 = 1u;
+// Colour box from 0: the 3x3 neighbourhood, 1: the pixel and its 4 direct neighbours.
+override NEIGHBOURHOOD: u32 = 0u;
 
 fn luminance(c: vec3<f32>) -> f32 {
     return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
@@ -96,11 +105,10 @@ fn catmull_rom_weights(t: vec2<f32>) -> array<vec2<f32>, 4> {
     );
 }
 
-// The history's colour at `uv` (alpha: the speed it was written with, bilinear).
+// The history's colour at `uv` (alpha: the speed it was written with).
 fn history_at(uv: vec2<f32>) -> vec4<f32> {
-    let nearby = textureSampleLevel(history, bilinear, uv, 0.0);
     if HISTORY_FILTER == 0u {
-        return nearby;
+        return textureSampleLevel(history, bilinear, uv, 0.0);
     }
     // Texel whose centre is at or left/above the sample point, and the fraction past it.
     let position = uv * params.size.xy - 0.5;
@@ -127,23 +135,16 @@ fn history_at(uv: vec2<f32>) -> vec4<f32> {
     );
     var sum = vec3<f32>(0.0);
     var total = 0.0;
+    var speed = 0.0;
     for (var i = 0u; i < 5u; i++) {
-        sum += weights[i] * textureSampleLevel(history, bilinear, taps[i], 0.0).rgb;
+        let tap = textureSampleLevel(history, bilinear, taps[i], 0.0);
+        sum += weights[i] * tap.rgb;
         total += weights[i];
+        if i == 2u {
+            speed = tap.a;
+        }
     }
-    // The cubic's negative lobes overshoot next to sharp edges (a ring that would build up
-    // frame after frame under motion): keep the result within the four texels around `uv`.
-    let corner = vec2<i32>(base);
-    let last = vec2<i32>(params.size.xy) - 1;
-    var low = vec3<f32>(1e9);
-    var high = vec3<f32>(-1e9);
-    for (var i = 0; i < 4; i++) {
-        let p = clamp(corner + vec2<i32>(i & 1, i >> 1u), vec2<i32>(0), last);
-        let c = textureLoad(history, p, 0).rgb;
-        low = min(low, c);
-        high = max(high, c);
-    }
-    return vec4<f32>(clamp(sum / total, low, high), nearby.a);
+    return vec4<f32>(max(sum / total, vec3<f32>(0.0)), speed);
 }
 
 struct Resolved {
@@ -159,24 +160,37 @@ struct Resolved {
 fn resolve(position: vec2<f32>) -> Resolved {
     let pixel = vec2<i32>(position);
     let last = vec2<i32>(params.size.xy) - 1;
-    let centre = textureLoad(current, pixel, 0).rgb;
+    var centre = vec3<f32>(0.0);
 
     // 1. Neighbourhood colour box and nearest surface.
     var low = vec3<f32>(1e9);
     var high = vec3<f32>(-1e9);
     var sum = vec3<f32>(0.0);
     var sum_squares = vec3<f32>(0.0);
+    var count = 0.0;
     var nearest = pixel;
-    var nearest_depth = textureLoad(depth, pixel, 0);
+    var nearest_depth = 0.0;
+    if VELOCITY_TAPS > 0u {
+        nearest_depth = textureLoad(depth, pixel, 0);
+    }
     for (var dy = -1; dy <= 1; dy++) {
         for (var dx = -1; dx <= 1; dx++) {
             let p = clamp(pixel + vec2<i32>(dx, dy), vec2<i32>(0), last);
-            let c = to_box_space(textureLoad(current, p, 0).rgb);
-            low = min(low, c);
-            high = max(high, c);
-            sum += c;
-            sum_squares += c * c;
-            if CLOSEST_VELOCITY {
+            let diagonal = dx != 0 && dy != 0;
+            let centre_tap = dx == 0 && dy == 0;
+            if NEIGHBOURHOOD == 0u || !diagonal {
+                let rgb = textureLoad(current, p, 0).rgb;
+                if centre_tap {
+                    centre = rgb;
+                }
+                let c = to_box_space(rgb);
+                low = min(low, c);
+                high = max(high, c);
+                sum += c;
+                sum_squares += c * c;
+                count += 1.0;
+            }
+            if !centre_tap && (VELOCITY_TAPS == 2u || (VELOCITY_TAPS == 1u && diagonal)) {
                 let d = textureLoad(depth, p, 0);
                 if d > nearest_depth {
                     nearest_depth = d;
@@ -190,13 +204,24 @@ fn resolve(position: vec2<f32>) -> Resolved {
     let uv = (floor(position) + 0.5) * params.size.zw;
     let velocity = textureLoad(motion, nearest, 0).xy;
     let speed = length(velocity * params.size.xy);
+    // The speed the trust test compares (and the history keeps): the pixel's own surface's.
+    var own_speed = speed;
+    if VELOCITY_TAPS > 0u {
+        let own = length(textureLoad(motion, pixel, 0).xy * params.size.xy);
+        own_speed = select(speed, own, params.trust.y > 0.5);
+    }
     let previous = uv - velocity;
     let off_screen = any(previous < vec2<f32>(0.0)) || any(previous > vec2<f32>(1.0));
     if (params.blend.z > 0.5) | off_screen {
-        return Resolved(centre, speed, 1.0, true);
+        return Resolved(centre, own_speed, 1.0, true);
     }
     let sampled = history_at(previous);
     let reprojected = sampled.rgb;
+    // How much reading between texels blurs the history: 4 f (1 - f) of the fraction f past a
+    // texel centre, 0 on a texel, 1 half-way.
+    let f = fract(previous * params.size.xy - 0.5);
+    let blur2 = 4.0 * f * (1.0 - f);
+    let blur = max(blur2.x, blur2.y);
 
     // 3. Rectification.
     var kept = reprojected;
@@ -206,8 +231,8 @@ fn resolve(position: vec2<f32>) -> Resolved {
         var box_low = low;
         var box_high = high;
         if RECTIFY == 3u {
-            let mean = sum / 9.0;
-            let sigma = sqrt(max(sum_squares / 9.0 - mean * mean, vec3<f32>(0.0)));
+            let mean = sum / count;
+            let sigma = sqrt(max(sum_squares / count - mean * mean, vec3<f32>(0.0)));
             box_low = max(mean - params.blend.y * sigma, low);
             box_high = min(mean + params.blend.y * sigma, high);
         }
@@ -222,18 +247,25 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // the history shows the same surface and rectification, which cannot tell a thin feature
     // missed by this frame's jitter from a ghost, is eased off; a change of speed (an occluder
     // moving over its background) brings it back in full.
-    // (A select, not a branch on the uniform: see "Uniforms never steer control flow" in
-    // gpu/shader.rs.)
+    // Selects, not branches on the uniforms: see "Uniforms never steer control flow" in
+    // gpu/shader.rs.
     let tolerance = params.trust.x;
-    let trust = select(
+    var trust = select(
         0.0,
-        saturate(1.0 - abs(speed - sampled.a) / max(tolerance, 1e-6)),
+        saturate(1.0 - abs(own_speed - sampled.a) / max(tolerance, 1e-6)),
         tolerance > 0.0,
     );
+    // A blurred history spreads a little into its neighbours every frame; trusted, that
+    // spread is never rectified away.
+    trust *= select(1.0, 1.0 - blur, params.trust.w > 0.5);
     kept = mix(kept, reprojected, trust);
 
-    // 4. Blend.
-    let alpha = mix(params.blend.x, max(params.blend.x, params.blend.w), saturate(speed));
+    // 4. Blend. Motion-adaptive feedback: the current frame's share rises from blend.x towards
+    // blend.w with the speed, or with how much the read between texels blurs the history (a
+    // still camera and whole-pixel motion keep the history sharp; half-pixel motion softens it
+    // most).
+    let adapt = select(saturate(speed), blur, params.trust.z > 0.5);
+    let alpha = mix(params.blend.x, max(params.blend.x, params.blend.w), adapt);
     var colour: vec3<f32>;
     if LUMA_WEIGHT {
         let w_current = alpha / (1.0 + luminance(centre));
@@ -243,7 +275,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
         colour = mix(kept, centre, alpha);
     }
     let moved = length(kept - reprojected);
-    return Resolved(colour, speed, saturate(moved * 4.0), false);
+    return Resolved(colour, own_speed, saturate(moved * 4.0), false);
 }
 
 struct Varying {

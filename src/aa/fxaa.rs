@@ -2,9 +2,13 @@
 //! one fullscreen pass over the shared one-sample render that finds luma edges, walks along
 //! each edge to its ends and blends across it by how far the pixel is from the nearer end.
 //!
-//! The pass (`shaders/fxaa.wgsl`) reads the sRGB-encoded values through an `Rgba8Unorm` view
-//! with a bilinear sampler, as the algorithm is tuned for perceptual LDR values, and computes
-//! luma per tap (BT.601 weights, or the green channel). Settings:
+//! The pass (`shaders/fxaa.wgsl`) makes every luma test on the sRGB-encoded values (read through
+//! an `Rgba8Unorm` view; BT.601 weights, or the green channel), as the thresholds are tuned for
+//! perceptual LDR values, but blends in linear light, as Lottes intended for sRGB targets: the
+//! final bilinear read goes through the sRGB view, whose texels the sampler decodes before
+//! filtering, and is encoded again on output. (Blending the encoded values, as this pass did
+//! before, left a half-covered black/white pixel at 100/255 where the reference has 179.)
+//! Settings:
 //! - `quality`: Lottes' presets 10-15 (few steps, a long last step: medium dither), 20-29 (more,
 //!   shorter steps: less dither) and 39 (twelve short steps, no dither); the search step list
 //!   of the preset goes into the shader as override constants, so a pipeline is built per
@@ -234,10 +238,12 @@ impl Fxaa {
     }
 
     /// The bind group of a pipeline (layouts are derived from the shader) over `source`.
+    /// `source` is the encoded view (luma tests), `linear` the sRGB view (the blend).
     fn bind_group(
         &self,
         pipeline: &wgpu::RenderPipeline,
         source: &wgpu::TextureView,
+        linear: &wgpu::TextureView,
     ) -> wgpu::BindGroup {
         self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("fxaa"),
@@ -254,6 +260,10 @@ impl Fxaa {
                 wgpu::BindGroupEntry {
                     binding: 2,
                     resource: self.uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(linear),
                 },
             ],
         })
@@ -311,8 +321,9 @@ impl Technique for Fxaa {
             .queue
             .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
         let source = encoded_view(input.color_1x());
+        let linear = input.color_1x().create_view(&Default::default());
         let pipeline = self.pipeline(ctx, Pass::Antialias);
-        let bind_group = self.bind_group(&pipeline, &source);
+        let bind_group = self.bind_group(&pipeline, &source, &linear);
         ctx.fullscreen_pass("fxaa", &encoded_view(output), &pipeline, &bind_group);
 
         if self.debug_enabled {
@@ -324,7 +335,7 @@ impl Technique for Fxaa {
                 self.mask = Some(debug_texture(&self.device, "fxaa edges", (width, height)));
             }
             let pipeline = self.pipeline(ctx, Pass::Mask);
-            let bind_group = self.bind_group(&pipeline, &source);
+            let bind_group = self.bind_group(&pipeline, &source, &linear);
             if let Some(mask) = &self.mask {
                 ctx.fullscreen_pass("debug edges", &encoded_view(mask), &pipeline, &bind_group);
             }
@@ -456,7 +467,7 @@ impl Technique for Fxaa {
     fn path_note(&self) -> Option<String> {
         let s = &self.settings;
         Some(format!(
-            "quality {} ({} search steps), {} luma on sRGB-encoded values",
+            "quality {} ({} search steps), {} luma on sRGB-encoded values, blend in linear light",
             s.quality,
             search_steps(s.quality).map_or(0, <[f32]>::len),
             s.luma.name()

@@ -5,13 +5,28 @@
 //!
 //! Each frame reads the shared jittered render (`SceneInput::jittered`): the projection is
 //! shifted by the next offset of a Halton(2,3) sequence of 8 or 16 samples, so over a cycle
-//! every pixel is sampled at that many places, and textures get a negative mip bias to stay as
-//! sharp as the accumulated image. The resolve (`shaders/taa.wgsl`, one fullscreen pass with
-//! two targets) reprojects the history with the renderer's motion vectors (camera and object
-//! motion, without jitter; taken from the nearest pixel of the 3x3 neighbourhood), rectifies it
-//! against the current neighbourhood's colours (clamp, YCoCg clip or variance clip) and blends
-//! it with the current sample, writing the output and the next history (ping-pong Rgba16Float
-//! textures, linear colour).
+//! every pixel is sampled at that many places, and textures get a negative mip bias (-1.5 by
+//! default: -1/2 log2 of the 8 samples the history averages, so textures come out as sharp as
+//! in a supersampled image). The resolve (`shaders/taa.wgsl`, one fullscreen pass with two
+//! targets) reprojects the history with the renderer's motion vectors (camera and object
+//! motion, without jitter; taken from the nearest surface among the pixel and its diagonal
+//! neighbours), rectifies it against the current neighbourhood's colours (clamp, YCoCg clip or
+//! variance clip) and blends it with the current sample, writing the output and the next
+//! history (ping-pong Rgba16Float textures, linear colour).
+//!
+//! What each read earns (SSIM against the 64-sample reference at 640x360, orbit frames 16 and
+//! 40, measured when the defaults were chosen): the nearest-surface velocity is worth .02 on
+//! hairball (thin strands smear with their own motion), so it stays, but from the 4 diagonal
+//! neighbours instead of all 8; the 5-pixel cross bounds the history as well as the 3x3 block
+//! (within .0003) with 4 fewer reads; the 4 texel loads that kept the Catmull-Rom result
+//! within its bilinear footprint, and a separate bilinear read of the history's speed, are
+//! dropped (the rectification removes the overshoot). The default resolve reads 16 texels per
+//! pixel (5 colours, 5 depths, 1 motion, 5 history taps) where it read 29. A bilinear history
+//! (`fast` preset, 12 reads) was .002-.003 better on hairball, but where the velocity
+//! tolerance trusts it, its blur spreads a slow object into its background a little every
+//! frame and leaves a faint ghost (13/255 in `tests/fxaa_taa.rs`), and atrium's textures come
+//! out .02 softer. Under motion the current frame's share rises with how much the read between
+//! texels blurs the history (`resample_feedback`), none on whole-pixel motion.
 //!
 //! The history is dropped when the frame asks for it (camera cut, scene change, first frame),
 //! when the camera does not continue the previous frame (an unflagged cut: the frame's
@@ -35,8 +50,7 @@
 //! frame, at which it applies in full; the idea follows the velocity weighting of Jimenez et
 //! al.'s SMAA T2x). Under motion the history is resampled between pixels every frame, which
 //! softens it, so the current frame's share rises with the speed (`motion_weight` at one pixel
-//! per frame and faster), and the Catmull-Rom result is kept within the four texels around the
-//! sample so that its overshoot cannot build up once the clip no longer removes it. Karis'
+//! per frame and faster, or with the blur of the read). Karis'
 //! 1 / (1 + luminance) weighting is off by default (the `karis` preset turns it on): on
 //! display-range colours it gives dark samples up to twice the weight of light ones and makes
 //! thin dark lines a quarter too dark once they are kept.
@@ -110,6 +124,40 @@ impl Rectify {
     pub const NAMES: &'static [&'static str] = &["none", "clamp", "clip", "variance"];
 }
 
+/// Which neighbours are searched for the nearest surface, whose motion the pixel reprojects
+/// with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum VelocityTaps {
+    /// The pixel's own motion (no depth reads).
+    Own,
+    /// The nearest of the pixel and its four diagonal neighbours (five depth reads): catches
+    /// a silhouette on either axis at about half the reads of the full block.
+    Diagonals,
+    /// The nearest of the 3x3 neighbourhood (nine depth reads).
+    Box,
+}
+
+impl VelocityTaps {
+    const ALL: [Self; 3] = [Self::Own, Self::Diagonals, Self::Box];
+    /// Names as the `velocity` parameter offers them.
+    pub const NAMES: &'static [&'static str] = &["own", "diagonals", "3x3"];
+}
+
+/// Which current-frame colours make the box the history is rectified against.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Neighbourhood {
+    /// The 3x3 block (nine colour reads).
+    Box,
+    /// The pixel and its four direct neighbours (five reads; a tighter box).
+    Cross,
+}
+
+impl Neighbourhood {
+    const ALL: [Self; 2] = [Self::Box, Self::Cross];
+    /// Names as the `neighbourhood` parameter offers them.
+    pub const NAMES: &'static [&'static str] = &["3x3", "cross"];
+}
+
 /// Looks a name up in parallel `names` / `values` tables.
 fn by_name<T: Copy>(values: &[T], names: &[&str], name: &str) -> Option<T> {
     names.iter().position(|n| *n == name).map(|i| values[i])
@@ -143,10 +191,20 @@ pub struct TaaSettings {
     /// rectification applies in full; smaller changes ease it off proportionally (0: always
     /// rectify in full).
     pub velocity_tolerance: f32,
+    /// Raise the current frame's share with the blur of reading the history between texels
+    /// (else with the speed).
+    pub resample_feedback: bool,
+    /// Ease the velocity trust off as the read between texels blurs the history.
+    pub trust_sharp_only: bool,
+    /// Compare the history's speed with the pixel's own surface's (else with the speed of the
+    /// nearest surface it reprojects with).
+    pub trust_own_speed: bool,
     /// Karis' 1 / (1 + luminance) weighting of the blend.
     pub luma_weight: bool,
-    /// Take the motion of the nearest pixel of the 3x3 neighbourhood.
-    pub closest_velocity: bool,
+    /// Where the motion vector comes from.
+    pub velocity: VelocityTaps,
+    /// The colour box's neighbourhood.
+    pub neighbourhood: Neighbourhood,
     /// Texture mip bias of the jittered render.
     pub mip_bias: f32,
 }
@@ -157,19 +215,30 @@ impl Default for TaaSettings {
             samples: 8,
             history_filter: HistoryFilter::CatmullRom,
             rectify: Rectify::Variance,
-            gamma: 1.0,
+            gamma: 0.5,
             current_weight: 0.1,
-            motion_weight: 0.25,
+            motion_weight: 0.3,
             velocity_tolerance: 1.0,
+            resample_feedback: true,
+            trust_own_speed: false,
+            trust_sharp_only: false,
             luma_weight: false,
-            closest_velocity: true,
-            mip_bias: -0.5,
+            velocity: VelocityTaps::Diagonals,
+            neighbourhood: Neighbourhood::Cross,
+            mip_bias: -1.5,
         }
     }
 }
 
 /// Preset names, in the order a UI offers them.
-pub const PRESET_NAMES: &[&str] = &["default", "fast", "karis", "salvi", "unrectified"];
+pub const PRESET_NAMES: &[&str] = &[
+    "default",
+    "fast",
+    "quality",
+    "karis",
+    "salvi",
+    "unrectified",
+];
 
 impl TaaSettings {
     /// The settings of a preset from [`PRESET_NAMES`].
@@ -177,11 +246,22 @@ impl TaaSettings {
         let default = Self::default();
         Some(match name {
             "default" => default,
-            // The cheapest variant: bilinear history, RGB clamp, the pixel's own motion.
+            // The cheapest variant: bilinear history, RGB clamp to the 5-pixel cross, the
+            // pixel's own motion (7 reads per pixel).
             "fast" => Self {
                 history_filter: HistoryFilter::Bilinear,
                 rectify: Rectify::Clamp,
-                closest_velocity: false,
+                velocity: VelocityTaps::Own,
+                neighbourhood: Neighbourhood::Cross,
+                ..default
+            },
+            // The most reads: nearest surface and colour box of the 3x3 block, 16 jitter
+            // positions and a mip bias of -2 to match them.
+            "quality" => Self {
+                samples: 16,
+                velocity: VelocityTaps::Box,
+                neighbourhood: Neighbourhood::Box,
+                mip_bias: -2.0,
                 ..default
             },
             // Karis 2014: YCoCg clip, a small current weight with luminance weighting.
@@ -206,7 +286,7 @@ impl TaaSettings {
         })
     }
 
-    fn constants(&self) -> [(&'static str, f64); 4] {
+    fn constants(&self) -> [(&'static str, f64); 5] {
         [
             (
                 "HISTORY_FILTER",
@@ -221,8 +301,15 @@ impl TaaSettings {
             ),
             ("LUMA_WEIGHT", f64::from(u8::from(self.luma_weight))),
             (
-                "CLOSEST_VELOCITY",
-                f64::from(u8::from(self.closest_velocity)),
+                "VELOCITY_TAPS",
+                VelocityTaps::ALL
+                    .iter()
+                    .position(|v| *v == self.velocity)
+                    .unwrap_or(0) as f64,
+            ),
+            (
+                "NEIGHBOURHOOD",
+                f64::from(u8::from(self.neighbourhood == Neighbourhood::Cross)),
             ),
         ]
     }
@@ -234,7 +321,8 @@ struct PipelineKey {
     history_filter: HistoryFilter,
     rectify: Rectify,
     luma_weight: bool,
-    closest_velocity: bool,
+    velocity: VelocityTaps,
+    neighbourhood: Neighbourhood,
     debug: bool,
 }
 
@@ -421,7 +509,8 @@ impl Taa {
             history_filter: s.history_filter,
             rectify: s.rectify,
             luma_weight: s.luma_weight,
-            closest_velocity: s.closest_velocity,
+            velocity: s.velocity,
+            neighbourhood: s.neighbourhood,
             debug,
         };
         if let Some(pipeline) = self.pipelines.get(&key) {
@@ -621,7 +710,12 @@ impl Technique for Taa {
                 f32::from(u8::from(reset)),
                 self.settings.motion_weight,
             ],
-            trust: [self.settings.velocity_tolerance, 0.0, 0.0, 0.0],
+            trust: [
+                self.settings.velocity_tolerance,
+                f32::from(u8::from(self.settings.trust_own_speed)),
+                f32::from(u8::from(self.settings.resample_feedback)),
+                f32::from(u8::from(self.settings.trust_sharp_only)),
+            ],
         };
         ctx.gpu
             .queue
@@ -771,12 +865,52 @@ impl Technique for Taa {
                  sample cannot make a pixel flicker.",
                 s.luma_weight,
             ),
+            Param::choice(
+                "velocity",
+                "Velocity source",
+                "Which motion vector reprojects the pixel: own (the pixel's, no depth reads); \
+                 diagonals (the nearest surface among the pixel and its four diagonal neighbours, \
+                 five depth reads); 3x3 (the nearest of the whole block, nine). The nearest \
+                 surface makes antialiased silhouettes move with the foreground object; without it \
+                 thin geometry smears.",
+                VelocityTaps::NAMES,
+                name_of(&VelocityTaps::ALL, VelocityTaps::NAMES, &s.velocity),
+            ),
+            Param::choice(
+                "neighbourhood",
+                "Colour neighbourhood",
+                "Which current-frame colours bound the history: 3x3 (nine reads) or cross (the \
+                 pixel and its four direct neighbours: five reads, a tighter box that rejects a \
+                 little more history).",
+                Neighbourhood::NAMES,
+                name_of(&Neighbourhood::ALL, Neighbourhood::NAMES, &s.neighbourhood),
+            ),
             Param::bool(
-                "closest_velocity",
-                "Nearest-surface velocity",
-                "Reproject with the motion of the nearest surface in the 3x3 neighbourhood instead \
-                 of the pixel's own, so antialiased silhouettes move with the foreground object.",
-                s.closest_velocity,
+                "resample_feedback",
+                "Resampling-adaptive feedback",
+                "What raises the current frame's share from the current frame weight towards the \
+                 motion weight: on, the blur of reading the history between texels (none on a \
+                 still camera or whole-pixel motion, most at half-pixel offsets); off, the speed \
+                 (in full at one pixel per frame).",
+                s.resample_feedback,
+            ),
+            Param::bool(
+                "trust_sharp_only",
+                "Trust sharp history only",
+                "Ease the velocity tolerance's trust off as the read between texels blurs the \
+                 history: a blurred history spreads a little into its neighbours every frame, and \
+                 trusted, that spread is never rectified away (a dark veil creeping out of moving \
+                 thin geometry, ghosts beside slow objects).",
+                s.trust_sharp_only,
+            ),
+            Param::bool(
+                "trust_own_speed",
+                "Trust by own speed",
+                "Velocity tolerance compares the history's speed with the speed of the pixel's own \
+                 surface (one more motion read) instead of the nearest surface's: a background \
+                 pixel next to a moving strand then does not inherit the strand's speed, and \
+                 keeps no stale strand colour (the grey veil over fine geometry).",
+                s.trust_own_speed,
             ),
             Param::float(
                 "mip_bias",
@@ -808,7 +942,18 @@ impl Technique for Taa {
             "motion_weight" => s.motion_weight = as_f32(value),
             "velocity_tolerance" => s.velocity_tolerance = as_f32(value),
             "luma_weight" => s.luma_weight = as_bool(value),
-            "closest_velocity" => s.closest_velocity = as_bool(value),
+            "velocity" => {
+                s.velocity = by_name(&VelocityTaps::ALL, VelocityTaps::NAMES, as_choice(value))
+                    .unwrap_or(s.velocity);
+            }
+            "neighbourhood" => {
+                s.neighbourhood =
+                    by_name(&Neighbourhood::ALL, Neighbourhood::NAMES, as_choice(value))
+                        .unwrap_or(s.neighbourhood);
+            }
+            "trust_own_speed" => s.trust_own_speed = as_bool(value),
+            "resample_feedback" => s.resample_feedback = as_bool(value),
+            "trust_sharp_only" => s.trust_sharp_only = as_bool(value),
             "mip_bias" => s.mip_bias = as_f32(value),
             _ => return Err(ParamError::unknown_key("taa", key, &self.params())),
         }
@@ -866,14 +1011,16 @@ impl Technique for Taa {
         let s = &self.settings;
         let rectify = name_of(&Rectify::ALL, Rectify::NAMES, &s.rectify);
         Some(format!(
-            "{} jitter samples, {} history, {rectify} rectification{}, current weight {}",
+            "{} jitter samples, {} history, {rectify} rectification on the {} colours{}, {} velocity, current weight {}",
             s.samples,
             name_of(&HistoryFilter::ALL, HistoryFilter::NAMES, &s.history_filter),
+            name_of(&Neighbourhood::ALL, Neighbourhood::NAMES, &s.neighbourhood),
             if s.rectify == Rectify::Variance {
                 format!(" (gamma {})", s.gamma)
             } else {
                 String::new()
             },
+            name_of(&VelocityTaps::ALL, VelocityTaps::NAMES, &s.velocity),
             s.current_weight
         ))
     }
@@ -952,7 +1099,8 @@ mod tests {
                 ("HISTORY_FILTER", 0.0),
                 ("RECTIFY", 1.0),
                 ("LUMA_WEIGHT", 0.0),
-                ("CLOSEST_VELOCITY", 0.0)
+                ("VELOCITY_TAPS", 0.0),
+                ("NEIGHBOURHOOD", 1.0)
             ]
         );
     }

@@ -12,7 +12,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::charts::{
-    BarChart, BarLayout, BarSeries, ChartError, Line, LineChart, draw_bars, draw_lines,
+    BarChart, BarLayout, BarSeries, ChartError, Line, LineChart, TradeoffChart, TradeoffPoint,
+    draw_bars, draw_lines, draw_tradeoff, pareto_front,
 };
 use crate::aa::ParamMap;
 use crate::files::Overwrite;
@@ -296,6 +297,68 @@ fn scene_label(run: &RunReport) -> String {
     }
 }
 
+/// The techniques of a run that scored quality, as (name, total GPU ms median, SSIM).
+fn tradeoff_points(run: &RunReport) -> Vec<TradeoffPoint> {
+    run.techniques
+        .iter()
+        .filter_map(|t| {
+            t.quality.map(|q| TradeoffPoint {
+                name: t.name.clone(),
+                cost: t.total_ms.median,
+                quality: q.ssim,
+            })
+        })
+        .collect()
+}
+
+/// File name of a run's quality-against-cost chart.
+fn tradeoff_chart_name(run: &RunReport) -> String {
+    format!("quality-cost-{}.png", run.key())
+}
+
+/// The "which technique for my budget" section: per run, the Pareto front (cheapest first)
+/// and the chart.
+fn tradeoff_markdown(out: &mut String, report: &BenchReport) {
+    out.push_str(
+        "## Quality against cost: which technique for a budget
+
+Each technique is a point (GPU ms \
+         per frame running alone, SSIM against the reference); the Pareto front joins the techniques \
+         that nothing cheaper matches in SSIM. Read off the front at your budget: the last front \
+         technique at or below it is the best there is for it.\n\n",
+    );
+    for run in &report.runs {
+        let points = tradeoff_points(run);
+        let coords: Vec<(f64, f64)> = points.iter().map(|p| (p.cost, p.quality)).collect();
+        let front: Vec<String> = pareto_front(&coords)
+            .into_iter()
+            .map(|i| {
+                format!(
+                    "{} ({} ms, SSIM {:.4})",
+                    points[i].name,
+                    fmt_ms(points[i].cost),
+                    points[i].quality
+                )
+            })
+            .collect();
+        if front.is_empty() {
+            continue;
+        }
+        let _ = writeln!(
+            out,
+            "**{} {}x{}**: front, cheapest first: {}.\n\n![quality against cost, {} {}x{}]({})\n",
+            scene_label(run),
+            run.width,
+            run.height,
+            front.join(" -> "),
+            run.scene,
+            run.width,
+            run.height,
+            tradeoff_chart_name(run)
+        );
+    }
+}
+
 /// Renders the report as Markdown.
 pub fn markdown(report: &BenchReport) -> String {
     let mut out = String::new();
@@ -414,6 +477,7 @@ pub fn markdown(report: &BenchReport) -> String {
     if s.quality {
         out.push_str("## SSIM against the 64-sample SSAA reference\n\nThe shape of the thesis' figures 4.7 and 4.8 (there: against a 16-sample reference).\n\n");
         run_by_technique_table(&mut out, report, |_, t| opt(t.quality.map(|q| q.ssim), 4));
+        tradeoff_markdown(&mut out, report);
         out.push_str("## FLIP (mean error, lower is better)\n\n");
         run_by_technique_table(&mut out, report, |_, t| opt(t.quality.map(|q| q.flip), 4));
         out.push_str("## PSNR (dB) / MAE (0..255)\n\n");
@@ -587,8 +651,9 @@ fn scaling_markdown(out: &mut String, report: &BenchReport) {
 }
 
 /// Writes the report's charts into `dir` and returns their paths: per run, GPU time per
-/// technique (scene input and own passes stacked); per scene, SSIM per technique (one series
-/// per size); per scene of a sweep, the scaling curves (total and overhead over No AA).
+/// technique (scene input and own passes stacked) and, with quality, SSIM against GPU ms with
+/// the Pareto front; per scene, SSIM per technique (one series per size); per scene of a
+/// sweep, the scaling curves (total and overhead over No AA).
 pub fn write_charts(
     report: &BenchReport,
     dir: &Path,
@@ -632,6 +697,27 @@ pub fn write_charts(
         written.push(path);
     }
     if report.settings.quality {
+        for run in &report.runs {
+            let points = tradeoff_points(run);
+            if points.is_empty() {
+                continue;
+            }
+            let path = dir.join(tradeoff_chart_name(run));
+            let title = format!(
+                "Quality against cost, {} {}x{} ({})",
+                run.scene, run.width, run.height, report.adapter.adapter_name
+            );
+            draw_tradeoff(
+                &path,
+                &TradeoffChart {
+                    title: &title,
+                    x_label: "GPU milliseconds per frame (median), technique alone",
+                    y_label: "SSIM against the 64-sample reference",
+                    points: &points,
+                },
+            )?;
+            written.push(path);
+        }
         for scene in scenes(report) {
             let runs: Vec<&RunReport> = report.runs.iter().filter(|r| r.scene == scene).collect();
             let columns = technique_columns(report);

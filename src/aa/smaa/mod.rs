@@ -111,7 +111,7 @@ impl Technique for Smaa {
             State::X1 => Some(SceneInput::Shared1x),
             State::T2x(_) => Some(SceneInput::jittered(
                 temporal::jitter(frame.camera.frame),
-                0.0,
+                self.settings.mip_bias,
             )),
             State::S2x(multisample) => multisample.scene_input(),
         }
@@ -185,7 +185,7 @@ impl Technique for Smaa {
     }
 
     fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
-        let temporal_only = key == "reprojection_weight_scale" && self.mode != Mode::T2x;
+        let temporal_only = settings::TEMPORAL_KEYS.contains(&key) && self.mode != Mode::T2x;
         if temporal_only || !self.settings.set(key, value) {
             return Err(ParamError::unknown_key(self.id(), key, &self.params()));
         }

@@ -105,7 +105,13 @@ pub struct SmaaSettings {
     /// T2x: how fast the history weight drops when the speed of a pixel changes between
     /// frames (0 ignores velocity).
     pub reprojection_weight_scale: f32,
+    /// T2x: texture mip bias of the jittered render (its two samples per pixel average away
+    /// the extra texture aliasing of a sharper mip level).
+    pub mip_bias: f32,
 }
+
+/// The settings only SMAA T2x has.
+pub const TEMPORAL_KEYS: &[&str] = &["reprojection_weight_scale", "mip_bias"];
 
 impl SmaaSettings {
     /// The settings of a preset.
@@ -130,6 +136,7 @@ impl SmaaSettings {
             predication_scale: 2.0,
             predication_strength: 0.4,
             reprojection_weight_scale: 30.0,
+            mip_bias: -0.5,
         }
     }
 
@@ -297,6 +304,17 @@ impl SmaaSettings {
                 80.0,
                 self.reprojection_weight_scale,
             ));
+            params.push(Param::float(
+                "mip_bias",
+                "Texture mip bias",
+                "Texture level-of-detail bias of the jittered render. A one-sample render filters \
+                 textures to its pixel footprint, softer than a supersampled image; T2x averages \
+                 two samples per pixel, which absorbs the extra aliasing of a sharper mip level, \
+                 so a negative bias keeps its textures as sharp as the reference's.",
+                -2.0,
+                0.0,
+                self.mip_bias,
+            ));
         }
         params
     }
@@ -319,6 +337,7 @@ impl SmaaSettings {
             "predication_scale" => self.predication_scale = as_f32(value),
             "predication_strength" => self.predication_strength = as_f32(value),
             "reprojection_weight_scale" => self.reprojection_weight_scale = as_f32(value),
+            "mip_bias" => self.mip_bias = as_f32(value),
             _ => return false,
         }
         true
