@@ -93,7 +93,8 @@ fn compare_on_the_gpu_refuses_images_beyond_the_adapter() {
     );
 }
 
-/// Item 3: on the OpenGL backend nothing panics; what cannot run is listed with the reason.
+/// Item 3: on the OpenGL backend nothing panics; what cannot run is listed with the reason, and
+/// what can (No AA, SSAA) renders the same image as on the default backend.
 #[test]
 fn the_opengl_backend_lists_what_it_cannot_run_and_never_panics() {
     let run = |args: &[&str]| {
@@ -118,10 +119,58 @@ fn the_opengl_backend_lists_what_it_cannot_run_and_never_panics() {
         listed.contains("smaa-s2x") && listed.contains("mesa-vulkan-drivers"),
         "{listed}"
     );
+    assert!(
+        listed
+            .lines()
+            .any(|l| l.contains("none") && l.contains("available") && !l.contains("unavailable"))
+            && listed
+                .lines()
+                .any(|l| l.contains("ssaa") && !l.contains("unavailable")),
+        "No AA and SSAA need no format reinterpretation and must run on GL:\n{listed}"
+    );
     let dir = tempfile::tempdir().expect("temp dir");
+    // What runs on GL renders the same image as on the default backend.
+    let gl_dir = dir.path().join("gl");
+    let out = run(&[
+        "render",
+        "--scene",
+        "chart",
+        "--technique",
+        "none,ssaa",
+        "--size",
+        "64x36",
+        "--out",
+        utf8(&gl_dir),
+    ]);
+    assert!(
+        out.status.success(),
+        "No AA and SSAA on GL: {}",
+        stderr(&out)
+    );
+    let default_dir = dir.path().join("default");
+    let out = common::aa_lab(&[
+        "render",
+        "--scene",
+        "chart",
+        "--technique",
+        "none,ssaa",
+        "--size",
+        "64x36",
+        "--out",
+        utf8(&default_dir),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    for name in ["chart-none.png", "chart-ssaa.png"] {
+        let read = |d: &Path| image::open(d.join(name)).expect("written").to_rgba8();
+        let error = common::mean_error(&read(&gl_dir), &read(&default_dir));
+        assert!(
+            error < 0.5,
+            "{name}: GL differs from the default backend by {error}"
+        );
+    }
     for args in [
         vec!["render", "--technique", "all", "--size", "32x18", "--out"],
-        vec!["render", "--technique", "none", "--size", "32x18", "--out"],
+        vec!["render", "--technique", "fxaa", "--size", "32x18", "--out"],
     ] {
         let mut args = args;
         args.push(utf8(dir.path()));

@@ -28,15 +28,20 @@ pub struct TechniqueInfo {
 const FULL_SET_HINT: &str = "a Vulkan driver runs every technique (without a GPU: Mesa's \
      software driver, `apt-get install mesa-vulkan-drivers libvulkan1`)";
 
-/// What every technique needs: sRGB and linear views of one texture (see
-/// [`Capabilities::view_formats`]).
-fn always(caps: &Capabilities) -> Result<(), String> {
+/// Techniques that only draw and resolve in the output's own format run on every backend.
+fn anywhere(_caps: &Capabilities) -> Result<(), String> {
+    Ok(())
+}
+
+/// What the post-process techniques (and MSAA's resolve and debug views) need: sRGB and linear
+/// views of one texture (see [`Capabilities::view_formats`]).
+fn needs_encoded_views(caps: &Capabilities) -> Result<(), String> {
     if caps.view_formats {
         Ok(())
     } else {
         Err(format!(
             "the {} backend cannot view a texture both as sRGB and as linear values (wgpu's \
-             VIEW_FORMATS), which every technique's input and output need; {FULL_SET_HINT}",
+             VIEW_FORMATS), which this technique needs; {FULL_SET_HINT}",
             caps.backend
         ))
     }
@@ -44,7 +49,7 @@ fn always(caps: &Capabilities) -> Result<(), String> {
 
 /// SMAA S2x reads depth with `textureLoad`, which wgpu cannot translate to GLSL.
 fn smaa_s2x_availability(caps: &Capabilities) -> Result<(), String> {
-    always(caps)?;
+    needs_encoded_views(caps)?;
     if caps.is_gl() {
         Err(format!(
             "SMAA S2x loads depth samples with textureLoad, which the OpenGL backend's GLSL \
@@ -56,7 +61,7 @@ fn smaa_s2x_availability(caps: &Capabilities) -> Result<(), String> {
 }
 
 fn msaa_availability(caps: &Capabilities, samples: u32) -> Result<(), String> {
-    always(caps)?;
+    needs_encoded_views(caps)?;
     if caps.supports_sample_count(samples) {
         Ok(())
     } else {
@@ -83,7 +88,7 @@ pub fn registry() -> Vec<TechniqueInfo> {
             summary: "One sample per pixel at the pixel centre: the cheapest image and the baseline. Every \
                  edge is a staircase, sub-pixel geometry breaks up or vanishes, and anything thinner than a \
                  pixel flickers as the camera moves.",
-            availability: always,
+            availability: anywhere,
             create: |_| Box::new(NoAa),
         },
         TechniqueInfo {
@@ -93,7 +98,7 @@ pub fn registry() -> Vec<TechniqueInfo> {
                  with a chosen pattern and filter). It fixes every kind of aliasing - edges, textures, \
                  highlights, sub-pixel geometry - and is the reference the others are measured against, \
                  but it costs N times the shading, fill and memory bandwidth.",
-            availability: always,
+            availability: anywhere,
             create: |gpu| Box::new(Ssaa::new(gpu)),
         },
         TechniqueInfo {
@@ -133,7 +138,7 @@ pub fn registry() -> Vec<TechniqueInfo> {
                  but it only sees the final pixels: it cannot recover sub-pixel geometry, it softens \
                  textures and text with contrast, and a still image's stair steps become a slight \
                  crawl in motion.",
-            availability: always,
+            availability: needs_encoded_views,
             create: |gpu| Box::new(Fxaa::new(gpu)),
         },
         TechniqueInfo {
@@ -145,7 +150,7 @@ pub fn registry() -> Vec<TechniqueInfo> {
                  precomputed tables. Smooth, sharp edges for about the cost of three fullscreen passes and no extra scene \
                  memory, but it cannot recover detail the single sample missed (sub-pixel geometry still breaks up and \
                  flickers) and it may soften text and fine texture.",
-            availability: always,
+            availability: needs_encoded_views,
             create: |gpu| Box::new(super::smaa::Smaa::new(gpu, super::smaa::Mode::X1)),
         },
         TechniqueInfo {
@@ -156,7 +161,7 @@ pub fn registry() -> Vec<TechniqueInfo> {
                  changed). Two samples per pixel over two frames recover some sub-pixel detail and steady \
                  crawling edges for the cost of SMAA plus one resolve pass, but fast motion and disocclusions \
                  fall back to SMAA 1x and the jitter can shimmer where the history is rejected.",
-            availability: always,
+            availability: needs_encoded_views,
             create: |gpu| Box::new(super::smaa::Smaa::new(gpu, super::smaa::Mode::T2x)),
         },
         TechniqueInfo {
@@ -178,7 +183,7 @@ pub fn registry() -> Vec<TechniqueInfo> {
                  one post pass. It handles edges, textures and specular shimmer alike, but needs \
                  motion vectors, blurs slightly under motion, and can ghost or smear where the \
                  history cannot be matched (disocclusions, transparency, fast-changing shading).",
-            availability: always,
+            availability: needs_encoded_views,
             create: |gpu| Box::new(Taa::new(gpu)),
         },
     ]

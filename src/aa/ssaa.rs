@@ -252,7 +252,7 @@ impl Ssaa {
             sample_count: 1,
             motion: false,
         };
-        let targets = SceneTargets::new(device, "ssaa tile", desc);
+        let targets = SceneTargets::new(ctx.gpu, "ssaa tile", desc);
         let tiles = plan.tiles().len() as u64;
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("ssaa tile origins"),
@@ -403,7 +403,7 @@ impl Ssaa {
             mapped_at_creation: false,
         });
         let target = SceneTargets::new(
-            device,
+            ctx.gpu,
             "ssaa jittered",
             TargetDesc {
                 size,

@@ -21,6 +21,16 @@ pub use readback::read_texture_rgba8;
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 /// The same texels viewed without sRGB decoding (what FXAA/SMAA and egui read).
 pub const COLOR_FORMAT_ENCODED_VIEW: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// The extra view formats of an image texture in [`COLOR_FORMAT`]: its encoded view where the
+/// device can reinterpret formats, none on backends that cannot (wgpu's GL), where only the
+/// techniques that never read encoded values can run (see `aa::registry`).
+pub fn encoded_view_formats(caps: &Capabilities) -> &'static [wgpu::TextureFormat] {
+    if caps.view_formats {
+        &[COLOR_FORMAT_ENCODED_VIEW]
+    } else {
+        &[]
+    }
+}
 /// Depth format of scene renders.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Screen-space motion vectors, in pixels from the previous frame to this one.

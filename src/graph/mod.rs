@@ -362,12 +362,12 @@ impl FrameGraph {
         }
     }
 
-    fn output_texture(device: &wgpu::Device, id: &str, size: (u32, u32)) -> wgpu::Texture {
+    fn output_texture(gpu: &Gpu, id: &str, size: (u32, u32)) -> wgpu::Texture {
         let label = format!("{id} output");
         gpu::texture_2d(
-            device,
+            &gpu.device,
             &gpu::Texture2d {
-                view_formats: &[gpu::COLOR_FORMAT_ENCODED_VIEW],
+                view_formats: gpu::encoded_view_formats(&gpu.caps),
                 ..gpu::Texture2d::new(
                     &label,
                     size,
@@ -446,7 +446,7 @@ impl FrameGraph {
             let pool = self.input_pool.entry(*desc).or_default();
             while pool.len() <= *index {
                 let label = input.label();
-                pool.push(SceneTargets::new(&device, &label, *desc));
+                pool.push(SceneTargets::new(&self.gpu, &label, *desc));
             }
         }
 
@@ -495,7 +495,7 @@ impl FrameGraph {
             let slot = &mut self.slots[i];
             let output = slot
                 .output
-                .get_or_insert_with(|| Self::output_texture(&device, slot.technique.id(), size));
+                .get_or_insert_with(|| Self::output_texture(&self.gpu, slot.technique.id(), size));
             let input = self.slot_inputs[i].and_then(|n| {
                 let (_, desc, index) = &self.inputs_used[n];
                 self.input_pool.get(desc)?.get(*index)

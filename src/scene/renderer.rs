@@ -24,7 +24,7 @@ use wgpu::util::DeviceExt;
 
 use super::camera::ViewParams;
 use super::{AlphaMode, Filter, Scene, TextureImage, TextureSampler, Vertex, Wrap};
-use crate::gpu::{self, COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, DEPTH_FORMAT, Gpu, MOTION_FORMAT};
+use crate::gpu::{self, COLOR_FORMAT, DEPTH_FORMAT, Gpu, MOTION_FORMAT};
 
 /// Where varyings are evaluated inside a multisampled pixel.
 #[derive(
@@ -78,14 +78,14 @@ pub struct SceneTargets {
 }
 
 fn target_texture(
-    device: &wgpu::Device,
+    gpu: &Gpu,
     label: &str,
     desc: &TargetDesc,
     sample_count: u32,
     format: wgpu::TextureFormat,
 ) -> wgpu::Texture {
-    let view_formats: &[wgpu::TextureFormat] = if format == COLOR_FORMAT {
-        &[COLOR_FORMAT_ENCODED_VIEW]
+    let view_formats = if format == COLOR_FORMAT {
+        gpu::encoded_view_formats(&gpu.caps)
     } else {
         &[]
     };
@@ -98,7 +98,7 @@ fn target_texture(
             wgpu::TextureUsages::empty()
         };
     crate::gpu::texture_2d(
-        device,
+        &gpu.device,
         &crate::gpu::Texture2d {
             sample_count,
             view_formats,
@@ -109,18 +109,17 @@ fn target_texture(
 
 impl SceneTargets {
     /// Creates targets; `label` prefixes every texture label.
-    pub fn new(device: &wgpu::Device, label: &str, desc: TargetDesc) -> Self {
+    pub fn new(gpu: &Gpu, label: &str, desc: TargetDesc) -> Self {
         let n = desc.sample_count;
         Self {
             desc,
-            color: target_texture(device, &format!("{label} color"), &desc, n, COLOR_FORMAT),
-            resolved: (n > 1).then(|| {
-                target_texture(device, &format!("{label} resolved"), &desc, 1, COLOR_FORMAT)
-            }),
-            depth: target_texture(device, &format!("{label} depth"), &desc, n, DEPTH_FORMAT),
-            motion: desc.motion.then(|| {
-                target_texture(device, &format!("{label} motion"), &desc, n, MOTION_FORMAT)
-            }),
+            color: target_texture(gpu, &format!("{label} color"), &desc, n, COLOR_FORMAT),
+            resolved: (n > 1)
+                .then(|| target_texture(gpu, &format!("{label} resolved"), &desc, 1, COLOR_FORMAT)),
+            depth: target_texture(gpu, &format!("{label} depth"), &desc, n, DEPTH_FORMAT),
+            motion: desc
+                .motion
+                .then(|| target_texture(gpu, &format!("{label} motion"), &desc, n, MOTION_FORMAT)),
         }
     }
 

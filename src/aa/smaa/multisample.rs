@@ -217,7 +217,7 @@ impl Multisample {
             self.targets = Some(Targets {
                 size,
                 sample: SceneTargets::new(
-                    device,
+                    ctx.gpu,
                     "smaa s2x sample",
                     TargetDesc {
                         size,
