@@ -130,36 +130,24 @@ fn the_opengl_backend_lists_what_it_cannot_run_and_never_panics() {
     );
     let dir = tempfile::tempdir().expect("temp dir");
     // What runs on GL renders the same image as on the default backend.
+    let render_into = |runner: &dyn Fn(&[&str]) -> Output, out_dir: &Path| {
+        let out = runner(&[
+            "render",
+            "--scene",
+            "chart",
+            "--technique",
+            "none,ssaa",
+            "--size",
+            "64x36",
+            "--out",
+            utf8(out_dir),
+        ]);
+        assert!(out.status.success(), "No AA and SSAA: {}", stderr(&out));
+    };
     let gl_dir = dir.path().join("gl");
-    let out = run(&[
-        "render",
-        "--scene",
-        "chart",
-        "--technique",
-        "none,ssaa",
-        "--size",
-        "64x36",
-        "--out",
-        utf8(&gl_dir),
-    ]);
-    assert!(
-        out.status.success(),
-        "No AA and SSAA on GL: {}",
-        stderr(&out)
-    );
+    render_into(&run, &gl_dir);
     let default_dir = dir.path().join("default");
-    let out = common::aa_lab(&[
-        "render",
-        "--scene",
-        "chart",
-        "--technique",
-        "none,ssaa",
-        "--size",
-        "64x36",
-        "--out",
-        utf8(&default_dir),
-    ]);
-    assert!(out.status.success(), "{}", stderr(&out));
+    render_into(&common::aa_lab, &default_dir);
     for name in ["chart-none.png", "chart-ssaa.png"] {
         let read = |d: &Path| image::open(d.join(name)).expect("written").to_rgba8();
         let error = common::mean_error(&read(&gl_dir), &read(&default_dir));
