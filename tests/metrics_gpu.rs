@@ -4,11 +4,11 @@
 
 mod common;
 
+use aa_lab::aa::floor::{COPY_FLOOR_ID, CopyFloor};
 use aa_lab::aa::{self, FrameInfo, ParamValue};
 use aa_lab::gpu::read_texture_rgba8;
 use aa_lab::graph::{FrameGraph, FrameScope};
 use aa_lab::metrics::coverage::chart_truth;
-use aa_lab::metrics::floor::{COPY_FLOOR_ID, CopyFloor};
 use aa_lab::metrics::gpu::{GpuMetrics, upload_image};
 use aa_lab::metrics::{self, ssim};
 use aa_lab::scene::camera::FrameCamera;

@@ -6,8 +6,11 @@
 //! technique owns its pipelines, private textures and settings; its settings are described as
 //! data ([`params::Param`]) so that the CLI, the viewer and sidecar files handle every
 //! technique the same way. Adding a technique means adding one module and one registry entry.
+//! [`floor`] is a technique outside the registry: the full-screen copy `bench` measures every
+//! post-process pass against (it lives here so that `metrics/` does not depend on `aa/`).
 
 pub mod color;
+pub mod floor;
 pub mod fxaa;
 pub mod msaa;
 pub mod none;

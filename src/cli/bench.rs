@@ -22,6 +22,7 @@ use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::render::{parse_size, technique_ids};
+use crate::aa::floor::{COPY_FLOOR_ID, CopyFloor};
 use crate::aa::{self, FrameInfo, ParamValue, SceneInput};
 use crate::export::heatmap::{HeatmapStyle, write_heatmap};
 use crate::export::report::{
@@ -33,7 +34,6 @@ use crate::files::{self, Overwrite};
 use crate::gpu::{Gpu, read_texture_rgba8};
 use crate::graph::{FrameGraph, FrameScope, FrameStatistics, FrameTimings};
 use crate::metrics::coverage::chart_truth;
-use crate::metrics::floor::{COPY_FLOOR_ID, CopyFloor};
 use crate::metrics::temporal::{ChangeMeter, SlowTrack, flicker_ratio};
 use crate::metrics::{Comparison, Metric, Summary, compare_with_maps};
 use crate::scene::Scene;

@@ -8,7 +8,6 @@
 //!   functions above are the reference it is tested against;
 //! - [`temporal`]: frame-to-frame change and the flicker ratio against a reference;
 //! - [`coverage`]: exact analytic ground truth for the `chart` scene;
-//! - [`floor`]: the full-screen copy pass that is the cost floor of any post-process pass;
 //! - [`stats`]: median and 95th percentile of repeated timings;
 //! - [`map`]: the per-pixel planes and masks all of these share.
 //!
@@ -18,7 +17,6 @@
 
 pub mod coverage;
 pub mod flip;
-pub mod floor;
 pub mod gpu;
 pub mod map;
 pub mod pixel;
