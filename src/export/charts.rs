@@ -12,6 +12,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+use plotters::coord::ranged1d::ValueFormatter;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -123,6 +124,30 @@ fn drawing_error<E: std::error::Error + Send + Sync>(
     path: &Path,
 ) -> impl Fn(plotters::drawing::DrawingAreaErrorKind<E>) -> ChartError + '_ {
     move |e| ChartError::draw(path, e)
+}
+
+/// Draws the axes, grid and axis titles every x-y chart shares (numbers without trailing zeros).
+fn draw_axes<'a, X, Y>(
+    ctx: &mut ChartContext<'a, BitMapBackend<'a>, Cartesian2d<X, Y>>,
+    x_label: &str,
+    y_label: &str,
+    path: &Path,
+) -> Result<(), ChartError>
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let number = |v: &f64| format_number(*v);
+    ctx.configure_mesh()
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .x_label_formatter(&number)
+        .y_label_formatter(&number)
+        .axis_desc_style((SANS, 17))
+        .label_style((SANS, 15))
+        .light_line_style(RGBColor(238, 238, 238))
+        .draw()
+        .map_err(drawing_error(path))
 }
 
 /// Axis numbers without trailing zeros (`2000`, `0.25`).
@@ -372,20 +397,10 @@ pub fn draw_lines(
             .x_label_area_size(48)
             .y_label_area_size(72);
         let x_range = (x_lo - x_pad)..(x_hi + x_pad);
-        let number = |v: &f64| format_number(*v);
         macro_rules! finish {
             ($ctx:expr) => {{
                 let mut ctx = $ctx;
-                ctx.configure_mesh()
-                    .x_desc(chart.x_label)
-                    .y_desc(chart.y_label)
-                    .x_label_formatter(&number)
-                    .y_label_formatter(&number)
-                    .axis_desc_style((SANS, 17))
-                    .label_style((SANS, 15))
-                    .light_line_style(RGBColor(238, 238, 238))
-                    .draw()
-                    .map_err(&err)?;
+                draw_axes(&mut ctx, chart.x_label, chart.y_label, path)?;
                 for (i, line) in chart.lines.iter().enumerate() {
                     let color = series_color(i);
                     let pts: Vec<(f64, f64)> = line
@@ -517,17 +532,7 @@ pub fn draw_tradeoff(path: &Path, chart: &TradeoffChart<'_>) -> Result<(), Chart
         .y_label_area_size(72)
         .build_cartesian_2d(x_range.clone(), y_range)
         .map_err(&err)?;
-    let number = |v: &f64| format_number(*v);
-    ctx.configure_mesh()
-        .x_desc(chart.x_label)
-        .y_desc(chart.y_label)
-        .x_label_formatter(&number)
-        .y_label_formatter(&number)
-        .axis_desc_style((SANS, 17))
-        .label_style((SANS, 15))
-        .light_line_style(RGBColor(238, 238, 238))
-        .draw()
-        .map_err(&err)?;
+    draw_axes(&mut ctx, chart.x_label, chart.y_label, path)?;
     let coords: Vec<(f64, f64)> = chart.points.iter().map(|p| (p.cost, p.quality)).collect();
     let front = pareto_front(&coords);
     let front_color = series_color(0);
