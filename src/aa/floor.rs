@@ -42,6 +42,10 @@ impl Technique for CopyFloor {
         COPY_FLOOR_ID
     }
 
+    fn label(&self) -> String {
+        super::registry::display_name(self.id())
+    }
+
     fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
         Some(SceneInput::Shared1x)
     }

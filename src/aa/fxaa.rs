@@ -296,6 +296,10 @@ impl Technique for Fxaa {
         "fxaa"
     }
 
+    fn label(&self) -> String {
+        super::registry::display_name(self.id())
+    }
+
     fn color_only(&self) -> bool {
         true
     }

@@ -229,6 +229,10 @@ impl Technique for Msaa {
         self.id
     }
 
+    fn label(&self) -> String {
+        super::registry::display_name(self.id())
+    }
+
     fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
         Some(SceneInput::Msaa {
             samples: self.samples,

@@ -13,6 +13,10 @@ impl Technique for NoAa {
         "none"
     }
 
+    fn label(&self) -> String {
+        super::registry::display_name(self.id())
+    }
+
     fn color_only(&self) -> bool {
         true
     }

@@ -193,3 +193,9 @@ pub fn registry() -> Vec<TechniqueInfo> {
 pub fn info(id: &str) -> Option<TechniqueInfo> {
     registry().into_iter().find(|t| t.id == id)
 }
+
+/// The display name of a registered technique (its id when it is not registered): the label
+/// of techniques whose settings do not change what they are.
+pub fn display_name(id: &str) -> String {
+    info(id).map_or_else(|| id.to_owned(), |info| info.name.to_owned())
+}

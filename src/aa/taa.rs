@@ -653,6 +653,10 @@ impl Technique for Taa {
         "taa"
     }
 
+    fn label(&self) -> String {
+        super::registry::display_name(self.id())
+    }
+
     fn scene_input(&self, frame: &FrameInfo) -> Option<SceneInput> {
         Some(SceneInput::jittered(
             jitter_offset(frame.camera.frame, self.settings.samples),

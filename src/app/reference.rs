@@ -71,6 +71,10 @@ impl Technique for ProgressiveReference {
         REFERENCE_ID
     }
 
+    fn label(&self) -> String {
+        "Reference".to_owned()
+    }
+
     fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
         None
     }

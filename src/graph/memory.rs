@@ -2,7 +2,7 @@
 //! size and bytes. Scene inputs shared by several techniques are listed with each of them but
 //! counted once in the total, as the frame graph allocates them once.
 
-use crate::aa::SceneInput;
+use super::SceneInput;
 use crate::scene::renderer::SceneTargets;
 
 use super::Slot;

@@ -8,16 +8,18 @@
 //! also counts its fragment-shader invocations ([`FrameGraph::set_pipeline_statistics`]).
 
 mod memory;
+pub mod params;
 mod statistics;
+pub mod technique;
 mod timing;
 
 pub use memory::{MemoryItem, MemoryReport, TechniqueMemory};
 pub use statistics::{FrameStatistics, PassInvocations};
+pub use technique::{DebugView, FrameInfo, SceneInput, Technique};
 pub use timing::{FrameTimings, PassTiming, median_of_sorted};
 
 use std::collections::HashMap;
 
-use crate::aa::{FrameInfo, SceneInput, Technique};
 use crate::gpu::{self, Gpu, fullscreen::Fullscreen};
 use crate::scene::Scene;
 use crate::scene::camera::ViewParams;
@@ -268,7 +270,7 @@ impl FrameGraph {
     /// Image mode: `Some(image)` makes every frame's [`SceneInput::Shared1x`] input this
     /// finished image (sRGB-encoded RGBA8, the frame's size) instead of a render of the scene,
     /// so the techniques that read only that input's colour (FXAA, SMAA 1x, No AA; see
-    /// [`crate::aa::image_refusal`]) run on any picture, e.g. another engine's capture. Its
+    /// `image_refusal` in `aa/`) run on any picture, e.g. another engine's capture. Its
     /// bytes are uploaded unchanged, so aa-lab's own No AA image reproduces the scene path's
     /// outputs exactly. The input's depth is not written: techniques that read depth must not
     /// run in image mode. `None` renders the scene again.

@@ -106,6 +106,10 @@ impl Technique for Smaa {
         self.mode.id()
     }
 
+    fn label(&self) -> String {
+        crate::aa::registry::display_name(self.id())
+    }
+
     fn scene_input(&self, frame: &FrameInfo) -> Option<SceneInput> {
         match &self.state {
             State::X1 => Some(SceneInput::Shared1x),
