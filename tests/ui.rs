@@ -36,6 +36,7 @@ fn viewer(scene: &str) -> Harness<'static, AaLabApp> {
                 LaunchOptions {
                     scene: Some(scene),
                     fresh_settings: true,
+                    ..Default::default()
                 },
             )
             .expect("the viewer starts")

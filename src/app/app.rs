@@ -7,7 +7,7 @@
 //! running), so an idle viewer costs nothing.
 
 use std::path::PathBuf;
-use std::sync::mpsc;
+use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
 use super::camera::CameraController;
@@ -34,6 +34,8 @@ pub struct LaunchOptions {
     pub scene: Option<String>,
     /// Ignore saved settings (tests and screenshots start from the defaults).
     pub fresh_settings: bool,
+    /// Every engine frame takes at least this long (tests of a slow engine; zero normally).
+    pub engine_frame_delay: Duration,
 }
 
 /// Errors of creating the app.
@@ -97,6 +99,7 @@ pub struct AaLabApp {
     pub(super) help_open: bool,
     pub(super) panels_hidden: bool,
     pub(super) file_dialog: Option<mpsc::Receiver<Option<PathBuf>>>,
+    engine_frame_delay: Duration,
     styled: bool,
 }
 
@@ -153,6 +156,7 @@ impl AaLabApp {
             help_open: false,
             panels_hidden: false,
             file_dialog: None,
+            engine_frame_delay: options.engine_frame_delay,
             styled: false,
         };
         let scene = app.settings.scene.clone();
@@ -365,7 +369,7 @@ impl AaLabApp {
             return;
         };
         match loaded.result {
-            Ok(scene) => self.install_scene(ctx, &loaded.spec, &scene),
+            Ok(scene) => self.install_scene(ctx, &loaded.spec, scene),
             Err(err) => {
                 let kept = match &self.scene {
                     Some(s) => format!("; {} stays loaded", s.name),
@@ -380,21 +384,31 @@ impl AaLabApp {
         }
     }
 
-    fn install_scene(&mut self, ctx: &egui::Context, spec: &str, scene: &Scene) {
+    fn install_scene(&mut self, ctx: &egui::Context, spec: &str, scene: Scene) {
         for note in &scene.notes {
             self.notify(Level::Info, format!("{}: {note}", scene.name));
         }
         for warning in &scene.warnings {
             self.notify(Level::Warning, format!("{}: {warning}", scene.name));
         }
+        let camera = scene.camera;
+        let info = SceneInfo {
+            spec: String::new(),
+            name: scene.name.clone(),
+            triangles: scene.triangle_count(),
+            views: scene.views.clone(),
+        };
+        let scene = Arc::new(scene);
         match &mut self.engine {
             Some(engine) => engine.set_scene(scene),
             None => {
                 let mut engine = match Engine::new(
                     &self.gpu.adapter,
+                    self.gpu.caps.clone(),
                     ctx,
                     scene,
                     self.settings.reference_samples,
+                    self.engine_frame_delay,
                 ) {
                     Ok(engine) => engine,
                     Err(err) => {
@@ -431,13 +445,8 @@ impl AaLabApp {
             self.settings.remember_recent(&spec);
         }
         self.settings.scene = spec.clone();
-        self.camera.set_rig(scene.camera);
-        self.scene = Some(SceneInfo {
-            spec,
-            name: scene.name.clone(),
-            triangles: scene.triangle_count(),
-            views: scene.views.clone(),
-        });
+        self.camera.set_rig(camera);
+        self.scene = Some(SceneInfo { spec, ..info });
         self.quality.clear();
         self.magnifier.clear();
         ctx.request_repaint();
@@ -575,14 +584,8 @@ impl AaLabApp {
         let Some(engine) = &mut self.engine else {
             return false;
         };
-        let mut errors = Vec::new();
-        let publication = match engine.poll(ctx) {
-            Ok(publication) => publication,
-            Err(err) => {
-                errors.push(err.to_string());
-                Default::default()
-            }
-        };
+        let publication = engine.poll(ctx);
+        let mut errors = publication.problems;
         if size.0 > 0 && size.1 > 0 && !engine.busy() {
             let (camera, cut) = self.camera.next_frame(size);
             if let Err(err) = engine.submit(camera, cut, want_reference) {

@@ -1,37 +1,42 @@
-//! The viewer's side of the engine: one frame graph holding every technique the adapter can
-//! run plus the progressive reference, the decisions of what to render, and the hand-over of
-//! finished frames to the UI.
+//! The viewer's side of the engine: the techniques as the UI sees them (on/off, settings
+//! mirrored from the render thread, published images), the decisions of what to render
+//! ([`super::schedule`]) and the hand-over of finished frames to egui.
 //!
-//! **What renders.** A technique renders when its view changed (camera pose, size, scene, or
-//! the animation frame of an animated scene), when its settings changed, when it has no
-//! output yet, and, for temporal techniques, whenever the clock advanced. Everything that
-//! renders in a frame renders from one `FrameGraph::render` call, so all outputs show the same
-//! frame and shared scene inputs are drawn once. The reference adds a few samples per frame
-//! while the view stays the same and starts over when it changes.
+//! **Nothing waits.** The frame graph, its device and every technique live on the render
+//! thread ([`super::render_thread`]); this side only sends commands and picks up events, so a
+//! UI frame costs the same whether the engine is idle or busy with a frame that takes seconds
+//! on a software rasteriser. Settings changes are validated here against the mirrored
+//! parameter descriptions (immediate feedback), applied to the mirror at once, and sent to
+//! the thread, which answers with the authoritative settings.
 //!
 //! **Its own device.** The graph runs on a second device created on eframe's adapter, not on
-//! eframe's device: a frame can take a second on a software rasteriser, and work on one queue
-//! runs in order, so on a shared queue every UI frame (menus, sliders, the lens) would wait
-//! for the rendering in flight. With its own queue the window stays responsive whatever the
-//! techniques cost. Finished outputs are read back without blocking (a waiter thread wakes
-//! the UI when the GPU is done) and published as CPU images and egui textures holding the very
-//! same bytes (sRGB-encoded RGBA8, nearest sampling, no dithering), which the magnifier,
-//! metrics and export then use without further readbacks. One engine frame is in flight at a
-//! time; the camera keeps moving meanwhile and the next frame renders where it has got to.
+//! eframe's device: work on one queue runs in order, so on a shared queue every UI frame would
+//! wait for the rendering in flight. Finished outputs arrive as CPU images together with egui
+//! images of the very same bytes (sRGB-encoded RGBA8, converted on the render thread) and are
+//! published as egui textures (nearest sampling, no dithering), which the magnifier, metrics
+//! and export then use without further readbacks. On a software adapter this is also the
+//! faster path: the "GPU" is the CPU, so a readback is a memcpy and egui's texture upload is
+//! another, far below the cost of rendering a frame. One engine frame is in flight at a time;
+//! the camera keeps moving meanwhile and the next frame renders where it has got to.
 
-use std::sync::{Arc, mpsc};
+use std::sync::Arc;
+use std::time::Duration;
 
 use egui::{TextureHandle, TextureId, TextureOptions};
 
-use super::readback::{PendingImage, Region};
-use super::reference::{ProgressiveReference, REFERENCE_ID, SharedControl};
+use super::reference::REFERENCE_ID;
+use super::render_thread::{
+    Command, Event, FramePlan, FrameResult, ReferenceRequest, RenderThread, RenderedImage,
+    SettingsChange, TechniqueSettings,
+};
+use super::schedule::{self, Stamp, TechniqueState, ViewKey};
 use super::stats::GpuStats;
 use crate::aa::ssaa::Progress;
 use crate::aa::{self, FrameInfo, Param, ParamError, ParamValue};
-use crate::gpu::{Capabilities, Gpu, GpuError};
-use crate::graph::{FrameGraph, FrameScope, GraphError, MemoryReport};
+use crate::gpu::Capabilities;
+use crate::graph::MemoryReport;
 use crate::scene::Scene;
-use crate::scene::camera::{FrameCamera, OrbitPose};
+use crate::scene::camera::FrameCamera;
 
 /// GPU milliseconds the reference may add to a frame (it always adds at least one sample).
 const REFERENCE_BUDGET_MS: f64 = 60.0;
@@ -72,16 +77,16 @@ impl Published {
     }
 }
 
-/// Stores `pixels` in `slot`, updating its texture in place when there is one.
+/// Stores `image` in `slot`, updating its texture in place when there is one. The upload
+/// itself happens when egui paints (a copy of bytes prepared on the render thread).
 fn publish(
     ctx: &egui::Context,
     slot: &mut Option<Published>,
     name: &str,
-    pixels: image::RgbaImage,
+    image: RenderedImage,
     stamp: ImageStamp,
 ) {
-    let size = [pixels.width() as usize, pixels.height() as usize];
-    let color = egui::ColorImage::from_rgba_unmultiplied(size, pixels.as_raw());
+    let RenderedImage { pixels, color } = image;
     match slot {
         Some(existing) => {
             existing.handle.set(color, TextureOptions::NEAREST);
@@ -98,23 +103,6 @@ fn publish(
     }
 }
 
-/// What determines the image of a non-temporal technique.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct ViewKey {
-    pose: OrbitPose,
-    size: (u32, u32),
-    scene: u64,
-    /// The frame number for animated scenes, 0 for static ones.
-    animation: u64,
-}
-
-/// The view and frame an output was rendered at.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Stamp {
-    key: ViewKey,
-    frame: u64,
-}
-
 /// One registry technique in the viewer.
 pub struct TechniqueEntry {
     /// Registry id.
@@ -129,7 +117,8 @@ pub struct TechniqueEntry {
     pub enabled: bool,
     /// The debug view shown instead of the output (by name), if any.
     pub debug_view: Option<String>,
-    slot: Option<usize>,
+    /// Its settings as the render thread last reported them (`None` until it is ready).
+    settings: Option<TechniqueSettings>,
     rendered: Option<Stamp>,
     dirty: bool,
     revision: u64,
@@ -166,61 +155,52 @@ pub enum ReferenceState {
 }
 
 /// What [`Engine::poll`] published.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct Publication {
     /// Technique outputs changed.
     pub outputs: bool,
     /// The reference gained samples.
     pub reference: bool,
+    /// What went wrong meanwhile (refused settings, failed frames), for the user.
+    pub problems: Vec<String>,
 }
 
 /// Errors of the engine.
 #[derive(Debug, thiserror::Error)]
 pub enum EngineError {
-    /// The render device could not be created.
-    #[error("the viewer's render device could not be created: {0}")]
-    Device(#[from] GpuError),
-    /// A frame failed.
-    #[error(transparent)]
-    Graph(#[from] GraphError),
-    /// Reading a finished frame back failed.
-    #[error(transparent)]
-    Readback(#[from] super::readback::ReadbackError),
+    /// The render thread could not be started.
+    #[error("the viewer's render thread could not be started: {0}")]
+    Thread(#[from] std::io::Error),
+    /// The render thread has ended.
+    #[error("the viewer's render thread has stopped{0}")]
+    Stopped(String),
 }
 
-/// Which published image a readback fills.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Target {
-    /// A technique's output, with the settings revision it rendered with.
-    Output(usize, u64),
-    Debug(usize, &'static str, &'static str),
-    Reference,
-}
-
-/// The frame being rendered and read back.
+/// The frame being rendered.
 struct InFlight {
     camera: FrameCamera,
     key: ViewKey,
     view: u64,
     running: Vec<usize>,
-    reads: Vec<(Target, PendingImage)>,
-    done: Vec<(Target, image::RgbaImage)>,
-    reference: Option<(ViewKey, Progress)>,
+    /// The view the reference accumulates for and the reference revision, when it renders.
+    reference: Option<(ViewKey, u64)>,
+    /// Whether every enabled technique renders in this frame.
+    complete: bool,
 }
 
 /// See the module docs.
 pub struct Engine {
-    gpu: Gpu,
-    graph: FrameGraph,
+    caps: Capabilities,
+    thread: RenderThread,
+    /// Why the render thread ended, once it has.
+    stopped: Option<String>,
     entries: Vec<TechniqueEntry>,
-    reference_slot: usize,
-    reference: SharedControl,
     reference_samples: u32,
     reference_image: Option<Published>,
     /// The view and progress of the published reference.
     reference_published: Option<(ViewKey, Progress)>,
-    /// The view the accumulation on the GPU belongs to.
-    reference_key: Option<ViewKey>,
+    /// The view the accumulation on the GPU belongs to, and its progress.
+    reference_accumulated: Option<(ViewKey, Progress)>,
     reference_wanted: bool,
     /// Revision of the reference's sample count.
     reference_revision: u64,
@@ -234,104 +214,76 @@ pub struct Engine {
     displayed: Option<FrameCamera>,
     displayed_key: Option<ViewKey>,
     in_flight: Option<InFlight>,
-    waiter: mpsc::Sender<()>,
-    timings_serial: u64,
+    /// Samples the reference was last asked to add (its timing covers that many).
+    reference_budget_sent: u32,
+    /// Test hook: every frame takes at least this long on the render thread.
+    frame_delay: Duration,
     /// GPU time statistics.
     pub gpu_stats: GpuStats,
     memory: Option<MemoryReport>,
     scene_renders: usize,
 }
 
-/// A thread that waits for the render device to finish and wakes the UI.
-fn spawn_waiter(device: wgpu::Device, ctx: egui::Context) -> mpsc::Sender<()> {
-    let (sender, receiver) = mpsc::channel::<()>();
-    let spawned = std::thread::Builder::new()
-        .name("aa-lab gpu waiter".to_owned())
-        .spawn(move || {
-            while receiver.recv().is_ok() {
-                let _ = device.poll(wgpu::PollType::wait_indefinitely());
-                ctx.request_repaint();
-            }
-        });
-    if let Err(err) = spawned {
-        // Without the thread the UI still polls while a frame is in flight (see `busy`).
-        log::warn!("no GPU waiter thread ({err}); polling instead");
-    }
-    sender
-}
-
-/// A device of its own on `adapter`, with the features the frame graph uses.
-pub fn open_device(adapter: &wgpu::Adapter) -> Result<Gpu, GpuError> {
-    let (device, queue) =
-        pollster::block_on(adapter.request_device(&crate::gpu::device_descriptor(adapter)))
-            .map_err(|source| GpuError::RequestDevice {
-                adapter: adapter.get_info().name,
-                source,
-            })?;
-    Ok(Gpu::from_parts(adapter.clone(), device, queue))
-}
-
 impl Engine {
-    /// Creates the render device on `adapter` and the graph for `scene` with every available
-    /// technique (all switched off) and the reference with `reference_samples` samples.
+    /// Starts the render thread on `adapter` (whose device has `caps`) with the graph for
+    /// `scene`, every available technique (all switched off) and the reference with
+    /// `reference_samples` samples. Returns at once; the techniques' settings arrive when the
+    /// thread has created them.
     pub fn new(
         adapter: &wgpu::Adapter,
+        caps: Capabilities,
         ctx: &egui::Context,
-        scene: &Scene,
+        scene: Arc<Scene>,
         reference_samples: u32,
+        frame_delay: Duration,
     ) -> Result<Self, EngineError> {
-        let gpu = open_device(adapter)?;
-        let mut graph = FrameGraph::new(gpu.clone(), scene);
-        let entries = aa::registry()
+        let entries: Vec<TechniqueEntry> = aa::registry()
             .into_iter()
-            .map(|info| {
-                let availability = (info.availability)(&gpu.caps);
-                let slot = availability.is_ok().then(|| {
-                    let index = graph.add((info.create)(&gpu));
-                    graph.slots_mut()[index].enabled = false;
-                    index
-                });
-                TechniqueEntry {
-                    id: info.id,
-                    name: info.name,
-                    summary: info.summary,
-                    availability,
-                    enabled: false,
-                    debug_view: None,
-                    slot,
-                    rendered: None,
-                    dirty: false,
-                    revision: 0,
-                    output: None,
-                    debug_images: Vec::new(),
-                }
+            .map(|info| TechniqueEntry {
+                id: info.id,
+                name: info.name,
+                summary: info.summary,
+                availability: (info.availability)(&caps),
+                enabled: false,
+                debug_view: None,
+                settings: None,
+                rendered: None,
+                dirty: false,
+                revision: 0,
+                output: None,
+                debug_images: Vec::new(),
             })
             .collect();
-        let (reference, control) = ProgressiveReference::new(&gpu, reference_samples);
-        let reference_slot = graph.add(Box::new(reference));
-        graph.slots_mut()[reference_slot].enabled = false;
+        let animated = scene.meshes.iter().any(|m| m.spin.is_some());
+        let wake = ctx.clone();
+        let thread = RenderThread::spawn(
+            adapter.clone(),
+            scene,
+            entries.iter().map(TechniqueEntry::available).collect(),
+            reference_samples,
+            move || wake.request_repaint(),
+        )?;
         Ok(Self {
-            waiter: spawn_waiter(gpu.device.clone(), ctx.clone()),
-            gpu,
-            graph,
+            caps,
+            thread,
+            stopped: None,
             entries,
-            reference_slot,
-            reference: control,
             reference_samples,
             reference_image: None,
             reference_published: None,
-            reference_key: None,
+            reference_accumulated: None,
             reference_wanted: false,
             reference_revision: 0,
             scene_generation: 0,
             view_serial: 0,
             publish_serial: 0,
-            animated: scene.meshes.iter().any(|m| m.spin.is_some()),
+            animated,
             last_key: None,
             displayed: None,
             displayed_key: None,
             in_flight: None,
-            timings_serial: 0,
+            reference_budget_sent: 1,
+            frame_delay,
             gpu_stats: GpuStats::default(),
             memory: None,
             scene_renders: 0,
@@ -340,14 +292,23 @@ impl Engine {
 
     /// What the render device can do.
     pub fn caps(&self) -> &Capabilities {
-        &self.gpu.caps
+        &self.caps
+    }
+
+    /// Sends a command to the render thread, remembering when it has ended.
+    fn send(&mut self, command: Command) -> bool {
+        let sent = self.thread.send(command);
+        if !sent && self.stopped.is_none() {
+            self.stopped = Some(String::new());
+        }
+        sent
     }
 
     /// Replaces the scene (every output re-renders; the caller cuts the camera).
-    pub fn set_scene(&mut self, scene: &Scene) {
-        self.graph.set_scene(scene);
-        self.scene_generation += 1;
+    pub fn set_scene(&mut self, scene: Arc<Scene>) {
         self.animated = scene.meshes.iter().any(|m| m.spin.is_some());
+        self.send(Command::Scene(scene));
+        self.scene_generation += 1;
         self.gpu_stats.clear();
         self.memory = None;
     }
@@ -359,11 +320,9 @@ impl Engine {
 
     /// Whether a temporal technique is on (it changes with every frame while time runs).
     pub fn temporal_enabled(&self) -> bool {
-        self.entries.iter().any(|e| {
-            e.enabled
-                && e.slot
-                    .is_some_and(|s| self.graph.slots()[s].technique.temporal())
-        })
+        self.entries
+            .iter()
+            .any(|e| e.enabled && e.settings.as_ref().is_some_and(|s| s.temporal))
     }
 
     /// Every registry technique, in registry order.
@@ -376,117 +335,157 @@ impl Engine {
         self.entries.iter().find(|e| e.id == id)
     }
 
-    fn entry_mut(&mut self, id: &str) -> Option<&mut TechniqueEntry> {
-        self.entries.iter_mut().find(|e| e.id == id)
+    fn index(&self, id: &str) -> Option<usize> {
+        self.entries.iter().position(|e| e.id == id)
     }
 
     /// Switches a technique on or off (unavailable ones stay off).
     pub fn set_enabled(&mut self, id: &str, on: bool) {
-        if let Some(entry) = self.entry_mut(id)
+        if let Some(entry) = self.entries.iter_mut().find(|e| e.id == id)
             && entry.available()
         {
             entry.enabled = on;
         }
     }
 
-    fn technique_mut(&mut self, id: &str) -> Option<&mut dyn aa::Technique> {
-        let slot = self.entry(id)?.slot?;
-        Some(self.graph.slots_mut()[slot].technique.as_mut())
-    }
-
-    fn technique(&self, id: &str) -> Option<&dyn aa::Technique> {
-        let slot = self.entry(id)?.slot?;
-        Some(self.graph.slots()[slot].technique.as_ref())
-    }
-
-    /// A technique's parameters with their current values.
+    /// A technique's parameters with their current values (none until the render thread has
+    /// created it).
     pub fn params(&self, id: &str) -> Vec<Param> {
-        self.technique(id).map(|t| t.params()).unwrap_or_default()
+        self.entry(id)
+            .and_then(|e| e.settings.as_ref())
+            .map(|s| s.params.clone())
+            .unwrap_or_default()
     }
 
     /// A technique's presets.
     pub fn presets(&self, id: &str) -> &'static [&'static str] {
-        self.technique(id).map(|t| t.presets()).unwrap_or(&[])
+        self.entry(id)
+            .and_then(|e| e.settings.as_ref())
+            .map_or(&[], |s| s.presets)
     }
 
     /// Which code path a technique runs on this adapter, when it has a choice.
     pub fn path_note(&self, id: &str) -> Option<String> {
-        self.technique(id).and_then(|t| t.path_note())
+        self.entry(id)
+            .and_then(|e| e.settings.as_ref())
+            .and_then(|s| s.path_note.clone())
     }
 
     /// The settings of a technique as a map (sidecar form).
     pub fn param_map(&self, id: &str) -> aa::ParamMap {
-        self.technique(id).map(aa::param_map).unwrap_or_default()
+        self.params(id)
+            .into_iter()
+            .map(|p| (p.key.to_owned(), p.value))
+            .collect()
     }
 
-    fn changed(&mut self, id: &str) {
-        if let Some(entry) = self.entry_mut(id) {
-            entry.dirty = true;
-            entry.revision += 1;
-        }
+    /// Sends a settings change and marks the technique for re-rendering.
+    fn configure(&mut self, index: usize, change: SettingsChange) {
+        self.send(Command::Configure(index, change));
+        let entry = &mut self.entries[index];
+        entry.dirty = true;
+        entry.revision += 1;
+    }
+
+    /// Validates a value against the mirrored description and stores it in the mirror.
+    fn validate_into_mirror(
+        &mut self,
+        index: usize,
+        key: &str,
+        value: ParamValue,
+    ) -> Result<ParamValue, ParamError> {
+        let entry = &mut self.entries[index];
+        let Some(settings) = &mut entry.settings else {
+            // Not created yet: the render thread validates and reports.
+            return Ok(value);
+        };
+        let Some(param) = settings.params.iter_mut().find(|p| p.key == key) else {
+            return Err(ParamError::UnknownKey {
+                technique: entry.id.to_owned(),
+                key: key.to_owned(),
+                known: settings
+                    .params
+                    .iter()
+                    .map(|p| p.key)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            });
+        };
+        let value = param.validate(entry.id, value)?;
+        param.value = value.clone();
+        Ok(value)
     }
 
     /// Sets one parameter (validated).
     pub fn set_param(&mut self, id: &str, key: &str, value: ParamValue) -> Result<(), ParamError> {
-        let Some(technique) = self.technique_mut(id) else {
+        let Some(index) = self.index(id) else {
             return Ok(());
         };
-        aa::set_param(technique, key, value)?;
-        self.changed(id);
+        let value = self.validate_into_mirror(index, key, value)?;
+        self.configure(index, SettingsChange::Param(key.to_owned(), value));
         Ok(())
     }
 
     /// Restores a whole settings map (from the saved settings).
     pub fn apply_param_map(&mut self, id: &str, map: &aa::ParamMap) -> Result<(), ParamError> {
-        let Some(technique) = self.technique_mut(id) else {
+        let Some(index) = self.index(id) else {
             return Ok(());
         };
-        aa::apply_param_map(technique, map)?;
-        self.changed(id);
+        let mut valid = aa::ParamMap::new();
+        for (key, value) in map {
+            valid.insert(
+                key.clone(),
+                self.validate_into_mirror(index, key, value.clone())?,
+            );
+        }
+        self.configure(index, SettingsChange::Map(valid));
         Ok(())
     }
 
     /// Applies a preset.
     pub fn apply_preset(&mut self, id: &str, preset: &str) -> Result<(), ParamError> {
-        let Some(technique) = self.technique_mut(id) else {
+        let Some(index) = self.index(id) else {
             return Ok(());
         };
-        technique.apply_preset(preset)?;
-        self.changed(id);
+        let known = self.presets(id);
+        if self.entries[index].settings.is_some() && !known.contains(&preset) {
+            return Err(ParamError::UnknownPreset {
+                technique: id.to_owned(),
+                name: preset.to_owned(),
+                known: known.join(", "),
+            });
+        }
+        self.configure(index, SettingsChange::Preset(preset.to_owned()));
         Ok(())
     }
 
     /// Shows a debug view (by name; empty for the first one) instead of a technique's output,
     /// or the output (`None`). The technique computes its debug views only while one is shown.
     pub fn set_debug_view(&mut self, id: &str, view: Option<String>) {
-        let Some(entry) = self.entry_mut(id) else {
+        let Some(index) = self.index(id) else {
             return;
         };
+        let entry = &mut self.entries[index];
         let was_on = entry.debug_view.is_some();
         let on = view.is_some();
         entry.debug_view = view;
         if !on {
             entry.debug_images.clear();
         }
-        if on != was_on
-            && let Some(technique) = self.technique_mut(id)
-        {
-            technique.set_debug_views(on);
-            self.changed(id);
+        if on != was_on {
+            self.configure(index, SettingsChange::DebugViews(on));
         }
     }
 
     /// Changes the reference's sample count (it starts over).
     pub fn set_reference_samples(&mut self, samples: u32) {
-        if samples == self.reference_samples || self.in_flight.is_some() {
+        if samples == self.reference_samples {
             return;
         }
-        let (reference, control) = ProgressiveReference::new(&self.gpu, samples);
-        self.graph.slots_mut()[self.reference_slot].technique = Box::new(reference);
-        self.reference = control;
+        self.send(Command::ReferenceSamples(samples));
         self.reference_samples = samples;
         self.reference_revision += 1;
-        self.reference_key = None;
+        self.reference_accumulated = None;
         self.reference_published = None;
     }
 
@@ -551,107 +550,158 @@ impl Engine {
         self.in_flight.is_some()
     }
 
+    /// Whether the render thread has created the techniques.
+    pub fn ready(&self) -> bool {
+        self.entries.iter().any(|e| e.settings.is_some())
+    }
+
     /// Whether the reference still wants frames for the current view.
     pub fn reference_incomplete(&self) -> bool {
         self.reference_wanted
-            && !(self.reference_key.is_some()
-                && self.reference_key == self.last_key
-                && self.reference.lock().progress.complete())
+            && !matches!(self.reference_accumulated,
+                Some((key, progress)) if Some(key) == self.last_key && progress.complete())
     }
 
-    /// Collects the frame in flight once the GPU has delivered it and publishes its images.
-    pub fn poll(&mut self, ctx: &egui::Context) -> Result<Publication, EngineError> {
+    /// Picks up what the render thread finished and publishes its images.
+    pub fn poll(&mut self, ctx: &egui::Context) -> Publication {
         let mut publication = Publication::default();
-        let Some(flight) = &mut self.in_flight else {
-            return Ok(publication);
-        };
-        let _ = self.gpu.device.poll(wgpu::PollType::Poll);
-        let mut index = 0;
-        while index < flight.reads.len() {
-            match flight.reads[index].1.try_take() {
-                Ok(Some(image)) => {
-                    let (target, _) = flight.reads.remove(index);
-                    flight.done.push((target, image));
+        for event in self.thread.poll() {
+            match event {
+                Event::Ready(techniques) => self.ready_techniques(techniques),
+                Event::Settings {
+                    index,
+                    settings,
+                    error,
+                } => {
+                    if let Some(entry) = self.entries.get_mut(index) {
+                        entry.settings = Some(settings);
+                    }
+                    publication.problems.extend(error);
                 }
-                Ok(None) => index += 1,
-                Err(err) => {
+                Event::Frame(result) => {
+                    let Some(flight) = self.in_flight.take() else {
+                        continue;
+                    };
+                    match result {
+                        Ok(frame) => self.publish_frame(ctx, flight, frame, &mut publication),
+                        Err(err) => publication.problems.push(err.to_string()),
+                    }
+                }
+                Event::Failed(err) => {
                     self.in_flight = None;
-                    return Err(err.into());
+                    self.stopped = Some(format!(": {err}"));
                 }
             }
         }
-        if !flight.reads.is_empty() {
-            return Ok(publication);
+        if let Some(reason) = &self.stopped {
+            publication
+                .problems
+                .push(EngineError::Stopped(reason.clone()).to_string());
         }
-        let Some(flight) = self.in_flight.take() else {
-            return Ok(publication);
-        };
-        for (target, pixels) in flight.done {
+        publication
+    }
+
+    fn ready_techniques(&mut self, techniques: Vec<Result<TechniqueSettings, String>>) {
+        for (entry, created) in self.entries.iter_mut().zip(techniques) {
+            match created {
+                Ok(settings) => {
+                    // Changes sent before the thread was ready were applied in order after
+                    // the creation; the mirror takes the thread's view of them with the next
+                    // settings event, and the creation defaults until then.
+                    entry.settings.get_or_insert(settings);
+                }
+                Err(reason) if entry.available() => {
+                    entry.availability = Err(reason);
+                    entry.enabled = false;
+                }
+                Err(_) => {}
+            }
+        }
+    }
+
+    fn publish_frame(
+        &mut self,
+        ctx: &egui::Context,
+        flight: InFlight,
+        frame: FrameResult,
+        publication: &mut Publication,
+    ) {
+        if let Some(timings) = &frame.timings {
+            self.gpu_stats.add(timings);
+        }
+        if flight.complete && frame.memory.is_some() {
+            self.memory = frame.memory;
+            self.scene_renders = frame.scene_renders;
+        }
+        for (index, image) in frame.outputs {
             self.publish_serial += 1;
-            let stamp = |revision| ImageStamp {
+            let entry = &mut self.entries[index];
+            let stamp = ImageStamp {
+                view: flight.view,
+                revision: entry.revision,
+                serial: self.publish_serial,
+            };
+            publish(ctx, &mut entry.output, entry.id, image, stamp);
+            publication.outputs = true;
+        }
+        for (index, name, description, image) in frame.debug {
+            self.publish_serial += 1;
+            let entry = &mut self.entries[index];
+            if entry.debug_view.is_none() {
+                continue;
+            }
+            let position = match entry.debug_images.iter().position(|(n, _, _)| *n == name) {
+                Some(position) => position,
+                None => {
+                    entry.debug_images.push((name, description, None));
+                    entry.debug_images.len() - 1
+                }
+            };
+            let stamp = ImageStamp {
+                view: flight.view,
+                revision: entry.revision,
+                serial: self.publish_serial,
+            };
+            publish(ctx, &mut entry.debug_images[position].2, name, image, stamp);
+            if entry.debug_view.as_deref() == Some("") {
+                entry.debug_view = Some(name.to_owned());
+            }
+            publication.outputs = true;
+        }
+        if let (Some((progress, image)), Some((key, revision))) =
+            (frame.reference, flight.reference)
+            && revision == self.reference_revision
+        {
+            self.publish_serial += 1;
+            let stamp = ImageStamp {
                 view: flight.view,
                 revision,
                 serial: self.publish_serial,
             };
-            match target {
-                Target::Output(i, revision) => {
-                    let entry = &mut self.entries[i];
-                    publish(ctx, &mut entry.output, entry.id, pixels, stamp(revision));
-                    publication.outputs = true;
-                }
-                Target::Debug(i, name, description) => {
-                    let entry = &mut self.entries[i];
-                    let index = match entry.debug_images.iter().position(|(n, _, _)| *n == name) {
-                        Some(index) => index,
-                        None => {
-                            entry.debug_images.push((name, description, None));
-                            entry.debug_images.len() - 1
-                        }
-                    };
-                    let revision = entry.revision;
-                    publish(
-                        ctx,
-                        &mut entry.debug_images[index].2,
-                        name,
-                        pixels,
-                        stamp(revision),
-                    );
-                    if entry.debug_view.as_deref() == Some("") {
-                        entry.debug_view = Some(name.to_owned());
-                    }
-                    publication.outputs = true;
-                }
-                Target::Reference => {
-                    let revision = self.reference_revision;
-                    publish(
-                        ctx,
-                        &mut self.reference_image,
-                        REFERENCE_ID,
-                        pixels,
-                        stamp(revision),
-                    );
-                    self.reference_published = flight.reference;
-                    publication.reference = true;
-                }
-            }
+            publish(ctx, &mut self.reference_image, REFERENCE_ID, image, stamp);
+            self.reference_accumulated = Some((key, progress));
+            self.reference_published = Some((key, progress));
+            publication.reference = true;
         }
         if !flight.running.is_empty() {
             self.displayed = Some(flight.camera);
             self.displayed_key = Some(flight.key);
         }
-        Ok(publication)
     }
 
-    /// Starts the next frame at `camera` when there is something to render (see the module
-    /// docs); `want_reference` says whether anything shows or measures the reference. Returns
-    /// whether a frame was started.
+    /// Starts the next frame at `camera` when there is something to render (see
+    /// [`schedule::schedule`]); `want_reference` says whether anything shows or measures the
+    /// reference. Returns whether a frame was started.
     pub fn submit(
         &mut self,
         camera: FrameCamera,
         cut: bool,
         want_reference: bool,
     ) -> Result<bool, EngineError> {
-        if self.in_flight.is_some() {
+        if let Some(reason) = &self.stopped {
+            return Err(EngineError::Stopped(reason.clone()));
+        }
+        if self.in_flight.is_some() || !self.ready() {
             return Ok(false);
         }
         let key = ViewKey {
@@ -660,126 +710,59 @@ impl Engine {
             scene: self.scene_generation,
             animation: if self.animated { camera.frame } else { 0 },
         };
-        let still = !cut && self.last_key == Some(key);
-        self.last_key = Some(key);
-        if !still {
-            self.view_serial += 1;
-        }
-
-        let mut running = Vec::new();
-        for (i, entry) in self.entries.iter().enumerate() {
-            let Some(slot) = entry.slot else { continue };
-            let temporal = self.graph.slots()[slot].technique.temporal();
-            let stale = match entry.rendered {
-                None => true,
-                Some(done) => done.key != key || (temporal && done.frame != camera.frame),
-            };
-            let run = entry.enabled && (cut || entry.dirty || stale);
-            self.graph.slots_mut()[slot].enabled = run;
-            if run {
-                running.push(i);
-            }
-        }
-
-        // The reference: only on a still view, until complete.
-        self.reference_wanted = want_reference;
-        if self.reference_key != Some(key) {
-            self.reference_key = None;
-        }
-        let before = self.reference.lock().progress;
-        let restart = self.reference_key.is_none();
-        let reference_runs = want_reference && still && (restart || !before.complete());
-        if reference_runs {
-            let budget = self.reference_budget();
-            let mut control = self.reference.lock();
-            control.restart = restart;
-            control.budget = budget;
-        }
-        self.graph.slots_mut()[self.reference_slot].enabled = reference_runs;
-        if running.is_empty() && !reference_runs {
-            return Ok(false);
-        }
-
-        let frame = FrameInfo {
-            camera,
-            reset_history: cut,
-        };
-        let result = self.graph.render(&frame, FrameScope::All);
-        let restore = |engine: &mut Self| {
-            for (slot, enabled) in engine
-                .entries
-                .iter()
-                .filter_map(|e| e.slot.map(|s| (s, e.enabled)))
-                .collect::<Vec<_>>()
-            {
-                engine.graph.slots_mut()[slot].enabled = enabled;
-            }
-        };
-        if let Err(err) = result {
-            restore(self);
-            return Err(err.into());
-        }
-
-        let mut reference = None;
-        let mut reference_renders = 0;
-        if reference_runs {
-            self.reference_key = Some(key);
-            let after = self.reference.lock().progress;
-            reference_renders = after.samples - if restart { 0 } else { before.samples };
-            reference = Some((key, after));
-        }
-        let all_enabled_ran = self
+        let states: Vec<TechniqueState> = self
             .entries
             .iter()
-            .enumerate()
-            .all(|(i, e)| !e.enabled || e.slot.is_none() || running.contains(&i));
-        if !running.is_empty() && all_enabled_ran {
-            self.memory = Some(self.graph.memory_report());
-            self.scene_renders = self
-                .graph
-                .scene_renders_last_frame()
-                .saturating_sub(reference_renders as usize);
-        }
-        if self.graph.timings_serial() != self.timings_serial {
-            self.timings_serial = self.graph.timings_serial();
-            if let Some(timings) = self.graph.timings() {
-                self.gpu_stats.add(timings);
-            }
-        }
-
-        // Read back everything that rendered.
-        let mut reads = Vec::new();
-        let read = |texture: &wgpu::Texture| {
-            PendingImage::start(
-                &self.gpu.device,
-                &self.gpu.queue,
-                texture,
-                Region::whole(texture),
-            )
+            .map(|e| TechniqueState {
+                enabled: e.enabled && e.settings.is_some(),
+                temporal: e.settings.as_ref().is_some_and(|s| s.temporal),
+                dirty: e.dirty,
+                rendered: e.rendered,
+            })
+            .collect();
+        self.reference_wanted = want_reference;
+        let reference = schedule::ReferenceState {
+            wanted: want_reference,
+            accumulated_for: self.reference_accumulated.map(|(key, _)| key),
+            complete: self
+                .reference_accumulated
+                .is_some_and(|(_, progress)| progress.complete()),
         };
-        for &i in &running {
-            let entry = &self.entries[i];
-            let Some(slot) = entry.slot.map(|s| &self.graph.slots()[s]) else {
-                continue;
-            };
-            if let Some(texture) = slot.output() {
-                reads.push((Target::Output(i, entry.revision), read(texture)));
-            }
-            if entry.debug_view.is_some() {
-                for view in slot.technique.debug_views() {
-                    if view.texture.usage().contains(wgpu::TextureUsages::COPY_SRC) {
-                        reads.push((
-                            Target::Debug(i, view.name, view.description),
-                            read(view.texture),
-                        ));
-                    }
-                }
-            }
+        let plan = schedule::schedule(&states, reference, self.last_key, key, camera.frame, cut);
+        self.last_key = Some(key);
+        if !plan.still {
+            self.view_serial += 1;
         }
-        if reference_runs && let Some(texture) = self.graph.slots()[self.reference_slot].output() {
-            reads.push((Target::Reference, read(texture)));
+        if plan.is_empty() {
+            return Ok(false);
         }
-        for &i in &running {
+        let complete = states
+            .iter()
+            .enumerate()
+            .all(|(i, s)| !s.enabled || plan.run.contains(&i));
+        let request = FramePlan {
+            frame: FrameInfo {
+                camera,
+                reset_history: cut,
+            },
+            debug: plan
+                .run
+                .iter()
+                .copied()
+                .filter(|&i| self.entries[i].debug_view.is_some())
+                .collect(),
+            run: plan.run.clone(),
+            reference: plan.reference.map(|restart| ReferenceRequest {
+                restart,
+                budget: self.reference_budget(),
+            }),
+            measure_memory: complete && !plan.run.is_empty(),
+            delay: self.frame_delay,
+        };
+        if !self.send(Command::Render(request)) {
+            return Err(EngineError::Stopped(String::new()));
+        }
+        for &i in &plan.run {
             let entry = &mut self.entries[i];
             entry.rendered = Some(Stamp {
                 key,
@@ -787,27 +770,29 @@ impl Engine {
             });
             entry.dirty = false;
         }
-        restore(self);
+        if plan.reference == Some(true) {
+            self.reference_accumulated = None;
+        }
         self.in_flight = Some(InFlight {
             camera,
             key,
             view: self.view_serial,
-            running,
-            reads,
-            done: Vec::new(),
-            reference,
+            running: plan.run,
+            reference: plan.reference.map(|_| (key, self.reference_revision)),
+            complete,
         });
-        let _ = self.waiter.send(());
         Ok(true)
     }
 
     /// Reference samples to add this frame, from the measured cost of one sample.
-    fn reference_budget(&self) -> u32 {
-        let budget = self.reference.lock().budget.max(1);
-        match self.gpu_stats.technique_ms(REFERENCE_ID) {
-            Some(ms) if ms > 0.0 => ((REFERENCE_BUDGET_MS * f64::from(budget) / ms).floor() as u32)
+    fn reference_budget(&mut self) -> u32 {
+        let last = self.reference_budget_sent.max(1);
+        let budget = match self.gpu_stats.technique_ms(REFERENCE_ID) {
+            Some(ms) if ms > 0.0 => ((REFERENCE_BUDGET_MS * f64::from(last) / ms).floor() as u32)
                 .clamp(1, MAX_REFERENCE_SAMPLES_PER_FRAME),
             _ => 1,
-        }
+        };
+        self.reference_budget_sent = budget;
+        budget
     }
 }

@@ -27,7 +27,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use super::app::{AaLabApp, Level};
-use super::engine::{Engine, ImageStamp, open_device};
+use super::engine::{Engine, ImageStamp};
+use super::render_thread::open_device;
 use super::worker::{Reporter, Worker};
 use crate::aa::ssaa::Progress;
 use crate::gpu::Gpu;

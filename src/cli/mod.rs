@@ -92,6 +92,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         None => Ok(crate::app::run(crate::app::LaunchOptions {
             scene: cli.scene,
             fresh_settings: cli.default_settings,
+            ..Default::default()
         })?),
     }
 }

@@ -1,0 +1,430 @@
+//! The viewer's render thread: it owns the render device, the frame graph with every technique
+//! and the progressive reference, and does every slow engine step off the UI thread: creating
+//! the device and the techniques' pipelines, uploading scenes, resizing targets (inside the
+//! graph's frame), recording and submitting frames, waiting for the GPU, reading the outputs
+//! back and converting them into egui images.
+//!
+//! The UI talks to it through two channels. [`Command`]s (scene, settings changes, frames to
+//! render) are handled in the order sent; each answer comes back as an [`Event`] and wakes the
+//! UI. The UI keeps at most one [`FramePlan`] in flight and builds the next one from its newest
+//! state only when the previous frame is back, so a request never waits behind an outdated one
+//! and the thread never renders a frame nobody asked for. Techniques are addressed by their
+//! registry index (the UI's entry index); a technique whose pipelines cannot be created here
+//! is reported unavailable in [`Event::Ready`] and ignored afterwards.
+
+use std::sync::{Arc, mpsc};
+use std::time::Duration;
+
+use super::readback::{PendingImage, ReadbackError, Region};
+use super::reference::{ProgressiveReference, SharedControl};
+use crate::aa::ssaa::Progress;
+use crate::aa::{self, ParamMap, ParamValue};
+use crate::gpu::{Gpu, GpuError};
+use crate::graph::params::Param;
+use crate::graph::{FrameGraph, FrameInfo, FrameScope, FrameTimings, MemoryReport};
+use crate::scene::Scene;
+
+/// What the UI mirrors of a technique's settings.
+#[derive(Clone, Debug)]
+pub struct TechniqueSettings {
+    /// Parameters with their current values.
+    pub params: Vec<Param>,
+    /// Named presets.
+    pub presets: &'static [&'static str],
+    /// The code path it runs on this adapter, when it has a choice.
+    pub path_note: Option<String>,
+    /// Whether it keeps state across frames.
+    pub temporal: bool,
+}
+
+impl TechniqueSettings {
+    fn of(technique: &dyn aa::Technique) -> Self {
+        Self {
+            params: technique.params(),
+            presets: technique.presets(),
+            path_note: technique.path_note(),
+            temporal: technique.temporal(),
+        }
+    }
+}
+
+/// A change of a technique's settings.
+#[derive(Clone, Debug)]
+pub enum SettingsChange {
+    /// One parameter.
+    Param(String, ParamValue),
+    /// A whole saved map.
+    Map(ParamMap),
+    /// A named preset.
+    Preset(String),
+    /// Debug views on or off.
+    DebugViews(bool),
+}
+
+/// What the reference does in a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReferenceRequest {
+    /// Drop the accumulated samples first (the view changed).
+    pub restart: bool,
+    /// Samples to add.
+    pub budget: u32,
+}
+
+/// One frame to render: plain data, decided by the UI's scheduler.
+#[derive(Clone, Debug)]
+pub struct FramePlan {
+    /// Camera and history reset.
+    pub frame: FrameInfo,
+    /// Registry indices of the techniques that render.
+    pub run: Vec<usize>,
+    /// Registry indices (a subset of `run`) whose debug views are read back too.
+    pub debug: Vec<usize>,
+    /// The reference's part, if it renders.
+    pub reference: Option<ReferenceRequest>,
+    /// Report the graph's memory after this frame (every enabled technique runs in it).
+    pub measure_memory: bool,
+    /// Test hook: the thread waits this long before rendering (a deliberately slow frame).
+    pub delay: Duration,
+}
+
+/// A finished image: the pixels (sRGB-encoded RGBA8) and the same bytes as an egui image.
+pub struct RenderedImage {
+    /// The pixels.
+    pub pixels: image::RgbaImage,
+    /// The same pixels, ready for a texture upload.
+    pub color: egui::ColorImage,
+}
+
+impl RenderedImage {
+    fn new(pixels: image::RgbaImage) -> Self {
+        let size = [pixels.width() as usize, pixels.height() as usize];
+        let color = egui::ColorImage::from_rgba_unmultiplied(size, pixels.as_raw());
+        Self { pixels, color }
+    }
+}
+
+/// A rendered frame.
+pub struct FrameResult {
+    /// Technique outputs by registry index.
+    pub outputs: Vec<(usize, RenderedImage)>,
+    /// Debug views: registry index, name, description, image.
+    pub debug: Vec<(usize, &'static str, &'static str, RenderedImage)>,
+    /// The reference's progress and image, when it rendered.
+    pub reference: Option<(Progress, RenderedImage)>,
+    /// The graph's memory, when the plan asked for it.
+    pub memory: Option<MemoryReport>,
+    /// Scene renders of the techniques (the reference's own renders not counted).
+    pub scene_renders: usize,
+    /// GPU timings that became available with this frame.
+    pub timings: Option<FrameTimings>,
+}
+
+/// Errors of the render thread.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// The render device could not be created.
+    #[error("the viewer's render device could not be created: {0}")]
+    Device(#[from] GpuError),
+    /// A frame failed.
+    #[error(transparent)]
+    Graph(#[from] crate::graph::GraphError),
+    /// Reading a finished frame back failed.
+    #[error(transparent)]
+    Readback(#[from] ReadbackError),
+}
+
+/// Requests from the UI.
+pub enum Command {
+    /// Replace the scene.
+    Scene(Arc<Scene>),
+    /// Change a technique's settings (by registry index).
+    Configure(usize, SettingsChange),
+    /// Restart the reference with another sample count.
+    ReferenceSamples(u32),
+    /// Render a frame.
+    Render(FramePlan),
+}
+
+/// Answers to the UI.
+pub enum Event {
+    /// The device and every technique exist: per registry index, the settings or why the
+    /// technique cannot run here.
+    Ready(Vec<Result<TechniqueSettings, String>>),
+    /// A technique's settings after a [`Command::Configure`], and the error if the change was
+    /// refused.
+    Settings {
+        /// Registry index.
+        index: usize,
+        /// Its settings now.
+        settings: TechniqueSettings,
+        /// Why the change was refused.
+        error: Option<String>,
+    },
+    /// A frame finished (or failed).
+    Frame(Result<FrameResult, RenderError>),
+    /// The thread could not start; it has ended.
+    Failed(RenderError),
+}
+
+/// The UI's handle: send commands, receive events. Dropping it ends the thread after the
+/// command it is handling.
+pub struct RenderThread {
+    commands: mpsc::Sender<Command>,
+    events: mpsc::Receiver<Event>,
+}
+
+impl RenderThread {
+    /// Starts the thread: it creates a device on `adapter`, the graph for `scene` and every
+    /// registry technique that `available` allows, then answers [`Event::Ready`]. `wake` is
+    /// called after every event.
+    pub fn spawn(
+        adapter: wgpu::Adapter,
+        scene: Arc<Scene>,
+        available: Vec<bool>,
+        reference_samples: u32,
+        wake: impl Fn() + Send + 'static,
+    ) -> std::io::Result<Self> {
+        let (commands, command_receiver) = mpsc::channel();
+        let (event_sender, events) = mpsc::channel();
+        std::thread::Builder::new()
+            .name("aa-lab render".to_owned())
+            .spawn(move || {
+                let send = |event| {
+                    let _ = event_sender.send(event);
+                    wake();
+                };
+                let mut state =
+                    match RenderState::new(&adapter, &scene, &available, reference_samples) {
+                        Ok((state, ready)) => {
+                            send(Event::Ready(ready));
+                            state
+                        }
+                        Err(err) => {
+                            send(Event::Failed(err));
+                            return;
+                        }
+                    };
+                while let Ok(command) = command_receiver.recv() {
+                    if let Some(event) = state.handle(command) {
+                        send(event);
+                    }
+                }
+            })?;
+        Ok(Self { commands, events })
+    }
+
+    /// Sends a command; `false` when the thread has ended.
+    pub fn send(&self, command: Command) -> bool {
+        self.commands.send(command).is_ok()
+    }
+
+    /// The events that arrived since the last call, oldest first.
+    pub fn poll(&self) -> Vec<Event> {
+        self.events.try_iter().collect()
+    }
+}
+
+/// A device of its own on `adapter`, with the features the frame graph uses.
+pub fn open_device(adapter: &wgpu::Adapter) -> Result<Gpu, GpuError> {
+    let (device, queue) =
+        pollster::block_on(adapter.request_device(&crate::gpu::device_descriptor(adapter)))
+            .map_err(|source| GpuError::RequestDevice {
+                adapter: adapter.get_info().name,
+                source,
+            })?;
+    Ok(Gpu::from_parts(adapter.clone(), device, queue))
+}
+
+/// Everything the thread owns.
+struct RenderState {
+    gpu: Gpu,
+    graph: FrameGraph,
+    /// Graph slot per registry index (`None`: not available here).
+    slots: Vec<Option<usize>>,
+    reference_slot: usize,
+    reference: SharedControl,
+    reference_samples: u32,
+    timings_serial: u64,
+}
+
+impl RenderState {
+    fn new(
+        adapter: &wgpu::Adapter,
+        scene: &Scene,
+        available: &[bool],
+        reference_samples: u32,
+    ) -> Result<(Self, Vec<Result<TechniqueSettings, String>>), RenderError> {
+        let gpu = open_device(adapter)?;
+        let mut graph = FrameGraph::new(gpu.clone(), scene);
+        let mut slots = Vec::new();
+        let mut ready = Vec::new();
+        for (info, &available) in aa::registry().iter().zip(available) {
+            let created = if available {
+                aa::create(&gpu, info.id).map_err(|e| e.to_string())
+            } else {
+                Err("not available on this adapter".to_owned())
+            };
+            match created {
+                Ok(technique) => {
+                    ready.push(Ok(TechniqueSettings::of(technique.as_ref())));
+                    let slot = graph.add(technique);
+                    graph.slots_mut()[slot].enabled = false;
+                    slots.push(Some(slot));
+                }
+                Err(reason) => {
+                    ready.push(Err(reason));
+                    slots.push(None);
+                }
+            }
+        }
+        let (reference, control) = ProgressiveReference::new(&gpu, reference_samples);
+        let reference_slot = graph.add(Box::new(reference));
+        graph.slots_mut()[reference_slot].enabled = false;
+        let state = Self {
+            gpu,
+            graph,
+            slots,
+            reference_slot,
+            reference: control,
+            reference_samples,
+            timings_serial: 0,
+        };
+        Ok((state, ready))
+    }
+
+    fn handle(&mut self, command: Command) -> Option<Event> {
+        match command {
+            Command::Scene(scene) => {
+                self.graph.set_scene(&scene);
+                None
+            }
+            Command::Configure(index, change) => self.configure(index, change),
+            Command::ReferenceSamples(samples) => {
+                if samples != self.reference_samples {
+                    let (reference, control) = ProgressiveReference::new(&self.gpu, samples);
+                    self.graph.slots_mut()[self.reference_slot].technique = Box::new(reference);
+                    self.reference = control;
+                    self.reference_samples = samples;
+                }
+                None
+            }
+            Command::Render(plan) => {
+                std::thread::sleep(plan.delay);
+                Some(Event::Frame(self.render(&plan)))
+            }
+        }
+    }
+
+    fn configure(&mut self, index: usize, change: SettingsChange) -> Option<Event> {
+        let slot = self.slots.get(index).copied().flatten()?;
+        let technique = self.graph.slots_mut()[slot].technique.as_mut();
+        let result = match change {
+            SettingsChange::Param(key, value) => aa::set_param(technique, &key, value),
+            SettingsChange::Map(map) => aa::apply_param_map(technique, &map),
+            SettingsChange::Preset(name) => technique.apply_preset(&name),
+            SettingsChange::DebugViews(on) => {
+                technique.set_debug_views(on);
+                Ok(())
+            }
+        };
+        Some(Event::Settings {
+            index,
+            settings: TechniqueSettings::of(technique),
+            error: result.err().map(|e| e.to_string()),
+        })
+    }
+
+    fn render(&mut self, plan: &FramePlan) -> Result<FrameResult, RenderError> {
+        let running: Vec<(usize, usize)> = plan
+            .run
+            .iter()
+            .filter_map(|&index| Some((index, self.slots.get(index).copied().flatten()?)))
+            .collect();
+        for (slot, state) in self.graph.slots_mut().iter_mut().enumerate() {
+            state.enabled = running.iter().any(|&(_, s)| s == slot);
+        }
+        let before = self.reference.lock().progress;
+        if let Some(request) = plan.reference {
+            let mut control = self.reference.lock();
+            control.restart = request.restart;
+            control.budget = request.budget;
+        }
+        self.graph.slots_mut()[self.reference_slot].enabled = plan.reference.is_some();
+
+        let rendered = self.graph.render(&plan.frame, FrameScope::All);
+        let after = self.reference.lock().progress;
+        rendered?;
+        let reference_renders = match plan.reference {
+            Some(r) if r.restart => after.samples,
+            Some(_) => after.samples.saturating_sub(before.samples),
+            None => 0,
+        };
+        let memory = plan.measure_memory.then(|| self.graph.memory_report());
+        let scene_renders = self
+            .graph
+            .scene_renders_last_frame()
+            .saturating_sub(reference_renders as usize);
+        let mut timings = None;
+        if self.graph.timings_serial() != self.timings_serial {
+            self.timings_serial = self.graph.timings_serial();
+            timings = self.graph.timings().cloned();
+        }
+
+        let read = |texture: &wgpu::Texture| {
+            PendingImage::start(
+                &self.gpu.device,
+                &self.gpu.queue,
+                texture,
+                Region::whole(texture),
+            )
+        };
+        let mut outputs = Vec::new();
+        let mut debug = Vec::new();
+        for &(index, slot) in &running {
+            let slot = &self.graph.slots()[slot];
+            if let Some(texture) = slot.output() {
+                outputs.push((index, read(texture)));
+            }
+            if plan.debug.contains(&index) {
+                for view in slot.technique.debug_views() {
+                    if view.texture.usage().contains(wgpu::TextureUsages::COPY_SRC) {
+                        debug.push((index, view.name, view.description, read(view.texture)));
+                    }
+                }
+            }
+        }
+        let reference = match plan.reference {
+            Some(_) => self.graph.slots()[self.reference_slot].output().map(read),
+            None => None,
+        };
+        self.gpu.wait_idle();
+        let image = |pending: &PendingImage| -> Result<RenderedImage, RenderError> {
+            match pending.try_take()? {
+                Some(pixels) => Ok(RenderedImage::new(pixels)),
+                None => {
+                    Err(ReadbackError::Map("the GPU did not finish the frame".to_owned()).into())
+                }
+            }
+        };
+        Ok(FrameResult {
+            outputs: collect(&outputs, |(index, pending)| Ok((*index, image(pending)?)))?,
+            debug: collect(&debug, |(index, name, description, pending)| {
+                Ok((*index, *name, *description, image(pending)?))
+            })?,
+            reference: reference
+                .map(|pending| Ok::<_, RenderError>((after, image(&pending)?)))
+                .transpose()?,
+            memory,
+            scene_renders,
+            timings,
+        })
+    }
+}
+
+/// Maps every item, stopping at the first error.
+fn collect<T, U>(
+    items: &[T],
+    map: impl FnMut(&T) -> Result<U, RenderError>,
+) -> Result<Vec<U>, RenderError> {
+    items.iter().map(map).collect()
+}
