@@ -26,6 +26,13 @@ const TIMEOUT: Duration = Duration::from_secs(180);
 /// The viewer on `scene` with default settings, paused (frames stay put), after its first
 /// complete frame.
 fn viewer(scene: &str) -> Harness<'static, AaLabApp> {
+    slow_viewer(scene, Duration::ZERO)
+}
+
+/// [`viewer`] with an engine whose every frame takes at least `frame_delay`; when that is not
+/// zero, the quality figures and the lens are off (the reference would keep a slow engine busy
+/// for many frames).
+fn slow_viewer(scene: &str, frame_delay: Duration) -> Harness<'static, AaLabApp> {
     let scene = scene.to_owned();
     let mut harness = Harness::builder()
         .with_size(WINDOW)
@@ -36,12 +43,17 @@ fn viewer(scene: &str) -> Harness<'static, AaLabApp> {
                 LaunchOptions {
                     scene: Some(scene),
                     fresh_settings: true,
-                    ..Default::default()
+                    engine_frame_delay: frame_delay,
                 },
             )
             .expect("the viewer starts")
         });
     harness.state_mut().camera_mut().playing = false;
+    if !frame_delay.is_zero() {
+        let settings = harness.state_mut().settings_mut();
+        settings.quality = false;
+        settings.show_magnifier = false;
+    }
     wait(&mut harness, "the first frame", AaLabApp::frame_ready);
     harness
 }
@@ -179,6 +191,39 @@ fn techniques_switch_on_and_off() {
     wait(&mut harness, "the new frame", AaLabApp::frame_ready);
     assert!(harness.state().output_pixels("ssaa").is_some());
     assert!(harness.state().output_pixels("none").is_none());
+}
+
+#[test]
+fn toggles_and_layouts_show_while_a_slow_engine_frame_renders() {
+    // Every engine frame takes at least 4 s: the UI must not wait for one.
+    let mut harness = slow_viewer("chart", Duration::from_secs(4));
+    let enabled = |harness: &Harness<'_, AaLabApp>, id: &str| {
+        harness.state().settings().enabled.iter().any(|e| e == id)
+    };
+    // Switching SSAA on starts a (slow) engine frame...
+    harness.get_by_label("SSAA").click();
+    harness.step();
+    harness.step();
+    assert!(enabled(&harness, "ssaa"));
+    assert!(harness.state().rendering(), "the SSAA frame is in flight");
+    // ...and while it renders, more toggles and a layout change take effect at once: the
+    // panel, the comparison order and the layout change in the next UI frame.
+    harness.key_press(egui::Key::Num1);
+    harness.step();
+    harness.key_press(egui::Key::G);
+    harness.step();
+    assert!(!enabled(&harness, "none"), "No AA switched off");
+    assert_eq!(harness.state().compared()[0], "fxaa");
+    assert_eq!(harness.state().settings().layout, Layout::Grid);
+    assert!(
+        harness.state().rendering(),
+        "the UI changed before the slow frame finished"
+    );
+    // The new layout shows the previous frames (scaled into the smaller tiles) until the
+    // grid-sized frames arrive.
+    assert!(harness.state().output_pixels("fxaa").is_some());
+    wait(&mut harness, "the grid frame", AaLabApp::frame_ready);
+    assert!(harness.state().output_pixels("ssaa").is_some());
 }
 
 #[test]

@@ -111,6 +111,18 @@ fn tile_rects(layout: Layout, rect: Rect, ppp: f32) -> Vec<Rect> {
     }
 }
 
+/// The size in points an image of `size` pixels is drawn at: 1:1 physical pixels, except an
+/// image of another size than the one being rendered (the previous frame after a layout change
+/// or a resize, until the new one arrives), which is scaled to fit its tile so that the change
+/// shows at once.
+fn shown_size(size: (u32, u32), rendering: (u32, u32), tile: &Rect, ppp: f32) -> Vec2 {
+    let native = vec2(size.0 as f32, size.1 as f32) / ppp;
+    if size == rendering || native.x <= 0.0 || native.y <= 0.0 {
+        return native;
+    }
+    native * (tile.width() / native.x).min(tile.height() / native.y)
+}
+
 impl AaLabApp {
     /// The central panel. See the module docs.
     pub(super) fn viewport_panel(&mut self, ui: &mut egui::Ui) {
@@ -149,7 +161,7 @@ impl AaLabApp {
                 };
                 let image = what.and_then(|w| self.shown_image(w));
                 let size = image.map_or(self.viewport.render_size, Published::size);
-                let size_points = vec2(size.0 as f32, size.1 as f32) / ppp;
+                let size_points = shown_size(size, self.viewport.render_size, tile_rect, ppp);
                 // Centred; an image larger than its tile (fixed resolution) is cropped evenly.
                 let origin = snap(tile_rect.min + (tile_rect.size() - size_points) * 0.5, ppp);
                 let tile = Tile {
