@@ -100,6 +100,8 @@ pub struct AaLabApp {
     pub(super) panels_hidden: bool,
     pub(super) file_dialog: Option<mpsc::Receiver<Option<PathBuf>>>,
     engine_frame_delay: Duration,
+    /// Engine frames published so far.
+    engine_frames: u64,
     styled: bool,
 }
 
@@ -157,6 +159,7 @@ impl AaLabApp {
             panels_hidden: false,
             file_dialog: None,
             engine_frame_delay: options.engine_frame_delay,
+            engine_frames: 0,
             styled: false,
         };
         let scene = app.settings.scene.clone();
@@ -594,10 +597,17 @@ impl AaLabApp {
         }
         let more = engine.reference_incomplete();
         self.clock.tick(publication.outputs);
+        self.engine_frames += u64::from(publication.outputs);
         for err in errors {
             self.notify(Level::Error, err);
         }
         more
+    }
+
+    /// Engine frames whose technique outputs were published so far (the viewer benchmark counts
+    /// them).
+    pub fn engine_frames(&self) -> u64 {
+        self.engine_frames
     }
 
     /// Whether the engine has a frame in flight.

@@ -45,7 +45,7 @@ use std::sync::Arc;
 pub use app::{AaLabApp, LaunchOptions};
 pub use camera::CameraController;
 pub use quality::{Figures, PixelFigures};
-pub use settings::{DiffMetric, Layout, Settings};
+pub use settings::{DiffMetric, Layout, Resolution, Settings};
 
 /// Application id: window class and the folder eframe persists settings in.
 pub const APP_ID: &str = "aa-lab";

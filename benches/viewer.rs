@@ -1,0 +1,247 @@
+//! The viewer benchmark: drives the real [`AaLabApp`] headless (egui_kittest on the wgpu
+//! renderer, as the UI tests do) and measures what a user feels, per scene, with four
+//! techniques (No AA, FXAA, SMAA 1x, MSAA 4x) rendering at 1280x720:
+//! - **UI frame** (median, p95, worst): the wall time of one UI frame while the camera orbits
+//!   and the engine renders continuously: the app's update, its panels and the upload of newly
+//!   published images (egui-wgpu's texture updates). The UI is paced at 60 Hz like a display.
+//! - **engine frames per second** over the same run (frames whose outputs were published);
+//! - **input-to-visible latency** of a pure UI change (a layout key: Single, 2x2 grid, Wipe,
+//!   A/B flip; the render size is fixed, so only the UI changes): from the key event to the
+//!   end of the UI frame that shows the new layout;
+//! - **idle UI frame**: the same with the camera still and the engine idle.
+//!
+//! `cargo bench --bench viewer -- [--seconds S] [--scenes a,b] [--out file.json]`.
+//! The figures in the README come from this benchmark.
+
+use std::time::{Duration, Instant};
+
+use aa_lab::app::{AaLabApp, LaunchOptions, Layout, Resolution};
+use egui_kittest::Harness;
+
+/// The render size the issue's targets are stated for.
+const RENDER_SIZE: (u32, u32) = (1280, 720);
+/// Window size: the 1280x720 viewport plus the side panels.
+const WINDOW: egui::Vec2 = egui::vec2(1900.0, 1000.0);
+/// The UI's pace (a 60 Hz display).
+const UI_PERIOD: Duration = Duration::from_micros(16_667);
+/// Longest wait for the first frame.
+const TIMEOUT: Duration = Duration::from_secs(600);
+/// Layout keys pressed in turn while the camera orbits, with the layout each selects.
+const LAYOUT_KEYS: [(egui::Key, Layout); 4] = [
+    (egui::Key::G, Layout::Grid),
+    (egui::Key::W, Layout::Wipe),
+    (egui::Key::F, Layout::Flip),
+    (egui::Key::S, Layout::Single),
+];
+
+/// Figures of one scene.
+#[derive(serde::Serialize)]
+struct SceneFigures {
+    scene: String,
+    seconds: f64,
+    ui_frames: usize,
+    ui_frame_ms_median: f64,
+    ui_frame_ms_p95: f64,
+    ui_frame_ms_max: f64,
+    engine_frames_per_second: f64,
+    layout_latency_ms_median: f64,
+    layout_latency_ms_max: f64,
+    layout_changes: usize,
+    idle_ui_frame_ms_median: f64,
+    idle_ui_frame_ms_p95: f64,
+}
+
+struct Options {
+    seconds: f64,
+    scenes: Vec<String>,
+    out: Option<String>,
+}
+
+fn options() -> Options {
+    let mut options = Options {
+        seconds: 30.0,
+        scenes: vec!["hairball".to_owned(), "atrium".to_owned()],
+        out: None,
+    };
+    let mut args = std::env::args().skip(1);
+    while let Some(arg) = args.next() {
+        match arg.as_str() {
+            "--seconds" => {
+                options.seconds = args
+                    .next()
+                    .and_then(|s| s.parse().ok())
+                    .expect("--seconds takes a number");
+            }
+            "--scenes" => {
+                options.scenes = args
+                    .next()
+                    .expect("--scenes takes a list")
+                    .split(',')
+                    .map(str::to_owned)
+                    .collect();
+            }
+            "--out" => options.out = Some(args.next().expect("--out takes a path")),
+            // `cargo bench` passes `--bench`; other flags are the test harness's.
+            _ => {}
+        }
+    }
+    options
+}
+
+fn percentile(sorted: &[f64], p: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let rank = ((sorted.len() - 1) as f64 * p).round() as usize;
+    sorted[rank.min(sorted.len() - 1)]
+}
+
+fn sorted(mut values: Vec<f64>) -> Vec<f64> {
+    values.sort_by(f64::total_cmp);
+    values
+}
+
+fn step_timed(harness: &mut Harness<'_, AaLabApp>) -> f64 {
+    let start = Instant::now();
+    harness.step();
+    start.elapsed().as_secs_f64() * 1000.0
+}
+
+/// Sleeps until the next tick of the UI's pace.
+fn pace(next: &mut Instant) {
+    *next += UI_PERIOD;
+    let now = Instant::now();
+    if *next > now {
+        std::thread::sleep(*next - now);
+    } else {
+        *next = now;
+    }
+}
+
+fn measure(scene: &str, seconds: f64) -> SceneFigures {
+    let owned = scene.to_owned();
+    let mut harness = Harness::builder()
+        .with_size(WINDOW)
+        .wgpu_setup(aa_lab::app::wgpu_setup())
+        .build_eframe(move |cc| {
+            AaLabApp::new(
+                cc,
+                LaunchOptions {
+                    scene: Some(owned),
+                    fresh_settings: true,
+                    ..Default::default()
+                },
+            )
+            .expect("the viewer starts")
+        });
+    {
+        let app = harness.state_mut();
+        app.settings_mut().resolution = Resolution::Fixed(RENDER_SIZE.0, RENDER_SIZE.1);
+        app.camera_mut().playing = false;
+        app.camera_mut().auto_rotate = false;
+    }
+    let start = Instant::now();
+    while !harness.state().frame_ready() {
+        assert!(start.elapsed() < TIMEOUT, "no first frame of {scene}");
+        harness.step();
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert_eq!(harness.state().render_size(), RENDER_SIZE);
+    assert_eq!(harness.state().compared().len(), 4, "four techniques");
+
+    // Orbiting: the engine renders continuously.
+    harness.state_mut().camera_mut().auto_rotate = true;
+    harness.state_mut().camera_mut().playing = true;
+    let mut frames = Vec::new();
+    let mut latencies = Vec::new();
+    let engine_start = harness.state().engine_frames();
+    let run_start = Instant::now();
+    let mut next_key = run_start + Duration::from_secs(1);
+    let mut key_index = 0;
+    let mut next = Instant::now();
+    while run_start.elapsed().as_secs_f64() < seconds {
+        if Instant::now() >= next_key {
+            let (key, layout) = LAYOUT_KEYS[key_index % LAYOUT_KEYS.len()];
+            key_index += 1;
+            let pressed = Instant::now();
+            harness.key_press(key);
+            let mut shown = false;
+            while !shown && pressed.elapsed() < Duration::from_secs(30) {
+                frames.push(step_timed(&mut harness));
+                shown = harness.state().settings().layout == layout;
+            }
+            latencies.push(pressed.elapsed().as_secs_f64() * 1000.0);
+            next_key = Instant::now() + Duration::from_millis(1500);
+        } else {
+            frames.push(step_timed(&mut harness));
+        }
+        pace(&mut next);
+    }
+    let elapsed = run_start.elapsed().as_secs_f64();
+    let engine_frames = harness.state().engine_frames() - engine_start;
+
+    // Still: let the engine settle (last orbit frame, the reference), then measure.
+    harness.state_mut().camera_mut().auto_rotate = false;
+    harness.state_mut().camera_mut().playing = false;
+    harness.state_mut().settings_mut().quality = false;
+    let settle = Instant::now();
+    while (harness.state().rendering() || !harness.state().frame_ready())
+        && settle.elapsed() < TIMEOUT
+    {
+        harness.step();
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let mut idle = Vec::new();
+    let mut next = Instant::now();
+    for _ in 0..120 {
+        idle.push(step_timed(&mut harness));
+        pace(&mut next);
+    }
+
+    let frames = sorted(frames);
+    let latencies = sorted(latencies);
+    let idle = sorted(idle);
+    SceneFigures {
+        scene: scene.to_owned(),
+        seconds: elapsed,
+        ui_frames: frames.len(),
+        ui_frame_ms_median: percentile(&frames, 0.5),
+        ui_frame_ms_p95: percentile(&frames, 0.95),
+        ui_frame_ms_max: frames.last().copied().unwrap_or(f64::NAN),
+        engine_frames_per_second: engine_frames as f64 / elapsed,
+        layout_latency_ms_median: percentile(&latencies, 0.5),
+        layout_latency_ms_max: latencies.last().copied().unwrap_or(f64::NAN),
+        layout_changes: latencies.len(),
+        idle_ui_frame_ms_median: percentile(&idle, 0.5),
+        idle_ui_frame_ms_p95: percentile(&idle, 0.95),
+    }
+}
+
+fn main() {
+    let options = options();
+    let mut all = Vec::new();
+    for scene in &options.scenes {
+        eprintln!("viewer benchmark: {scene}, {} s…", options.seconds);
+        let figures = measure(scene, options.seconds);
+        println!(
+            "{:<10} UI frame median {:>6.1} ms  p95 {:>6.1} ms  max {:>7.1} ms | engine {:>5.2} frames/s | \
+             layout change visible after median {:>6.1} ms, worst {:>6.1} ms ({} changes) | idle UI frame median {:>5.1} ms p95 {:>5.1} ms",
+            figures.scene,
+            figures.ui_frame_ms_median,
+            figures.ui_frame_ms_p95,
+            figures.ui_frame_ms_max,
+            figures.engine_frames_per_second,
+            figures.layout_latency_ms_median,
+            figures.layout_latency_ms_max,
+            figures.layout_changes,
+            figures.idle_ui_frame_ms_median,
+            figures.idle_ui_frame_ms_p95,
+        );
+        all.push(figures);
+    }
+    if let Some(out) = &options.out {
+        let json = serde_json::to_string_pretty(&all).expect("figures serialise");
+        std::fs::write(out, json + "\n").expect("the figures file is writable");
+        eprintln!("wrote {out}");
+    }
+}
