@@ -514,7 +514,7 @@ impl FrameGraph {
             slot.technique.encode(&mut ctx, input, output);
         }
         self.profiler.resolve_queries(&mut encoder);
-        self.statistics.resolve(&mut encoder);
+        let statistics = self.statistics.resolve(&mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
         // The profiler only fails to end a frame when scopes were left open, which the
         // closures above make impossible; a dropped frame just means no timings.
@@ -525,9 +525,8 @@ impl FrameGraph {
         if let Some(err) = oom.or(validation) {
             return Err(GraphError::Device(err.to_string()));
         }
-        self.statistics
-            .finish_frame(&device)
-            .map_err(GraphError::Device)?;
+        statistics.map_err(GraphError::Device)?;
+        self.statistics.finish_frame().map_err(GraphError::Device)?;
         self.collect_timings();
         Ok(())
     }
