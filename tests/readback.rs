@@ -367,3 +367,57 @@ fn convenience_read_matches_the_belt() {
         Err(ReadbackError::UnsupportedFormat(_))
     ));
 }
+
+/// The viewer's use: a frame renders several techniques, their outputs are copied in the
+/// frame's own encoder (one submission), and the images arrive through `try_take`, equal to
+/// what a separate blocking read of each output gives; the next frame allocates nothing.
+#[test]
+fn a_frame_graph_frame_reads_back_every_output_in_its_own_encoder() {
+    use aa_lab::aa::{self, FrameInfo};
+    use aa_lab::graph::{FrameGraph, FrameScope};
+    use aa_lab::scene::camera::FrameCamera;
+    use aa_lab::scene::procedural::{BUILTIN_SCENES, SceneOptions};
+    use aa_lab::scene::source;
+
+    let gpu = common::gpu();
+    let scene = source::load(BUILTIN_SCENES[0], &SceneOptions::default()).expect("scene loads");
+    let mut graph = FrameGraph::new(gpu.clone(), &scene);
+    for id in ["none", "fxaa", "msaa4"] {
+        graph.add(aa::create(&gpu, id).expect("technique"));
+    }
+    let mut belt = ReadbackBelt::new(&gpu.device);
+    for frame_number in 0..2 {
+        let size = (101, 37);
+        let info = FrameInfo {
+            camera: FrameCamera::from_rig(&scene.camera, frame_number, size),
+            reset_history: true,
+        };
+        let (mut pending, tickets) = graph
+            .render_with(&info, FrameScope::All, |encoder, slots| {
+                let tickets: Vec<_> = slots
+                    .iter()
+                    .filter_map(|slot| slot.output())
+                    .map(|texture| {
+                        belt.copy_texture(encoder, texture, Region::whole(texture))
+                            .expect("copy")
+                    })
+                    .collect();
+                (belt.finish(encoder), tickets)
+            })
+            .expect("frame renders");
+        assert_eq!(tickets.len(), 3);
+        let frame = loop {
+            if let Some(frame) = pending.try_take().expect("readback") {
+                break frame;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        };
+        for (ticket, slot) in tickets.iter().zip(graph.slots()) {
+            let image = frame.rgba8(*ticket).expect("image");
+            let expected = read_texture_rgba8(&gpu, slot.output().expect("output")).expect("read");
+            assert_eq!(image.dimensions(), size);
+            assert!(image == expected, "{} differs", slot.technique.id());
+        }
+    }
+    assert_eq!(belt.buffers_created(), 1);
+}

@@ -224,10 +224,10 @@ impl Pool {
             return;
         }
         self.free.push(buffer);
-        if self.free.len() > MAX_FREE_BUFFERS {
-            if let Some(smallest) = (0..self.free.len()).min_by_key(|&i| self.free[i].size()) {
-                self.free.swap_remove(smallest);
-            }
+        if self.free.len() > MAX_FREE_BUFFERS
+            && let Some(smallest) = (0..self.free.len()).min_by_key(|&i| self.free[i].size())
+        {
+            self.free.swap_remove(smallest);
         }
     }
 
@@ -380,8 +380,8 @@ impl ReadbackBelt {
         if !buffer.usage().contains(wgpu::BufferUsages::COPY_SRC) {
             return Err(ReadbackError::NotCopySource("buffer"));
         }
-        let aligned = offset % wgpu::COPY_BUFFER_ALIGNMENT == 0
-            && size % wgpu::COPY_BUFFER_ALIGNMENT == 0
+        let aligned = offset.is_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT)
+            && size.is_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT)
             && size > 0;
         if !aligned
             || offset
@@ -856,6 +856,16 @@ mod tests {
             height: 1,
         };
         assert_eq!(huge.clipped((u32::MAX, 1)).map(|r| r.width), Some(1));
+    }
+
+    #[test]
+    fn handles_move_between_threads() {
+        // The viewer records on its render thread and polls from the UI thread.
+        fn send<T: Send>() {}
+        send::<ReadbackBelt>();
+        send::<PendingReadback>();
+        send::<ReadbackFrame>();
+        send::<Ticket>();
     }
 
     #[test]

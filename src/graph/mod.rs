@@ -384,6 +384,21 @@ impl FrameGraph {
     /// Renders one frame of the techniques in `scope` and waits for nothing: outputs are ready
     /// for readback or display once the queue has run the submission.
     pub fn render(&mut self, frame: &FrameInfo, scope: FrameScope) -> Result<(), GraphError> {
+        self.render_with(frame, scope, |_, _| ())
+    }
+
+    /// [`FrameGraph::render`], with `record` called on the frame's own encoder after every
+    /// technique's passes and before the single submission, with the slots (whose outputs
+    /// now hold this frame). This is where readback copies go: add them to a
+    /// [`crate::gpu::ReadbackBelt`], call its `finish` on the encoder and return the
+    /// [`crate::gpu::readback::PendingReadback`], so the frame costs one submission and one
+    /// map. `record`'s result is returned when the frame succeeds.
+    pub fn render_with<T>(
+        &mut self,
+        frame: &FrameInfo,
+        scope: FrameScope,
+        record: impl FnOnce(&mut wgpu::CommandEncoder, &[Slot]) -> T,
+    ) -> Result<T, GraphError> {
         let size = frame.size();
         self.check_size(size)?;
         if let Some(image) = &self.image_input
@@ -513,6 +528,7 @@ impl FrameGraph {
             };
             slot.technique.encode(&mut ctx, input, output);
         }
+        let recorded = record(&mut encoder, &self.slots);
         self.profiler.resolve_queries(&mut encoder);
         let statistics = self.statistics.resolve(&mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
@@ -528,7 +544,7 @@ impl FrameGraph {
         statistics.map_err(GraphError::Device)?;
         self.statistics.finish_frame().map_err(GraphError::Device)?;
         self.collect_timings();
-        Ok(())
+        Ok(recorded)
     }
 
     /// Picks up timer results that have arrived (non-blocking).
