@@ -14,7 +14,7 @@ pub mod readback;
 pub mod shader;
 
 pub use capabilities::Capabilities;
-pub use readback::read_texture_rgba8;
+pub use readback::{ReadbackBelt, read_texture_rgba8};
 
 /// Colour format of every scene render and every technique output: 8-bit RGBA storing
 /// sRGB-encoded values, so that blending, filtering and MSAA resolves happen in linear light.

@@ -386,6 +386,21 @@ impl FrameGraph {
     /// Renders one frame of the techniques in `scope` and waits for nothing: outputs are ready
     /// for readback or display once the queue has run the submission.
     pub fn render(&mut self, frame: &FrameInfo, scope: FrameScope) -> Result<(), GraphError> {
+        self.render_with(frame, scope, |_, _| ())
+    }
+
+    /// [`FrameGraph::render`], with `record` called on the frame's own encoder after every
+    /// technique's passes and before the single submission, with the slots (whose outputs
+    /// now hold this frame). This is where readback copies go: add them to a
+    /// [`crate::gpu::ReadbackBelt`], call its `finish` on the encoder and return the
+    /// [`crate::gpu::readback::PendingReadback`], so the frame costs one submission and one
+    /// map. `record`'s result is returned when the frame succeeds.
+    pub fn render_with<T>(
+        &mut self,
+        frame: &FrameInfo,
+        scope: FrameScope,
+        record: impl FnOnce(&mut wgpu::CommandEncoder, &[Slot]) -> T,
+    ) -> Result<T, GraphError> {
         let size = frame.size();
         self.check_size(size)?;
         if let Some(image) = &self.image_input
@@ -515,8 +530,9 @@ impl FrameGraph {
             };
             slot.technique.encode(&mut ctx, input, output);
         }
+        let recorded = record(&mut encoder, &self.slots);
         self.profiler.resolve_queries(&mut encoder);
-        self.statistics.resolve(&mut encoder);
+        let statistics = self.statistics.resolve(&mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
         // The profiler only fails to end a frame when scopes were left open, which the
         // closures above make impossible; a dropped frame just means no timings.
@@ -527,11 +543,10 @@ impl FrameGraph {
         if let Some(err) = oom.or(validation) {
             return Err(GraphError::Device(err.to_string()));
         }
-        self.statistics
-            .finish_frame(&device)
-            .map_err(GraphError::Device)?;
+        statistics.map_err(GraphError::Device)?;
+        self.statistics.finish_frame().map_err(GraphError::Device)?;
         self.collect_timings();
-        Ok(())
+        Ok(recorded)
     }
 
     /// Picks up timer results that have arrived (non-blocking).

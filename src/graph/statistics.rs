@@ -5,8 +5,9 @@
 //! Off by default. When switched on (and the adapter has `PIPELINE_STATISTICS_QUERY`), every
 //! render pass the graph records — shared scene renders, a technique's own scene renders and
 //! every `render_pass`/`fullscreen_pass` — is bracketed by a query, the results are resolved at
-//! the end of the frame, and `FrameGraph::render` waits for the GPU to read them back, so
-//! frames with statistics on should not be the ones that are timed. Compute passes and copies
+//! the end of the frame and copied out through the recorder's [`ReadbackBelt`] in the frame's
+//! own encoder, and `FrameGraph::render` waits for the GPU to read them back, so frames with
+//! statistics on should not be the ones that are timed. Compute passes and copies
 //! have no fragment work and are not queried. The query set holds a fixed number of queries;
 //! a frame with more render passes than that grows the set for the next frame and reports no
 //! statistics (render the frame again).
@@ -53,6 +54,8 @@ impl FrameStatistics {
     }
 }
 
+use crate::gpu::readback::{PendingReadback, ReadbackBelt, ReadbackError, Ticket};
+
 /// Queries allocated at first.
 const INITIAL_CAPACITY: u32 = 64;
 /// Bytes of one query result (one 64-bit counter).
@@ -61,7 +64,6 @@ const RESULT_BYTES: u64 = 8;
 struct Queries {
     set: wgpu::QuerySet,
     resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
     capacity: u32,
 }
 
@@ -72,6 +74,10 @@ pub(super) struct StatisticsRecorder {
     labels: Vec<String>,
     wanted: u32,
     last: Option<FrameStatistics>,
+    /// Created with the first query set.
+    belt: Option<ReadbackBelt>,
+    /// This frame's results on their way back.
+    pending: Option<(PendingReadback, Ticket)>,
 }
 
 impl StatisticsRecorder {
@@ -82,6 +88,8 @@ impl StatisticsRecorder {
             labels: Vec::new(),
             wanted: INITIAL_CAPACITY,
             last: None,
+            belt: None,
+            pending: None,
         }
     }
 
@@ -90,6 +98,8 @@ impl StatisticsRecorder {
         self.last = None;
         if !enabled {
             self.queries = None;
+            self.belt = None;
+            self.pending = None;
         }
     }
 
@@ -100,9 +110,11 @@ impl StatisticsRecorder {
     /// Starts a frame: makes sure the query set holds `wanted` queries.
     pub(super) fn begin_frame(&mut self, device: &wgpu::Device) {
         self.labels.clear();
+        self.pending = None;
         if !self.enabled {
             return;
         }
+        self.belt.get_or_insert_with(|| ReadbackBelt::new(device));
         if self
             .queries
             .as_ref()
@@ -126,12 +138,6 @@ impl StatisticsRecorder {
                 usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             }),
-            readback: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("pipeline statistics readback"),
-                size: bytes,
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                mapped_at_creation: false,
-            }),
             capacity,
         });
     }
@@ -147,53 +153,45 @@ impl StatisticsRecorder {
         (index < queries.capacity).then_some((&queries.set, index))
     }
 
-    /// Records the resolve of this frame's queries.
-    pub(super) fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
-        let Some(queries) = &self.queries else { return };
+    /// Records the resolve of this frame's queries and their copy to the CPU; call it last on
+    /// the frame's encoder, before submitting it.
+    pub(super) fn resolve(&mut self, encoder: &mut wgpu::CommandEncoder) -> Result<(), String> {
+        self.pending = None;
+        let (Some(queries), Some(belt)) = (&self.queries, &mut self.belt) else {
+            return Ok(());
+        };
         let used = (self.labels.len() as u32).min(queries.capacity);
-        if !self.enabled || used == 0 {
-            return;
+        if !self.enabled || used == 0 || self.labels.len() as u32 > queries.capacity {
+            return Ok(());
         }
         encoder.resolve_query_set(&queries.set, 0..used, &queries.resolve, 0);
-        encoder.copy_buffer_to_buffer(
-            &queries.resolve,
-            0,
-            &queries.readback,
-            0,
-            u64::from(used) * RESULT_BYTES,
-        );
+        let ticket = belt
+            .copy_buffer(encoder, &queries.resolve, 0, u64::from(used) * RESULT_BYTES)
+            .map_err(|e| e.to_string())?;
+        self.pending = Some((belt.finish(encoder), ticket));
+        Ok(())
     }
 
     /// After the frame's submission: waits for the results and keeps them, or, when the frame
     /// needed more queries than the set had, grows the set for the next frame and keeps none.
-    pub(super) fn finish_frame(&mut self, device: &wgpu::Device) -> Result<(), String> {
+    pub(super) fn finish_frame(&mut self) -> Result<(), String> {
         self.last = None;
         if !self.enabled || self.labels.is_empty() {
             return Ok(());
         }
         let needed = self.labels.len() as u32;
-        let Some(queries) = self.queries.as_ref().filter(|q| q.capacity >= needed) else {
+        if self.queries.as_ref().is_none_or(|q| q.capacity < needed) {
             self.wanted = needed.next_power_of_two().max(INITIAL_CAPACITY);
             return Ok(());
+        }
+        let Some((pending, ticket)) = self.pending.take() else {
+            return Ok(());
         };
-        let bytes = u64::from(needed) * RESULT_BYTES;
-        let slice = queries.readback.slice(..bytes);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |result| {
-            let _ = sender.send(result);
-        });
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| e.to_string())?;
-        receiver
-            .recv()
-            .map_err(|_| "the GPU never answered the statistics readback".to_owned())?
-            .map_err(|e| e.to_string())?;
-        let counts: Vec<u64> = {
-            let mapped = slice.get_mapped_range().map_err(|e| e.to_string())?;
-            bytemuck::pod_collect_to_vec(&mapped)
+        let read = || -> Result<Vec<u64>, ReadbackError> {
+            let bytes = pending.wait()?.bytes(ticket)?;
+            Ok(bytemuck::pod_collect_to_vec(&bytes))
         };
-        queries.readback.unmap();
+        let counts = read().map_err(|e| e.to_string())?;
         self.last = Some(FrameStatistics {
             passes: self
                 .labels

@@ -6,8 +6,11 @@
 //! The definitions are those of the CPU reference ([`super::ssim`], [`super::pixel`]); the
 //! GPU computes in `f32` with the luma shifted by -127.5 before squaring, and agrees with the
 //! CPU to better than 1e-3 on the mean SSIM (tested). Use:
-//! [`GpuMetrics::encode`] records the passes into any encoder (the viewer's frame), then
-//! [`GpuMetrics::read`] waits for and returns the numbers; [`GpuMetrics::compare`] does both.
+//! [`GpuMetrics::encode`] records the passes and the copy of the totals into any encoder (the
+//! viewer's frame) through the caller's [`ReadbackBelt`], and [`PendingComparison::scores`]
+//! reads the numbers from that frame's [`ReadbackFrame`]; [`GpuMetrics::compare`] does both on
+//! a belt of its own (one submission, a blocking wait). Every readback goes through
+//! [`crate::gpu::readback`].
 //! Inputs are RGBA8 textures holding sRGB-encoded values (`Rgba8Unorm`, or `Rgba8UnormSrgb`
 //! created with an `Rgba8Unorm` view format, as every technique output is), with
 //! `TEXTURE_BINDING` usage.
@@ -17,7 +20,9 @@ use wgpu::util::DeviceExt;
 use super::pixel::psnr_from_mse;
 use super::ssim;
 use super::{MetricsError, Plane};
-use crate::gpu::readback::{ReadbackError, read_texture_bytes};
+use crate::gpu::readback::{
+    ReadbackBelt, ReadbackError, ReadbackFrame, Region, Ticket, read_texture_bytes_with,
+};
 use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu, shader};
 
 /// Workgroup side of the per-pixel passes.
@@ -95,7 +100,50 @@ struct Targets {
     ssim_map: wgpu::Texture,
     partials: wgpu::Buffer,
     totals: wgpu::Buffer,
-    readback: wgpu::Buffer,
+}
+
+/// A comparison recorded by [`GpuMetrics::encode`], waiting for its frame's readback.
+#[derive(Clone, Copy, Debug)]
+pub struct PendingComparison {
+    totals: Ticket,
+    size: (u32, u32),
+}
+
+impl PendingComparison {
+    /// The scores, from the mapped readback frame the comparison was recorded in.
+    pub fn scores(&self, frame: &ReadbackFrame) -> Result<GpuComparison, GpuMetricsError> {
+        let bytes = frame.bytes(self.totals)?;
+        let totals: [f32; 4] = bytemuck::pod_read_unaligned(
+            bytes
+                .get(..TOTALS_BYTES as usize)
+                .ok_or(GpuMetricsError::Readback(ReadbackError::NoAnswer))?,
+        );
+        let pixels = f64::from(self.size.0) * f64::from(self.size.1);
+        Ok(GpuComparison {
+            ssim: f64::from(totals[0]) / f64::from(totals[3]).max(1.0),
+            mae: f64::from(totals[1]) / pixels,
+            mse: f64::from(totals[2]) / pixels,
+        })
+    }
+}
+
+/// An SSIM map copy recorded by [`GpuMetrics::copy_ssim_map`].
+#[derive(Clone, Copy, Debug)]
+pub struct PendingMap {
+    map: Ticket,
+    size: (u32, u32),
+}
+
+impl PendingMap {
+    /// The SSIM map, from the mapped readback frame the copy was recorded in.
+    pub fn plane(&self, frame: &ReadbackFrame) -> Result<Plane, GpuMetricsError> {
+        let bytes = frame.bytes(self.map)?;
+        Ok(Plane {
+            width: self.size.0,
+            height: self.size.1,
+            data: bytemuck::pod_collect_to_vec(&bytes),
+        })
+    }
 }
 
 /// The GPU metrics pipelines and their working textures (see the module docs).
@@ -105,6 +153,8 @@ pub struct GpuMetrics {
     pipelines: [wgpu::ComputePipeline; 3],
     targets: Option<Targets>,
     encoded: bool,
+    /// For [`GpuMetrics::compare`] and [`GpuMetrics::read_ssim_map`].
+    belt: ReadbackBelt,
 }
 
 fn entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
@@ -252,6 +302,7 @@ impl GpuMetrics {
             pipelines,
             targets: None,
             encoded: false,
+            belt: ReadbackBelt::new(device),
         }
     }
 
@@ -311,11 +362,6 @@ impl GpuMetrics {
                 TOTALS_BYTES,
                 wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             ),
-            readback: storage(
-                "metrics readback",
-                TOTALS_BYTES,
-                wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            ),
         }
     }
 
@@ -328,9 +374,30 @@ impl GpuMetrics {
             .get_or_insert_with(|| Self::create_targets(device, size))
     }
 
-    /// Records the comparison of `test` against `reference` into `encoder`. Read the result
-    /// with [`GpuMetrics::read`] after submitting, before encoding the next comparison.
+    /// Records the comparison of `test` against `reference` into `encoder`, and the copy of
+    /// its totals into `belt`. After [`ReadbackBelt::finish`] and the submission, read the
+    /// scores with [`PendingComparison::scores`]. The working textures are shared: encode the
+    /// next comparison after this one's frame has been submitted.
     pub fn encode(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        belt: &mut ReadbackBelt,
+        reference: &wgpu::Texture,
+        test: &wgpu::Texture,
+    ) -> Result<PendingComparison, GpuMetricsError> {
+        self.encode_passes(encoder, reference, test)?;
+        let t = self
+            .targets
+            .as_ref()
+            .ok_or(GpuMetricsError::NothingEncoded)?;
+        let totals = belt.copy_buffer(encoder, &t.totals, 0, TOTALS_BYTES)?;
+        Ok(PendingComparison {
+            totals,
+            size: t.size,
+        })
+    }
+
+    fn encode_passes(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         reference: &wgpu::Texture,
@@ -406,44 +473,11 @@ impl GpuMetrics {
                 pass.dispatch_workgroups(x, y, 1);
             }
         }
-        encoder.copy_buffer_to_buffer(&t.totals, 0, &t.readback, 0, TOTALS_BYTES);
         self.encoded = true;
         Ok(())
     }
 
-    /// Waits for the last encoded comparison and returns its scores.
-    pub fn read(&self, gpu: &Gpu) -> Result<GpuComparison, GpuMetricsError> {
-        let t = self
-            .targets
-            .as_ref()
-            .filter(|_| self.encoded)
-            .ok_or(GpuMetricsError::NothingEncoded)?;
-        let slice = t.readback.slice(..);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |result| {
-            let _ = sender.send(result);
-        });
-        gpu.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(ReadbackError::from)?;
-        receiver
-            .recv()
-            .map_err(|_| ReadbackError::NoAnswer)?
-            .map_err(ReadbackError::from)?;
-        let totals: [f32; 4] = {
-            let mapped = slice.get_mapped_range().map_err(ReadbackError::from)?;
-            bytemuck::pod_read_unaligned(&mapped[..TOTALS_BYTES as usize])
-        };
-        t.readback.unmap();
-        let pixels = f64::from(t.size.0) * f64::from(t.size.1);
-        Ok(GpuComparison {
-            ssim: f64::from(totals[0]) / f64::from(totals[3]).max(1.0),
-            mae: f64::from(totals[1]) / pixels,
-            mse: f64::from(totals[2]) / pixels,
-        })
-    }
-
-    /// Encodes, submits and reads one comparison.
+    /// Encodes, submits and reads one comparison (one submission, a blocking wait).
     pub fn compare(
         &mut self,
         gpu: &Gpu,
@@ -455,9 +489,13 @@ impl GpuMetrics {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("metrics"),
             });
-        self.encode(&mut encoder, reference, test)?;
+        let mut belt = std::mem::replace(&mut self.belt, ReadbackBelt::new(&gpu.device));
+        let pending = self.encode(&mut encoder, &mut belt, reference, test);
+        let readback = belt.finish(&mut encoder);
+        self.belt = belt;
+        let pending = pending?;
         gpu.queue.submit([encoder.finish()]);
-        self.read(gpu)
+        pending.scores(&readback.wait()?)
     }
 
     /// The SSIM map of the last comparison (`R32Float`, one value per pixel), for live
@@ -466,14 +504,31 @@ impl GpuMetrics {
         self.targets.as_ref().map(|t| &t.ssim_map)
     }
 
-    /// Reads the SSIM map of the last comparison back to the CPU.
-    pub fn read_ssim_map(&self, gpu: &Gpu) -> Result<Plane, GpuMetricsError> {
+    /// Records the copy of the last comparison's SSIM map into `belt` (in the same encoder as
+    /// the comparison, or a later one); read it with [`PendingMap::plane`].
+    pub fn copy_ssim_map(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        belt: &mut ReadbackBelt,
+    ) -> Result<PendingMap, GpuMetricsError> {
         let t = self
             .targets
             .as_ref()
             .filter(|_| self.encoded)
             .ok_or(GpuMetricsError::NothingEncoded)?;
-        let bytes = read_texture_bytes(gpu, &t.ssim_map)?;
+        let map = belt.copy_texture(encoder, &t.ssim_map, Region::whole(&t.ssim_map))?;
+        Ok(PendingMap { map, size: t.size })
+    }
+
+    /// Reads the SSIM map of the last comparison back to the CPU (one submission, a blocking
+    /// wait).
+    pub fn read_ssim_map(&mut self, gpu: &Gpu) -> Result<Plane, GpuMetricsError> {
+        let t = self
+            .targets
+            .as_ref()
+            .filter(|_| self.encoded)
+            .ok_or(GpuMetricsError::NothingEncoded)?;
+        let bytes = read_texture_bytes_with(gpu, &mut self.belt, &t.ssim_map)?;
         Ok(Plane {
             width: t.size.0,
             height: t.size.1,
