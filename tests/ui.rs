@@ -520,12 +520,15 @@ fn snapshots_of_the_main_layouts() {
         (egui::Key::G, "viewer-grid"),
     ] {
         harness.key_press(key);
+        // The key takes effect in this frame; then the frames of the new layout render.
+        harness.step();
         wait(&mut harness, name, settled);
         harness.mask(status_bar);
         harness.snapshot_options(name, &options);
     }
     harness.key_press(egui::Key::S);
     harness.key_press(egui::Key::D);
+    harness.step();
     // The lens on the starburst's spokes, where the techniques differ.
     harness.state_mut().settings_mut().magnifier.center = Some([205.0, 85.0]);
     wait(&mut harness, "difference mode", |app| {

@@ -14,10 +14,10 @@
 use std::sync::Arc;
 
 use super::magnifier::{MARGIN, Source, crop};
-use super::readback::Region;
 use super::settings::DiffMetric;
 use super::worker::{Reporter, Worker};
 use crate::export::heatmap::magma;
+use crate::gpu::readback::Region;
 use crate::metrics::{MetricsError, Plane, flip, pixel, ssim};
 
 /// Absolute error (0..255) drawn with the brightest colour of the heatmap.

@@ -14,10 +14,10 @@ use egui::{Color32, Rect, Sense, Stroke, StrokeKind, TextureHandle, pos2, vec2};
 use super::app::{AaLabApp, Level};
 use super::difference::{self, HeatJob, HeatKey, HeatResult, heat_color};
 use super::engine::{Published, ReferenceState};
-use super::readback::Region;
 use super::settings::{DiffMetric, MagnifierSettings};
 use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, SLOT_LETTERS};
 use super::worker::Worker;
+use crate::gpu::readback::Region;
 
 /// The zoom factors offered.
 pub const ZOOM_STEPS: [u32; 9] = [2, 3, 4, 6, 8, 12, 16, 24, 32];

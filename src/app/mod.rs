@@ -2,18 +2,19 @@
 //! command line, so that what the window shows are exactly the pixels each technique produced.
 //!
 //! How it fits together:
-//! - [`AaLabApp`] (app.rs) is the `eframe::App`. Each UI frame it first brings the engine up to
-//!   date (engine.rs: one frame-graph frame for the techniques whose view changed, plus a few
-//!   samples of the progressive reference while the camera is still), then lays out the menu,
-//!   the technique panel (panels.rs), the magnifier (magnifier.rs), the metrics panel
-//!   (metrics_panel.rs), the status bar and the viewport tiles (viewport.rs).
-//! - Technique outputs stay on the GPU: each is registered with egui's wgpu renderer twice
-//!   (linear and nearest samplers) through its `Rgba8Unorm` view, which holds the sRGB-encoded
-//!   bytes, and drawn at 1:1 physical pixels (no scaling, no dithering).
-//! - Pixel values, difference heatmaps and exports come from non-blocking readbacks
-//!   (readback.rs); scene loading, PNG encoding, the quality figures (quality.rs) and the
-//!   magnifier's heatmaps (difference.rs) run on worker threads (worker.rs), so no frame waits
-//!   for long work.
+//! - [`AaLabApp`] (app.rs) is the `eframe::App`. Each UI frame it picks up what finished in the
+//!   background, handles shortcuts, hands the engine the next frame to render when it is free,
+//!   then lays out the menu, the technique panel (panels.rs), the magnifier (magnifier.rs), the
+//!   metrics panel (metrics_panel.rs), the status bar and the viewport tiles (viewport.rs).
+//! - The engine never runs on the UI thread: the render thread (render_thread.rs) owns the
+//!   render device, the frame graph and every technique, and does all slow engine work
+//!   (pipeline creation, scene uploads, target resizes, rendering, readback through the one
+//!   readback belt of `gpu/`, conversion to egui images). engine.rs is the UI's side: it
+//!   decides what to render (schedule.rs, plain data), mirrors the techniques' settings and
+//!   publishes finished frames as egui textures. A toggle, a layout change or a settings edit
+//!   shows in the next UI frame; the new images replace the previous ones when they arrive.
+//! - Scene loading, file dialogs, PNG encoding, the quality figures (quality.rs) and the
+//!   magnifier's heatmaps (difference.rs) run on worker threads (worker.rs) as well.
 //! - Settings and layout persist through eframe's storage (settings.rs); keyboard shortcuts and
 //!   the help overlay share one table (shortcuts.rs).
 
@@ -28,7 +29,6 @@ mod magnifier;
 mod metrics_panel;
 mod panels;
 mod quality;
-mod readback;
 mod reference;
 mod render_thread;
 mod scene_loader;

@@ -15,10 +15,10 @@
 use std::sync::{Arc, mpsc};
 use std::time::Duration;
 
-use super::readback::{PendingImage, ReadbackError, Region};
 use super::reference::{ProgressiveReference, SharedControl};
 use crate::aa::ssaa::Progress;
 use crate::aa::{self, ParamMap, ParamValue};
+use crate::gpu::readback::{ReadbackBelt, ReadbackError, Region, Ticket};
 use crate::gpu::{Gpu, GpuError};
 use crate::graph::params::Param;
 use crate::graph::{FrameGraph, FrameInfo, FrameScope, FrameTimings, MemoryReport};
@@ -245,6 +245,8 @@ struct RenderState {
     reference: SharedControl,
     reference_samples: u32,
     timings_serial: u64,
+    /// Every image of a frame goes back through one staging buffer, mapped once.
+    belt: ReadbackBelt,
 }
 
 impl RenderState {
@@ -281,6 +283,7 @@ impl RenderState {
         let reference_slot = graph.add(Box::new(reference));
         graph.slots_mut()[reference_slot].enabled = false;
         let state = Self {
+            belt: ReadbackBelt::new(&gpu.device),
             gpu,
             graph,
             slots,
@@ -351,9 +354,18 @@ impl RenderState {
         }
         self.graph.slots_mut()[self.reference_slot].enabled = plan.reference.is_some();
 
-        let rendered = self.graph.render(&plan.frame, FrameScope::All);
+        // The readback copies go into the frame's own encoder: one submission, one mapping.
+        let belt = &mut self.belt;
+        let reference_slot = self.reference_slot;
+        let rendered = self
+            .graph
+            .render_with(&plan.frame, FrameScope::All, |encoder, slots| {
+                let tickets = Tickets::record(belt, encoder, slots, plan, &running, reference_slot);
+                (tickets, belt.finish(encoder))
+            });
         let after = self.reference.lock().progress;
-        rendered?;
+        let (tickets, pending) = rendered?;
+        let tickets = tickets?;
         let reference_renders = match plan.reference {
             Some(r) if r.restart => after.samples,
             Some(_) => after.samples.saturating_sub(before.samples),
@@ -369,55 +381,77 @@ impl RenderState {
             self.timings_serial = self.graph.timings_serial();
             timings = self.graph.timings().cloned();
         }
-
-        let read = |texture: &wgpu::Texture| {
-            PendingImage::start(
-                &self.gpu.device,
-                &self.gpu.queue,
-                texture,
-                Region::whole(texture),
-            )
-        };
-        let mut outputs = Vec::new();
-        let mut debug = Vec::new();
-        for &(index, slot) in &running {
-            let slot = &self.graph.slots()[slot];
-            if let Some(texture) = slot.output() {
-                outputs.push((index, read(texture)));
-            }
-            if plan.debug.contains(&index) {
-                for view in slot.technique.debug_views() {
-                    if view.texture.usage().contains(wgpu::TextureUsages::COPY_SRC) {
-                        debug.push((index, view.name, view.description, read(view.texture)));
-                    }
-                }
-            }
-        }
-        let reference = match plan.reference {
-            Some(_) => self.graph.slots()[self.reference_slot].output().map(read),
-            None => None,
-        };
-        self.gpu.wait_idle();
-        let image = |pending: &PendingImage| -> Result<RenderedImage, RenderError> {
-            match pending.try_take()? {
-                Some(pixels) => Ok(RenderedImage::new(pixels)),
-                None => {
-                    Err(ReadbackError::Map("the GPU did not finish the frame".to_owned()).into())
-                }
-            }
+        let read = pending.wait()?;
+        let image = |ticket: Ticket| -> Result<RenderedImage, RenderError> {
+            Ok(RenderedImage::new(read.rgba8(ticket)?))
         };
         Ok(FrameResult {
-            outputs: collect(&outputs, |(index, pending)| Ok((*index, image(pending)?)))?,
-            debug: collect(&debug, |(index, name, description, pending)| {
-                Ok((*index, *name, *description, image(pending)?))
+            outputs: collect(&tickets.outputs, |&(index, ticket)| {
+                Ok((index, image(ticket)?))
             })?,
-            reference: reference
-                .map(|pending| Ok::<_, RenderError>((after, image(&pending)?)))
+            debug: collect(&tickets.debug, |&(index, name, description, ticket)| {
+                Ok((index, name, description, image(ticket)?))
+            })?,
+            reference: tickets
+                .reference
+                .map(|ticket| Ok::<_, RenderError>((after, image(ticket)?)))
                 .transpose()?,
             memory,
             scene_renders,
             timings,
         })
+    }
+}
+
+/// The readback copies of one frame.
+struct Tickets {
+    outputs: Vec<(usize, Ticket)>,
+    debug: Vec<(usize, &'static str, &'static str, Ticket)>,
+    reference: Option<Ticket>,
+}
+
+impl Tickets {
+    /// Records a copy of every output that rendered, the debug views the plan asks for and
+    /// the reference.
+    fn record(
+        belt: &mut ReadbackBelt,
+        encoder: &mut wgpu::CommandEncoder,
+        slots: &[crate::graph::Slot],
+        plan: &FramePlan,
+        running: &[(usize, usize)],
+        reference_slot: usize,
+    ) -> Result<Self, ReadbackError> {
+        let mut copy =
+            |texture: &wgpu::Texture| belt.copy_texture(encoder, texture, Region::whole(texture));
+        let mut tickets = Self {
+            outputs: Vec::new(),
+            debug: Vec::new(),
+            reference: None,
+        };
+        for &(index, slot) in running {
+            let slot = &slots[slot];
+            if let Some(texture) = slot.output() {
+                tickets.outputs.push((index, copy(texture)?));
+            }
+            if plan.debug.contains(&index) {
+                for view in slot.technique.debug_views() {
+                    if view.texture.usage().contains(wgpu::TextureUsages::COPY_SRC) {
+                        tickets.debug.push((
+                            index,
+                            view.name,
+                            view.description,
+                            copy(view.texture)?,
+                        ));
+                    }
+                }
+            }
+        }
+        if plan.reference.is_some()
+            && let Some(texture) = slots[reference_slot].output()
+        {
+            tickets.reference = Some(copy(texture)?);
+        }
+        Ok(tickets)
     }
 }
 
