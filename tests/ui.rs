@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use aa_lab::app::{AaLabApp, LaunchOptions, Layout};
+use aa_lab::app::{AaLabApp, DisplayPath, LaunchOptions, Layout};
 use aa_lab::scene::procedural::SceneOptions;
 use aa_lab::spec::{self, RenderSpec, RunOptions};
 use egui::{Event, Modifiers, PointerButton, Pos2, Rect, pos2, vec2};
@@ -26,13 +26,18 @@ const TIMEOUT: Duration = Duration::from_secs(180);
 /// The viewer on `scene` with default settings, paused (frames stay put), after its first
 /// complete frame.
 fn viewer(scene: &str) -> Harness<'static, AaLabApp> {
-    slow_viewer(scene, Duration::ZERO)
+    viewer_with(scene, Duration::ZERO, DisplayPath::Auto)
 }
 
-/// [`viewer`] with an engine whose every frame takes at least `frame_delay`; when that is not
+/// [`viewer`] with an engine whose every frame takes at least `frame_delay` and images that
+/// reach the screen by `display`; when the delay is not
 /// zero, the quality figures and the lens are off (the reference would keep a slow engine busy
 /// for many frames).
-fn slow_viewer(scene: &str, frame_delay: Duration) -> Harness<'static, AaLabApp> {
+fn viewer_with(
+    scene: &str,
+    frame_delay: Duration,
+    display: DisplayPath,
+) -> Harness<'static, AaLabApp> {
     let scene = scene.to_owned();
     let mut harness = Harness::builder()
         .with_size(WINDOW)
@@ -44,6 +49,7 @@ fn slow_viewer(scene: &str, frame_delay: Duration) -> Harness<'static, AaLabApp>
                     scene: Some(scene),
                     fresh_settings: true,
                     engine_frame_delay: frame_delay,
+                    display,
                 },
             )
             .expect("the viewer starts")
@@ -129,7 +135,18 @@ fn lens_center_on_screen(app: &AaLabApp) -> Pos2 {
 
 #[test]
 fn the_window_shows_exactly_the_technique_output() {
-    let mut harness = viewer("chart");
+    window_shows_exactly_the_technique_output(DisplayPath::Auto);
+}
+
+/// The zero-copy path (egui draws the output textures on eframe's device, as on hardware
+/// adapters) shows the same bytes.
+#[test]
+fn the_window_shows_exactly_the_technique_output_drawn_from_its_texture() {
+    window_shows_exactly_the_technique_output(DisplayPath::Native);
+}
+
+fn window_shows_exactly_the_technique_output(display: DisplayPath) {
+    let mut harness = viewer_with("chart", Duration::ZERO, display);
     harness.state_mut().settings_mut().show_magnifier = false;
     wait(&mut harness, "the lens to go", AaLabApp::frame_ready);
     let screen = harness.render().expect("the UI renders");
@@ -196,7 +213,7 @@ fn techniques_switch_on_and_off() {
 #[test]
 fn toggles_and_layouts_show_while_a_slow_engine_frame_renders() {
     // Every engine frame takes at least 4 s: the UI must not wait for one.
-    let mut harness = slow_viewer("chart", Duration::from_secs(4));
+    let mut harness = viewer_with("chart", Duration::from_secs(4), DisplayPath::Auto);
     let enabled = |harness: &Harness<'_, AaLabApp>, id: &str| {
         harness.state().settings().enabled.iter().any(|e| e == id)
     };
@@ -221,9 +238,13 @@ fn toggles_and_layouts_show_while_a_slow_engine_frame_renders() {
     );
     // The new layout shows the previous frames (scaled into the smaller tiles) until the
     // grid-sized frames arrive.
-    assert!(harness.state().output_pixels("fxaa").is_some());
+    assert!(harness.state().has_image("fxaa"));
+    assert!(
+        !harness.state().has_image("ssaa"),
+        "SSAA's first frame is not done"
+    );
     wait(&mut harness, "the grid frame", AaLabApp::frame_ready);
-    assert!(harness.state().output_pixels("ssaa").is_some());
+    assert!(harness.state().has_image("ssaa"));
 }
 
 #[test]

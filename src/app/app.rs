@@ -11,7 +11,7 @@ use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
 use super::camera::CameraController;
-use super::engine::Engine;
+use super::engine::{Display, DisplayPath, Engine};
 use super::export::ExportState;
 use super::magnifier::MagnifierState;
 use super::quality::QualityTracker;
@@ -36,6 +36,8 @@ pub struct LaunchOptions {
     pub fresh_settings: bool,
     /// Every engine frame takes at least this long (tests of a slow engine; zero normally).
     pub engine_frame_delay: Duration,
+    /// How the engine's images reach the screen.
+    pub display: DisplayPath,
 }
 
 /// Errors of creating the app.
@@ -100,6 +102,8 @@ pub struct AaLabApp {
     pub(super) panels_hidden: bool,
     pub(super) file_dialog: Option<mpsc::Receiver<Option<PathBuf>>>,
     engine_frame_delay: Duration,
+    /// How the engine's images reach the screen.
+    display: Display,
     /// Engine frames published so far.
     engine_frames: u64,
     styled: bool,
@@ -159,6 +163,7 @@ impl AaLabApp {
             panels_hidden: false,
             file_dialog: None,
             engine_frame_delay: options.engine_frame_delay,
+            display: Display::choose(state, options.display),
             engine_frames: 0,
             styled: false,
         };
@@ -222,10 +227,16 @@ impl AaLabApp {
                 .all(|id| engine.image(id).is_some_and(|i| i.size() == size))
     }
 
-    /// The published output of a technique (the bytes on screen).
+    /// Whether a technique has an image to show (of any size).
+    pub fn has_image(&self, id: &str) -> bool {
+        self.engine.as_ref().is_some_and(|e| e.image(id).is_some())
+    }
+
+    /// The published output of a technique (the bytes on screen), when its pixels were read
+    /// back.
     pub fn output_pixels(&self, id: &str) -> Option<std::sync::Arc<image::RgbaImage>> {
         let engine = self.engine.as_ref()?;
-        engine.output(id).map(|p| std::sync::Arc::clone(&p.pixels))
+        engine.output(id).and_then(|p| p.pixels.clone())
     }
 
     /// Where technique A's image was drawn in the last frame (points).
@@ -236,9 +247,7 @@ impl AaLabApp {
     /// The published reference of the displayed view (the bytes the figures compare against).
     pub fn reference_pixels(&self) -> Option<std::sync::Arc<image::RgbaImage>> {
         let engine = self.engine.as_ref()?;
-        engine
-            .reference()
-            .map(|(p, _)| std::sync::Arc::clone(&p.pixels))
+        engine.reference().and_then(|(p, _)| p.pixels.clone())
     }
 
     /// Samples the displayed reference rests on (0 when there is none).
@@ -406,7 +415,7 @@ impl AaLabApp {
             Some(engine) => engine.set_scene(scene),
             None => {
                 let mut engine = match Engine::new(
-                    &self.gpu.adapter,
+                    self.display.clone(),
                     self.gpu.caps.clone(),
                     ctx,
                     scene,
@@ -570,6 +579,12 @@ impl AaLabApp {
             || self.settings.layout == Layout::Flip
     }
 
+    /// Whether anything reads the outputs' pixels on the CPU: the quality figures, the
+    /// magnifier (pixel values, error maps) or an export.
+    fn pixels_wanted(&self) -> bool {
+        self.settings.quality || self.settings.show_magnifier || self.export.running()
+    }
+
     /// Whether time changes the image (so frames must keep coming while playing).
     fn time_changes_image(&self) -> bool {
         let Some(engine) = &self.engine else {
@@ -584,6 +599,7 @@ impl AaLabApp {
     fn engine_frame(&mut self, ctx: &egui::Context) -> bool {
         let size = self.viewport.render_size;
         let want_reference = self.reference_wanted();
+        let want_pixels = self.pixels_wanted();
         let Some(engine) = &mut self.engine else {
             return false;
         };
@@ -591,7 +607,7 @@ impl AaLabApp {
         let mut errors = publication.problems;
         if size.0 > 0 && size.1 > 0 && !engine.busy() {
             let (camera, cut) = self.camera.next_frame(size);
-            if let Err(err) = engine.submit(camera, cut, want_reference) {
+            if let Err(err) = engine.submit(camera, cut, want_reference, want_pixels) {
                 errors.push(err.to_string());
             }
         }

@@ -26,8 +26,8 @@ use egui::{TextureHandle, TextureId, TextureOptions};
 
 use super::reference::REFERENCE_ID;
 use super::render_thread::{
-    Command, Event, FramePlan, FrameResult, ReferenceRequest, RenderThread, RenderedImage,
-    SettingsChange, TechniqueSettings,
+    Command, Event, FramePlan, FrameResult, ReferenceRequest, RenderDevice, RenderThread,
+    RenderedImage, SettingsChange, TechniqueSettings,
 };
 use super::schedule::{self, Stamp, TechniqueState, ViewKey};
 use super::stats::GpuStats;
@@ -55,25 +55,131 @@ pub struct ImageStamp {
     pub serial: u64,
 }
 
-/// A finished image: its pixels on the CPU and an egui texture with the same bytes.
+/// How finished images reach the screen (see the module docs).
+#[derive(Clone)]
+pub enum Display {
+    /// The engine renders on a device of its own; every output is read back and uploaded to
+    /// egui (software adapters).
+    Readback(wgpu::Adapter),
+    /// The engine renders on eframe's device and egui draws the output textures directly;
+    /// pixels come back to the CPU only when something reads them (hardware adapters).
+    Native(egui_wgpu::RenderState),
+}
+
+/// Which [`Display`] the viewer uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DisplayPath {
+    /// Native on hardware adapters, readback on software ones; the environment variable
+    /// `AA_LAB_DISPLAY=native` or `readback` overrides the choice.
+    #[default]
+    Auto,
+    /// Always [`Display::Native`].
+    Native,
+    /// Always [`Display::Readback`].
+    Readback,
+}
+
+impl Display {
+    /// The display for eframe's render state along `path`.
+    pub fn choose(state: &egui_wgpu::RenderState, path: DisplayPath) -> Self {
+        let native = match path {
+            DisplayPath::Native => true,
+            DisplayPath::Readback => false,
+            DisplayPath::Auto => match std::env::var("AA_LAB_DISPLAY").as_deref() {
+                Ok("native") => true,
+                Ok("readback") => false,
+                _ => state.adapter.get_info().device_type != wgpu::DeviceType::Cpu,
+            },
+        };
+        // egui draws an output through its linear view of the sRGB texture.
+        let viewable = state
+            .adapter
+            .get_downlevel_capabilities()
+            .flags
+            .contains(wgpu::DownlevelFlags::VIEW_FORMATS);
+        let native = native && viewable;
+        if native {
+            Self::Native(state.clone())
+        } else {
+            Self::Readback(state.adapter.clone())
+        }
+    }
+
+    fn is_native(&self) -> bool {
+        matches!(self, Self::Native(_))
+    }
+}
+
+/// A technique's output texture registered with egui's renderer; unregistered when dropped.
+struct NativeTexture {
+    id: TextureId,
+    texture: wgpu::Texture,
+    state: egui_wgpu::RenderState,
+}
+
+impl NativeTexture {
+    /// The egui texture showing `texture` through its `Rgba8Unorm` view: egui's own textures
+    /// hold sRGB-encoded bytes that it samples undecoded, so this view makes the screen show
+    /// the very bytes of the output (every output texture can be viewed so).
+    fn register(state: &egui_wgpu::RenderState, texture: wgpu::Texture) -> Self {
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("egui view of an output"),
+            format: Some(wgpu::TextureFormat::Rgba8Unorm),
+            ..Default::default()
+        });
+        let id = state.renderer.write().register_native_texture(
+            &state.device,
+            &view,
+            wgpu::FilterMode::Nearest,
+        );
+        Self {
+            id,
+            texture,
+            state: state.clone(),
+        }
+    }
+}
+
+impl Drop for NativeTexture {
+    fn drop(&mut self) {
+        // egui did not create the texture, so freeing the id leaves the texture alone.
+        self.state.renderer.write().free_texture(&self.id);
+    }
+}
+
+/// The texture egui draws a published image from.
+#[derive(Clone)]
+enum Shown {
+    /// An egui texture holding the read-back bytes.
+    Uploaded(TextureHandle),
+    /// The output texture itself.
+    Native(Arc<NativeTexture>),
+}
+
+/// A finished image: an egui texture and, when read back, its pixels on the CPU.
 #[derive(Clone)]
 pub struct Published {
-    /// The pixels (sRGB-encoded RGBA8).
-    pub pixels: Arc<image::RgbaImage>,
-    /// What the pixels show.
+    /// The pixels (sRGB-encoded RGBA8) when they were read back: always on the readback path,
+    /// on the native path only for frames that something wanted to read.
+    pub pixels: Option<Arc<image::RgbaImage>>,
+    /// What the image shows.
     pub stamp: ImageStamp,
-    handle: TextureHandle,
+    size: (u32, u32),
+    shown: Shown,
 }
 
 impl Published {
     /// The egui texture (nearest sampling).
     pub fn id(&self) -> TextureId {
-        self.handle.id()
+        match &self.shown {
+            Shown::Uploaded(handle) => handle.id(),
+            Shown::Native(native) => native.id,
+        }
     }
 
     /// Size in pixels.
     pub fn size(&self) -> (u32, u32) {
-        self.pixels.dimensions()
+        self.size
     }
 }
 
@@ -87,20 +193,57 @@ fn publish(
     stamp: ImageStamp,
 ) {
     let RenderedImage { pixels, color } = image;
+    let size = pixels.dimensions();
+    let pixels = Some(Arc::new(pixels));
     match slot {
-        Some(existing) => {
-            existing.handle.set(color, TextureOptions::NEAREST);
-            existing.pixels = Arc::new(pixels);
-            existing.stamp = stamp;
-        }
-        None => {
+        Some(Published {
+            shown: Shown::Uploaded(handle),
+            ..
+        }) => {
+            handle.set(color, TextureOptions::NEAREST);
+            let handle = handle.clone();
             *slot = Some(Published {
-                handle: ctx.load_texture(name, color, TextureOptions::NEAREST),
-                pixels: Arc::new(pixels),
+                pixels,
                 stamp,
+                size,
+                shown: Shown::Uploaded(handle),
+            });
+        }
+        _ => {
+            *slot = Some(Published {
+                shown: Shown::Uploaded(ctx.load_texture(name, color, TextureOptions::NEAREST)),
+                pixels,
+                stamp,
+                size,
             });
         }
     }
+}
+
+/// Stores a native output in `slot`: the texture (registered again only when it is another
+/// texture, after a resize) and the pixels when they were read back. Pixels of an older frame
+/// are dropped: they no longer show what the texture shows.
+fn publish_native(
+    state: &egui_wgpu::RenderState,
+    slot: &mut Option<Published>,
+    texture: wgpu::Texture,
+    pixels: Option<image::RgbaImage>,
+    stamp: ImageStamp,
+) {
+    let size = (texture.width(), texture.height());
+    let shown = match slot.take() {
+        Some(Published {
+            shown: Shown::Native(native),
+            ..
+        }) if native.texture == texture => Shown::Native(native),
+        _ => Shown::Native(Arc::new(NativeTexture::register(state, texture))),
+    };
+    *slot = Some(Published {
+        pixels: pixels.map(Arc::new),
+        stamp,
+        size,
+        shown,
+    });
 }
 
 /// One registry technique in the viewer.
@@ -191,6 +334,7 @@ struct InFlight {
 /// See the module docs.
 pub struct Engine {
     caps: Capabilities,
+    display: Display,
     thread: RenderThread,
     /// Why the render thread ended, once it has.
     stopped: Option<String>,
@@ -225,12 +369,12 @@ pub struct Engine {
 }
 
 impl Engine {
-    /// Starts the render thread on `adapter` (whose device has `caps`) with the graph for
+    /// Starts the render thread for `display` (on a device with `caps`) with the graph for
     /// `scene`, every available technique (all switched off) and the reference with
     /// `reference_samples` samples. Returns at once; the techniques' settings arrive when the
     /// thread has created them.
     pub fn new(
-        adapter: &wgpu::Adapter,
+        display: Display,
         caps: Capabilities,
         ctx: &egui::Context,
         scene: Arc<Scene>,
@@ -256,8 +400,16 @@ impl Engine {
             .collect();
         let animated = scene.meshes.iter().any(|m| m.spin.is_some());
         let wake = ctx.clone();
+        let device = match &display {
+            Display::Readback(adapter) => RenderDevice::Own(adapter.clone()),
+            Display::Native(state) => RenderDevice::Shared(crate::gpu::Gpu::from_parts(
+                state.adapter.clone(),
+                state.device.clone(),
+                state.queue.clone(),
+            )),
+        };
         let thread = RenderThread::spawn(
-            adapter.clone(),
+            device,
             scene,
             entries.iter().map(TechniqueEntry::available).collect(),
             reference_samples,
@@ -265,6 +417,7 @@ impl Engine {
         )?;
         Ok(Self {
             caps,
+            display,
             thread,
             stopped: None,
             entries,
@@ -633,7 +786,7 @@ impl Engine {
             self.memory = frame.memory;
             self.scene_renders = frame.scene_renders;
         }
-        for (index, image) in frame.outputs {
+        for (index, output) in frame.outputs {
             self.publish_serial += 1;
             let entry = &mut self.entries[index];
             let stamp = ImageStamp {
@@ -641,7 +794,25 @@ impl Engine {
                 revision: entry.revision,
                 serial: self.publish_serial,
             };
-            publish(ctx, &mut entry.output, entry.id, image, stamp);
+            match (&self.display, output.texture, output.image) {
+                (Display::Native(state), Some(texture), image) => {
+                    let pixels = image.map(|i| i.pixels);
+                    publish_native(state, &mut entry.output, texture, pixels, stamp);
+                }
+                // Pixels read later of the texture on screen: same image, same stamp.
+                (Display::Native(_), None, Some(image)) => {
+                    if let Some(published) = &mut entry.output
+                        && published.size == image.pixels.dimensions()
+                    {
+                        published.pixels = Some(Arc::new(image.pixels));
+                    }
+                    continue;
+                }
+                (Display::Readback(_), _, Some(image)) => {
+                    publish(ctx, &mut entry.output, entry.id, image, stamp);
+                }
+                _ => continue,
+            }
             publication.outputs = true;
         }
         for (index, name, description, image) in frame.debug {
@@ -691,12 +862,15 @@ impl Engine {
 
     /// Starts the next frame at `camera` when there is something to render (see
     /// [`schedule::schedule`]); `want_reference` says whether anything shows or measures the
-    /// reference. Returns whether a frame was started.
+    /// reference, `want_pixels` whether anything reads the outputs' pixels (on the native
+    /// path, pixels are read back only then, and only once the view is still). Returns whether
+    /// a frame was started.
     pub fn submit(
         &mut self,
         camera: FrameCamera,
         cut: bool,
         want_reference: bool,
+        want_pixels: bool,
     ) -> Result<bool, EngineError> {
         if let Some(reason) = &self.stopped {
             return Err(EngineError::Stopped(reason.clone()));
@@ -733,7 +907,24 @@ impl Engine {
         if !plan.still {
             self.view_serial += 1;
         }
-        if plan.is_empty() {
+        let read: Vec<usize> = if !self.display.is_native() {
+            plan.run.clone()
+        } else if want_pixels && plan.still {
+            // Everything on screen whose pixels are not on the CPU yet.
+            (0..states.len())
+                .filter(|&i| states[i].enabled)
+                .filter(|&i| {
+                    plan.run.contains(&i)
+                        || self.entries[i]
+                            .output
+                            .as_ref()
+                            .is_some_and(|o| o.pixels.is_none())
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        if plan.is_empty() && read.is_empty() {
             return Ok(false);
         }
         let complete = states
@@ -752,6 +943,8 @@ impl Engine {
                 .filter(|&i| self.entries[i].debug_view.is_some())
                 .collect(),
             run: plan.run.clone(),
+            read,
+            textures: self.display.is_native(),
             reference: plan.reference.map(|restart| ReferenceRequest {
                 restart,
                 budget: self.reference_budget(),

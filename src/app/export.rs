@@ -204,18 +204,17 @@ impl AaLabApp {
         let mut columns = Vec::new();
         let mut cells = Vec::new();
         for source in self.magnifier_sources() {
-            let Some(image) = self.source_image(source) else {
+            let Some(image) = self.source_image(source).and_then(|i| i.pixels.as_ref()) else {
                 continue;
             };
+            let reference = reference.and_then(|r| r.pixels.as_ref());
             let pixels = match reference {
                 Some(reference)
                     if self.settings.magnifier.difference && source != Source::Reference =>
                 {
-                    lens_heatmap(metric, &reference.pixels, &image.pixels, lens)
-                        .ok()?
-                        .to_rgba()
+                    lens_heatmap(metric, reference, image, lens).ok()?.to_rgba()
                 }
-                _ => crop(&image.pixels, lens),
+                _ => crop(image, lens),
             };
             let whole = sheet::Rect {
                 x: 0,
@@ -287,14 +286,16 @@ impl AaLabApp {
         let Some(engine) = &self.engine else { return };
         let mut images = Vec::new();
         for entry in engine.entries().iter().filter(|e| e.enabled) {
-            let Some(output) = engine.output(entry.id) else {
+            let Some(output) = engine.output(entry.id).and_then(|o| o.pixels.as_ref()) else {
                 continue;
             };
-            images.push((entry.id.to_owned(), Arc::clone(&output.pixels)));
-            if let (Some(view), Some(image)) = (&entry.debug_view, engine.image(entry.id))
-                && !Arc::ptr_eq(&image.pixels, &output.pixels)
+            images.push((entry.id.to_owned(), Arc::clone(output)));
+            if let (Some(view), Some(image)) = (
+                &entry.debug_view,
+                engine.image(entry.id).and_then(|i| i.pixels.as_ref()),
+            ) && !Arc::ptr_eq(image, output)
             {
-                images.push((format!("{}-{view}", entry.id), Arc::clone(&image.pixels)));
+                images.push((format!("{}-{view}", entry.id), Arc::clone(image)));
             }
         }
         let scene = self.scene.as_ref().map_or("scene", |s| s.name.as_str());

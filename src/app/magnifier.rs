@@ -200,15 +200,18 @@ impl AaLabApp {
         let lens = self.lens()?;
         let size = self.viewport.render_size;
         let reference = self.source_image(Source::Reference)?;
+        let reference_pixels = reference.pixels.clone()?;
         let mut images = vec![reference.stamp.serial];
         let mut tests = Vec::new();
         for source in self.magnifier_sources() {
             if source == Source::Reference {
                 continue;
             }
-            if let Some(image) = self.source_image(source).filter(|i| i.size() == size) {
+            if let Some(image) = self.source_image(source).filter(|i| i.size() == size)
+                && let Some(pixels) = &image.pixels
+            {
                 images.push(image.stamp.serial);
-                tests.push((source, std::sync::Arc::clone(&image.pixels)));
+                tests.push((source, std::sync::Arc::clone(pixels)));
             }
         }
         (!tests.is_empty()).then(|| HeatJob {
@@ -219,7 +222,7 @@ impl AaLabApp {
                 view: reference.stamp.view,
                 metric: self.settings.magnifier.metric,
             },
-            reference: std::sync::Arc::clone(&reference.pixels),
+            reference: reference_pixels,
             tests,
         })
     }
@@ -585,7 +588,7 @@ impl AaLabApp {
                 ui.label(style::badge(letter, color));
                 let pixel = self
                     .source_image(*source)
-                    .and_then(|i| i.pixels.get_pixel_checked(x, y))
+                    .and_then(|i| i.pixels.as_ref()?.get_pixel_checked(x, y))
                     .map(|p| p.0);
                 match pixel {
                     Some([r, g, b, _]) => {

@@ -44,6 +44,7 @@ use std::sync::Arc;
 
 pub use app::{AaLabApp, LaunchOptions};
 pub use camera::CameraController;
+pub use engine::DisplayPath;
 pub use quality::{Figures, PixelFigures};
 pub use settings::{DiffMetric, Layout, Resolution, Settings};
 

@@ -403,15 +403,19 @@ impl AaLabApp {
             .iter()
             .filter_map(|entry| {
                 let output = engine.output(entry.id)?;
+                let pixels = output.pixels.as_ref()?;
                 (output.stamp.view == view && output.stamp.revision == entry.revision())
-                    .then(|| (entry.id, output.stamp, Arc::clone(&output.pixels)))
+                    .then(|| (entry.id, output.stamp, Arc::clone(pixels)))
             })
             .collect();
         if tests.is_empty() {
             return;
         }
+        let Some(reference_pixels) = &reference.pixels else {
+            return;
+        };
         let reference = (
-            Arc::clone(&reference.pixels),
+            Arc::clone(reference_pixels),
             reference.stamp.serial,
             progress,
         );

@@ -18,7 +18,7 @@ use std::time::Duration;
 use super::reference::{ProgressiveReference, SharedControl};
 use crate::aa::ssaa::Progress;
 use crate::aa::{self, ParamMap, ParamValue};
-use crate::gpu::readback::{ReadbackBelt, ReadbackError, Region, Ticket};
+use crate::gpu::readback::{PendingReadback, ReadbackBelt, ReadbackError, Region, Ticket};
 use crate::gpu::{Gpu, GpuError};
 use crate::graph::params::Param;
 use crate::graph::{FrameGraph, FrameInfo, FrameScope, FrameTimings, MemoryReport};
@@ -77,6 +77,11 @@ pub struct FramePlan {
     pub frame: FrameInfo,
     /// Registry indices of the techniques that render.
     pub run: Vec<usize>,
+    /// Registry indices whose outputs are read back to the CPU (rendered in this frame or
+    /// not: a plan may only read).
+    pub read: Vec<usize>,
+    /// Hand out the output textures of the techniques that run (egui draws them directly).
+    pub textures: bool,
     /// Registry indices (a subset of `run`) whose debug views are read back too.
     pub debug: Vec<usize>,
     /// The reference's part, if it renders.
@@ -103,10 +108,18 @@ impl RenderedImage {
     }
 }
 
+/// A technique's output in a [`FrameResult`].
+pub struct FrameOutput {
+    /// The output texture, when the plan asked for textures and the technique ran.
+    pub texture: Option<wgpu::Texture>,
+    /// The pixels, when the plan asked for them.
+    pub image: Option<RenderedImage>,
+}
+
 /// A rendered frame.
 pub struct FrameResult {
     /// Technique outputs by registry index.
-    pub outputs: Vec<(usize, RenderedImage)>,
+    pub outputs: Vec<(usize, FrameOutput)>,
     /// Debug views: registry index, name, description, image.
     pub debug: Vec<(usize, &'static str, &'static str, RenderedImage)>,
     /// The reference's progress and image, when it rendered.
@@ -166,6 +179,14 @@ pub enum Event {
     Failed(RenderError),
 }
 
+/// The device the thread renders on.
+pub enum RenderDevice {
+    /// A device of its own on this adapter (its queue never delays the UI's).
+    Own(wgpu::Adapter),
+    /// eframe's device, so that egui can draw the outputs without copies.
+    Shared(Gpu),
+}
+
 /// The UI's handle: send commands, receive events. Dropping it ends the thread after the
 /// command it is handling.
 pub struct RenderThread {
@@ -174,11 +195,11 @@ pub struct RenderThread {
 }
 
 impl RenderThread {
-    /// Starts the thread: it creates a device on `adapter`, the graph for `scene` and every
-    /// registry technique that `available` allows, then answers [`Event::Ready`]. `wake` is
-    /// called after every event.
+    /// Starts the thread: it opens `device`, creates the graph for `scene` and every registry
+    /// technique that `available` allows, then answers [`Event::Ready`]. `wake` is called after
+    /// every event.
     pub fn spawn(
-        adapter: wgpu::Adapter,
+        device: RenderDevice,
         scene: Arc<Scene>,
         available: Vec<bool>,
         reference_samples: u32,
@@ -194,7 +215,7 @@ impl RenderThread {
                     wake();
                 };
                 let mut state =
-                    match RenderState::new(&adapter, &scene, &available, reference_samples) {
+                    match RenderState::new(device, &scene, &available, reference_samples) {
                         Ok((state, ready)) => {
                             send(Event::Ready(ready));
                             state
@@ -251,12 +272,15 @@ struct RenderState {
 
 impl RenderState {
     fn new(
-        adapter: &wgpu::Adapter,
+        device: RenderDevice,
         scene: &Scene,
         available: &[bool],
         reference_samples: u32,
     ) -> Result<(Self, Vec<Result<TechniqueSettings, String>>), RenderError> {
-        let gpu = open_device(adapter)?;
+        let gpu = match device {
+            RenderDevice::Own(adapter) => open_device(&adapter)?,
+            RenderDevice::Shared(gpu) => gpu,
+        };
         let mut graph = FrameGraph::new(gpu.clone(), scene);
         let mut slots = Vec::new();
         let mut ready = Vec::new();
@@ -338,6 +362,9 @@ impl RenderState {
     }
 
     fn render(&mut self, plan: &FramePlan) -> Result<FrameResult, RenderError> {
+        if plan.run.is_empty() && plan.reference.is_none() {
+            return self.read_only(plan);
+        }
         let running: Vec<(usize, usize)> = plan
             .run
             .iter()
@@ -355,12 +382,14 @@ impl RenderState {
         self.graph.slots_mut()[self.reference_slot].enabled = plan.reference.is_some();
 
         // The readback copies go into the frame's own encoder: one submission, one mapping.
+        let slots_of = self.slots.clone();
         let belt = &mut self.belt;
         let reference_slot = self.reference_slot;
         let rendered = self
             .graph
             .render_with(&plan.frame, FrameScope::All, |encoder, slots| {
-                let tickets = Tickets::record(belt, encoder, slots, plan, &running, reference_slot);
+                let tickets =
+                    Tickets::record(belt, encoder, slots, plan, &slots_of, reference_slot);
                 (tickets, belt.finish(encoder))
             });
         let after = self.reference.lock().progress;
@@ -381,25 +410,42 @@ impl RenderState {
             self.timings_serial = self.graph.timings_serial();
             timings = self.graph.timings().cloned();
         }
-        let read = pending.wait()?;
-        let image = |ticket: Ticket| -> Result<RenderedImage, RenderError> {
-            Ok(RenderedImage::new(read.rgba8(ticket)?))
+        let textures: Vec<(usize, wgpu::Texture)> = if plan.textures {
+            running
+                .iter()
+                .filter_map(|&(index, slot)| {
+                    Some((index, self.graph.slots()[slot].output()?.clone()))
+                })
+                .collect()
+        } else {
+            Vec::new()
         };
-        Ok(FrameResult {
-            outputs: collect(&tickets.outputs, |&(index, ticket)| {
-                Ok((index, image(ticket)?))
-            })?,
-            debug: collect(&tickets.debug, |&(index, name, description, ticket)| {
-                Ok((index, name, description, image(ticket)?))
-            })?,
-            reference: tickets
-                .reference
-                .map(|ticket| Ok::<_, RenderError>((after, image(ticket)?)))
-                .transpose()?,
-            memory,
-            scene_renders,
-            timings,
-        })
+        let mut result = tickets.take(pending, after, textures)?;
+        result.memory = memory;
+        result.scene_renders = scene_renders;
+        result.timings = timings;
+        Ok(result)
+    }
+
+    /// A plan that renders nothing: copies of the current outputs only.
+    fn read_only(&mut self, plan: &FramePlan) -> Result<FrameResult, RenderError> {
+        let mut encoder = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("viewer readback"),
+            });
+        let tickets = Tickets::record(
+            &mut self.belt,
+            &mut encoder,
+            self.graph.slots(),
+            plan,
+            &self.slots,
+            self.reference_slot,
+        );
+        let pending = self.belt.finish(&mut encoder);
+        self.gpu.queue.submit([encoder.finish()]);
+        tickets?.take(pending, Progress::default(), Vec::new())
     }
 }
 
@@ -418,7 +464,7 @@ impl Tickets {
         encoder: &mut wgpu::CommandEncoder,
         slots: &[crate::graph::Slot],
         plan: &FramePlan,
-        running: &[(usize, usize)],
+        slot_of: &[Option<usize>],
         reference_slot: usize,
     ) -> Result<Self, ReadbackError> {
         let mut copy =
@@ -428,12 +474,14 @@ impl Tickets {
             debug: Vec::new(),
             reference: None,
         };
-        for &(index, slot) in running {
-            let slot = &slots[slot];
-            if let Some(texture) = slot.output() {
+        let slot = |index: usize| Some(&slots[slot_of.get(index).copied().flatten()?]);
+        for &index in &plan.read {
+            if let Some(texture) = slot(index).and_then(|s| s.output()) {
                 tickets.outputs.push((index, copy(texture)?));
             }
-            if plan.debug.contains(&index) {
+        }
+        for &index in &plan.debug {
+            if let Some(slot) = slot(index) {
                 for view in slot.technique.debug_views() {
                     if view.texture.usage().contains(wgpu::TextureUsages::COPY_SRC) {
                         tickets.debug.push((
@@ -452,6 +500,55 @@ impl Tickets {
             tickets.reference = Some(copy(texture)?);
         }
         Ok(tickets)
+    }
+
+    /// Waits for the copies and builds the frame's result (without the graph's figures).
+    fn take(
+        self,
+        pending: PendingReadback,
+        reference_progress: Progress,
+        textures: Vec<(usize, wgpu::Texture)>,
+    ) -> Result<FrameResult, RenderError> {
+        let read = pending.wait()?;
+        let image = |ticket: Ticket| -> Result<RenderedImage, RenderError> {
+            Ok(RenderedImage::new(read.rgba8(ticket)?))
+        };
+        let mut outputs: Vec<(usize, FrameOutput)> = textures
+            .into_iter()
+            .map(|(index, texture)| {
+                let output = FrameOutput {
+                    texture: Some(texture),
+                    image: None,
+                };
+                (index, output)
+            })
+            .collect();
+        for &(index, ticket) in &self.outputs {
+            let pixels = Some(image(ticket)?);
+            match outputs.iter_mut().find(|(i, _)| *i == index) {
+                Some((_, output)) => output.image = pixels,
+                None => outputs.push((
+                    index,
+                    FrameOutput {
+                        texture: None,
+                        image: pixels,
+                    },
+                )),
+            }
+        }
+        Ok(FrameResult {
+            outputs,
+            debug: collect(&self.debug, |&(index, name, description, ticket)| {
+                Ok((index, name, description, image(ticket)?))
+            })?,
+            reference: self
+                .reference
+                .map(|ticket| Ok::<_, RenderError>((reference_progress, image(ticket)?)))
+                .transpose()?,
+            memory: None,
+            scene_renders: 0,
+            timings: None,
+        })
     }
 }
 
