@@ -4,16 +4,17 @@
 //! `bench`) and an egui viewer. Modules:
 //! - [`gpu`]: device creation, capabilities, readback, shader loading, fullscreen passes;
 //! - [`scene`]: scene data, procedural scenes, OBJ loading, camera, forward renderer;
-//! - [`aa`]: the technique trait, the registry and one module per technique;
-//! - [`graph`]: the frame graph that shares scene renders between techniques, with timings
-//!   and memory reports;
+//! - [`graph`]: the technique trait and the frame graph that shares scene renders between
+//!   techniques, with timings and memory reports;
+//! - [`aa`]: the registry and one module per technique;
 //! - [`spec`]: reproducible render descriptions and the headless runner;
 //! - [`metrics`]: SSIM, PSNR, MAE, FLIP (CPU and GPU), flicker, chart ground truth, timing
 //!   summaries;
 //! - [`export`]: PNG files with their render record;
 //! - [`files`]: bounded reads of user files, atomic writes and the overwrite policy;
 //! - [`cli`]: the command-line subcommands;
-//! - [`app`]: the viewer (eframe/egui on the same frame graph).
+//! - [`app`]: the viewer (eframe/egui on the same frame graph);
+//! - `profile` (cargo feature `profile`): the CPU profile of the viewer's UI frame.
 
 pub mod aa;
 pub mod app;
@@ -23,5 +24,7 @@ pub mod files;
 pub mod gpu;
 pub mod graph;
 pub mod metrics;
+#[cfg(feature = "profile")]
+pub mod profile;
 pub mod scene;
 pub mod spec;

@@ -106,7 +106,30 @@ pub struct AaLabApp {
     display: Display,
     /// Engine frames published so far.
     engine_frames: u64,
+    #[cfg(feature = "profile")]
+    profile: ProfileLog,
     styled: bool,
+}
+
+/// Logs the UI frame's CPU profile every few seconds (cargo feature `profile`).
+#[cfg(feature = "profile")]
+struct ProfileLog {
+    profile: crate::profile::UiProfile,
+    last: Instant,
+}
+
+#[cfg(feature = "profile")]
+impl ProfileLog {
+    const EVERY: Duration = Duration::from_secs(10);
+
+    fn frame(&mut self) {
+        crate::profile::UiProfile::new_frame();
+        self.profile.collect();
+        if self.last.elapsed() >= Self::EVERY {
+            self.last = Instant::now();
+            log::info!("{}", self.profile.report(25));
+        }
+    }
 }
 
 impl AaLabApp {
@@ -165,6 +188,11 @@ impl AaLabApp {
             engine_frame_delay: options.engine_frame_delay,
             display: Display::choose(state, options.display),
             engine_frames: 0,
+            #[cfg(feature = "profile")]
+            profile: ProfileLog {
+                profile: crate::profile::UiProfile::start(),
+                last: Instant::now(),
+            },
             styled: false,
         };
         let scene = app.settings.scene.clone();
@@ -465,6 +493,7 @@ impl AaLabApp {
     }
 
     fn poll_background(&mut self, ctx: &egui::Context) {
+        profiling::function_scope!();
         self.finish_load(ctx);
         if let Some(receiver) = &self.file_dialog {
             match receiver.try_recv() {
@@ -597,6 +626,7 @@ impl AaLabApp {
     /// Publishes a finished engine frame and starts the next one when the engine is free.
     /// Returns whether more frames are wanted.
     fn engine_frame(&mut self, ctx: &egui::Context) -> bool {
+        profiling::function_scope!();
         let size = self.viewport.render_size;
         let want_reference = self.reference_wanted();
         let want_pixels = self.pixels_wanted();
@@ -659,6 +689,9 @@ fn unreadable_storage_notice(storage: Option<&dyn eframe::Storage>) -> Option<St
 
 impl eframe::App for AaLabApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        #[cfg(feature = "profile")]
+        self.profile.frame();
+        profiling::function_scope!();
         let ctx = ui.ctx().clone();
         if !self.styled {
             style::apply(&ctx);
@@ -683,6 +716,7 @@ impl eframe::App for AaLabApp {
         self.update_quality(&ctx);
         self.update_magnifier(&ctx);
 
+        profiling::scope!("panels");
         self.menu_bar(ui);
         self.toolbar(ui);
         self.status_bar(ui);

@@ -717,6 +717,7 @@ impl Engine {
 
     /// Picks up what the render thread finished and publishes its images.
     pub fn poll(&mut self, ctx: &egui::Context) -> Publication {
+        profiling::function_scope!();
         let mut publication = Publication::default();
         for event in self.thread.poll() {
             match event {
@@ -872,6 +873,7 @@ impl Engine {
         want_reference: bool,
         want_pixels: bool,
     ) -> Result<bool, EngineError> {
+        profiling::function_scope!();
         if let Some(reason) = &self.stopped {
             return Err(EngineError::Stopped(reason.clone()));
         }

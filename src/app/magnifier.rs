@@ -146,6 +146,7 @@ impl AaLabApp {
     /// Takes finished heatmaps and asks for new ones when the lens, the images or the metric
     /// changed.
     pub(super) fn update_magnifier(&mut self, ctx: &egui::Context) {
+        profiling::function_scope!();
         let results = self
             .magnifier
             .worker
@@ -266,6 +267,7 @@ impl AaLabApp {
 
     /// The magnifier panel (bottom of the window).
     pub(super) fn magnifier_panel(&mut self, ui: &mut egui::Ui) {
+        profiling::function_scope!();
         egui::Panel::bottom("magnifier")
             .resizable(true)
             .default_size(330.0)

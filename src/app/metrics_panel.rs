@@ -33,6 +33,7 @@ fn number_weak(ui: &mut egui::Ui, text: &str, tip: &str) {
 impl AaLabApp {
     /// The panel. See the module docs.
     pub(super) fn metrics_panel(&mut self, ui: &mut egui::Ui) {
+        profiling::function_scope!();
         egui::Panel::right("metrics")
             .resizable(true)
             .default_size(340.0)

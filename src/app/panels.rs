@@ -482,6 +482,7 @@ impl AaLabApp {
 
     /// Every registry technique with its switch, comparison mark and settings.
     pub(super) fn techniques_panel(&mut self, ui: &mut egui::Ui) {
+        profiling::function_scope!();
         egui::Panel::left("techniques")
             .resizable(true)
             .default_size(300.0)

@@ -384,6 +384,7 @@ fn schedule<T: Send + 'static>(
 impl AaLabApp {
     /// Takes finished measurements and starts the next ones (see the module docs).
     pub(super) fn update_quality(&mut self, ctx: &egui::Context) {
+        profiling::function_scope!();
         self.quality.collect();
         self.quality.deferred = false;
         let Some(engine) = &self.engine else { return };

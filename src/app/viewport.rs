@@ -126,6 +126,7 @@ fn shown_size(size: (u32, u32), rendering: (u32, u32), tile: &Rect, ppp: f32) ->
 impl AaLabApp {
     /// The central panel. See the module docs.
     pub(super) fn viewport_panel(&mut self, ui: &mut egui::Ui) {
+        profiling::function_scope!();
         let frame = egui::Frame::NONE.fill(VIEWPORT_BG);
         egui::CentralPanel::default().frame(frame).show(ui, |ui| {
             let rect = ui.max_rect();
