@@ -63,6 +63,11 @@ struct Tile {
 }
 
 impl Tile {
+    /// Where an image of `size` points is drawn: centred, clipped by the tile.
+    fn image_rect(self, size: Vec2) -> Rect {
+        Rect::from_min_size(self.origin, size).intersect(self.rect)
+    }
+
     fn to_screen(self, ppp: f32, frame: Vec2) -> Pos2 {
         self.origin + frame / ppp
     }
@@ -111,6 +116,55 @@ fn tile_rects(layout: Layout, rect: Rect, ppp: f32) -> Vec<Rect> {
     }
 }
 
+/// Paints the viewport's background over `area` except where `covered` (the images, which
+/// are opaque) lies: on a software rasteriser every painted pixel costs, and the images cover
+/// most of the viewport. Plain meshes, so no anti-aliasing fringe reaches into an image.
+fn paint_background(painter: &egui::Painter, area: Rect, covered: &[Rect]) {
+    let mut mesh = egui::Mesh::default();
+    for rect in uncovered(area, covered) {
+        mesh.add_colored_rect(rect, VIEWPORT_BG);
+    }
+    painter.add(mesh);
+}
+
+/// `area` minus the union of `covered`, as disjoint rectangles (horizontal bands split at
+/// every rectangle's top and bottom).
+fn uncovered(area: Rect, covered: &[Rect]) -> Vec<Rect> {
+    let covered: Vec<Rect> = covered
+        .iter()
+        .map(|r| r.intersect(area))
+        .filter(|r| r.is_positive())
+        .collect();
+    let mut edges: Vec<f32> = covered
+        .iter()
+        .flat_map(|r| [r.top(), r.bottom()])
+        .chain([area.top(), area.bottom()])
+        .collect();
+    edges.sort_by(f32::total_cmp);
+    edges.dedup();
+    let mut out = Vec::new();
+    for band in edges.windows(2) {
+        let (top, bottom) = (band[0], band[1]);
+        let mut spans: Vec<(f32, f32)> = covered
+            .iter()
+            .filter(|r| r.top() <= top && r.bottom() >= bottom)
+            .map(|r| (r.left(), r.right()))
+            .collect();
+        spans.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut x = area.left();
+        for (left, right) in spans {
+            if left > x {
+                out.push(Rect::from_min_max(pos2(x, top), pos2(left, bottom)));
+            }
+            x = x.max(right);
+        }
+        if x < area.right() {
+            out.push(Rect::from_min_max(pos2(x, top), pos2(area.right(), bottom)));
+        }
+    }
+    out
+}
+
 /// The size in points an image of `size` pixels is drawn at: 1:1 physical pixels, except an
 /// image of another size than the one being rendered (the previous frame after a layout change
 /// or a resize, until the new one arrives), which is scaled to fit its tile so that the change
@@ -127,81 +181,103 @@ impl AaLabApp {
     /// The central panel. See the module docs.
     pub(super) fn viewport_panel(&mut self, ui: &mut egui::Ui) {
         profiling::function_scope!();
-        let frame = egui::Frame::NONE.fill(VIEWPORT_BG);
-        egui::CentralPanel::default().frame(frame).show(ui, |ui| {
-            let rect = ui.max_rect();
-            let ppp = ui.ctx().pixels_per_point();
-            let tiles_rects = tile_rects(self.settings.layout, rect, ppp);
-            let wanted = match self.settings.resolution {
-                Resolution::FitViewport => physical_size(tiles_rects[0], ppp),
-                Resolution::Fixed(w, h) => (w, h),
-            };
-            self.viewport.resized = wanted != self.viewport.render_size;
-            self.viewport.render_size = wanted;
-            let response = ui.interact(
-                rect,
-                ui.scope_id().with("viewport"),
-                Sense::click_and_drag(),
-            );
-            if self.engine.is_none() {
-                self.empty_state(ui, rect, true);
-                return;
-            }
-            let compared = self.compared();
-            if compared.is_empty() {
-                self.empty_state(ui, rect, false);
-                return;
-            }
-            let shown = self.shown(&compared, ui.ctx());
-            let mut tiles = Vec::new();
-            self.viewport.image_rect = None;
-            for (i, tile_rect) in tiles_rects.iter().enumerate() {
-                let what = match self.settings.layout {
-                    Layout::Grid => compared.get(i).map(|id| Shown::Technique(i, id)),
-                    _ => shown.first().copied(),
+        // No panel fill: the background is painted around the images only (see
+        // `paint_background`).
+        egui::CentralPanel::default()
+            .frame(egui::Frame::NONE)
+            .show(ui, |ui| {
+                let rect = ui.max_rect();
+                let ppp = ui.ctx().pixels_per_point();
+                let tiles_rects = tile_rects(self.settings.layout, rect, ppp);
+                let wanted = match self.settings.resolution {
+                    Resolution::FitViewport => physical_size(tiles_rects[0], ppp),
+                    Resolution::Fixed(w, h) => (w, h),
                 };
-                let image = what.and_then(|w| self.shown_image(w));
-                let size = image.map_or(self.viewport.render_size, Published::size);
-                let size_points = shown_size(size, self.viewport.render_size, tile_rect, ppp);
-                // Centred; an image larger than its tile (fixed resolution) is cropped evenly.
-                let origin = snap(tile_rect.min + (tile_rect.size() - size_points) * 0.5, ppp);
-                let tile = Tile {
-                    rect: *tile_rect,
-                    origin,
-                };
-                let drawn = image.is_some();
-                tiles.push(tile);
-                let painter = ui.painter().with_clip_rect(*tile_rect);
-                if self.settings.layout == Layout::Wipe && shown.len() == 2 {
-                    self.paint_wipe(&painter, &tile, size_points, &shown, ppp);
-                } else if let (Some(what), Some(image)) = (what, image) {
-                    painter.image(
-                        image.id(),
-                        Rect::from_min_size(origin, size_points),
-                        Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
-                        Color32::WHITE,
-                    );
-                    self.tile_label(&painter, tile_rect.min + vec2(8.0, 8.0), what);
-                } else {
-                    painter.text(
-                        tile_rect.center(),
-                        egui::Align2::CENTER_CENTER,
-                        "rendering…",
-                        egui::FontId::proportional(14.0),
-                        ui.visuals().weak_text_color(),
-                    );
+                self.viewport.resized = wanted != self.viewport.render_size;
+                self.viewport.render_size = wanted;
+                let response = ui.interact(
+                    rect,
+                    ui.scope_id().with("viewport"),
+                    Sense::click_and_drag(),
+                );
+                if self.engine.is_none() {
+                    paint_background(ui.painter(), rect, &[]);
+                    self.empty_state(ui, rect, true);
+                    return;
                 }
-                if self.settings.show_magnifier {
-                    self.paint_lens(&painter, &tile, ppp);
+                let compared = self.compared();
+                if compared.is_empty() {
+                    paint_background(ui.painter(), rect, &[]);
+                    self.empty_state(ui, rect, false);
+                    return;
                 }
-                if i == 0 && drawn {
-                    self.viewport.image_rect =
-                        Some(Rect::from_min_size(origin, size_points).intersect(*tile_rect));
+                let shown = self.shown(&compared, ui.ctx());
+                // Where each tile's image goes.
+                let placed: Vec<(Option<Shown>, Option<&Published>, Tile, Vec2)> = tiles_rects
+                    .iter()
+                    .enumerate()
+                    .map(|(i, tile_rect)| {
+                        let what = match self.settings.layout {
+                            Layout::Grid => compared.get(i).map(|id| Shown::Technique(i, id)),
+                            _ => shown.first().copied(),
+                        };
+                        let image = what.and_then(|w| self.shown_image(w));
+                        let size = image.map_or(self.viewport.render_size, Published::size);
+                        let size_points =
+                            shown_size(size, self.viewport.render_size, tile_rect, ppp);
+                        // Centred; an image larger than its tile (fixed resolution) is cropped
+                        // evenly.
+                        let origin =
+                            snap(tile_rect.min + (tile_rect.size() - size_points) * 0.5, ppp);
+                        let tile = Tile {
+                            rect: *tile_rect,
+                            origin,
+                        };
+                        (what, image, tile, size_points)
+                    })
+                    .collect();
+                let covered: Vec<Rect> = placed
+                    .iter()
+                    .filter(|(_, image, _, _)| image.is_some())
+                    .map(|(_, _, tile, size)| tile.image_rect(*size))
+                    .collect();
+                paint_background(ui.painter(), rect, &covered);
+                let mut tiles = Vec::new();
+                let mut first_image = None;
+                for (i, (what, image, tile, size_points)) in placed.into_iter().enumerate() {
+                    let tile_rect = tile.rect;
+                    let painter = ui.painter().with_clip_rect(tile_rect);
+                    if self.settings.layout == Layout::Wipe && shown.len() == 2 {
+                        self.paint_wipe(&painter, &tile, size_points, &shown, ppp);
+                    } else if let (Some(what), Some(image)) = (what, image) {
+                        painter.image(
+                            image.id(),
+                            Rect::from_min_size(tile.origin, size_points),
+                            Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
+                            Color32::WHITE,
+                        );
+                        self.tile_label(&painter, tile_rect.min + vec2(8.0, 8.0), what);
+                    } else {
+                        painter.text(
+                            tile_rect.center(),
+                            egui::Align2::CENTER_CENTER,
+                            "rendering…",
+                            egui::FontId::proportional(14.0),
+                            ui.visuals().weak_text_color(),
+                        );
+                    }
+                    if self.settings.show_magnifier {
+                        self.paint_lens(&painter, &tile, ppp);
+                    }
+                    if i == 0 && image.is_some() {
+                        first_image = Some(tile.image_rect(size_points));
+                    }
+                    tiles.push(tile);
                 }
-            }
-            self.viewport_input(ui, &response, &tiles, ppp);
-            self.hovered_files_overlay(ui, rect);
-        });
+                self.viewport.image_rect = first_image;
+                self.viewport_input(ui, &response, &tiles, ppp);
+                self.hovered_files_overlay(ui, rect);
+            });
     }
 
     /// What the single, wipe and flip layouts show (first entry) and the wipe's right side.
@@ -578,6 +654,30 @@ impl AaLabApp {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_background_covers_exactly_what_the_images_leave() {
+        let area = Rect::from_min_max(pos2(0.0, 0.0), pos2(100.0, 60.0));
+        let images = [
+            Rect::from_min_max(pos2(10.0, 10.0), pos2(40.0, 50.0)),
+            Rect::from_min_max(pos2(50.0, 0.0), pos2(100.0, 30.0)),
+            // Partly outside the area.
+            Rect::from_min_max(pos2(90.0, 40.0), pos2(130.0, 90.0)),
+        ];
+        let background = uncovered(area, &images);
+        let area_of = |r: &Rect| r.width() * r.height();
+        let covered: f32 = images.iter().map(|r| area_of(&r.intersect(area))).sum();
+        let filled: f32 = background.iter().map(area_of).sum();
+        assert_eq!(filled + covered, area_of(&area));
+        for b in &background {
+            assert!(area.contains_rect(*b));
+            for i in &images {
+                assert!(!b.intersect(*i).is_positive(), "{b:?} overlaps {i:?}");
+            }
+        }
+        assert_eq!(uncovered(area, &[]), vec![area]);
+        assert!(uncovered(area, &[area]).is_empty());
+    }
 
     #[test]
     fn grid_tiles_are_pixel_aligned_and_disjoint() {
