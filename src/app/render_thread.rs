@@ -11,14 +11,7 @@
 //! and the thread never renders a frame nobody asked for. Techniques are addressed by their
 //! registry index (the UI's entry index); a technique whose pipelines cannot be created here
 //! is reported unavailable in [`Event::Ready`] and ignored afterwards.
-//!
-//! **The UI goes first.** On a software adapter the "GPU" is the CPU: the rasteriser threads
-//! the driver starts for the engine's device and those that paint the window compete for the
-//! same cores, and the window's paint (egui's frame on eframe's device) waited behind the
-//! engine's rasterisation. With its own device, the thread lowers its scheduling priority
-//! (nice 10 on Linux) before creating the device, so the driver's threads for that device
-//! inherit it: the engine takes every cycle the UI leaves and the UI's paint is never starved.
-//! On the shared device of a hardware adapter the priority stays as it is.
+
 
 use std::sync::{Arc, mpsc};
 use std::time::Duration;
@@ -253,21 +246,6 @@ impl RenderThread {
     }
 }
 
-/// Niceness of the render thread with a device of its own (see the module docs).
-#[cfg(target_os = "linux")]
-const ENGINE_NICENESS: i32 = 10;
-
-/// Lowers the calling thread's scheduling priority, and so that of the threads it starts (see
-/// the module docs). Where that is not possible nothing changes.
-fn yield_to_ui() {
-    #[cfg(target_os = "linux")]
-    if let Err(err) =
-        rustix::process::setpriority_process(Some(rustix::thread::gettid()), ENGINE_NICENESS)
-    {
-        log::debug!("the render thread keeps its priority: {err}");
-    }
-}
-
 /// A device of its own on `adapter`, with the features the frame graph uses.
 pub fn open_device(adapter: &wgpu::Adapter) -> Result<Gpu, GpuError> {
     let (device, queue) =
@@ -301,10 +279,7 @@ impl RenderState {
         reference_samples: u32,
     ) -> Result<(Self, Vec<Result<TechniqueSettings, String>>), RenderError> {
         let gpu = match device {
-            RenderDevice::Own(adapter) => {
-                yield_to_ui();
-                open_device(&adapter)?
-            }
+            RenderDevice::Own(adapter) => open_device(&adapter)?,
             RenderDevice::Shared(gpu) => gpu,
         };
         let mut graph = FrameGraph::new(gpu.clone(), scene);
