@@ -12,7 +12,6 @@
 //! registry index (the UI's entry index); a technique whose pipelines cannot be created here
 //! is reported unavailable in [`Event::Ready`] and ignored afterwards.
 
-
 use std::sync::{Arc, mpsc};
 use std::time::Duration;
 
