@@ -6,7 +6,9 @@
 //!   published images (egui-wgpu's texture updates) and painting the window on eframe's
 //!   device, which the harness then reads back (it has no swapchain; that copy slightly
 //!   overstates the paint). Painting on the GPU is what waits when the engine shares eframe's
-//!   queue, so it must be in the figure. The UI is paced at 60 Hz like a display.
+//!   queue, so it must be in the figure. Frames run as eframe runs them: when the app asked
+//!   for a repaint (its own requests, the render thread's wake-ups) or input arrives, at most
+//!   60 per second like a display.
 //! - **engine frames per second** over the same run (frames whose outputs were published);
 //! - **input-to-visible latency** of a pure UI change (a layout key: Single, 2x2 grid, Wipe,
 //!   A/B flip; the render size is fixed, so only the UI changes): from the key event to the
@@ -17,6 +19,7 @@
 //! `--features profile` it also prints where the UI frame's time goes (puffin scopes).
 //! The figures in the README come from this benchmark.
 
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use aa_lab::app::{AaLabApp, LaunchOptions, Layout, Resolution};
@@ -44,6 +47,7 @@ struct SceneFigures {
     scene: String,
     seconds: f64,
     ui_frames: usize,
+    ui_frames_per_second: f64,
     ui_frame_ms_median: f64,
     ui_frame_ms_p95: f64,
     ui_frame_ms_max: f64,
@@ -113,6 +117,38 @@ fn step_timed(harness: &mut Harness<'_, AaLabApp>) -> f64 {
     start.elapsed().as_secs_f64() * 1000.0
 }
 
+/// When the app wants its next frame, as eframe learns it: every repaint request (from the
+/// UI thread or the render thread's wake-ups) moves the due time earlier.
+struct RepaintClock {
+    due: Arc<Mutex<Option<Instant>>>,
+}
+
+impl RepaintClock {
+    fn install(ctx: &egui::Context) -> Self {
+        let due = Arc::new(Mutex::new(Some(Instant::now())));
+        let shared = Arc::clone(&due);
+        ctx.set_request_repaint_callback(move |info| {
+            let at = Instant::now() + info.delay;
+            let mut due = shared.lock().expect("repaint clock");
+            if due.is_none_or(|d| at < d) {
+                *due = Some(at);
+            }
+        });
+        Self { due }
+    }
+
+    fn due(&self) -> bool {
+        self.due
+            .lock()
+            .expect("repaint clock")
+            .is_some_and(|at| Instant::now() >= at)
+    }
+
+    fn clear(&self) {
+        *self.due.lock().expect("repaint clock") = None;
+    }
+}
+
 /// Sleeps until the next tick of the UI's pace.
 fn pace(next: &mut Instant) {
     *next += UI_PERIOD;
@@ -160,15 +196,17 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
     let mut profile = aa_lab::profile::UiProfile::start();
     harness.state_mut().camera_mut().auto_rotate = true;
     harness.state_mut().camera_mut().playing = true;
+    let repaint = RepaintClock::install(&harness.ctx);
     let mut frames = Vec::new();
     let mut latencies = Vec::new();
     let engine_start = harness.state().engine_frames();
     let run_start = Instant::now();
     let mut next_key = run_start + Duration::from_secs(1);
     let mut key_index = 0;
-    let mut next = Instant::now();
+    let mut last_frame = Instant::now();
     while run_start.elapsed().as_secs_f64() < seconds {
         if Instant::now() >= next_key {
+            // Input runs a frame at once.
             let (key, layout) = LAYOUT_KEYS[key_index % LAYOUT_KEYS.len()];
             key_index += 1;
             let pressed = Instant::now();
@@ -179,11 +217,15 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
                 shown = harness.state().settings().layout == layout;
             }
             latencies.push(pressed.elapsed().as_secs_f64() * 1000.0);
-            next_key = Instant::now() + Duration::from_millis(1500);
-        } else {
+            last_frame = Instant::now();
+            next_key = last_frame + Duration::from_millis(1500);
+        } else if repaint.due() && last_frame.elapsed() >= UI_PERIOD {
+            repaint.clear();
+            last_frame = Instant::now();
             frames.push(step_timed(&mut harness));
+        } else {
+            std::thread::sleep(Duration::from_millis(1));
         }
-        pace(&mut next);
     }
     let elapsed = run_start.elapsed().as_secs_f64();
     let engine_frames = harness.state().engine_frames() - engine_start;
@@ -218,6 +260,7 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
         scene: scene.to_owned(),
         seconds: elapsed,
         ui_frames: frames.len(),
+        ui_frames_per_second: frames.len() as f64 / elapsed,
         ui_frame_ms_median: percentile(&frames, 0.5),
         ui_frame_ms_p95: percentile(&frames, 0.95),
         ui_frame_ms_max: frames.last().copied().unwrap_or(f64::NAN),
@@ -237,9 +280,10 @@ fn main() {
         eprintln!("viewer benchmark: {scene}, {} s…", options.seconds);
         let figures = measure(scene, options.seconds);
         println!(
-            "{:<10} UI frame median {:>6.1} ms  p95 {:>6.1} ms  max {:>7.1} ms | engine {:>5.2} frames/s | \
+            "{:<10} {:>5.1} UI frames/s, median {:>6.1} ms  p95 {:>6.1} ms  max {:>7.1} ms | engine {:>5.2} frames/s | \
              layout change visible after median {:>6.1} ms, worst {:>6.1} ms ({} changes) | idle UI frame median {:>5.1} ms p95 {:>5.1} ms",
             figures.scene,
+            figures.ui_frames_per_second,
             figures.ui_frame_ms_median,
             figures.ui_frame_ms_p95,
             figures.ui_frame_ms_max,

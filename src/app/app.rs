@@ -737,8 +737,9 @@ impl eframe::App for AaLabApp {
         // Measurements wake the UI when they finish; this catches paced ones that wait.
         let measuring = self.quality.waiting() || self.magnifier.computing();
         if self.rendering() {
-            // The GPU waiter wakes the UI when the frame is done; this is a fallback.
-            ctx.request_repaint_after(Duration::from_millis(250));
+            // The render thread wakes the UI when the frame is back; until then a repaint
+            // would show nothing new (the camera advances with each engine frame), and on a
+            // software rasteriser each paint takes CPU from the engine.
         } else if more || self.time_changes_image() || self.viewport.resized {
             ctx.request_repaint();
         } else if pending_jobs {

@@ -788,6 +788,10 @@ impl Engine {
         frame: FrameResult,
         publication: &mut Publication,
     ) {
+        if flight.key.scene != self.scene_generation {
+            // Rendered before the scene changed: nobody will look at it.
+            return;
+        }
         if let Some(timings) = &frame.timings {
             self.gpu_stats.add(timings);
         }
