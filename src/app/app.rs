@@ -70,6 +70,16 @@ pub struct Notice {
     pub at: Instant,
 }
 
+/// What a file dialog's answer is for.
+pub(super) enum DialogPurpose {
+    /// Open a model.
+    OpenModel,
+    /// Write these bookmarks to the picked file.
+    ExportBookmarks(Vec<Bookmark>),
+    /// Add the bookmarks of the picked file to this scene (its spec).
+    ImportBookmarks(String),
+}
+
 /// Facts about the loaded scene.
 #[derive(Clone, Debug)]
 pub struct SceneInfo {
@@ -100,7 +110,8 @@ pub struct AaLabApp {
     pub(super) export: ExportState,
     pub(super) help_open: bool,
     pub(super) panels_hidden: bool,
-    pub(super) file_dialog: Option<mpsc::Receiver<Option<PathBuf>>>,
+    /// The open file dialog (on its own thread): what its answer is for, and the answer.
+    pub(super) file_dialog: Option<(DialogPurpose, mpsc::Receiver<Option<PathBuf>>)>,
     engine_frame_delay: Duration,
     /// How the engine's images reach the screen.
     display: Display,
@@ -316,8 +327,27 @@ impl AaLabApp {
         self.loader.load(spec, move || ctx.request_repaint());
     }
 
-    /// Asks the OS for a model file (OBJ, glTF, GLB) on a helper thread (the dialog never blocks frames).
+    /// Asks the OS for a model file (OBJ, glTF, GLB) to open.
     pub(super) fn open_file_dialog(&mut self, ctx: &egui::Context) {
+        self.ask_for_path(ctx, DialogPurpose::OpenModel, || {
+            rfd::FileDialog::new()
+                .set_title("Open a model")
+                .add_filter(
+                    "Models (OBJ, glTF, GLB)",
+                    &["obj", "OBJ", "gltf", "GLTF", "glb", "GLB"],
+                )
+                .pick_file()
+        });
+    }
+
+    /// Runs a file dialog on a helper thread (a dialog never blocks frames); its answer is
+    /// handled by [`AaLabApp::dialog_answered`]. One dialog at a time.
+    pub(super) fn ask_for_path(
+        &mut self,
+        ctx: &egui::Context,
+        purpose: DialogPurpose,
+        dialog: impl FnOnce() -> Option<PathBuf> + Send + 'static,
+    ) {
         if self.file_dialog.is_some() {
             return;
         }
@@ -326,19 +356,21 @@ impl AaLabApp {
         let spawned = std::thread::Builder::new()
             .name("aa-lab file dialog".to_owned())
             .spawn(move || {
-                let picked = rfd::FileDialog::new()
-                    .set_title("Open a model")
-                    .add_filter(
-                        "Models (OBJ, glTF, GLB)",
-                        &["obj", "OBJ", "gltf", "GLTF", "glb", "GLB"],
-                    )
-                    .pick_file();
-                let _ = sender.send(picked);
+                let _ = sender.send(dialog());
                 ctx.request_repaint();
             });
         match spawned {
-            Ok(_) => self.file_dialog = Some(receiver),
+            Ok(_) => self.file_dialog = Some((purpose, receiver)),
             Err(err) => self.notify(Level::Error, format!("cannot open a file dialog: {err}")),
+        }
+    }
+
+    /// Acts on the path a file dialog gave.
+    fn dialog_answered(&mut self, ctx: &egui::Context, purpose: DialogPurpose, path: PathBuf) {
+        match purpose {
+            DialogPurpose::OpenModel => self.load_scene(ctx, &path.display().to_string()),
+            DialogPurpose::ExportBookmarks(marks) => self.write_bookmarks(&path, &marks),
+            DialogPurpose::ImportBookmarks(scene) => self.read_bookmarks(&path, &scene),
         }
     }
 
@@ -495,17 +527,19 @@ impl AaLabApp {
     fn poll_background(&mut self, ctx: &egui::Context) {
         profiling::function_scope!();
         self.finish_load(ctx);
-        if let Some(receiver) = &self.file_dialog {
-            match receiver.try_recv() {
-                Ok(picked) => {
-                    self.file_dialog = None;
-                    if let Some(path) = picked {
-                        self.load_scene(ctx, &path.display().to_string());
-                    }
-                }
-                Err(mpsc::TryRecvError::Disconnected) => self.file_dialog = None,
-                Err(mpsc::TryRecvError::Empty) => {}
-            }
+        let answer = match &self.file_dialog {
+            Some((_, receiver)) => match receiver.try_recv() {
+                Ok(picked) => Some(picked),
+                Err(mpsc::TryRecvError::Disconnected) => Some(None),
+                Err(mpsc::TryRecvError::Empty) => None,
+            },
+            None => None,
+        };
+        if let Some(picked) = answer
+            && let Some((purpose, _)) = self.file_dialog.take()
+            && let Some(path) = picked
+        {
+            self.dialog_answered(ctx, purpose, path);
         }
         let dropped: Vec<PathBuf> = ctx.input(|i| {
             i.raw

@@ -6,13 +6,16 @@
 
 use egui::{Button, Color32, RichText};
 
-use super::app::{AaLabApp, Level};
+use super::app::{AaLabApp, DialogPurpose, Level};
 use super::magnifier::shortcut_hint;
-use super::settings::{Layout, MAX_COMPARE, Resolution};
+use super::settings::{Bookmark, Layout, MAX_COMPARE, Resolution};
 use super::shortcuts::{self, Action};
 use super::style::{self, SLOT_COLORS, SLOT_LETTERS};
 use crate::aa::{Param, ParamKind, ParamValue};
 use crate::scene::procedural::BUILTIN_SCENES;
+
+/// Largest bookmarks file read (thousands of bookmarks; anything larger is not ours).
+const BOOKMARKS_LIMIT: u64 = 4 << 20;
 
 /// A menu button with its shortcut on the right.
 fn menu_item(ui: &mut egui::Ui, text: &str, action: Option<Action>) -> bool {
@@ -228,27 +231,31 @@ impl AaLabApp {
         }
         ui.separator();
         if ui.button("Export bookmarks…").clicked() {
-            self.export_bookmarks();
+            self.export_bookmarks(ui.ctx());
         }
         if ui.button("Import bookmarks…").clicked() {
-            self.import_bookmarks();
+            self.import_bookmarks(ui.ctx());
         }
     }
 
-    /// Writes the loaded scene's bookmarks to a JSON file the user picks.
-    fn export_bookmarks(&mut self) {
+    /// Asks where to write the loaded scene's bookmarks (JSON).
+    fn export_bookmarks(&mut self, ctx: &egui::Context) {
         let marks: Vec<_> = self.scene_bookmarks().into_iter().cloned().collect();
         let name = self.scene.as_ref().map_or("scene", |s| s.name.as_str());
-        let Some(path) = rfd::FileDialog::new()
-            .set_title("Export camera bookmarks")
-            .set_file_name(format!("{name}-bookmarks.json"))
-            .add_filter("JSON", &["json"])
-            .save_file()
-        else {
-            return;
-        };
-        let json = super::settings::bookmarks_to_json(&marks);
-        match super::settings::write_atomically(&path, &json) {
+        let file_name = format!("{name}-bookmarks.json");
+        self.ask_for_path(ctx, DialogPurpose::ExportBookmarks(marks), move || {
+            rfd::FileDialog::new()
+                .set_title("Export camera bookmarks")
+                .set_file_name(file_name)
+                .add_filter("JSON", &["json"])
+                .save_file()
+        });
+    }
+
+    /// Writes bookmarks to `path` (atomically).
+    pub(super) fn write_bookmarks(&mut self, path: &std::path::Path, marks: &[Bookmark]) {
+        let json = super::settings::bookmarks_to_json(marks);
+        match super::settings::write_atomically(path, &json) {
             Ok(()) => self.notify(
                 Level::Info,
                 format!("Wrote {} bookmark(s) to {}", marks.len(), path.display()),
@@ -260,21 +267,25 @@ impl AaLabApp {
         }
     }
 
-    /// Adds the bookmarks of a JSON file the user picks to the loaded scene.
-    fn import_bookmarks(&mut self) {
+    /// Asks for a JSON file of bookmarks to add to the loaded scene.
+    fn import_bookmarks(&mut self, ctx: &egui::Context) {
         let Some(scene) = self.scene.as_ref().map(|s| s.spec.clone()) else {
             return;
         };
-        let Some(path) = rfd::FileDialog::new()
-            .set_title("Import camera bookmarks")
-            .add_filter("JSON", &["json"])
-            .pick_file()
-        else {
-            return;
-        };
-        let loaded = std::fs::read_to_string(&path)
+        self.ask_for_path(ctx, DialogPurpose::ImportBookmarks(scene), || {
+            rfd::FileDialog::new()
+                .set_title("Import camera bookmarks")
+                .add_filter("JSON", &["json"])
+                .pick_file()
+        });
+    }
+
+    /// Adds the bookmarks of the file at `path` to `scene`.
+    pub(super) fn read_bookmarks(&mut self, path: &std::path::Path, scene: &str) {
+        let loaded = crate::files::read_bounded(path, BOOKMARKS_LIMIT, "bookmarks file")
             .map_err(|e| e.to_string())
-            .and_then(|text| super::settings::bookmarks_from_json(&text, &scene));
+            .and_then(|bytes| String::from_utf8(bytes).map_err(|e| e.to_string()))
+            .and_then(|text| super::settings::bookmarks_from_json(&text, scene));
         match loaded {
             Ok(marks) => {
                 self.notify(
