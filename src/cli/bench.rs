@@ -190,8 +190,8 @@ fn technique_specs(gpu: &Gpu, ids: &[String]) -> anyhow::Result<Vec<TechniqueSpe
         .collect()
 }
 
-/// The reference: SSAA, ordered grid, 8 x 8.
-fn reference_spec(gpu: &Gpu) -> anyhow::Result<TechniqueSpec> {
+/// The reference: SSAA, ordered grid, 8 x 8 (`bench` and `clip`).
+pub(super) fn reference_spec(gpu: &Gpu) -> anyhow::Result<TechniqueSpec> {
     let mut ssaa = aa::create(gpu, "ssaa")?;
     aa::set_param(ssaa.as_mut(), "mode", ParamValue::Choice("ordered".into()))?;
     aa::set_param(
