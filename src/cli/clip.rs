@@ -451,7 +451,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
                         .zip(&captions)
                         .map(|(image, caption)| Cell {
                             image,
-                            caption: Some(fit(&[caption.clone()], pane.width * zoom)),
+                            caption: Some(fit(std::slice::from_ref(caption), pane.width * zoom)),
                         })
                         .collect(),
                 }],

@@ -1,4 +1,5 @@
-//! Looping animations of equally sized RGBA8 frames: animated PNG (lossless, every frame a full
+//! Looping animations of equally sized RGBA8 frames: animated PNG (lossless, RGB when every
+//! pixel is opaque, every frame a full
 //! `fcTL` + `IDAT`/`fdAT` image, `acTL` with `num_plays = 0`, i.e. forever, and the record in an
 //! `aa-lab` text chunk like every PNG aa-lab writes) or GIF (256 colours per frame, quantised
 //! with NeuQuant; loops forever). Both encoders are deterministic: the same frames give the
@@ -72,9 +73,15 @@ pub fn write_apng(
     let (width, height) = check_frames(frames)?;
     let count = u32::try_from(frames.len()).map_err(|_| AnimationError::Frames)?;
     let invalid = |e: ::png::EncodingError| std::io::Error::other(e.to_string());
+    // Opaque frames (every aa-lab sheet) are stored as RGB: a quarter smaller.
+    let opaque = frames.iter().all(|f| f.pixels().all(|p| p[3] == 255));
     Ok(files::write_atomic(path, policy, |out| {
         let mut encoder = ::png::Encoder::new(out, width, height);
-        encoder.set_color(::png::ColorType::Rgba);
+        encoder.set_color(if opaque {
+            ::png::ColorType::Rgb
+        } else {
+            ::png::ColorType::Rgba
+        });
         encoder.set_depth(::png::BitDepth::Eight);
         encoder.set_source_srgb(::png::SrgbRenderingIntent::Perceptual);
         encoder.set_compression(::png::Compression::High);
@@ -87,7 +94,16 @@ pub fn write_apng(
         }
         let mut writer = encoder.write_header().map_err(invalid)?;
         for frame in frames {
-            writer.write_image_data(frame.as_raw()).map_err(invalid)?;
+            if opaque {
+                let rgb: Vec<u8> = frame
+                    .as_raw()
+                    .chunks_exact(4)
+                    .flat_map(|p| [p[0], p[1], p[2]])
+                    .collect();
+                writer.write_image_data(&rgb).map_err(invalid)?;
+            } else {
+                writer.write_image_data(frame.as_raw()).map_err(invalid)?;
+            }
         }
         writer.finish().map_err(invalid)
     })?)

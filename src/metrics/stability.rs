@@ -298,7 +298,7 @@ mod tests {
         let frame = |t: u32| {
             grey(4, 4, move |x, y| {
                 if (x + y) % 2 == 0 {
-                    if (t % 2) == 0 { 0 } else { 255 }
+                    if t.is_multiple_of(2) { 0 } else { 255 }
                 } else {
                     128
                 }
