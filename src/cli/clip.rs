@@ -228,6 +228,18 @@ fn caption(scores: &TemporalScores) -> String {
     )
 }
 
+/// The short caption of narrow panes: `instability / ghosting`.
+fn short_caption(scores: &TemporalScores) -> String {
+    let figure = |v: Option<f64>, digits: usize| {
+        v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
+    };
+    format!(
+        "{} / {}",
+        figure(scores.temporal_instability, 2),
+        figure(scores.ghosting, 1)
+    )
+}
+
 /// The first text that fits in `width` pixels as a sheet caption, else the last one (the
 /// figures are in the record and on stdout either way).
 fn fit(texts: &[String], width: u32) -> String {
@@ -406,16 +418,24 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     drop(graph);
 
     let scores = metrics.scores();
-    let mut captions: Vec<String> = scores.iter().map(caption).collect();
-    captions.push(format!(
-        "change {}/frame",
-        metrics
-            .reference()
-            .mean_change()
-            .map_or_else(|| "n/a".to_owned(), |c| format!("{c:.2}"))
+    let reference_change = metrics
+        .reference()
+        .mean_change()
+        .map_or_else(|| "n/a".to_owned(), |c| format!("{c:.2}"));
+    let width = pane.width * zoom;
+    let mut captions: Vec<String> = scores
+        .iter()
+        .map(|s| fit(&[caption(s), short_caption(s)], width))
+        .collect();
+    captions.push(fit(
+        &[
+            format!("change {reference_change}/frame"),
+            format!("{reference_change}/frame"),
+        ],
+        width,
     ));
     let footer = format!(
-        "{} on {}",
+        "captions: temporal instability / ghosting (luma levels); {} on {}",
         spec::build_id(),
         spec.adapter.clone().unwrap_or_default()
     );
@@ -451,7 +471,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
                         .zip(&captions)
                         .map(|(image, caption)| Cell {
                             image,
-                            caption: Some(fit(std::slice::from_ref(caption), pane.width * zoom)),
+                            caption: Some(caption.clone()),
                         })
                         .collect(),
                 }],

@@ -1,5 +1,5 @@
-//! Looping animations of equally sized RGBA8 frames: animated PNG (lossless, RGB when every
-//! pixel is opaque, every frame a full
+//! Looping animations of equally sized RGBA8 frames: animated PNG (lossless; when every frame
+//! is opaque, frames after the first hold only the pixels that changed, every frame a full
 //! `fcTL` + `IDAT`/`fdAT` image, `acTL` with `num_plays = 0`, i.e. forever, and the record in an
 //! `aa-lab` text chunk like every PNG aa-lab writes) or GIF (256 colours per frame, quantised
 //! with NeuQuant; loops forever). Both encoders are deterministic: the same frames give the
@@ -73,15 +73,13 @@ pub fn write_apng(
     let (width, height) = check_frames(frames)?;
     let count = u32::try_from(frames.len()).map_err(|_| AnimationError::Frames)?;
     let invalid = |e: ::png::EncodingError| std::io::Error::other(e.to_string());
-    // Opaque frames (every aa-lab sheet) are stored as RGB: a quarter smaller.
+    // Opaque frames (every aa-lab sheet) after the first are stored as the changes only: the
+    // bounding box of the pixels that differ from the previous frame, unchanged pixels
+    // transparent, blended over the previous frame.
     let opaque = frames.iter().all(|f| f.pixels().all(|p| p[3] == 255));
     Ok(files::write_atomic(path, policy, |out| {
         let mut encoder = ::png::Encoder::new(out, width, height);
-        encoder.set_color(if opaque {
-            ::png::ColorType::Rgb
-        } else {
-            ::png::ColorType::Rgba
-        });
+        encoder.set_color(::png::ColorType::Rgba);
         encoder.set_depth(::png::BitDepth::Eight);
         encoder.set_source_srgb(::png::SrgbRenderingIntent::Perceptual);
         encoder.set_compression(::png::Compression::High);
@@ -93,20 +91,53 @@ pub fn write_apng(
                 .map_err(invalid)?;
         }
         let mut writer = encoder.write_header().map_err(invalid)?;
+        let mut previous: Option<&image::RgbaImage> = None;
         for frame in frames {
-            if opaque {
-                let rgb: Vec<u8> = frame
-                    .as_raw()
-                    .chunks_exact(4)
-                    .flat_map(|p| [p[0], p[1], p[2]])
-                    .collect();
-                writer.write_image_data(&rgb).map_err(invalid)?;
-            } else {
-                writer.write_image_data(frame.as_raw()).map_err(invalid)?;
+            match previous.filter(|_| opaque) {
+                None => writer.write_image_data(frame.as_raw()).map_err(invalid)?,
+                Some(before) => {
+                    let (x, y, w, h) = changed_box(before, frame);
+                    let mut data = Vec::with_capacity(w as usize * h as usize * 4);
+                    for py in y..y + h {
+                        for px in x..x + w {
+                            let now = frame.get_pixel(px, py);
+                            if now == before.get_pixel(px, py) {
+                                data.extend_from_slice(&[0, 0, 0, 0]);
+                            } else {
+                                data.extend_from_slice(&now.0);
+                            }
+                        }
+                    }
+                    writer.reset_frame_position().map_err(invalid)?;
+                    writer.set_frame_dimension(w, h).map_err(invalid)?;
+                    writer.set_frame_position(x, y).map_err(invalid)?;
+                    writer.set_blend_op(::png::BlendOp::Over).map_err(invalid)?;
+                    writer.write_image_data(&data).map_err(invalid)?;
+                }
             }
+            previous = Some(frame);
         }
         writer.finish().map_err(invalid)
     })?)
+}
+
+/// The smallest rectangle (x, y, width, height) holding every pixel that differs between two
+/// images of one size; a 1x1 rectangle at the origin when none does.
+fn changed_box(a: &image::RgbaImage, b: &image::RgbaImage) -> (u32, u32, u32, u32) {
+    let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
+    for (x, y, p) in b.enumerate_pixels() {
+        if a.get_pixel(x, y) != p {
+            x0 = x0.min(x);
+            y0 = y0.min(y);
+            x1 = x1.max(x);
+            y1 = y1.max(y);
+        }
+    }
+    if x0 == u32::MAX {
+        (0, 0, 1, 1)
+    } else {
+        (x0, y0, x1 - x0 + 1, y1 - y0 + 1)
+    }
 }
 
 /// Writes `frames` as a looping GIF at about `fps` frames per second (GIF delays are whole
@@ -156,9 +187,19 @@ pub fn png_chunks(bytes: &[u8]) -> Option<Vec<([u8; 4], &[u8])>> {
 mod tests {
     use super::*;
 
+    /// Opaque frames where a few pixels change (and one frame repeats its predecessor).
     fn frames(n: u8) -> Vec<image::RgbaImage> {
         (0..n)
-            .map(|i| image::RgbaImage::from_pixel(5, 3, image::Rgba([i * 40, 0, 255 - i, 255])))
+            .map(|i| {
+                let v = if i == 2 { 1 } else { i };
+                image::RgbaImage::from_fn(5, 3, |x, y| {
+                    if x == u32::from(v) % 5 && y > 0 {
+                        image::Rgba([v * 40, 0, 255 - v, 255])
+                    } else {
+                        image::Rgba([10, 20, 30, 255])
+                    }
+                })
+            })
             .collect()
     }
 
@@ -166,20 +207,20 @@ mod tests {
     fn apng_loops_forever_with_one_control_chunk_per_frame() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("a.png");
-        write_apng(&path, &frames(3), 30, Some("{}"), &Overwrite::new(false)).unwrap();
+        write_apng(&path, &frames(4), 30, Some("{}"), &Overwrite::new(false)).unwrap();
         let bytes = std::fs::read(&path).unwrap();
         let chunks = png_chunks(&bytes).unwrap();
         let actl = chunks.iter().find(|(k, _)| k == b"acTL").unwrap().1;
-        assert_eq!(u32::from_be_bytes(actl[0..4].try_into().unwrap()), 3);
+        assert_eq!(u32::from_be_bytes(actl[0..4].try_into().unwrap()), 4);
         assert_eq!(u32::from_be_bytes(actl[4..8].try_into().unwrap()), 0);
-        assert_eq!(chunks.iter().filter(|(k, _)| k == b"fcTL").count(), 3);
+        assert_eq!(chunks.iter().filter(|(k, _)| k == b"fcTL").count(), 4);
         // Decodes back to the same frames.
         let decoder = image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes)).unwrap();
         let decoded: Vec<_> = image::AnimationDecoder::into_frames(decoder.apng().unwrap())
             .collect_frames()
             .unwrap();
-        assert_eq!(decoded.len(), 3);
-        for (d, f) in decoded.iter().zip(frames(3)) {
+        assert_eq!(decoded.len(), 4);
+        for (d, f) in decoded.iter().zip(frames(4)) {
             assert_eq!(d.buffer(), &f);
         }
     }
