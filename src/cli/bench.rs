@@ -8,9 +8,12 @@
 //! Per run, in order:
 //! 1. timing: `--warmup` + `--frames` frames along a slow camera track ([`SlowTrack`]), every
 //!    technique each frame, the GPU drained after each so every frame's timings are collected;
-//!    the last `--flicker-frames` outputs of each technique go into a [`ChangeMeter`];
+//!    the last `--flicker-frames` outputs of each technique go into a [`ChangeMeter`] (and
+//!    their luma is kept for the ghosting measure);
 //! 2. one more frame with pipeline-statistics queries on (fragment invocations; untimed);
-//! 3. the reference (SSAA 8x8) on those same flicker frames, for the flicker ratio;
+//! 3. the reference (SSAA 8x8) on those same flicker frames, for the flicker ratio (the
+//!    `temporal_instability` of `aa-lab clip`) and the ghosting measure
+//!    ([`crate::metrics::stability`]);
 //! 4. quality: `spec::run` of frame `--quality-frame` of the scene's own camera path (exactly
 //!    what `aa-lab render --from <run>.spec.json` reproduces) and of the reference, scored
 //!    with every metric.
@@ -34,8 +37,9 @@ use crate::files::{self, Overwrite};
 use crate::gpu::{Gpu, read_texture_rgba8};
 use crate::graph::{FrameGraph, FrameScope, FrameStatistics, FrameTimings};
 use crate::metrics::coverage::chart_truth;
+use crate::metrics::stability::MovingEdgeError;
 use crate::metrics::temporal::{ChangeMeter, SlowTrack, flicker_ratio};
-use crate::metrics::{Comparison, Metric, Summary, compare_with_maps};
+use crate::metrics::{Comparison, Metric, Plane, Summary, compare_with_maps};
 use crate::scene::Scene;
 use crate::scene::procedural::{SceneOptions, chart_layout};
 use crate::scene::source;
@@ -190,8 +194,8 @@ fn technique_specs(gpu: &Gpu, ids: &[String]) -> anyhow::Result<Vec<TechniqueSpe
         .collect()
 }
 
-/// The reference: SSAA, ordered grid, 8 x 8.
-fn reference_spec(gpu: &Gpu) -> anyhow::Result<TechniqueSpec> {
+/// The reference: SSAA, ordered grid, 8 x 8 (`bench` and `clip`).
+pub(super) fn reference_spec(gpu: &Gpu) -> anyhow::Result<TechniqueSpec> {
     let mut ssaa = aa::create(gpu, "ssaa")?;
     aa::set_param(ssaa.as_mut(), "mode", ParamValue::Choice("ordered".into()))?;
     aa::set_param(
@@ -410,20 +414,23 @@ impl Bench<'_> {
         ));
     }
 
-    /// Reads every technique's current output into its change meter.
+    /// Reads every technique's current output into its change meter, and keeps its luma
+    /// for the ghosting measure against the reference frames rendered later.
     fn read_outputs(
         &self,
         graph: &FrameGraph,
-        meters: &mut [(String, ChangeMeter)],
+        meters: &mut [(String, ChangeMeter, Vec<Plane>)],
     ) -> anyhow::Result<()> {
         for slot in graph.slots() {
             let id = slot.technique.id();
-            let (Some(output), Some((_, meter))) =
-                (slot.output(), meters.iter_mut().find(|(m, _)| m == id))
+            let (Some(output), Some((_, meter, lumas))) =
+                (slot.output(), meters.iter_mut().find(|(m, _, _)| m == id))
             else {
                 continue;
             };
-            meter.push(&read_texture_rgba8(self.gpu, output)?);
+            let image = read_texture_rgba8(self.gpu, output)?;
+            meter.push(&image);
+            lumas.push(Plane::luma(&image));
         }
         Ok(())
     }
@@ -463,9 +470,9 @@ impl Bench<'_> {
             .filter(|id| *id != COPY_FLOOR_ID)
             .collect();
         let mut samples = TimingSamples::new(&ids);
-        let mut meters: Vec<(String, ChangeMeter)> = ids
+        let mut meters: Vec<(String, ChangeMeter, Vec<Plane>)> = ids
             .iter()
-            .map(|id| ((*id).to_owned(), ChangeMeter::new()))
+            .map(|id| ((*id).to_owned(), ChangeMeter::new(), Vec::new()))
             .collect();
         let total_frames = u64::from(args.warmup) + u64::from(args.frames);
         let flicker_from = total_frames - u64::from(flicker_frames);
@@ -535,8 +542,11 @@ impl Bench<'_> {
             .collect();
         drop(graph);
 
-        // 3. The reference over the flicker frames.
+        // 3. The reference over the flicker frames, and each technique's error where it moved.
         let mut reference_meter = ChangeMeter::new();
+        let mut ghosts: Vec<MovingEdgeError> =
+            meters.iter().map(|_| MovingEdgeError::new()).collect();
+        let mut reference_previous: Option<Plane> = None;
         if flicker_frames > 0 {
             self.message(run, "reference for flicker");
             let mut reference = spec::build_graph(self.gpu, &scene, &reference_spec)?;
@@ -548,7 +558,18 @@ impl Bench<'_> {
                 reference.render(&info, FrameScope::All)?;
                 reference.finish();
                 if let Some(output) = reference.slots().first().and_then(|s| s.output()) {
-                    reference_meter.push(&read_texture_rgba8(self.gpu, output)?);
+                    let image = read_texture_rgba8(self.gpu, output)?;
+                    reference_meter.push(&image);
+                    let luma = Plane::luma(&image);
+                    if let Some(previous) = &reference_previous {
+                        let step = (frame - flicker_from) as usize;
+                        for ((_, _, lumas), ghost) in meters.iter().zip(&mut ghosts) {
+                            if let Some(technique) = lumas.get(step) {
+                                ghost.push(technique, &luma, previous)?;
+                            }
+                        }
+                    }
+                    reference_previous = Some(luma);
                 }
                 self.bar.inc(1);
             }
@@ -610,7 +631,9 @@ impl Bench<'_> {
                     .iter()
                     .find(|(i, _, _)| i == id)
                     .map_or((None, None), |(_, q, t)| (Some(*q), *t));
-                let meter = meters.iter().find(|(m, _)| m == id).map(|(_, m)| m);
+                let index = meters.iter().position(|(m, _, _)| m == id);
+                let meter = index.map(|i| &meters[i].1);
+                let ghosting = index.and_then(|i| ghosts[i].ghosting());
                 TechniqueReport {
                     id: id.clone(),
                     name: aa::registry::info(id).map_or_else(|| id.clone(), |i| i.name.to_owned()),
@@ -645,6 +668,7 @@ impl Bench<'_> {
                     truth,
                     mean_change: meter.and_then(ChangeMeter::mean_change),
                     flicker_ratio: meter.and_then(|m| flicker_ratio(m, &reference_meter)),
+                    ghosting,
                 }
             })
             .collect();

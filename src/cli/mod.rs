@@ -1,5 +1,5 @@
 //! The command line: `aa-lab` opens the viewer (without a display it renders every technique
-//! headless instead); `render`, `compare`, `bench`, `info` and
+//! headless instead); `render`, `sheet`, `clip`, `compare`, `bench`, `info` and
 //! `techniques` run headless on the same engine. Parsing is clap's; each subcommand lives in
 //! its own file and returns `anyhow::Result` (errors are printed once, by `main`, through
 //! [`error_message`]).
@@ -10,6 +10,7 @@
 //! without a display renders into `out/` with `--force`: that folder is its own scratch space.
 
 mod bench;
+mod clip;
 mod compare;
 mod info;
 mod render;
@@ -18,6 +19,7 @@ mod sheet;
 use clap::{Parser, Subcommand};
 
 pub use bench::{BenchArgs, Sweep};
+pub use clip::ClipArgs;
 pub use compare::CompareArgs;
 pub use render::{RenderArgs, parse_vec3};
 
@@ -57,6 +59,10 @@ pub enum Command {
     Render(Box<RenderArgs>),
     /// Lay zoomed crops of several techniques side by side in one labelled PNG.
     Sheet(Box<sheet::SheetArgs>),
+    /// Render a camera motion through several techniques and the reference into a looping
+    /// animation (APNG, or GIF for a .gif path) of zoomed panes side by side, with each
+    /// technique's temporal instability and ghosting in <out>.json.
+    Clip(Box<ClipArgs>),
     /// Score an image against a reference: SSIM, PSNR, MAE and FLIP, optionally a heatmap.
     Compare(CompareArgs),
     /// Measure every technique's GPU time, memory, shading work, image quality and flicker,
@@ -84,6 +90,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Sheet(args)) => sheet::run(&args),
+        Some(Command::Clip(args)) => clip::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Info { json }) => info::info(json),

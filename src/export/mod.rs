@@ -1,7 +1,8 @@
-//! Writing results: PNG images with their reproducibility record embedded, labelled comparison
+//! Writing results: animated PNG/GIF clips, PNG images with their reproducibility record embedded, labelled comparison
 //! sheets of zoomed crops, text rendering for them, error heatmaps with legends, bench reports
 //! (JSON and Markdown) and charts.
 
+pub mod animation;
 pub mod charts;
 pub mod heatmap;
 pub mod png;

@@ -156,8 +156,13 @@ pub struct TechniqueReport {
     pub truth: Option<Comparison>,
     /// Mean absolute luma change per frame over the flicker frames.
     pub mean_change: Option<f64>,
-    /// `mean_change` over the reference's.
+    /// `mean_change` over the reference's: the `temporal_instability` of `aa-lab clip`
+    /// (see [`crate::metrics::stability`]), over the flicker frames.
     pub flicker_ratio: Option<f64>,
+    /// Mean absolute luma error against the reference on the pixels where the reference moved
+    /// between consecutive flicker frames (the ghosting measure of
+    /// [`crate::metrics::stability`]), levels of 0..255.
+    pub ghosting: Option<f64>,
 }
 
 /// One scene at one size (and density).
@@ -508,6 +513,10 @@ pub fn markdown(report: &BenchReport) -> String {
             "## Temporal stability: flicker ratio (technique change / reference change)\n\n",
         );
         run_by_technique_table(&mut out, report, |_, t| opt(t.flicker_ratio, 2));
+        out.push_str(
+            "## Ghosting: luma error at moving edges (levels of 0..255, where the reference changed by more than 8 between frames)\n\n",
+        );
+        run_by_technique_table(&mut out, report, |_, t| opt(t.ghosting, 1));
     }
     out.push_str("## Shading work: fragment-shader invocations per output pixel (input + own passes)\n\nThe counterpart of the thesis' figure 4.5 (fragment instructions per frame).\n\n");
     run_by_technique_table(&mut out, report, |_, t| {

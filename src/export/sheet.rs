@@ -148,6 +148,8 @@ const GAP: u32 = 8;
 const TITLE: f32 = 22.0;
 const HEADER: f32 = 17.0;
 const SMALL: f32 = 14.0;
+/// Text size of cell captions, pixels.
+pub const CAPTION_SIZE: f32 = SMALL;
 
 fn fill(image: &mut image::RgbaImage, x: u32, y: u32, w: u32, h: u32, color: [u8; 3]) {
     for py in y..(y + h).min(image.height()) {

@@ -7,6 +7,7 @@
 //! - [`gpu`]: SSIM, MAE and PSNR in compute shaders, for live measurement at 1080p; the CPU
 //!   functions above are the reference it is tested against;
 //! - [`temporal`]: frame-to-frame change and the flicker ratio against a reference;
+//! - [`stability`]: a clip's temporal instability, per-pixel change map and ghosting;
 //! - [`coverage`]: exact analytic ground truth for the `chart` scene;
 //! - [`stats`]: median and 95th percentile of repeated timings;
 //! - [`map`]: the per-pixel planes and masks all of these share.
@@ -21,6 +22,7 @@ pub mod gpu;
 pub mod map;
 pub mod pixel;
 pub mod ssim;
+pub mod stability;
 pub mod stats;
 pub mod temporal;
 
@@ -51,6 +53,14 @@ pub enum MetricsError {
         width: u32,
         /// Height.
         height: u32,
+    },
+    /// A clip frame came with another number of technique images than the metrics measure.
+    #[error("a clip frame has {got} technique images but {expected} techniques are measured")]
+    FrameCount {
+        /// Techniques measured.
+        expected: usize,
+        /// Images given.
+        got: usize,
     },
 }
 

@@ -5,6 +5,7 @@
 pub mod camera;
 pub mod gltf;
 pub mod model;
+pub mod motion;
 pub mod obj;
 pub mod procedural;
 pub mod renderer;
@@ -14,3 +15,4 @@ pub use model::{
     AlphaMode, CameraRig, DirectionalLight, Filter, Material, Mesh, Scene, SceneView, Spin,
     TextureImage, TextureSampler, Vertex, Wrap,
 };
+pub use motion::Motion;

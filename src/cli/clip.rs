@@ -1,0 +1,629 @@
+//! `aa-lab clip`: renders a camera motion ([`Motion`]) through several techniques and the
+//! supersampled reference, frame after frame through one frame graph (temporal techniques run
+//! with their real history, after `--warmup` frames to fill it), and writes a looping animation
+//! of the labelled, nearest-neighbour zoomed panes side by side (the magnifier's layout; a
+//! full-frame grid without `--region`) plus `<out>.json`: the full recipe and, per technique,
+//! the temporal figures of [`crate::metrics::stability`] over the whole frame.
+//!
+//! The output is a pure function of the command line (and the adapter): no timestamps, so the
+//! same command writes the same bytes.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use super::bench::reference_spec;
+use super::render::{
+    CameraArgs, CameraMotion, SceneArgs, TechniqueArgs, load_scene, output_policy, parse_size,
+    spec_for_scene, technique_specs,
+};
+use crate::aa::FrameInfo;
+use crate::export::animation::{self, AnimationFormat};
+use crate::export::sheet::{self, Cell, Rect, Row, Sheet};
+use crate::files;
+use crate::gpu::{Gpu, read_texture_rgba8};
+use crate::graph::FrameScope;
+use crate::metrics::stability::{ClipMetrics, GHOST_THRESHOLD, TemporalScores};
+use crate::scene::motion::{DEFAULT_SPEED_PX, Motion};
+use crate::scene::procedural::SceneOptions;
+use crate::scene::source::DEFAULT_SCENE;
+use crate::spec::{self, RenderSpec, TechniqueSpec};
+
+/// Most frames of a clip.
+pub const MAX_CLIP_FRAMES: u32 = 600;
+/// Most warm-up frames before a clip.
+pub const MAX_WARMUP_FRAMES: u32 = 1000;
+/// Most pixels of all panes of all frames held in memory before encoding (1 GiB of RGBA).
+pub const MAX_CLIP_PIXELS: u64 = 1 << 28;
+/// Largest zoom.
+pub const MAX_ZOOM: u32 = 64;
+/// Fastest `--speed`, pixels per frame.
+pub const MAX_SPEED_PX: f32 = 64.0;
+/// Version of the record `aa-lab clip` writes.
+pub const SCHEMA: &str = "aa-lab clip 1";
+
+/// Arguments of `aa-lab clip`.
+#[derive(Debug, clap::Args)]
+pub struct ClipArgs {
+    /// Built-in scene (hairball, atrium, chart) or path to an .obj, .gltf or .glb file.
+    #[arg(long, default_value = DEFAULT_SCENE)]
+    pub scene: String,
+    /// Built-in scene density (hairball: 1 is about 300k triangles).
+    #[arg(long, default_value_t = 1.0)]
+    pub density: f32,
+    /// Built-in scene random seed.
+    #[arg(long, default_value_t = SceneOptions::default().seed)]
+    pub seed: u64,
+    /// Image size, WIDTHxHEIGHT in pixels (--region is in pixels of this image).
+    #[arg(long, default_value = "1280x720", value_parser = parse_size, allow_hyphen_values = true)]
+    pub size: (u32, u32),
+    /// Treat scene warnings as errors.
+    #[arg(long)]
+    pub strict: bool,
+    /// Techniques and their settings.
+    #[command(flatten)]
+    pub techniques: TechniqueArgs,
+    /// Frames of the clip (1 to 600).
+    #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_CLIP_FRAMES)))]
+    pub frames: u32,
+    /// Frames rendered before the clip so temporal techniques start with a full history (0 to
+    /// 1000); the clip is frames WARMUP..WARMUP+FRAMES of the motion.
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(0..=i64::from(MAX_WARMUP_FRAMES)))]
+    pub warmup: u32,
+    /// Camera motion: orbit (the scene's path), pan (turn in place), dolly (toward the
+    /// target), still (only temporal jitter moves).
+    #[arg(long, value_enum, default_value_t = Motion::Pan)]
+    pub motion: Motion,
+    /// Speed of pan and dolly in pixels per frame (sub-pixel motion reveals crawling and
+    /// shimmer; more than 0, at most 64).
+    #[arg(long, default_value_t = DEFAULT_SPEED_PX, value_name = "PX")]
+    pub speed: f32,
+    /// The region shown, X,Y,W,H in pixels of the rendered image; without it every pane is
+    /// the whole frame, laid out in a grid.
+    #[arg(long, value_name = "X,Y,W,H")]
+    pub region: Option<String>,
+    /// Nearest-neighbour zoom of the panes (1 to 64; default 4 with --region, 1 without).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_ZOOM)))]
+    pub zoom: Option<u32>,
+    /// Playback rate of the animation, frames per second (1 to 100).
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u16).range(1..=100))]
+    pub fps: u16,
+    /// Output animation: animated PNG, or GIF when the name ends in .gif; the record and
+    /// figures go beside it with the extension .json.
+    #[arg(long, short, default_value = "clip.png")]
+    pub out: PathBuf,
+    /// Replace existing output files (without it, aa-lab never replaces a file).
+    #[arg(long)]
+    pub force: bool,
+    /// The camera, when not the scene's default view (the motion starts from it).
+    #[command(flatten)]
+    pub camera: CameraArgs,
+}
+
+/// One technique's figures in the record.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ClipTechnique {
+    /// Registry id.
+    pub id: String,
+    /// Label with its defining settings.
+    pub label: String,
+    /// Temporal figures over the clip (full frame).
+    #[serde(flatten)]
+    pub scores: TemporalScores,
+}
+
+/// What `<out>.json` (and the animation's `aa-lab` text chunk) holds.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ClipRecord {
+    /// [`SCHEMA`].
+    pub schema: &'static str,
+    /// Scene, size, camera rig, every technique setting, adapter and build; `frame` is the
+    /// first frame of the clip (= warmup).
+    pub spec: RenderSpec,
+    /// The reference the figures divide by.
+    pub reference: TechniqueSpec,
+    /// Camera motion.
+    pub motion: Motion,
+    /// Speed of pan and dolly, pixels per frame.
+    pub speed_px: f32,
+    /// Frames rendered before the clip.
+    pub warmup: u32,
+    /// Frames of the clip.
+    pub frames: u32,
+    /// Playback rate.
+    pub fps: u16,
+    /// Region shown (pixels of the render), `None` for whole frames.
+    pub region: Option<Rect>,
+    /// Zoom of the panes.
+    pub zoom: u32,
+    /// Container of the animation.
+    pub format: AnimationFormat,
+    /// How the figures are computed.
+    pub definitions: Definitions,
+    /// Share of pixels of the frame pairs where the reference moved (the ghosting mask).
+    pub moving_fraction: f64,
+    /// The reference's mean absolute luma change per pixel and frame.
+    pub reference_mean_change: Option<f64>,
+    /// Per technique, in pane order.
+    pub techniques: Vec<ClipTechnique>,
+}
+
+/// The definitions behind the figures, stated in every record.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Definitions {
+    /// Luma the figures use.
+    pub luma: &'static str,
+    /// `temporal_instability`.
+    pub temporal_instability: &'static str,
+    /// `ghosting`.
+    pub ghosting: &'static str,
+    /// Threshold of the moving-pixel mask, luma levels.
+    pub ghost_threshold: f32,
+    /// Pixels the figures are measured over.
+    pub measured_over: &'static str,
+}
+
+const DEFINITIONS: Definitions = Definitions {
+    luma: "BT.601 on 8-bit sRGB-encoded values: 0.299 R' + 0.587 G' + 0.114 B', 0..255",
+    temporal_instability: "mean over pixels and frame pairs of |luma(t) - luma(t-1)| of the technique, divided by the same for the reference",
+    ghosting: "mean |luma_technique(t) - luma_reference(t)| over the pixels where |luma_reference(t) - luma_reference(t-1)| > ghost_threshold, over all frame pairs",
+    ghost_threshold: GHOST_THRESHOLD,
+    measured_over: "every pixel of the whole frame, frames warmup..warmup+frames",
+};
+
+/// Parses `X,Y,W,H` and checks it against the render size: refused when any part lies
+/// outside (a clip's figures and panes must show what was asked for).
+fn parse_region(text: &str, size: (u32, u32)) -> anyhow::Result<Rect> {
+    let values: Vec<u32> = text
+        .split(',')
+        .map(|n| n.trim().parse::<u32>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("--region {text}: X,Y,W,H must be whole numbers"))?;
+    let [x, y, width, height] = values[..] else {
+        bail!("--region {text}: expected four numbers X,Y,W,H");
+    };
+    if width == 0 || height == 0 {
+        bail!("--region {text}: width and height must be at least 1");
+    }
+    if u64::from(x) + u64::from(width) > u64::from(size.0)
+        || u64::from(y) + u64::from(height) > u64::from(size.1)
+    {
+        bail!(
+            "--region {text} lies outside the {}x{} render (--size): X+W must be at most {} and Y+H at most {}",
+            size.0,
+            size.1,
+            size.0,
+            size.1
+        );
+    }
+    Ok(Rect {
+        x,
+        y,
+        width,
+        height,
+    })
+}
+
+/// `<out>` with the extension `.json`.
+fn json_path(out: &Path) -> PathBuf {
+    out.with_extension("json")
+}
+
+/// Columns of the full-frame grid of `panes` panes: as square as it gets.
+fn grid_columns(panes: usize) -> usize {
+    (1..=panes.max(1))
+        .find(|c| c * c >= panes)
+        .unwrap_or(panes.max(1))
+}
+
+fn caption(scores: &TemporalScores) -> String {
+    let figure = |v: Option<f64>, digits: usize| {
+        v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
+    };
+    format!(
+        "instability {}  ghosting {}",
+        figure(scores.temporal_instability, 2),
+        figure(scores.ghosting, 1)
+    )
+}
+
+/// The short caption of narrow panes: `instability / ghosting`.
+fn short_caption(scores: &TemporalScores) -> String {
+    let figure = |v: Option<f64>, digits: usize| {
+        v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
+    };
+    format!(
+        "{} / {}",
+        figure(scores.temporal_instability, 2),
+        figure(scores.ghosting, 1)
+    )
+}
+
+/// The first text that fits in `width` pixels as a sheet caption, else the last one (the
+/// figures are in the record and on stdout either way).
+fn fit(texts: &[String], width: u32) -> String {
+    let sans = crate::export::text::Typeface::sans();
+    texts
+        .iter()
+        .find(|t| sans.width(t, sheet::CAPTION_SIZE) <= width as f32)
+        .or(texts.last())
+        .cloned()
+        .unwrap_or_default()
+}
+
+/// Runs `aa-lab clip`.
+pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
+    if args.camera.camera_motion != CameraMotion::Orbit {
+        bail!(
+            "clip moves the camera with --motion (orbit, pan, dolly, still), not --camera-motion"
+        );
+    }
+    if !(args.speed.is_finite() && args.speed > 0.0 && args.speed <= MAX_SPEED_PX) {
+        bail!(
+            "--speed {}: pixels per frame must be more than 0 and at most {MAX_SPEED_PX}",
+            args.speed
+        );
+    }
+    if args.size.0 == 0 || args.size.1 == 0 {
+        bail!("--size: width and height must be at least 1");
+    }
+    let region = args
+        .region
+        .as_deref()
+        .map(|text| parse_region(text, args.size))
+        .transpose()?;
+    let zoom = args.zoom.unwrap_or(if region.is_some() { 4 } else { 1 });
+    let format = AnimationFormat::of_path(&args.out);
+    let json = json_path(&args.out);
+    if json == args.out {
+        bail!(
+            "--out {}: the animation needs another extension than .json (the record goes there)",
+            args.out.display()
+        );
+    }
+
+    let gpu = Gpu::headless()?;
+    let max_side = gpu.caps.max_texture_dimension_2d;
+    if args.size.0 > max_side || args.size.1 > max_side {
+        bail!(
+            "--size {}x{}: {} renders at most {max_side} pixels a side",
+            args.size.0,
+            args.size.1,
+            gpu.caps.adapter_name
+        );
+    }
+    let techniques = technique_specs(&gpu, &args.techniques)?;
+    let reference = reference_spec(&gpu)?;
+    let panes = techniques.len() + 1;
+    let pane = region.unwrap_or(Rect {
+        x: 0,
+        y: 0,
+        width: args.size.0,
+        height: args.size.1,
+    });
+    let columns = if region.is_some() {
+        panes
+    } else {
+        grid_columns(panes)
+    };
+    let rows = panes.div_ceil(columns);
+    sheet::check_layout(columns, &vec![pane; rows], zoom)?;
+    let pixels = u64::from(args.frames)
+        * panes as u64
+        * u64::from(pane.width)
+        * u64::from(pane.height)
+        * u64::from(zoom).pow(2);
+    if pixels > MAX_CLIP_PIXELS {
+        bail!(
+            "{} frames of {panes} panes of {}x{} pixels (zoom {zoom}) are {pixels} pixels; a clip holds at most {MAX_CLIP_PIXELS} (use fewer frames, a smaller --region or --zoom, or fewer techniques)",
+            args.frames,
+            pane.width * zoom,
+            pane.height * zoom
+        );
+    }
+
+    let scene_args = SceneArgs {
+        scene: args.scene.clone(),
+        density: args.density,
+        seed: args.seed,
+        size: args.size,
+        frame: u64::from(args.warmup),
+        strict: args.strict,
+        camera: args.camera.clone(),
+    };
+    let mut spec = spec_for_scene(&scene_args, techniques.clone());
+    spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
+    let policy = output_policy(args.force, None, &spec);
+    policy.check_all([args.out.as_path(), json.as_path()])?;
+    let mut scene = load_scene(&spec, args.strict)?;
+    args.camera.apply(&mut spec, &mut scene)?;
+
+    let mut graph_spec = spec.clone();
+    graph_spec.techniques.push(reference.clone());
+    let mut graph = spec::build_graph(&gpu, &scene, &graph_spec)?;
+    let mut labels: Vec<String> = graph.slots().iter().map(|s| s.technique.label()).collect();
+    if let Some(last) = labels.last_mut() {
+        *last = format!("Reference ({last})");
+    }
+    let ids: Vec<String> = graph
+        .slots()
+        .iter()
+        .map(|s| s.technique.id().to_owned())
+        .collect();
+
+    let total = u64::from(args.warmup) + u64::from(args.frames);
+    let bar = ProgressBar::new(total);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] [{bar:32}] {pos}/{len} frames, eta {eta}  {msg}",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> "),
+    );
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    let mut metrics = ClipMetrics::new(techniques.len());
+    // Per frame, per pane: the unzoomed crop.
+    let mut crops: Vec<Vec<image::RgbaImage>> = Vec::new();
+    for frame in 0..total {
+        let warming = frame < u64::from(args.warmup);
+        bar.set_message(format!(
+            "{} {}: {}",
+            scene.name,
+            args.motion,
+            if warming { "warm-up" } else { "clip" }
+        ));
+        let info = FrameInfo {
+            camera: args
+                .motion
+                .camera(&scene.camera, args.size, args.speed, frame),
+            reset_history: frame == 0,
+        };
+        let scope = if warming {
+            FrameScope::TemporalOnly
+        } else {
+            FrameScope::All
+        };
+        graph.render(&info, scope)?;
+        graph.finish();
+        if !warming {
+            let images = graph
+                .slots()
+                .iter()
+                .map(|slot| {
+                    let output = slot
+                        .output()
+                        .with_context(|| format!("{} produced no image", slot.technique.label()))?;
+                    Ok(read_texture_rgba8(&gpu, output)?)
+                })
+                .collect::<anyhow::Result<Vec<_>>>()?;
+            let (reference_image, technique_images) = images
+                .split_last()
+                .context("the clip has no reference pane")?;
+            let refs: Vec<&image::RgbaImage> = technique_images.iter().collect();
+            metrics.push(reference_image, &refs)?;
+            crops.push(
+                images
+                    .iter()
+                    .map(|image| {
+                        image::imageops::crop_imm(image, pane.x, pane.y, pane.width, pane.height)
+                            .to_image()
+                    })
+                    .collect(),
+            );
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    drop(graph);
+
+    let scores = metrics.scores();
+    let reference_change = metrics
+        .reference()
+        .mean_change()
+        .map_or_else(|| "n/a".to_owned(), |c| format!("{c:.2}"));
+    let width = pane.width * zoom;
+    let mut captions: Vec<String> = scores
+        .iter()
+        .map(|s| fit(&[caption(s), short_caption(s)], width))
+        .collect();
+    captions.push(fit(
+        &[
+            format!("change {reference_change}/frame"),
+            format!("{reference_change}/frame"),
+        ],
+        width,
+    ));
+    let footer = format!(
+        "captions: temporal instability / ghosting (luma levels); {} on {}",
+        spec::build_id(),
+        spec.adapter.clone().unwrap_or_default()
+    );
+    let motion_text = if args.motion.uses_speed() {
+        format!("{} {} px/frame", args.motion, args.speed)
+    } else {
+        args.motion.to_string()
+    };
+    let mut frames = Vec::with_capacity(crops.len());
+    for (n, panes_of_frame) in crops.iter().enumerate() {
+        let cells = panes_of_frame
+            .iter()
+            .map(|crop| sheet::crop_zoom(crop, Rect { x: 0, y: 0, ..pane }, zoom))
+            .collect::<Result<Vec<_>, _>>()?;
+        let title = format!(
+            "aa-lab clip: {}, {motion_text}, frame {}/{}",
+            scene.name,
+            n + 1,
+            args.frames
+        );
+        let sheet = match region {
+            Some(rect) => Sheet {
+                title,
+                columns: labels.clone(),
+                rows: vec![Row {
+                    label: scene.name.clone(),
+                    detail: Some(format!(
+                        "{}x{} at {},{}, {zoom}x",
+                        rect.width, rect.height, rect.x, rect.y
+                    )),
+                    cells: cells
+                        .into_iter()
+                        .zip(&captions)
+                        .map(|(image, caption)| Cell {
+                            image,
+                            caption: Some(caption.clone()),
+                        })
+                        .collect(),
+                }],
+                footer: Some(footer.clone()),
+            },
+            None => {
+                let mut cells: Vec<Cell> = cells
+                    .into_iter()
+                    .zip(labels.iter().zip(&captions))
+                    .map(|(image, (label, caption))| Cell {
+                        image,
+                        caption: Some(fit(
+                            &[format!("{label}: {caption}"), label.clone()],
+                            pane.width * zoom,
+                        )),
+                    })
+                    .collect();
+                let mut grid = Vec::new();
+                while !cells.is_empty() {
+                    let rest = cells.split_off(columns.min(cells.len()));
+                    grid.push(Row {
+                        label: String::new(),
+                        detail: None,
+                        cells,
+                    });
+                    cells = rest;
+                }
+                Sheet {
+                    title,
+                    columns: Vec::new(),
+                    rows: grid,
+                    footer: Some(footer.clone()),
+                }
+            }
+        };
+        frames.push(sheet::compose(&sheet));
+    }
+    // Grid rows may have fewer cells than the first: compose pads them to one size already.
+
+    let record = ClipRecord {
+        schema: SCHEMA,
+        spec,
+        reference,
+        motion: args.motion,
+        speed_px: args.speed,
+        warmup: args.warmup,
+        frames: args.frames,
+        fps: args.fps,
+        region,
+        zoom,
+        format,
+        definitions: DEFINITIONS,
+        moving_fraction: metrics.moving_fraction(),
+        reference_mean_change: metrics.reference().mean_change(),
+        techniques: ids
+            .iter()
+            .zip(&labels)
+            .zip(&scores)
+            .map(|((id, label), scores)| ClipTechnique {
+                id: id.clone(),
+                label: label.clone(),
+                scores: *scores,
+            })
+            .collect(),
+    };
+    let text = serde_json::to_string_pretty(&record)? + "\n";
+    if let Some(parent) = args.out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent)
+            .with_context(|| format!("cannot create directory {}", parent.display()))?;
+    }
+    let replaced = match format {
+        AnimationFormat::Apng => {
+            animation::write_apng(&args.out, &frames, args.fps, Some(&text), &policy)?
+        }
+        AnimationFormat::Gif => animation::write_gif(&args.out, &frames, args.fps, &policy)?,
+    };
+    println!("{}", files::wrote_line(&args.out, replaced));
+    let replaced = files::write_bytes(&json, &policy, text.as_bytes())?;
+    println!("{}", files::wrote_line(&json, replaced));
+    print_table(&record);
+    Ok(())
+}
+
+/// The figures as a table on stdout.
+fn print_table(record: &ClipRecord) {
+    let figure = |v: Option<f64>, digits: usize| {
+        v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
+    };
+    println!(
+        "{:<24} {:>12} {:>12} {:>10}",
+        "technique", "instability", "mean change", "ghosting"
+    );
+    for t in &record.techniques {
+        println!(
+            "{:<24} {:>12} {:>12} {:>10}",
+            t.label,
+            figure(t.scores.temporal_instability, 3),
+            figure(t.scores.mean_change, 3),
+            figure(t.scores.ghosting, 2)
+        );
+    }
+    println!(
+        "{:<24} {:>12} {:>12} {:>10}",
+        "reference",
+        "1",
+        figure(record.reference_mean_change, 3),
+        "0"
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn regions_must_lie_inside_the_render() {
+        let size = (64, 48);
+        assert_eq!(
+            parse_region("8,4,16,12", size).unwrap(),
+            Rect {
+                x: 8,
+                y: 4,
+                width: 16,
+                height: 12
+            }
+        );
+        assert!(parse_region("0,0,64,48", size).is_ok());
+        for bad in [
+            "60,0,8,8",
+            "0,40,8,9",
+            "0,0,0,4",
+            "1,2,3",
+            "a,b,c,d",
+            "0,0,4294967295,1",
+        ] {
+            assert!(parse_region(bad, size).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn grids_are_about_square() {
+        assert_eq!(grid_columns(1), 1);
+        assert_eq!(grid_columns(2), 2);
+        assert_eq!(grid_columns(5), 3);
+        assert_eq!(grid_columns(9), 3);
+        assert_eq!(grid_columns(10), 4);
+    }
+
+    #[test]
+    fn the_record_sits_beside_the_animation() {
+        assert_eq!(json_path(Path::new("a/clip.png")), Path::new("a/clip.json"));
+        assert_eq!(json_path(Path::new("clip.gif")), Path::new("clip.json"));
+        assert_eq!(json_path(Path::new("clip")), Path::new("clip.json"));
+    }
+}
