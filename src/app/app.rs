@@ -783,8 +783,11 @@ impl eframe::App for AaLabApp {
         } else {
             self.clock.idle();
         }
-        if !self.notices.is_empty() {
-            ctx.request_repaint_after(Duration::from_secs(1));
+        // The status bar changes when the oldest notice expires; nothing else about notices
+        // needs a repaint.
+        if let Some(oldest) = self.notices.iter().map(|n| n.at).min() {
+            let left = NOTICE_SECONDS - oldest.elapsed().as_secs_f64();
+            ctx.request_repaint_after(Duration::from_secs_f64(left.max(0.0)));
         }
     }
 

@@ -450,8 +450,9 @@ impl AaLabApp {
                     }
                     if let Some(spec) = self.loader.loading() {
                         ui.separator();
-                        ui.add(egui::Spinner::new().size(12.0));
-                        ui.label(RichText::new(format!("loading {spec}")).small());
+                        // Static text, not a spinner: an animation repaints the window every
+                        // frame, which on a software rasteriser takes CPU from the work.
+                        ui.label(RichText::new(format!("loading {spec}…")).small());
                     }
                     ui.separator();
                     let frame = format!(
@@ -472,7 +473,9 @@ impl AaLabApp {
                                 .on_hover_text("Rendered frames per second over the last 2 s (frames in which the techniques produced new images), and the median time between them.");
                         }
                         if self.rendering() {
-                            ui.add(egui::Spinner::new().size(11.0))
+                            // Static, like the loading note (an animation would repaint
+                            // continuously).
+                            ui.label(RichText::new("rendering…").small().weak())
                                 .on_hover_text("A frame is being rendered; the interface keeps responding meanwhile.");
                         }
                         ui.separator();
