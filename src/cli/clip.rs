@@ -175,17 +175,13 @@ const DEFINITIONS: Definitions = Definitions {
 /// Parses `X,Y,W,H` and checks it against the render size: refused when any part lies
 /// outside (a clip's figures and panes must show what was asked for).
 fn parse_region(text: &str, size: (u32, u32)) -> anyhow::Result<Rect> {
-    let values: Vec<u32> = text
-        .split(',')
-        .map(|n| n.trim().parse::<u32>())
-        .collect::<Result<_, _>>()
-        .with_context(|| format!("--region {text}: X,Y,W,H must be whole numbers"))?;
-    let [x, y, width, height] = values[..] else {
-        bail!("--region {text}: expected four numbers X,Y,W,H");
-    };
-    if width == 0 || height == 0 {
-        bail!("--region {text}: width and height must be at least 1");
-    }
+    let rect = super::sheet::parse_rect(text, text)?;
+    let Rect {
+        x,
+        y,
+        width,
+        height,
+    } = rect;
     if u64::from(x) + u64::from(width) > u64::from(size.0)
         || u64::from(y) + u64::from(height) > u64::from(size.1)
     {
@@ -197,12 +193,7 @@ fn parse_region(text: &str, size: (u32, u32)) -> anyhow::Result<Rect> {
             size.1
         );
     }
-    Ok(Rect {
-        x,
-        y,
-        width,
-        height,
-    })
+    Ok(rect)
 }
 
 /// `<out>` with the extension `.json`.

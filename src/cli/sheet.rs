@@ -90,26 +90,29 @@ fn parse_region(text: &str) -> anyhow::Result<(String, Rect)> {
     let (label, numbers) = text
         .split_once('=')
         .with_context(|| format!("--region {text}: expected LABEL=X,Y,W,H"))?;
+    Ok((label.to_owned(), parse_rect(numbers, text)?))
+}
+
+/// Parses `X,Y,W,H` (width and height at least 1); `option` is the whole `--region` value,
+/// quoted in errors.
+pub(super) fn parse_rect(numbers: &str, option: &str) -> anyhow::Result<Rect> {
     let values: Vec<u32> = numbers
         .split(',')
         .map(|n| n.trim().parse::<u32>())
         .collect::<Result<_, _>>()
-        .with_context(|| format!("--region {text}: X,Y,W,H must be whole numbers"))?;
+        .with_context(|| format!("--region {option}: X,Y,W,H must be whole numbers"))?;
     let [x, y, width, height] = values[..] else {
-        bail!("--region {text}: expected four numbers X,Y,W,H");
+        bail!("--region {option}: expected four numbers X,Y,W,H");
     };
     if width == 0 || height == 0 {
-        bail!("--region {text}: width and height must be at least 1");
+        bail!("--region {option}: width and height must be at least 1");
     }
-    Ok((
-        label.to_owned(),
-        Rect {
-            x,
-            y,
-            width,
-            height,
-        },
-    ))
+    Ok(Rect {
+        x,
+        y,
+        width,
+        height,
+    })
 }
 
 /// A user's region checked against the render size: refused when it lies entirely outside,
