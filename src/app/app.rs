@@ -78,6 +78,8 @@ pub(super) enum DialogPurpose {
     ExportBookmarks(Vec<Bookmark>),
     /// Add the bookmarks of the picked file to this scene (its spec).
     ImportBookmarks(String),
+    /// Send exports to the picked folder.
+    ExportFolder,
 }
 
 /// Facts about the loaded scene.
@@ -324,7 +326,8 @@ impl AaLabApp {
     /// Starts loading a scene (built-in name or OBJ/glTF/GLB path) on the worker thread.
     pub(super) fn load_scene(&mut self, ctx: &egui::Context, spec: &str) {
         let ctx = ctx.clone();
-        self.loader.load(spec, move || ctx.request_repaint());
+        self.loader
+            .load(spec, move || super::request_one_frame(&ctx));
     }
 
     /// Asks the OS for a model file (OBJ, glTF, GLB) to open.
@@ -357,7 +360,7 @@ impl AaLabApp {
             .name("aa-lab file dialog".to_owned())
             .spawn(move || {
                 let _ = sender.send(dialog());
-                ctx.request_repaint();
+                super::request_one_frame(&ctx);
             });
         match spawned {
             Ok(_) => self.file_dialog = Some((purpose, receiver)),
@@ -371,6 +374,7 @@ impl AaLabApp {
             DialogPurpose::OpenModel => self.load_scene(ctx, &path.display().to_string()),
             DialogPurpose::ExportBookmarks(marks) => self.write_bookmarks(&path, &marks),
             DialogPurpose::ImportBookmarks(scene) => self.read_bookmarks(&path, &scene),
+            DialogPurpose::ExportFolder => self.use_export_dir(path),
         }
     }
 
@@ -551,7 +555,6 @@ impl AaLabApp {
         for path in dropped {
             self.load_scene(ctx, &path.display().to_string());
         }
-        self.poll_export_dir();
         let finished = self.export.poll();
         for (level, text) in finished {
             self.notify(level, text);
@@ -767,7 +770,8 @@ impl eframe::App for AaLabApp {
         self.viewport_panel(ui);
         shortcuts::help_overlay(&ctx, &mut self.help_open);
 
-        let pending_jobs = self.loading() || self.export.running() || self.file_dialog.is_some();
+        // (An open file dialog wakes the UI itself when answered.)
+        let pending_jobs = self.loading() || self.export.running();
         // Measurements wake the UI when they finish; this catches paced ones that wait.
         let measuring = self.quality.waiting() || self.magnifier.computing();
         if self.rendering() {
@@ -775,7 +779,7 @@ impl eframe::App for AaLabApp {
             // would show nothing new (the camera advances with each engine frame), and on a
             // software rasteriser each paint takes CPU from the engine.
         } else if more || self.time_changes_image() || self.viewport.resized {
-            ctx.request_repaint();
+            super::request_one_frame(&ctx);
         } else if pending_jobs {
             ctx.request_repaint_after(Duration::from_millis(30));
         } else if measuring {

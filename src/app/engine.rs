@@ -421,7 +421,7 @@ impl Engine {
             scene,
             entries.iter().map(TechniqueEntry::available).collect(),
             reference_samples,
-            move || wake.request_repaint(),
+            move || super::request_one_frame(&wake),
         )?;
         Ok(Self {
             caps,

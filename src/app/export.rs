@@ -11,7 +11,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, mpsc};
 
-use super::app::{AaLabApp, Level};
+use super::app::{AaLabApp, DialogPurpose, Level};
 use super::difference::lens_heatmap;
 use super::magnifier::{Source, crop};
 use crate::export::sheet::{self, Cell, Row};
@@ -52,7 +52,6 @@ struct Plan {
 #[derive(Default)]
 pub struct ExportState {
     job: Option<mpsc::Receiver<Result<Vec<PathBuf>, String>>>,
-    folder_dialog: Option<mpsc::Receiver<Option<PathBuf>>>,
     /// Files written by the last export.
     pub last: Vec<PathBuf>,
 }
@@ -90,22 +89,6 @@ impl ExportState {
         };
         self.job = None;
         vec![notice]
-    }
-
-    /// The folder picked in the dialog, once the user has answered.
-    fn picked_folder(&mut self) -> Option<Option<PathBuf>> {
-        let receiver = self.folder_dialog.as_ref()?;
-        match receiver.try_recv() {
-            Ok(picked) => {
-                self.folder_dialog = None;
-                Some(picked)
-            }
-            Err(mpsc::TryRecvError::Empty) => None,
-            Err(mpsc::TryRecvError::Disconnected) => {
-                self.folder_dialog = None;
-                Some(None)
-            }
-        }
     }
 }
 
@@ -337,36 +320,21 @@ impl AaLabApp {
         }
     }
 
-    /// Asks for the export folder on a helper thread.
+    /// Asks for the export folder.
     pub(super) fn pick_export_dir(&mut self, ctx: &egui::Context) {
-        if self.export.folder_dialog.is_some() {
-            return;
-        }
-        let (sender, receiver) = mpsc::channel();
-        let ctx = ctx.clone();
         let start = self.settings.export_dir.clone();
-        let spawned = std::thread::Builder::new()
-            .name("aa-lab folder dialog".to_owned())
-            .spawn(move || {
-                let picked = rfd::FileDialog::new()
-                    .set_title("Export folder")
-                    .set_directory(&start)
-                    .pick_folder();
-                let _ = sender.send(picked);
-                ctx.request_repaint();
-            });
-        match spawned {
-            Ok(_) => self.export.folder_dialog = Some(receiver),
-            Err(err) => self.notify(Level::Error, format!("cannot open a folder dialog: {err}")),
-        }
+        self.ask_for_path(ctx, DialogPurpose::ExportFolder, move || {
+            rfd::FileDialog::new()
+                .set_title("Export folder")
+                .set_directory(&start)
+                .pick_folder()
+        });
     }
 
-    /// Applies a folder picked in the dialog.
-    pub(super) fn poll_export_dir(&mut self) {
-        if let Some(Some(dir)) = self.export.picked_folder() {
-            self.notify(Level::Info, format!("Exports go to {}", dir.display()));
-            self.settings.export_dir = dir;
-        }
+    /// Sends exports to `dir` (a folder picked in the dialog).
+    pub(super) fn use_export_dir(&mut self, dir: PathBuf) {
+        self.notify(Level::Info, format!("Exports go to {}", dir.display()));
+        self.settings.export_dir = dir;
     }
 
     /// Points exports at a folder (tests use a temporary one).
