@@ -20,7 +20,8 @@
 //!   is read back, converted on the render thread and uploaded as an egui texture (nearest
 //!   sampling, no dithering), which the magnifier, metrics and export then use as they are.
 //!   Measured with the viewer benchmark on lavapipe (atrium, four techniques at 1280x720,
-//!   camera orbiting): readback 148 ms UI frame median, native 276 ms. Work on one queue runs
+//!   camera orbiting): readback 146 ms UI frame median and 135 ms until a layout change
+//!   shows, native 263 ms and 457 ms. Work on one queue runs
 //!   in order, so on a software rasteriser the window's paint waits behind the engine's frame
 //!   on a shared queue, while the copies cost a few milliseconds of a CPU that renders anyway.
 //!
