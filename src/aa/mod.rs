@@ -72,15 +72,7 @@ pub fn set_param(
     key: &str,
     value: ParamValue,
 ) -> Result<(), ParamError> {
-    let params = technique.params();
-    let Some(param) = params.iter().find(|p| p.key == key) else {
-        return Err(ParamError::UnknownKey {
-            technique: technique.id().to_owned(),
-            key: key.to_owned(),
-            known: params.iter().map(|p| p.key).collect::<Vec<_>>().join(", "),
-        });
-    };
-    let value = param.validate(technique.id(), value)?;
+    let (_, value) = params::validate_setting(&technique.params(), technique.id(), key, value)?;
     technique.set_param(key, &value)
 }
 

@@ -467,9 +467,16 @@ impl AaLabApp {
         for warning in &scene.warnings {
             self.notify(Level::Warning, format!("{}: {warning}", scene.name));
         }
+        let is_file = std::path::Path::new(spec).is_file();
+        let spec = if is_file {
+            std::fs::canonicalize(spec)
+                .map_or_else(|_| spec.to_owned(), |p| p.display().to_string())
+        } else {
+            spec.to_owned()
+        };
         let camera = scene.camera;
         let info = SceneInfo {
-            spec: String::new(),
+            spec: spec.clone(),
             name: scene.name.clone(),
             triangles: scene.triangle_count(),
             views: scene.views.clone(),
@@ -510,19 +517,12 @@ impl AaLabApp {
                 }
             }
         }
-        let is_file = std::path::Path::new(spec).is_file();
-        let spec = if is_file {
-            std::fs::canonicalize(spec)
-                .map_or_else(|_| spec.to_owned(), |p| p.display().to_string())
-        } else {
-            spec.to_owned()
-        };
         if is_file {
             self.settings.remember_recent(&spec);
         }
-        self.settings.scene = spec.clone();
+        self.settings.scene = spec;
         self.camera.set_rig(camera);
-        self.scene = Some(SceneInfo { spec, ..info });
+        self.scene = Some(info);
         self.quality.clear();
         self.magnifier.clear();
         ctx.request_repaint();

@@ -44,6 +44,7 @@ use crate::aa::ssaa::Progress;
 use crate::aa::{self, FrameInfo, Param, ParamError, ParamValue};
 use crate::gpu::Capabilities;
 use crate::graph::MemoryReport;
+use crate::graph::params::validate_setting;
 use crate::scene::Scene;
 use crate::scene::camera::FrameCamera;
 
@@ -561,20 +562,8 @@ impl Engine {
             // Not created yet: the render thread validates and reports.
             return Ok(value);
         };
-        let Some(param) = settings.params.iter_mut().find(|p| p.key == key) else {
-            return Err(ParamError::UnknownKey {
-                technique: entry.id.to_owned(),
-                key: key.to_owned(),
-                known: settings
-                    .params
-                    .iter()
-                    .map(|p| p.key)
-                    .collect::<Vec<_>>()
-                    .join(", "),
-            });
-        };
-        let value = param.validate(entry.id, value)?;
-        param.value = value.clone();
+        let (position, value) = validate_setting(&settings.params, entry.id, key, value)?;
+        settings.params[position].value = value.clone();
         Ok(value)
     }
 

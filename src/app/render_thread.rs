@@ -383,14 +383,13 @@ impl RenderState {
         self.graph.slots_mut()[self.reference_slot].enabled = plan.reference.is_some();
 
         // The readback copies go into the frame's own encoder: one submission, one mapping.
-        let slots_of = self.slots.clone();
+        let slot_of = &self.slots;
         let belt = &mut self.belt;
         let reference_slot = self.reference_slot;
         let rendered = self
             .graph
             .render_with(&plan.frame, FrameScope::All, |encoder, slots| {
-                let tickets =
-                    Tickets::record(belt, encoder, slots, plan, &slots_of, reference_slot);
+                let tickets = Tickets::record(belt, encoder, slots, plan, slot_of, reference_slot);
                 (tickets, belt.finish(encoder))
             });
         let after = self.reference.lock().progress;

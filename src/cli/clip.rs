@@ -15,8 +15,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::bench::reference_spec;
 use super::render::{
-    CameraArgs, CameraMotion, SceneArgs, TechniqueArgs, load_scene, output_policy, parse_size,
-    spec_for_scene, technique_specs,
+    CameraMotion, SceneSource, TechniqueArgs, load_scene, output_policy, spec_for_scene,
+    technique_specs,
 };
 use crate::aa::FrameInfo;
 use crate::export::animation::{self, AnimationFormat};
@@ -26,8 +26,6 @@ use crate::gpu::{Gpu, read_texture_rgba8};
 use crate::graph::FrameScope;
 use crate::metrics::stability::{ClipMetrics, GHOST_THRESHOLD, TemporalScores};
 use crate::scene::motion::{DEFAULT_SPEED_PX, Motion};
-use crate::scene::procedural::SceneOptions;
-use crate::scene::source::DEFAULT_SCENE;
 use crate::spec::{self, RenderSpec, TechniqueSpec};
 
 /// Most frames of a clip.
@@ -46,21 +44,10 @@ pub const SCHEMA: &str = "aa-lab clip 1";
 /// Arguments of `aa-lab clip`.
 #[derive(Debug, clap::Args)]
 pub struct ClipArgs {
-    /// Built-in scene (hairball, atrium, chart) or path to an .obj, .gltf or .glb file.
-    #[arg(long, default_value = DEFAULT_SCENE)]
-    pub scene: String,
-    /// Built-in scene density (hairball: 1 is about 300k triangles).
-    #[arg(long, default_value_t = 1.0)]
-    pub density: f32,
-    /// Built-in scene random seed.
-    #[arg(long, default_value_t = SceneOptions::default().seed)]
-    pub seed: u64,
-    /// Image size, WIDTHxHEIGHT in pixels (--region is in pixels of this image).
-    #[arg(long, default_value = "1280x720", value_parser = parse_size, allow_hyphen_values = true)]
-    pub size: (u32, u32),
-    /// Treat scene warnings as errors.
-    #[arg(long)]
-    pub strict: bool,
+    /// Scene, size (--region is in pixels of this image) and the camera the motion starts
+    /// from.
+    #[command(flatten)]
+    pub scene: SceneSource,
     /// Techniques and their settings.
     #[command(flatten)]
     pub techniques: TechniqueArgs,
@@ -96,9 +83,6 @@ pub struct ClipArgs {
     /// Replace existing output files (without it, aa-lab never replaces a file).
     #[arg(long)]
     pub force: bool,
-    /// The camera, when not the scene's default view (the motion starts from it).
-    #[command(flatten)]
-    pub camera: CameraArgs,
 }
 
 /// One technique's figures in the record.
@@ -245,7 +229,7 @@ fn fit(texts: &[String], width: u32) -> String {
 
 /// Runs `aa-lab clip`.
 pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
-    if args.camera.camera_motion != CameraMotion::Orbit {
+    if args.scene.camera.camera_motion != CameraMotion::Orbit {
         bail!(
             "clip moves the camera with --motion (orbit, pan, dolly, still), not --camera-motion"
         );
@@ -256,13 +240,13 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
             args.speed
         );
     }
-    if args.size.0 == 0 || args.size.1 == 0 {
+    if args.scene.size.0 == 0 || args.scene.size.1 == 0 {
         bail!("--size: width and height must be at least 1");
     }
     let region = args
         .region
         .as_deref()
-        .map(|text| parse_region(text, args.size))
+        .map(|text| parse_region(text, args.scene.size))
         .transpose()?;
     let zoom = args.zoom.unwrap_or(if region.is_some() { 4 } else { 1 });
     let format = AnimationFormat::of_path(&args.out);
@@ -276,11 +260,11 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
 
     let gpu = Gpu::headless()?;
     let max_side = gpu.caps.max_texture_dimension_2d;
-    if args.size.0 > max_side || args.size.1 > max_side {
+    if args.scene.size.0 > max_side || args.scene.size.1 > max_side {
         bail!(
             "--size {}x{}: {} renders at most {max_side} pixels a side",
-            args.size.0,
-            args.size.1,
+            args.scene.size.0,
+            args.scene.size.1,
             gpu.caps.adapter_name
         );
     }
@@ -290,8 +274,8 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     let pane = region.unwrap_or(Rect {
         x: 0,
         y: 0,
-        width: args.size.0,
-        height: args.size.1,
+        width: args.scene.size.0,
+        height: args.scene.size.1,
     });
     let columns = if region.is_some() {
         panes
@@ -314,21 +298,12 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         );
     }
 
-    let scene_args = SceneArgs {
-        scene: args.scene.clone(),
-        density: args.density,
-        seed: args.seed,
-        size: args.size,
-        frame: u64::from(args.warmup),
-        strict: args.strict,
-        camera: args.camera.clone(),
-    };
-    let mut spec = spec_for_scene(&scene_args, techniques.clone());
+    let mut spec = spec_for_scene(&args.scene, u64::from(args.warmup), techniques.clone());
     spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
     let policy = output_policy(args.force, None, &spec);
     policy.check_all([args.out.as_path(), json.as_path()])?;
-    let mut scene = load_scene(&spec, args.strict)?;
-    args.camera.apply(&mut spec, &mut scene)?;
+    let mut scene = load_scene(&spec, args.scene.strict)?;
+    args.scene.camera.apply(&mut spec, &mut scene)?;
 
     let mut graph_spec = spec.clone();
     graph_spec.techniques.push(reference.clone());
@@ -367,7 +342,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         let info = FrameInfo {
             camera: args
                 .motion
-                .camera(&scene.camera, args.size, args.speed, frame),
+                .camera(&scene.camera, args.scene.size, args.speed, frame),
             reset_history: frame == 0,
         };
         let scope = if warming {

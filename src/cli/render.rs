@@ -136,9 +136,9 @@ pub fn parse_vec3(text: &str) -> Result<Vec3, String> {
     }
 }
 
-/// Which scene and frame to render; shared by `render` and `sheet`.
+/// Which scene, at what size, seen from where; shared by `render`, `sheet` and `clip`.
 #[derive(Clone, Debug, clap::Args)]
-pub struct SceneArgs {
+pub struct SceneSource {
     /// Built-in scene (hairball, atrium, chart) or path to an .obj, .gltf or .glb file.
     #[arg(long, default_value = DEFAULT_SCENE)]
     pub scene: String,
@@ -152,16 +152,24 @@ pub struct SceneArgs {
     /// texture side, e.g. 16384).
     #[arg(long, default_value = "1280x720", value_parser = parse_size, allow_hyphen_values = true)]
     pub size: (u32, u32),
-    /// Frame of the deterministic camera path (temporal techniques run frames 0..=N; at most
-    /// 1000000).
-    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=spec::MAX_FRAME))]
-    pub frame: u64,
     /// Treat scene warnings (a missing texture replaced by a checker) as errors.
     #[arg(long)]
     pub strict: bool,
     /// The camera, when not the scene's default view.
     #[command(flatten)]
     pub camera: CameraArgs,
+}
+
+/// Which scene and frame to render; shared by `render` and `sheet`.
+#[derive(Clone, Debug, clap::Args)]
+pub struct SceneArgs {
+    /// Scene, size and camera.
+    #[command(flatten)]
+    pub source: SceneSource,
+    /// Frame of the deterministic camera path (temporal techniques run frames 0..=N; at most
+    /// 1000000).
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=spec::MAX_FRAME))]
+    pub frame: u64,
 }
 
 /// Arguments of `aa-lab render`.
@@ -392,8 +400,13 @@ pub fn technique_specs(gpu: &Gpu, args: &TechniqueArgs) -> anyhow::Result<Vec<Te
     Ok(techniques)
 }
 
-/// The spec of a scene given on the command line with already resolved techniques.
-pub fn spec_for_scene(scene: &SceneArgs, techniques: Vec<TechniqueSpec>) -> RenderSpec {
+/// The spec of a scene given on the command line at `frame`, with already resolved
+/// techniques.
+pub fn spec_for_scene(
+    scene: &SceneSource,
+    frame: u64,
+    techniques: Vec<TechniqueSpec>,
+) -> RenderSpec {
     // Store OBJ paths absolute so a record reproduces from any directory.
     let name = match std::fs::canonicalize(&scene.scene) {
         Ok(p) if p.is_file() => p.display().to_string(),
@@ -405,7 +418,7 @@ pub fn spec_for_scene(scene: &SceneArgs, techniques: Vec<TechniqueSpec>) -> Rend
         seed: scene.seed,
         width: scene.size.0,
         height: scene.size.1,
-        frame: scene.frame,
+        frame,
         camera: None,
         rig: None,
         image: None,
@@ -553,7 +566,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             (spec, Some(image))
         }
         (None, None) => (
-            spec_for_scene(&args.scene, technique_specs(&gpu, &args.techniques)?),
+            spec_for_scene(
+                &args.scene.source,
+                args.scene.frame,
+                technique_specs(&gpu, &args.techniques)?,
+            ),
             None,
         ),
     };
@@ -578,8 +595,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             crate::scene::Scene::empty(&spec.scene)
         }
         None => {
-            let mut scene = load_scene(&spec, args.scene.strict)?;
-            args.scene.camera.apply(&mut spec, &mut scene)?;
+            let mut scene = load_scene(&spec, args.scene.source.strict)?;
+            args.scene.source.camera.apply(&mut spec, &mut scene)?;
             scene
         }
     };

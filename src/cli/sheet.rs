@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
 
-use super::render::{SceneArgs, TechniqueArgs, load_scene, spec_for_scene, technique_specs};
+use super::render::{
+    SceneArgs, SceneSource, TechniqueArgs, load_scene, spec_for_scene, technique_specs,
+};
 use crate::export::sheet::{self, Cell, Rect, Row, Sheet};
 use crate::export::write_png;
 use crate::files::{self, Overwrite};
@@ -152,7 +154,7 @@ fn scaled(rect: Rect, size: (u32, u32)) -> Rect {
 /// Runs `aa-lab sheet`.
 pub fn run(args: &SheetArgs) -> anyhow::Result<()> {
     let gpu = Gpu::headless()?;
-    let size = args.scene.size;
+    let size = args.scene.source.size;
     let rows: Vec<(String, String, Rect)> = match args.rows.as_deref() {
         Some("thesis") => THESIS_ROWS
             .iter()
@@ -174,7 +176,7 @@ pub fn run(args: &SheetArgs) -> anyhow::Result<()> {
             .map(|text| {
                 let (label, rect) = parse_region(text)?;
                 let rect = inside_render(text, rect, size)?;
-                Ok((label, args.scene.scene.clone(), rect))
+                Ok((label, args.scene.source.scene.clone(), rect))
             })
             .collect::<anyhow::Result<_>>()?,
     };
@@ -196,14 +198,14 @@ pub fn run(args: &SheetArgs) -> anyhow::Result<()> {
     let mut sheet_rows: Vec<Option<Row>> = rows.iter().map(|_| None).collect();
     let mut record = None;
     for scene_name in &scenes {
-        let scene_args = SceneArgs {
+        let source = SceneSource {
             scene: scene_name.clone(),
-            ..args.scene.clone()
+            ..args.scene.source.clone()
         };
-        let mut spec = spec_for_scene(&scene_args, techniques.clone());
+        let mut spec = spec_for_scene(&source, args.scene.frame, techniques.clone());
         spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
-        let mut scene = load_scene(&spec, args.scene.strict)?;
-        args.scene.camera.apply(&mut spec, &mut scene)?;
+        let mut scene = load_scene(&spec, args.scene.source.strict)?;
+        args.scene.source.camera.apply(&mut spec, &mut scene)?;
         eprintln!(
             "rendering {} ({} techniques)...",
             scene.name,

@@ -115,6 +115,21 @@ impl ParamError {
     }
 }
 
+/// Finds `key` among `params` (the parameters of `technique`) and validates `value` against
+/// it: the parameter's position and the value in its own form.
+pub fn validate_setting(
+    params: &[Param],
+    technique: &str,
+    key: &str,
+    value: ParamValue,
+) -> Result<(usize, ParamValue), ParamError> {
+    let index = params
+        .iter()
+        .position(|p| p.key == key)
+        .ok_or_else(|| ParamError::unknown_key(technique, key, params))?;
+    Ok((index, params[index].validate(technique, value)?))
+}
+
 impl Param {
     /// A boolean parameter.
     pub fn bool(key: &'static str, label: &'static str, help: &'static str, value: bool) -> Self {
