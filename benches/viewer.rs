@@ -52,6 +52,9 @@ struct SceneFigures {
     ui_frame_ms_median: f64,
     ui_frame_ms_p95: f64,
     ui_frame_ms_max: f64,
+    /// The part of a UI frame before the paint: the app's update, layout, tessellation.
+    ui_update_ms_median: f64,
+    ui_update_ms_p95: f64,
     engine_frames_per_second: f64,
     engine_frames_per_second_with_input: f64,
     layout_latency_ms_median: f64,
@@ -59,6 +62,8 @@ struct SceneFigures {
     layout_changes: usize,
     idle_ui_frame_ms_median: f64,
     idle_ui_frame_ms_p95: f64,
+    idle_ui_update_ms_median: f64,
+    idle_ui_update_ms_p95: f64,
 }
 
 struct Options {
@@ -111,12 +116,20 @@ fn sorted(mut values: Vec<f64>) -> Vec<f64> {
     values
 }
 
-/// One UI frame, painted: its wall time in milliseconds.
-fn step_timed(harness: &mut Harness<'_, AaLabApp>) -> f64 {
+/// Whole UI frames and their update parts, each sorted.
+fn split(timed: Vec<(f64, f64)>) -> (Vec<f64>, Vec<f64>) {
+    let (frames, updates) = timed.into_iter().unzip();
+    (sorted(frames), sorted(updates))
+}
+
+/// One UI frame, painted: its wall time in milliseconds, and the part of it before the paint
+/// (the app's update, layout and tessellation: the UI thread's own CPU).
+fn step_timed(harness: &mut Harness<'_, AaLabApp>) -> (f64, f64) {
     let start = Instant::now();
     harness.step();
+    let update = start.elapsed().as_secs_f64() * 1000.0;
     harness.render().expect("the window paints");
-    start.elapsed().as_secs_f64() * 1000.0
+    (start.elapsed().as_secs_f64() * 1000.0, update)
 }
 
 /// When the app wants its next frame, as eframe learns it: every repaint request (from the
@@ -263,9 +276,9 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
         pace(&mut next);
     }
 
-    let frames = sorted(frames);
+    let (frames, updates) = split(frames);
+    let (idle, idle_updates) = split(idle);
     let latencies = sorted(latencies);
-    let idle = sorted(idle);
     SceneFigures {
         scene: scene.to_owned(),
         seconds: elapsed,
@@ -274,6 +287,8 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
         ui_frame_ms_median: percentile(&frames, 0.5),
         ui_frame_ms_p95: percentile(&frames, 0.95),
         ui_frame_ms_max: frames.last().copied().unwrap_or(f64::NAN),
+        ui_update_ms_median: percentile(&updates, 0.5),
+        ui_update_ms_p95: percentile(&updates, 0.95),
         engine_frames_per_second: (engine_at_half - engine_start) as f64 / half.as_secs_f64(),
         engine_frames_per_second_with_input: (engine_end - engine_at_half) as f64
             / (elapsed - half.as_secs_f64()),
@@ -282,6 +297,8 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
         layout_changes: latencies.len(),
         idle_ui_frame_ms_median: percentile(&idle, 0.5),
         idle_ui_frame_ms_p95: percentile(&idle, 0.95),
+        idle_ui_update_ms_median: percentile(&idle_updates, 0.5),
+        idle_ui_update_ms_p95: percentile(&idle_updates, 0.95),
     }
 }
 
@@ -293,7 +310,7 @@ fn main() {
         let figures = measure(scene, options.seconds);
         println!(
             "{:<10} {:>5.1} UI frames/s, median {:>6.1} ms  p95 {:>6.1} ms  max {:>7.1} ms | engine {:>5.2} frames/s ({:.2} with input) | \
-             layout change visible after median {:>6.1} ms, worst {:>6.1} ms ({} changes) | idle UI frame median {:>5.1} ms p95 {:>5.1} ms",
+             layout change visible after median {:>6.1} ms, worst {:>6.1} ms ({} changes) | idle UI frame median {:>5.1} ms p95 {:>5.1} ms | update (before the paint) median {:>5.1} ms p95 {:>5.1} ms, idle {:>5.1} ms p95 {:>5.1} ms",
             figures.scene,
             figures.ui_frames_per_second,
             figures.ui_frame_ms_median,
@@ -306,6 +323,10 @@ fn main() {
             figures.layout_changes,
             figures.idle_ui_frame_ms_median,
             figures.idle_ui_frame_ms_p95,
+            figures.ui_update_ms_median,
+            figures.ui_update_ms_p95,
+            figures.idle_ui_update_ms_median,
+            figures.idle_ui_update_ms_p95,
         );
         all.push(figures);
     }

@@ -149,6 +149,7 @@ impl AaLabApp {
     /// Creates the app on eframe's wgpu device and starts loading the scene.
     pub fn new(cc: &eframe::CreationContext<'_>, options: LaunchOptions) -> Result<Self, AppError> {
         let state = cc.wgpu_render_state.as_ref().ok_or(AppError::NoWgpu)?;
+        super::blit::install(state);
         let gpu = Gpu::from_parts(
             state.adapter.clone(),
             state.device.clone(),
@@ -662,7 +663,7 @@ impl AaLabApp {
 
     /// Publishes a finished engine frame and starts the next one when the engine is free.
     /// Returns whether more frames are wanted.
-    fn engine_frame(&mut self, ctx: &egui::Context) -> bool {
+    fn engine_frame(&mut self) -> bool {
         profiling::function_scope!();
         let size = self.viewport.render_size;
         let want_reference = self.reference_wanted();
@@ -670,7 +671,7 @@ impl AaLabApp {
         let Some(engine) = &mut self.engine else {
             return false;
         };
-        let publication = engine.poll(ctx);
+        let publication = engine.poll();
         let mut errors = publication.problems;
         if size.0 > 0 && size.1 > 0 && !engine.busy() {
             let (camera, cut) = self.camera.next_frame(size);
@@ -749,7 +750,7 @@ impl eframe::App for AaLabApp {
         if ctx.input(|i| i.key_pressed(egui::Key::Escape)) {
             self.help_open = false;
         }
-        let more = self.engine_frame(&ctx);
+        let more = self.engine_frame();
         self.update_quality(&ctx);
         self.update_magnifier(&ctx);
 

@@ -10,15 +10,15 @@
 //! the thread, which answers with the authoritative settings.
 //!
 //! **Two display paths** ([`Display`]), chosen by the adapter:
-//! - *Native* (hardware adapters): the render thread renders on eframe's device and egui draws
-//!   each technique's output texture directly (registered as a native texture through its
+//! - *Native* (hardware adapters): the render thread renders on eframe's device and the window
+//!   draws each technique's output texture directly ([`super::blit`], through the texture's
 //!   `Rgba8Unorm` view, which holds the sRGB-encoded bytes; the magnifier draws UV crops of the
 //!   same textures). Nothing is copied per displayed frame; pixels come back to the CPU only
 //!   for what reads them (pixel values, error maps, quality figures, export), once the view is
 //!   still, through a frame that only reads.
 //! - *Readback* (software adapters): the render thread has a device of its own; every output
-//!   is read back, converted on the render thread and uploaded as an egui texture (nearest
-//!   sampling, no dithering), which the magnifier, metrics and export then use as they are.
+//!   is read back and uploaded by the render thread to a texture on eframe's device, drawn the
+//!   same way; the magnifier, metrics and export use the read-back pixels as they are.
 //!   Measured with the viewer benchmark on lavapipe (atrium, four techniques at 1280x720,
 //!   camera orbiting): readback 146 ms UI frame median and 135 ms until a layout change
 //!   shows, native 263 ms and 457 ms. Work on one queue runs
@@ -31,8 +31,7 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use egui::{TextureHandle, TextureId, TextureOptions};
-
+use super::blit::{DisplayTexture, Uploader};
 use super::reference::REFERENCE_ID;
 use super::render_thread::{
     Command, Event, FramePlan, FrameResult, ReferenceRequest, RenderDevice, RenderThread,
@@ -69,9 +68,9 @@ pub struct ImageStamp {
 #[derive(Clone)]
 pub enum Display {
     /// The engine renders on a device of its own; every output is read back and uploaded to
-    /// egui (software adapters).
-    Readback(wgpu::Adapter),
-    /// The engine renders on eframe's device and egui draws the output textures directly;
+    /// eframe's device (software adapters).
+    Readback(egui_wgpu::RenderState),
+    /// The engine renders on eframe's device and the output textures are drawn directly;
     /// pixels come back to the CPU only when something reads them (hardware adapters).
     Native(egui_wgpu::RenderState),
 }
@@ -101,7 +100,7 @@ impl Display {
                 _ => state.adapter.get_info().device_type != wgpu::DeviceType::Cpu,
             },
         };
-        // egui draws an output through its linear view of the sRGB texture.
+        // An output is drawn through its linear view of the sRGB texture.
         let viewable = state
             .adapter
             .get_downlevel_capabilities()
@@ -111,7 +110,13 @@ impl Display {
         if native {
             Self::Native(state.clone())
         } else {
-            Self::Readback(state.adapter.clone())
+            Self::Readback(state.clone())
+        }
+    }
+
+    fn state(&self) -> &egui_wgpu::RenderState {
+        match self {
+            Self::Readback(state) | Self::Native(state) => state,
         }
     }
 
@@ -120,53 +125,7 @@ impl Display {
     }
 }
 
-/// A technique's output texture registered with egui's renderer; unregistered when dropped.
-struct NativeTexture {
-    id: TextureId,
-    texture: wgpu::Texture,
-    state: egui_wgpu::RenderState,
-}
-
-impl NativeTexture {
-    /// The egui texture showing `texture` through its `Rgba8Unorm` view: egui's own textures
-    /// hold sRGB-encoded bytes that it samples undecoded, so this view makes the screen show
-    /// the very bytes of the output (every output texture can be viewed so).
-    fn register(state: &egui_wgpu::RenderState, texture: wgpu::Texture) -> Self {
-        let view = texture.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("egui view of an output"),
-            format: Some(wgpu::TextureFormat::Rgba8Unorm),
-            ..Default::default()
-        });
-        let id = state.renderer.write().register_native_texture(
-            &state.device,
-            &view,
-            wgpu::FilterMode::Nearest,
-        );
-        Self {
-            id,
-            texture,
-            state: state.clone(),
-        }
-    }
-}
-
-impl Drop for NativeTexture {
-    fn drop(&mut self) {
-        // egui did not create the texture, so freeing the id leaves the texture alone.
-        self.state.renderer.write().free_texture(&self.id);
-    }
-}
-
-/// The texture egui draws a published image from.
-#[derive(Clone)]
-enum Shown {
-    /// An egui texture holding the read-back bytes.
-    Uploaded(TextureHandle),
-    /// The output texture itself.
-    Native(Arc<NativeTexture>),
-}
-
-/// A finished image: an egui texture and, when read back, its pixels on the CPU.
+/// A finished image: the texture it is drawn from and, when read back, its pixels on the CPU.
 #[derive(Clone)]
 pub struct Published {
     /// The pixels (sRGB-encoded RGBA8) when they were read back: always on the readback path,
@@ -174,86 +133,28 @@ pub struct Published {
     pub pixels: Option<Arc<image::RgbaImage>>,
     /// What the image shows.
     pub stamp: ImageStamp,
-    size: (u32, u32),
-    shown: Shown,
+    texture: Arc<DisplayTexture>,
 }
 
 impl Published {
-    /// The egui texture (nearest sampling).
-    pub fn id(&self) -> TextureId {
-        match &self.shown {
-            Shown::Uploaded(handle) => handle.id(),
-            Shown::Native(native) => native.id,
+    /// An image whose pixels are on the CPU and on screen.
+    pub fn new(image: RenderedImage, stamp: ImageStamp) -> Self {
+        Self {
+            pixels: Some(Arc::new(image.pixels)),
+            stamp,
+            texture: image.texture,
         }
+    }
+
+    /// What [`blit::paint`] draws.
+    pub fn texture(&self) -> &Arc<DisplayTexture> {
+        &self.texture
     }
 
     /// Size in pixels.
     pub fn size(&self) -> (u32, u32) {
-        self.size
+        self.texture.size()
     }
-}
-
-/// Stores `image` in `slot`, updating its texture in place when there is one. The upload
-/// itself happens when egui paints (a copy of bytes prepared on the render thread).
-fn publish(
-    ctx: &egui::Context,
-    slot: &mut Option<Published>,
-    name: &str,
-    image: RenderedImage,
-    stamp: ImageStamp,
-) {
-    let RenderedImage { pixels, color } = image;
-    let size = pixels.dimensions();
-    let pixels = Some(Arc::new(pixels));
-    match slot {
-        Some(Published {
-            shown: Shown::Uploaded(handle),
-            ..
-        }) => {
-            handle.set(color, TextureOptions::NEAREST);
-            let handle = handle.clone();
-            *slot = Some(Published {
-                pixels,
-                stamp,
-                size,
-                shown: Shown::Uploaded(handle),
-            });
-        }
-        _ => {
-            *slot = Some(Published {
-                shown: Shown::Uploaded(ctx.load_texture(name, color, TextureOptions::NEAREST)),
-                pixels,
-                stamp,
-                size,
-            });
-        }
-    }
-}
-
-/// Stores a native output in `slot`: the texture (registered again only when it is another
-/// texture, after a resize) and the pixels when they were read back. Pixels of an older frame
-/// are dropped: they no longer show what the texture shows.
-fn publish_native(
-    state: &egui_wgpu::RenderState,
-    slot: &mut Option<Published>,
-    texture: wgpu::Texture,
-    pixels: Option<image::RgbaImage>,
-    stamp: ImageStamp,
-) {
-    let size = (texture.width(), texture.height());
-    let shown = match slot.take() {
-        Some(Published {
-            shown: Shown::Native(native),
-            ..
-        }) if native.texture == texture => Shown::Native(native),
-        _ => Shown::Native(Arc::new(NativeTexture::register(state, texture))),
-    };
-    *slot = Some(Published {
-        pixels: pixels.map(Arc::new),
-        stamp,
-        size,
-        shown,
-    });
 }
 
 /// One registry technique in the viewer.
@@ -411,7 +312,7 @@ impl Engine {
         let animated = scene.meshes.iter().any(|m| m.spin.is_some());
         let wake = ctx.clone();
         let device = match &display {
-            Display::Readback(adapter) => RenderDevice::Own(adapter.clone()),
+            Display::Readback(state) => RenderDevice::Own(state.adapter.clone()),
             Display::Native(state) => RenderDevice::Shared(crate::gpu::Gpu::from_parts(
                 state.adapter.clone(),
                 state.device.clone(),
@@ -420,6 +321,7 @@ impl Engine {
         };
         let thread = RenderThread::spawn(
             device,
+            Uploader::new(display.state()),
             scene,
             entries.iter().map(TechniqueEntry::available).collect(),
             reference_samples,
@@ -714,7 +616,7 @@ impl Engine {
     }
 
     /// Picks up what the render thread finished and publishes its images.
-    pub fn poll(&mut self, ctx: &egui::Context) -> Publication {
+    pub fn poll(&mut self) -> Publication {
         profiling::function_scope!();
         let mut publication = Publication::default();
         for event in self.thread.poll() {
@@ -735,7 +637,7 @@ impl Engine {
                         continue;
                     };
                     match result {
-                        Ok(frame) => self.publish_frame(ctx, flight, frame, &mut publication),
+                        Ok(frame) => self.publish_frame(flight, frame, &mut publication),
                         Err(err) => publication.problems.push(err.to_string()),
                     }
                 }
@@ -773,7 +675,6 @@ impl Engine {
 
     fn publish_frame(
         &mut self,
-        ctx: &egui::Context,
         flight: InFlight,
         frame: FrameResult,
         publication: &mut Publication,
@@ -797,24 +698,25 @@ impl Engine {
                 revision: entry.revision,
                 serial: self.publish_serial,
             };
-            match (&self.display, output.texture, output.image) {
-                (Display::Native(state), Some(texture), image) => {
-                    let pixels = image.map(|i| i.pixels);
-                    publish_native(state, &mut entry.output, texture, pixels, stamp);
+            let pixels = output.pixels.map(Arc::new);
+            match output.display {
+                Some(texture) => {
+                    entry.output = Some(Published {
+                        pixels,
+                        stamp,
+                        texture,
+                    });
                 }
                 // Pixels read later of the texture on screen: same image, same stamp.
-                (Display::Native(_), None, Some(image)) => {
+                None => {
                     if let Some(published) = &mut entry.output
-                        && published.size == image.pixels.dimensions()
+                        && let Some(pixels) = pixels
+                        && published.size() == pixels.dimensions()
                     {
-                        published.pixels = Some(Arc::new(image.pixels));
+                        published.pixels = Some(pixels);
                     }
                     continue;
                 }
-                (Display::Readback(_), _, Some(image)) => {
-                    publish(ctx, &mut entry.output, entry.id, image, stamp);
-                }
-                _ => continue,
             }
             publication.outputs = true;
         }
@@ -836,7 +738,7 @@ impl Engine {
                 revision: entry.revision,
                 serial: self.publish_serial,
             };
-            publish(ctx, &mut entry.debug_images[position].2, name, image, stamp);
+            entry.debug_images[position].2 = Some(Published::new(image, stamp));
             if entry.debug_view.as_deref() == Some("") {
                 entry.debug_view = Some(name.to_owned());
             }
@@ -852,7 +754,7 @@ impl Engine {
                 revision,
                 serial: self.publish_serial,
             };
-            publish(ctx, &mut self.reference_image, REFERENCE_ID, image, stamp);
+            self.reference_image = Some(Published::new(image, stamp));
             self.reference_accumulated = Some((key, progress));
             self.reference_published = Some((key, progress));
             publication.reference = true;

@@ -12,6 +12,7 @@
 use egui::{Color32, Rect, Sense, Stroke, StrokeKind, TextureHandle, pos2, vec2};
 
 use super::app::{AaLabApp, Level};
+use super::blit;
 use super::difference::{self, HeatJob, HeatKey, HeatResult, heat_color};
 use super::engine::{Published, ReferenceState};
 use super::settings::{DiffMetric, MagnifierSettings};
@@ -497,7 +498,7 @@ impl AaLabApp {
                     (lens.y + lens.height) as f32 / size.1 as f32,
                 ),
             );
-            painter.image(image.id(), rect, uv, Color32::WHITE);
+            blit::paint(&painter, image.texture(), rect, uv);
         } else {
             let text = match source {
                 Source::Reference => "reference: waiting for a still camera",

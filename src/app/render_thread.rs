@@ -2,7 +2,7 @@
 //! and the progressive reference, and does every slow engine step off the UI thread: creating
 //! the device and the techniques' pipelines, uploading scenes, resizing targets (inside the
 //! graph's frame), recording and submitting frames, waiting for the GPU, reading the outputs
-//! back and converting them into egui images.
+//! back and uploading them as display textures on eframe's device ([`super::blit`]).
 //!
 //! The UI talks to it through two channels. [`Command`]s (scene, settings changes, frames to
 //! render) are handled in the order sent; each answer comes back as an [`Event`] and wakes the
@@ -15,6 +15,7 @@
 use std::sync::{Arc, mpsc};
 use std::time::Duration;
 
+use super::blit::{DisplayTexture, Uploader};
 use super::reference::{ProgressiveReference, SharedControl};
 use crate::aa::ssaa::Progress;
 use crate::aa::{self, ParamMap, ParamValue};
@@ -80,7 +81,8 @@ pub struct FramePlan {
     /// Registry indices whose outputs are read back to the CPU (rendered in this frame or
     /// not: a plan may only read).
     pub read: Vec<usize>,
-    /// Hand out the output textures of the techniques that run (egui draws them directly).
+    /// Hand out the output textures of the techniques that run (the window draws them
+    /// directly).
     pub textures: bool,
     /// Registry indices (a subset of `run`) whose debug views are read back too.
     pub debug: Vec<usize>,
@@ -92,28 +94,22 @@ pub struct FramePlan {
     pub delay: Duration,
 }
 
-/// A finished image: the pixels (sRGB-encoded RGBA8) and the same bytes as an egui image.
+/// A finished image: the pixels (sRGB-encoded RGBA8) and the same bytes on eframe's device.
 pub struct RenderedImage {
     /// The pixels.
     pub pixels: image::RgbaImage,
-    /// The same pixels, ready for a texture upload.
-    pub color: egui::ColorImage,
-}
-
-impl RenderedImage {
-    fn new(pixels: image::RgbaImage) -> Self {
-        let size = [pixels.width() as usize, pixels.height() as usize];
-        let color = egui::ColorImage::from_rgba_unmultiplied(size, pixels.as_raw());
-        Self { pixels, color }
-    }
+    /// The same pixels, ready to draw.
+    pub texture: Arc<DisplayTexture>,
 }
 
 /// A technique's output in a [`FrameResult`].
 pub struct FrameOutput {
-    /// The output texture, when the plan asked for textures and the technique ran.
-    pub texture: Option<wgpu::Texture>,
+    /// What to draw: the output texture itself when the plan asked for textures and the
+    /// technique ran, else the upload of the read-back pixels (`None` when a plan for textures
+    /// only read pixels back).
+    pub display: Option<Arc<DisplayTexture>>,
     /// The pixels, when the plan asked for them.
-    pub image: Option<RenderedImage>,
+    pub pixels: Option<image::RgbaImage>,
 }
 
 /// A rendered frame.
@@ -196,10 +192,11 @@ pub struct RenderThread {
 
 impl RenderThread {
     /// Starts the thread: it opens `device`, creates the graph for `scene` and every registry
-    /// technique that `available` allows, then answers [`Event::Ready`]. `wake` is called after
-    /// every event.
+    /// technique that `available` allows, then answers [`Event::Ready`]. Read-back images are
+    /// uploaded with `uploader`; `wake` is called after every event.
     pub fn spawn(
         device: RenderDevice,
+        uploader: Uploader,
         scene: Arc<Scene>,
         available: Vec<bool>,
         reference_samples: u32,
@@ -215,7 +212,8 @@ impl RenderThread {
                     wake();
                 };
                 let mut state =
-                    match RenderState::new(device, &scene, &available, reference_samples) {
+                    match RenderState::new(device, uploader, &scene, &available, reference_samples)
+                    {
                         Ok((state, ready)) => {
                             send(Event::Ready(ready));
                             state
@@ -268,11 +266,13 @@ struct RenderState {
     timings_serial: u64,
     /// Every image of a frame goes back through one staging buffer, mapped once.
     belt: ReadbackBelt,
+    uploader: Uploader,
 }
 
 impl RenderState {
     fn new(
         device: RenderDevice,
+        uploader: Uploader,
         scene: &Scene,
         available: &[bool],
         reference_samples: u32,
@@ -315,6 +315,7 @@ impl RenderState {
             reference: control,
             reference_samples,
             timings_serial: 0,
+            uploader,
         };
         Ok((state, ready))
     }
@@ -420,7 +421,7 @@ impl RenderState {
         } else {
             Vec::new()
         };
-        let mut result = tickets.take(pending, after, textures)?;
+        let mut result = tickets.take(pending, &self.uploader, after, textures, !plan.textures)?;
         result.memory = memory;
         result.scene_renders = scene_renders;
         result.timings = timings;
@@ -445,7 +446,13 @@ impl RenderState {
         );
         let pending = self.belt.finish(&mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
-        tickets?.take(pending, Progress::default(), Vec::new())
+        tickets?.take(
+            pending,
+            &self.uploader,
+            Progress::default(),
+            Vec::new(),
+            !plan.textures,
+        )
     }
 }
 
@@ -502,38 +509,49 @@ impl Tickets {
         Ok(tickets)
     }
 
-    /// Waits for the copies and builds the frame's result (without the graph's figures).
+    /// Waits for the copies, uploads the images for display and builds the frame's result
+    /// (without the graph's figures). `textures` are outputs shown from their own texture;
+    /// other read-back outputs are uploaded when `shown_as_is` (the read-back display), and
+    /// only their pixels kept otherwise (the native display reading a still frame's pixels).
     fn take(
         self,
         pending: PendingReadback,
+        uploader: &Uploader,
         reference_progress: Progress,
         textures: Vec<(usize, wgpu::Texture)>,
+        shown_as_is: bool,
     ) -> Result<FrameResult, RenderError> {
         let read = pending.wait()?;
         let image = |ticket: Ticket| -> Result<RenderedImage, RenderError> {
-            Ok(RenderedImage::new(read.rgba8(ticket)?))
+            let pixels = read.rgba8(ticket)?;
+            let texture = uploader.upload(&pixels);
+            Ok(RenderedImage { pixels, texture })
         };
         let mut outputs: Vec<(usize, FrameOutput)> = textures
             .into_iter()
             .map(|(index, texture)| {
                 let output = FrameOutput {
-                    texture: Some(texture),
-                    image: None,
+                    display: Some(uploader.wrap(texture)),
+                    pixels: None,
                 };
                 (index, output)
             })
             .collect();
         for &(index, ticket) in &self.outputs {
-            let pixels = Some(image(ticket)?);
+            let pixels = read.rgba8(ticket)?;
             match outputs.iter_mut().find(|(i, _)| *i == index) {
-                Some((_, output)) => output.image = pixels,
-                None => outputs.push((
-                    index,
-                    FrameOutput {
-                        texture: None,
-                        image: pixels,
-                    },
-                )),
+                // The output texture itself is shown: the pixels are for the CPU only.
+                Some((_, output)) => output.pixels = Some(pixels),
+                None => {
+                    let display = shown_as_is.then(|| uploader.upload(&pixels));
+                    outputs.push((
+                        index,
+                        FrameOutput {
+                            display,
+                            pixels: Some(pixels),
+                        },
+                    ));
+                }
             }
         }
         Ok(FrameResult {

@@ -11,6 +11,7 @@
 use egui::{Color32, CursorIcon, Pos2, Rect, Sense, Stroke, StrokeKind, Vec2, pos2, vec2};
 
 use super::app::AaLabApp;
+use super::blit;
 use super::engine::Published;
 use super::magnifier::lens_region;
 use super::settings::{Layout, Resolution};
@@ -250,11 +251,11 @@ impl AaLabApp {
                     if self.settings.layout == Layout::Wipe && shown.len() == 2 {
                         self.paint_wipe(&painter, &tile, size_points, &shown, ppp);
                     } else if let (Some(what), Some(image)) = (what, image) {
-                        painter.image(
-                            image.id(),
+                        blit::paint(
+                            &painter,
+                            image.texture(),
                             Rect::from_min_size(tile.origin, size_points),
                             Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
-                            Color32::WHITE,
                         );
                         self.tile_label(&painter, tile_rect.min + vec2(8.0, 8.0), what);
                     } else {
@@ -371,11 +372,11 @@ impl AaLabApp {
             } else {
                 Rect::from_min_max(pos2(x, tile.rect.min.y), tile.rect.max)
             };
-            painter.with_clip_rect(clip.intersect(tile.rect)).image(
-                image.id(),
+            blit::paint(
+                &painter.with_clip_rect(clip.intersect(tile.rect)),
+                image.texture(),
                 image_rect,
                 uv,
-                Color32::WHITE,
             );
         }
         let top = pos2(x, visible.top());
