@@ -579,7 +579,7 @@ impl AaLabApp {
                     self.set_technique_enabled(id, !on);
                 }
             }
-            Action::PlayPause => self.camera.playing = !self.camera.playing,
+            Action::PlayPause => self.toggle_play(),
             Action::Step => {
                 self.camera.playing = false;
                 self.camera.step();
@@ -657,8 +657,23 @@ impl AaLabApp {
         let Some(engine) = &self.engine else {
             return false;
         };
+        if engine.live_paused() {
+            return false;
+        }
         self.camera.moving_by_itself()
             || (self.camera.playing && (engine.animated() || engine.temporal_enabled()))
+    }
+
+    /// Play or pause: the shown clip's playback, else time (animation, temporal jitter).
+    pub(super) fn toggle_play(&mut self) {
+        match self
+            .engine
+            .as_mut()
+            .and_then(|e| if e.clip_shown() { e.clip_mut() } else { None })
+        {
+            Some(clip) => clip.player.playing = !clip.player.playing,
+            None => self.camera.playing = !self.camera.playing,
+        }
     }
 
     /// Publishes a finished engine frame and starts the next one when the engine is free.
@@ -673,7 +688,7 @@ impl AaLabApp {
         };
         let publication = engine.poll();
         let mut errors = publication.problems;
-        if size.0 > 0 && size.1 > 0 && !engine.busy() {
+        if size.0 > 0 && size.1 > 0 && !engine.busy() && !engine.live_paused() {
             let (camera, cut) = self.camera.next_frame(size);
             if let Err(err) = engine.submit(camera, cut, want_reference, want_pixels) {
                 errors.push(err.to_string());
@@ -751,6 +766,7 @@ impl eframe::App for AaLabApp {
             self.help_open = false;
         }
         let more = self.engine_frame();
+        self.tick_clip(&ctx);
         self.update_quality(&ctx);
         self.update_magnifier(&ctx);
 
@@ -758,6 +774,7 @@ impl eframe::App for AaLabApp {
         self.menu_bar(ui);
         self.toolbar(ui);
         self.status_bar(ui);
+        self.clip_panel(ui);
         let show_side = !self.panels_hidden;
         if show_side && self.settings.show_techniques {
             self.techniques_panel(ui);

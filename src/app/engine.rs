@@ -32,10 +32,11 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use super::blit::{DisplayTexture, Uploader};
+use super::clip::{Clip, ClipFrame, ClipRecipe, ClipStatus};
 use super::reference::REFERENCE_ID;
 use super::render_thread::{
-    Command, Event, FramePlan, FrameResult, ReferenceRequest, RenderDevice, RenderThread,
-    RenderedImage, SettingsChange, TechniqueSettings,
+    ClipJob, ClipSummary, Command, Event, FramePlan, FrameResult, ReferenceRequest, RenderDevice,
+    RenderThread, RenderedImage, SettingsChange, TechniqueSettings,
 };
 use super::schedule::{self, Stamp, TechniqueState, ViewKey};
 use super::stats::GpuStats;
@@ -277,6 +278,12 @@ pub struct Engine {
     pub gpu_stats: GpuStats,
     memory: Option<MemoryReport>,
     scene_renders: usize,
+    /// The recorded (or recording) clip.
+    clip: Option<Clip>,
+    /// The clip is on screen instead of the live view.
+    clip_shown: bool,
+    /// The graph's state belongs to a clip: the next live frame starts over.
+    after_clip: bool,
 }
 
 impl Engine {
@@ -352,6 +359,9 @@ impl Engine {
             gpu_stats: GpuStats::default(),
             memory: None,
             scene_renders: 0,
+            clip: None,
+            clip_shown: false,
+            after_clip: false,
         })
     }
 
@@ -376,6 +386,138 @@ impl Engine {
         self.scene_generation += 1;
         self.gpu_stats.clear();
         self.memory = None;
+        self.discard_clip();
+    }
+
+    /// Records the clip of `recipe` along `cameras` (its warm-up first) through the
+    /// techniques `ids`, with the complete reference per frame when the recipe has one.
+    /// Frames arrive with [`Engine::poll`]; the clip is shown as they do, and no live frame
+    /// renders until the user goes back to the live view.
+    pub fn record_clip(
+        &mut self,
+        cameras: Vec<FrameCamera>,
+        ids: &[&'static str],
+        recipe: ClipRecipe,
+        description: String,
+    ) -> Result<(), EngineError> {
+        if let Some(reason) = &self.stopped {
+            return Err(EngineError::Stopped(reason.clone()));
+        }
+        let run: Vec<usize> = ids
+            .iter()
+            .filter_map(|id| self.entries.iter().position(|e| e.id == *id))
+            .collect();
+        let cancel = Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let job = ClipJob {
+            cameras,
+            warmup: recipe.warmup as usize,
+            run,
+            reference: recipe.reference_samples,
+            cancel: Arc::clone(&cancel),
+        };
+        if !self.send(Command::Clip(job)) {
+            return Err(EngineError::Stopped(String::new()));
+        }
+        self.clip = Some(Clip::recording(ids.to_vec(), recipe, description, cancel));
+        self.clip_shown = true;
+        self.after_clip = true;
+        Ok(())
+    }
+
+    /// The clip, if one was recorded.
+    pub fn clip(&self) -> Option<&Clip> {
+        self.clip.as_ref()
+    }
+
+    /// The clip, to control its playback.
+    pub fn clip_mut(&mut self) -> Option<&mut Clip> {
+        self.clip.as_mut()
+    }
+
+    /// Whether live frames wait: a clip is on screen or being recorded.
+    pub fn live_paused(&self) -> bool {
+        self.clip_shown() || self.clip.as_ref().is_some_and(Clip::recording_now)
+    }
+
+    /// Whether the clip is on screen (every image lookup reads its shown frame).
+    pub fn clip_shown(&self) -> bool {
+        self.clip_shown && self.clip.is_some()
+    }
+
+    /// Shows the clip (`true`) or the live view.
+    pub fn show_clip(&mut self, shown: bool) {
+        self.clip_shown = shown && self.clip.is_some();
+        if let Some(clip) = &mut self.clip {
+            clip.player.pause_clock();
+        }
+    }
+
+    /// Drops the clip (stopping its recording) and shows the live view.
+    pub fn discard_clip(&mut self) {
+        if let Some(clip) = &self.clip {
+            clip.cancel();
+        }
+        self.clip = None;
+        self.clip_shown = false;
+    }
+
+    fn receive_clip_frame(
+        &mut self,
+        outputs: Vec<(usize, RenderedImage)>,
+        reference: Option<RenderedImage>,
+    ) {
+        let Some(clip) = &mut self.clip else {
+            return;
+        };
+        // Every clip frame is a view of its own: figures and heatmaps keyed on views follow
+        // the frame shown.
+        self.view_serial += 1;
+        let view = self.view_serial;
+        let mut slots: Vec<Option<Published>> = vec![None; clip.techniques.len()];
+        for (index, image) in outputs {
+            let entry = &self.entries[index];
+            if let Some(slot) = clip.techniques.iter().position(|t| *t == entry.id) {
+                self.publish_serial += 1;
+                let stamp = ImageStamp {
+                    view,
+                    revision: entry.revision,
+                    serial: self.publish_serial,
+                };
+                slots[slot] = Some(Published::new(image, stamp));
+            }
+        }
+        let reference = reference.map(|image| {
+            self.publish_serial += 1;
+            let stamp = ImageStamp {
+                view,
+                revision: self.reference_revision,
+                serial: self.publish_serial,
+            };
+            Published::new(image, stamp)
+        });
+        clip.push(ClipFrame {
+            view,
+            outputs: slots,
+            reference,
+        });
+    }
+
+    fn end_clip(&mut self, end: Result<ClipSummary, super::render_thread::RenderError>) {
+        let Some(clip) = &mut self.clip else {
+            return;
+        };
+        clip.status = match end {
+            Ok(summary) => {
+                clip.scores = summary.scores;
+                clip.reference_change = summary.reference_change;
+                if summary.complete {
+                    ClipStatus::Complete
+                } else {
+                    ClipStatus::Cancelled
+                }
+            }
+            Err(err) => ClipStatus::Failed(err.to_string()),
+        };
     }
 
     /// Whether the scene has moving objects (the view changes with every frame while playing).
@@ -542,8 +684,12 @@ impl Engine {
         self.reference_published = None;
     }
 
-    /// The image shown for a technique: its selected debug view, or its output.
+    /// The image shown for a technique: its selected debug view, or its output (the shown
+    /// clip frame's output while a clip is on screen).
     pub fn image(&self, id: &str) -> Option<&Published> {
+        if let Some(clip) = self.shown_clip() {
+            return clip.image(id);
+        }
         let entry = self.entry(id).filter(|e| e.enabled)?;
         let debug = entry.debug_view.as_ref().and_then(|view| {
             entry
@@ -557,14 +703,30 @@ impl Engine {
 
     /// A technique's output (never a debug view), for metrics and export.
     pub fn output(&self, id: &str) -> Option<&Published> {
+        if let Some(clip) = self.shown_clip() {
+            return clip.image(id);
+        }
         self.entry(id).filter(|e| e.enabled)?.output.as_ref()
     }
 
     /// The reference with its progress, when it belongs to the displayed view.
     pub fn reference(&self) -> Option<(&Published, Progress)> {
+        if let Some(clip) = self.shown_clip() {
+            let image = clip.shown()?.reference.as_ref()?;
+            let total = clip.recipe.reference_samples?;
+            let complete = Progress {
+                samples: total,
+                total,
+            };
+            return Some((image, complete));
+        }
         let image = self.reference_image.as_ref()?;
         let (key, progress) = self.reference_published?;
         (Some(key) == self.displayed_key && progress.samples > 0).then_some((image, progress))
+    }
+
+    fn shown_clip(&self) -> Option<&Clip> {
+        self.clip.as_ref().filter(|_| self.clip_shown)
     }
 
     /// Where the reference stands.
@@ -580,6 +742,9 @@ impl Engine {
     /// scene or (for animated scenes) the frame changes, or the camera cuts. Images stamped
     /// with an older view no longer show what the camera sees.
     pub fn current_view(&self) -> u64 {
+        if let Some(frame) = self.shown_clip().and_then(Clip::shown) {
+            return frame.view;
+        }
         self.view_serial
     }
 
@@ -640,6 +805,14 @@ impl Engine {
                         Ok(frame) => self.publish_frame(flight, frame, &mut publication),
                         Err(err) => publication.problems.push(err.to_string()),
                     }
+                }
+                Event::ClipFrame { outputs, reference } => {
+                    self.receive_clip_frame(outputs, reference);
+                    publication.outputs = true;
+                }
+                Event::ClipEnd(end) => {
+                    self.end_clip(end);
+                    publication.outputs = true;
                 }
                 Event::Failed(err) => {
                     self.in_flight = None;
@@ -784,6 +957,19 @@ impl Engine {
         if self.in_flight.is_some() || !self.ready() {
             return Ok(false);
         }
+        if self.live_paused() {
+            return Ok(false);
+        }
+        let after_clip = std::mem::take(&mut self.after_clip);
+        if after_clip {
+            // The graph's outputs, histories and reference samples are a clip's: all start
+            // over.
+            for entry in &mut self.entries {
+                entry.rendered = None;
+            }
+            self.reference_accumulated = None;
+        }
+        let cut = cut || after_clip;
         let key = ViewKey {
             pose: camera.pose,
             size: camera.size,

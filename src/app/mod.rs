@@ -25,6 +25,7 @@
 mod app;
 mod blit;
 mod camera;
+mod clip;
 mod difference;
 mod engine;
 mod export;
@@ -47,6 +48,7 @@ use std::sync::Arc;
 
 pub use app::{AaLabApp, LaunchOptions};
 pub use camera::CameraController;
+pub use clip::{ClipPath, ClipSettings};
 pub use engine::DisplayPath;
 pub use quality::{Figures, PixelFigures};
 pub use settings::{DiffMetric, Layout, Resolution, Settings};

@@ -393,6 +393,11 @@ impl AaLabApp {
         if !self.settings.quality || self.quality.failed {
             return;
         }
+        // A playing clip changes frames faster than figures can follow: they are measured
+        // for the frame it pauses on.
+        if engine.clip().is_some_and(|c| c.player.playing) && engine.clip_shown() {
+            return;
+        }
         let Some((reference, progress)) = engine.reference() else {
             return;
         };

@@ -12,6 +12,7 @@
 //! registry index (the UI's entry index); a technique whose pipelines cannot be created here
 //! is reported unavailable in [`Event::Ready`] and ignored afterwards.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, mpsc};
 use std::time::Duration;
 
@@ -23,7 +24,9 @@ use crate::gpu::readback::{PendingReadback, ReadbackBelt, ReadbackError, Region,
 use crate::gpu::{Gpu, GpuError};
 use crate::graph::params::Param;
 use crate::graph::{FrameGraph, FrameInfo, FrameScope, FrameTimings, MemoryReport};
+use crate::metrics::stability::{ClipMetrics, TemporalScores};
 use crate::scene::Scene;
+use crate::scene::camera::FrameCamera;
 
 /// What the UI mirrors of a technique's settings.
 #[derive(Clone, Debug)]
@@ -94,6 +97,34 @@ pub struct FramePlan {
     pub delay: Duration,
 }
 
+/// A clip to record: every camera in turn through the same techniques (temporal ones with
+/// their real history), each frame read back and uploaded for display. The thread renders it
+/// in one go, answering [`Event::ClipFrame`] per recorded frame and [`Event::ClipEnd`] at the
+/// end; commands sent meanwhile wait.
+pub struct ClipJob {
+    /// Warm-up cameras first (rendered for the history only), then the clip's.
+    pub cameras: Vec<FrameCamera>,
+    /// How many of `cameras` are warm-up.
+    pub warmup: usize,
+    /// Registry indices of the techniques.
+    pub run: Vec<usize>,
+    /// Render the reference, complete, with every recorded frame, at this many samples per
+    /// pixel.
+    pub reference: Option<u32>,
+    /// Set by the UI to stop after the frame being rendered.
+    pub cancel: Arc<AtomicBool>,
+}
+
+/// How a clip ended.
+pub struct ClipSummary {
+    /// Every frame was recorded (not cancelled).
+    pub complete: bool,
+    /// Temporal figures per technique of the job, when it rendered the reference.
+    pub scores: Option<Vec<TemporalScores>>,
+    /// The reference's mean luma change per pixel and frame.
+    pub reference_change: Option<f64>,
+}
+
 /// A finished image: the pixels (sRGB-encoded RGBA8) and the same bytes on eframe's device.
 pub struct RenderedImage {
     /// The pixels.
@@ -152,6 +183,8 @@ pub enum Command {
     ReferenceSamples(u32),
     /// Render a frame.
     Render(FramePlan),
+    /// Record a clip.
+    Clip(ClipJob),
 }
 
 /// Answers to the UI.
@@ -171,6 +204,16 @@ pub enum Event {
     },
     /// A frame finished (or failed).
     Frame(Result<FrameResult, RenderError>),
+    /// The next frame of a clip: the outputs by registry index (in the job's order) and the
+    /// reference.
+    ClipFrame {
+        /// Per technique.
+        outputs: Vec<(usize, RenderedImage)>,
+        /// When the job asked for it.
+        reference: Option<RenderedImage>,
+    },
+    /// A clip ended (or failed).
+    ClipEnd(Result<ClipSummary, RenderError>),
     /// The thread could not start; it has ended.
     Failed(RenderError),
 }
@@ -224,9 +267,7 @@ impl RenderThread {
                         }
                     };
                 while let Ok(command) = command_receiver.recv() {
-                    if let Some(event) = state.handle(command) {
-                        send(event);
-                    }
+                    state.handle(command, &send);
                 }
             })?;
         Ok(Self { commands, events })
@@ -320,27 +361,131 @@ impl RenderState {
         Ok((state, ready))
     }
 
-    fn handle(&mut self, command: Command) -> Option<Event> {
+    /// Carries out `command`, answering through `send`.
+    fn handle(&mut self, command: Command, send: &dyn Fn(Event)) {
         match command {
-            Command::Scene(scene) => {
-                self.graph.set_scene(&scene);
-                None
-            }
-            Command::Configure(index, change) => self.configure(index, change),
-            Command::ReferenceSamples(samples) => {
-                if samples != self.reference_samples {
-                    let (reference, control) = ProgressiveReference::new(&self.gpu, samples);
-                    self.graph.slots_mut()[self.reference_slot].technique = Box::new(reference);
-                    self.reference = control;
-                    self.reference_samples = samples;
+            Command::Scene(scene) => self.graph.set_scene(&scene),
+            Command::Configure(index, change) => {
+                if let Some(event) = self.configure(index, change) {
+                    send(event);
                 }
-                None
             }
+            Command::ReferenceSamples(samples) => self.set_reference_samples(samples),
             Command::Render(plan) => {
                 std::thread::sleep(plan.delay);
-                Some(Event::Frame(self.render(&plan)))
+                send(Event::Frame(self.render(&plan)));
+            }
+            Command::Clip(job) => {
+                let end = self.record_clip(&job, send);
+                send(Event::ClipEnd(end));
             }
         }
+    }
+
+    /// Replaces the reference with one of `samples` samples per pixel.
+    fn set_reference_samples(&mut self, samples: u32) {
+        if samples != self.reference_samples {
+            let (reference, control) = ProgressiveReference::new(&self.gpu, samples);
+            self.graph.slots_mut()[self.reference_slot].technique = Box::new(reference);
+            self.reference = control;
+            self.reference_samples = samples;
+        }
+    }
+
+    /// Renders `job`, sending each recorded frame through `send`, and scores it (the viewer's
+    /// reference comes back afterwards).
+    fn record_clip(
+        &mut self,
+        job: &ClipJob,
+        send: &dyn Fn(Event),
+    ) -> Result<ClipSummary, RenderError> {
+        let live_samples = self.reference_samples;
+        if let Some(samples) = job.reference {
+            self.set_reference_samples(samples);
+        }
+        let recorded = self.record_clip_frames(job, send);
+        self.set_reference_samples(live_samples);
+        recorded
+    }
+
+    /// Renders `job`, sending each recorded frame through `send`, and scores it.
+    fn record_clip_frames(
+        &mut self,
+        job: &ClipJob,
+        send: &dyn Fn(Event),
+    ) -> Result<ClipSummary, RenderError> {
+        let mut metrics = job.reference.map(|_| ClipMetrics::new(job.run.len()));
+        let mut complete = true;
+        for (number, camera) in job.cameras.iter().enumerate() {
+            if job.cancel.load(Ordering::Relaxed) {
+                complete = false;
+                break;
+            }
+            let frame = FrameInfo {
+                camera: *camera,
+                reset_history: number == 0,
+            };
+            if number < job.warmup {
+                // Warm-up: the temporal techniques' history only, nothing read.
+                self.enable(&job.run, false);
+                self.graph.render(&frame, FrameScope::TemporalOnly)?;
+                self.graph.finish();
+                continue;
+            }
+            let plan = FramePlan {
+                frame,
+                run: job.run.clone(),
+                read: job.run.clone(),
+                // Every frame needs textures of its own: the outputs' are overwritten.
+                textures: false,
+                debug: Vec::new(),
+                reference: job.reference.map(|_| ReferenceRequest {
+                    restart: true,
+                    budget: self.reference_samples,
+                }),
+                measure_memory: false,
+                delay: Duration::ZERO,
+            };
+            let result = self.render(&plan)?;
+            let outputs: Vec<(usize, RenderedImage)> = result
+                .outputs
+                .into_iter()
+                .filter_map(|(index, output)| {
+                    let texture = output.display?;
+                    let pixels = output.pixels?;
+                    Some((index, RenderedImage { pixels, texture }))
+                })
+                .collect();
+            let reference = result.reference.map(|(_, image)| image);
+            if let (Some(metrics), Some(reference)) = (&mut metrics, &reference) {
+                let images: Vec<&image::RgbaImage> =
+                    outputs.iter().map(|(_, image)| &image.pixels).collect();
+                if metrics.push(&reference.pixels, &images).is_err() {
+                    // A technique that produced no image this frame: no figures.
+                    *metrics = ClipMetrics::new(0);
+                }
+            }
+            send(Event::ClipFrame { outputs, reference });
+        }
+        Ok(ClipSummary {
+            complete,
+            reference_change: metrics.as_ref().and_then(|m| m.reference().mean_change()),
+            scores: metrics
+                .map(|m| m.scores())
+                .filter(|scores| scores.len() == job.run.len()),
+        })
+    }
+
+    /// Switches on exactly the slots of `run` (and the reference when `reference`).
+    fn enable(&mut self, run: &[usize], reference: bool) {
+        let running: Vec<usize> = run
+            .iter()
+            .filter_map(|&index| self.slots.get(index).copied().flatten())
+            .collect();
+        for (slot, state) in self.graph.slots_mut().iter_mut().enumerate() {
+            state.enabled = running.contains(&slot);
+        }
+        self.graph.slots_mut()[self.reference_slot].enabled = reference;
     }
 
     fn configure(&mut self, index: usize, change: SettingsChange) -> Option<Event> {
@@ -372,16 +517,13 @@ impl RenderState {
             .iter()
             .filter_map(|&index| Some((index, self.slots.get(index).copied().flatten()?)))
             .collect();
-        for (slot, state) in self.graph.slots_mut().iter_mut().enumerate() {
-            state.enabled = running.iter().any(|&(_, s)| s == slot);
-        }
+        self.enable(&plan.run, plan.reference.is_some());
         let before = self.reference.lock().progress;
         if let Some(request) = plan.reference {
             let mut control = self.reference.lock();
             control.restart = request.restart;
             control.budget = request.budget;
         }
-        self.graph.slots_mut()[self.reference_slot].enabled = plan.reference.is_some();
 
         // The readback copies go into the frame's own encoder: one submission, one mapping.
         let slot_of = &self.slots;
