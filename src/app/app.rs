@@ -771,6 +771,12 @@ impl eframe::App for AaLabApp {
         self.update_magnifier(&ctx);
 
         profiling::scope!("panels");
+        // The panels' background, under everything (the panels are transparent).
+        super::blit::fill(
+            &ctx.layer_painter(egui::LayerId::background()),
+            ctx.content_rect(),
+            style::PANEL_FILL,
+        );
         self.menu_bar(ui);
         self.toolbar(ui);
         self.status_bar(ui);

@@ -121,11 +121,9 @@ fn tile_rects(layout: Layout, rect: Rect, ppp: f32) -> Vec<Rect> {
 /// are opaque) lies: on a software rasteriser every painted pixel costs, and the images cover
 /// most of the viewport. Plain meshes, so no anti-aliasing fringe reaches into an image.
 fn paint_background(painter: &egui::Painter, area: Rect, covered: &[Rect]) {
-    let mut mesh = egui::Mesh::default();
     for rect in uncovered(area, covered) {
-        mesh.add_colored_rect(rect, VIEWPORT_BG);
+        blit::fill(painter, rect, VIEWPORT_BG);
     }
-    painter.add(mesh);
 }
 
 /// `area` minus the union of `covered`, as disjoint rectangles (horizontal bands split at

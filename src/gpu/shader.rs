@@ -54,6 +54,10 @@ pub const SHADERS: &[(&str, &str)] = &[
         "viewer_blit.wgsl",
         include_str!("../../shaders/viewer_blit.wgsl"),
     ),
+    (
+        "viewer_fill.wgsl",
+        include_str!("../../shaders/viewer_fill.wgsl"),
+    ),
 ];
 
 /// The source of `shaders/<name>`.
