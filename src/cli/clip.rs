@@ -3,7 +3,8 @@
 //! with their real history, after `--warmup` frames to fill it), and writes a looping animation
 //! of the labelled, nearest-neighbour zoomed panes side by side (the magnifier's layout; a
 //! full-frame grid without `--region`) plus `<out>.json`: the full recipe and, per technique,
-//! the temporal figures of [`crate::metrics::stability`] over the whole frame.
+//! the temporal figures of [`crate::metrics::stability`] over the whole frame and, with a
+//! region, over the region alone (the captions show those: what the animation shows).
 //!
 //! The output is a pure function of the command line (and the adapter): no timestamps, so the
 //! same command writes the same bytes.
@@ -96,6 +97,9 @@ pub struct ClipTechnique {
     /// Temporal figures over the clip (full frame).
     #[serde(flatten)]
     pub scores: TemporalScores,
+    /// The same over the `--region` pixels only (what the animation shows), with a region.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub region: Option<TemporalScores>,
 }
 
 /// What `<out>.json` (and the animation's `aa-lab` text chunk) holds.
@@ -130,6 +134,9 @@ pub struct ClipRecord {
     pub moving_fraction: f64,
     /// The reference's mean absolute luma change per pixel and frame.
     pub reference_mean_change: Option<f64>,
+    /// The same over the region, with one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub region_reference_mean_change: Option<f64>,
     /// Per technique, in pane order.
     pub techniques: Vec<ClipTechnique>,
 }
@@ -259,6 +266,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     );
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
     let mut metrics = ClipMetrics::new(techniques.len());
+    let mut region_metrics = region.map(|_| ClipMetrics::new(techniques.len()));
     // Per frame, per pane: the unzoomed crop.
     let mut crops: Vec<Vec<image::RgbaImage>> = Vec::new();
     for frame in 0..total {
@@ -298,15 +306,20 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
                 .context("the clip has no reference pane")?;
             let refs: Vec<&image::RgbaImage> = technique_images.iter().collect();
             metrics.push(reference_image, &refs)?;
-            crops.push(
-                images
-                    .iter()
-                    .map(|image| {
-                        image::imageops::crop_imm(image, pane.x, pane.y, pane.width, pane.height)
-                            .to_image()
-                    })
-                    .collect(),
-            );
+            let cropped: Vec<image::RgbaImage> = images
+                .iter()
+                .map(|image| {
+                    image::imageops::crop_imm(image, pane.x, pane.y, pane.width, pane.height)
+                        .to_image()
+                })
+                .collect();
+            if let (Some(region_metrics), Some((reference_crop, technique_crops))) =
+                (&mut region_metrics, cropped.split_last())
+            {
+                let refs: Vec<&image::RgbaImage> = technique_crops.iter().collect();
+                region_metrics.push(reference_crop, &refs)?;
+            }
+            crops.push(cropped);
         }
         bar.inc(1);
     }
@@ -314,10 +327,14 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     drop(graph);
 
     let scores = metrics.scores();
+    let region_scores = region_metrics.as_ref().map(ClipMetrics::scores);
+    // The captions give the figures of what the animation shows.
+    let shown_metrics = region_metrics.as_ref().unwrap_or(&metrics);
+    let shown_scores = region_scores.as_ref().unwrap_or(&scores);
     let width = pane.width * zoom;
     let mut panes: Vec<clip::Pane> = labels
         .iter()
-        .zip(&scores)
+        .zip(shown_scores)
         .map(|(label, scores)| clip::Pane {
             label: label.clone(),
             caption: clip::fit(&[clip::caption(scores), clip::short_caption(scores)], width),
@@ -325,7 +342,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         .collect();
     panes.push(clip::Pane {
         label: labels.last().cloned().unwrap_or_default(),
-        caption: clip::reference_caption(metrics.reference().mean_change(), width),
+        caption: clip::reference_caption(shown_metrics.reference().mean_change(), width),
     });
     let motion_text = if args.motion.uses_speed() {
         format!("{} {} px/frame", args.motion, args.speed)
@@ -366,18 +383,23 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         zoom,
         format,
         definitions: clip::Definitions::over(
-            "every pixel of the whole frame, frames warmup..warmup+frames".to_owned(),
+            "every pixel of the whole frame, frames warmup..warmup+frames; `region` figures and the captions: the --region pixels only".to_owned(),
         ),
+        region_reference_mean_change: region_metrics
+            .as_ref()
+            .and_then(|m| m.reference().mean_change()),
         moving_fraction: metrics.moving_fraction(),
         reference_mean_change: metrics.reference().mean_change(),
         techniques: ids
             .iter()
             .zip(&labels)
             .zip(&scores)
-            .map(|((id, label), scores)| ClipTechnique {
+            .enumerate()
+            .map(|(i, ((id, label), scores))| ClipTechnique {
                 id: id.clone(),
                 label: label.clone(),
                 scores: *scores,
+                region: region_scores.as_ref().and_then(|r| r.get(i).copied()),
             })
             .collect(),
     };
@@ -404,13 +426,29 @@ fn print_table(record: &ClipRecord) {
     let figure = |v: Option<f64>, digits: usize| {
         v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
     };
+    let regional = record.region.is_some();
     println!(
-        "{:<24} {:>12} {:>12} {:>10}",
-        "technique", "instability", "mean change", "ghosting"
+        "{:<24} {:>12} {:>12} {:>10}{}",
+        "technique",
+        "instability",
+        "mean change",
+        "ghosting",
+        if regional {
+            "  | region: instability  ghosting"
+        } else {
+            ""
+        }
     );
     for t in &record.techniques {
+        let region = t.region.map_or_else(String::new, |r| {
+            format!(
+                "  | {:>19} {:>9}",
+                figure(r.temporal_instability, 3),
+                figure(r.ghosting, 2)
+            )
+        });
         println!(
-            "{:<24} {:>12} {:>12} {:>10}",
+            "{:<24} {:>12} {:>12} {:>10}{region}",
             t.label,
             figure(t.scores.temporal_instability, 3),
             figure(t.scores.mean_change, 3),
