@@ -431,6 +431,23 @@ fn a_recorded_clip_plays_every_pane_in_lockstep_and_exports_an_animation() {
         "stepping back shows the same frame again"
     );
 
+    // The magnifier maps where each technique flickers over the clip.
+    {
+        let magnifier = &mut harness.state_mut().settings_mut().magnifier;
+        magnifier.difference = true;
+        magnifier.metric = aa_lab::app::DiffMetric::Instability;
+    }
+    wait(&mut harness, "the instability heatmaps", |app| {
+        app.difference_means().is_some()
+    });
+    let means = harness.state().difference_means().expect("a map per pane");
+    assert_eq!(means.len(), 4);
+    assert!(
+        means.iter().all(|m| m.is_finite() && *m >= 0.0),
+        "{means:?}"
+    );
+    harness.state_mut().settings_mut().magnifier.difference = false;
+
     // Playing advances with time.
     harness.get_by_label("Play clip").click();
     let shown = harness.state().shown_clip_frame();
@@ -627,6 +644,7 @@ fn the_difference_mode_maps_the_lens_exactly() {
                 }
                 DiffMetric::Ssim => ssim::ssim(&reference, &output).unwrap().map,
                 DiffMetric::Flip => flip::flip_map(&reference, &output).unwrap(),
+                DiffMetric::Instability => unreachable!("a comparison of two images"),
             };
             let mut sum = 0.0;
             for j in y..y + h {

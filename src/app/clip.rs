@@ -229,6 +229,8 @@ pub struct Clip {
     pub scores: Option<Vec<TemporalScores>>,
     /// The reference's mean luma change per frame.
     pub reference_change: Option<f64>,
+    /// Per technique, the instability map (see [`super::render_thread::ClipSummary`]).
+    pub instability_maps: Option<Vec<Arc<crate::metrics::Plane>>>,
     /// Playback.
     pub player: ClipPlayer,
     /// Bytes held (CPU pixels and display textures).
@@ -254,6 +256,7 @@ impl Clip {
             description,
             scores: None,
             reference_change: None,
+            instability_maps: None,
             player: ClipPlayer::default(),
             bytes: 0,
             started: Instant::now(),
@@ -723,6 +726,14 @@ impl super::app::AaLabApp {
     /// The clip's temporal figures per technique, once recorded with the reference.
     pub fn clip_scores(&self) -> Option<Vec<TemporalScores>> {
         self.engine.as_ref()?.clip()?.scores.clone()
+    }
+
+    /// The instability map of technique `id` in the shown clip.
+    pub(super) fn instability_map(&self, id: &str) -> Option<Arc<crate::metrics::Plane>> {
+        let engine = self.engine.as_ref()?;
+        let clip = engine.clip().filter(|_| engine.clip_shown())?;
+        let slot = clip.techniques.iter().position(|t| *t == id)?;
+        clip.instability_maps.as_ref()?.get(slot).cloned()
     }
 
     /// The index of the clip frame on screen (`None` when the live view is).

@@ -23,6 +23,9 @@ use crate::metrics::{MetricsError, Plane, flip, pixel, ssim};
 /// Absolute error (0..255) drawn with the brightest colour of the heatmap.
 pub const ABSOLUTE_ERROR_FULL_SCALE: f32 = 64.0;
 
+/// The temporal instability shown brightest (times the reference's mean change).
+pub const INSTABILITY_FULL_SCALE: f32 = 8.0;
+
 impl DiffMetric {
     /// The per-pixel map of the metric (SSIM itself, not 1 - SSIM).
     pub fn map(
@@ -34,6 +37,7 @@ impl DiffMetric {
             Self::AbsoluteError => pixel::error_maps(reference, test).map(|m| m.abs_error),
             Self::Ssim => ssim::ssim(reference, test).map(|s| s.map),
             Self::Flip => flip::flip_map(reference, test),
+            Self::Instability => Err(MetricsError::NotTemporal),
         }
     }
 
@@ -43,6 +47,7 @@ impl DiffMetric {
             Self::AbsoluteError => value / ABSOLUTE_ERROR_FULL_SCALE,
             Self::Ssim => 1.0 - value,
             Self::Flip => value,
+            Self::Instability => value / INSTABILITY_FULL_SCALE,
         }
     }
 
@@ -52,6 +57,7 @@ impl DiffMetric {
             Self::AbsoluteError => ("0", format!("{ABSOLUTE_ERROR_FULL_SCALE:.0}")),
             Self::Ssim => ("SSIM 1", "0".to_owned()),
             Self::Flip => ("0", "1".to_owned()),
+            Self::Instability => ("still", format!("{INSTABILITY_FULL_SCALE:.0}x ref")),
         }
     }
 
@@ -61,6 +67,7 @@ impl DiffMetric {
             Self::AbsoluteError => format!("lens MAE {mean:.2}"),
             Self::Ssim => format!("lens SSIM {mean:.4}"),
             Self::Flip => format!("lens FLIP {mean:.4}"),
+            Self::Instability => format!("lens instability {mean:.2}"),
         }
     }
 }
@@ -128,21 +135,53 @@ pub fn lens_heatmap(
         height: 0,
     })?;
     let map = metric.map(&crop(reference, area), &crop(test, area))?;
-    let (dx, dy) = (lens.x - area.x, lens.y - area.y);
+    Ok(colored(
+        metric,
+        &map,
+        (lens.x - area.x, lens.y - area.y),
+        lens,
+    ))
+}
+
+/// The heatmap of `lens` from a whole-frame `map` of `metric` (a clip's instability map).
+pub fn map_heatmap(
+    metric: DiffMetric,
+    map: &Plane,
+    lens: Region,
+) -> Result<LensHeatmap, MetricsError> {
+    let lens = lens.clipped(map.size()).ok_or(MetricsError::TooSmall {
+        width: 0,
+        height: 0,
+    })?;
+    Ok(colored(metric, map, (lens.x, lens.y), lens))
+}
+
+/// The lens's colours and mean from `map`, whose pixel `offset` is the lens's first.
+fn colored(metric: DiffMetric, map: &Plane, offset: (u32, u32), lens: Region) -> LensHeatmap {
     let mut pixels = Vec::with_capacity((lens.width * lens.height) as usize);
     let mut sum = 0.0;
     for y in 0..lens.height {
         for x in 0..lens.width {
-            let value = map.at(x + dx, y + dy);
+            let value = map.at(x + offset.0, y + offset.1);
             sum += f64::from(value);
             pixels.push(heat_color(metric.heat(value)));
         }
     }
-    Ok(LensHeatmap {
+    LensHeatmap {
         lens,
         colors: egui::ColorImage::new([lens.width as usize, lens.height as usize], pixels),
         mean: sum / f64::from(lens.width * lens.height),
-    })
+    }
+}
+
+/// What a pane's heatmap is made from.
+pub enum HeatInput {
+    /// The pane's image, compared with the reference.
+    Image(Arc<image::RgbaImage>),
+    /// A whole-frame map already measured (the clip's instability).
+    Map(Arc<Plane>),
+    /// No map: why.
+    Missing(String),
 }
 
 /// Heatmaps to compute: the panes' images against the reference in one lens.
@@ -152,7 +191,7 @@ pub struct HeatJob {
     /// The reference frame.
     pub reference: Arc<image::RgbaImage>,
     /// The panes' frames.
-    pub tests: Vec<(Source, Arc<image::RgbaImage>)>,
+    pub tests: Vec<(Source, HeatInput)>,
 }
 
 /// Identifies one set of heatmaps: same lens, same images, same metric.
@@ -186,9 +225,22 @@ pub fn spawn_heat_worker(ctx: &egui::Context) -> std::io::Result<Worker<HeatJob,
         "aa-lab lens heatmaps",
         ctx,
         |job: HeatJob, reporter: &Reporter<HeatResult>| {
-            for (source, test) in &job.tests {
-                let heatmap = lens_heatmap(job.key.metric, &job.reference, test, job.key.lens)
-                    .map_err(|e| e.to_string());
+            for (source, input) in &job.tests {
+                let heatmap = match input {
+                    HeatInput::Image(test) => {
+                        lens_heatmap(job.key.metric, &job.reference, test, job.key.lens)
+                    }
+                    HeatInput::Map(map) => map_heatmap(job.key.metric, map, job.key.lens),
+                    HeatInput::Missing(reason) => {
+                        reporter.send(HeatResult {
+                            key: job.key.clone(),
+                            source: *source,
+                            heatmap: Err(reason.clone()),
+                        });
+                        continue;
+                    }
+                }
+                .map_err(|e| e.to_string());
                 reporter.send(HeatResult {
                     key: job.key.clone(),
                     source: *source,
@@ -259,6 +311,35 @@ mod tests {
                 assert!((heat.mean - mean).abs() < 1e-5, "{metric:?}: {}", heat.mean);
             }
         }
+    }
+
+    #[test]
+    fn instability_heatmaps_colour_the_clip_map_and_refuse_still_pairs() {
+        let map = Plane::from_fn(40, 30, |x, y| (x + y) as f32 * 0.25);
+        let lens = Region {
+            x: 5,
+            y: 7,
+            width: 10,
+            height: 6,
+        };
+        let heat = map_heatmap(DiffMetric::Instability, &map, lens).unwrap();
+        let mut sum = 0.0;
+        for y in 0..lens.height {
+            for x in 0..lens.width {
+                let value = map.at(lens.x + x, lens.y + y);
+                sum += f64::from(value);
+                assert_eq!(
+                    heat.colors.pixels[(y * lens.width + x) as usize],
+                    heat_color(value / INSTABILITY_FULL_SCALE)
+                );
+            }
+        }
+        assert!((heat.mean - sum / 60.0).abs() < 1e-9);
+        let (reference, test) = pair();
+        assert!(matches!(
+            DiffMetric::Instability.map(&reference, &test),
+            Err(MetricsError::NotTemporal)
+        ));
     }
 
     #[test]

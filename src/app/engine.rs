@@ -510,6 +510,9 @@ impl Engine {
             Ok(summary) => {
                 clip.scores = summary.scores;
                 clip.reference_change = summary.reference_change;
+                clip.instability_maps = summary
+                    .instability_maps
+                    .map(|maps| maps.into_iter().map(Arc::new).collect());
                 if summary.complete {
                     ClipStatus::Complete
                 } else {

@@ -13,7 +13,7 @@ use egui::{Color32, Rect, Sense, Stroke, StrokeKind, TextureHandle, pos2, vec2};
 
 use super::app::{AaLabApp, Level};
 use super::blit;
-use super::difference::{self, HeatJob, HeatKey, HeatResult, heat_color};
+use super::difference::{self, HeatInput, HeatJob, HeatKey, HeatResult, heat_color};
 use super::engine::{Published, ReferenceState};
 use super::settings::{DiffMetric, MagnifierSettings};
 use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, SLOT_LETTERS};
@@ -200,21 +200,37 @@ impl AaLabApp {
     /// The heatmaps the panes should show now: the lens, the newest images, the metric.
     fn heat_job(&self) -> Option<HeatJob> {
         let lens = self.lens()?;
-        let size = self.viewport.render_size;
         let reference = self.source_image(Source::Reference)?;
+        // The images' own size: a clip keeps the size it was recorded at.
+        let size = reference.size();
         let reference_pixels = reference.pixels.clone()?;
         let mut images = vec![reference.stamp.serial];
         let mut tests = Vec::new();
+        let metric = self.settings.magnifier.metric;
         for source in self.magnifier_sources() {
-            if source == Source::Reference {
+            let Source::Technique(_, id) = source else {
                 continue;
-            }
-            if let Some(image) = self.source_image(source).filter(|i| i.size() == size)
-                && let Some(pixels) = &image.pixels
-            {
-                images.push(image.stamp.serial);
-                tests.push((source, std::sync::Arc::clone(pixels)));
-            }
+            };
+            let Some(image) = self.source_image(source).filter(|i| i.size() == size) else {
+                continue;
+            };
+            let input = if metric == DiffMetric::Instability {
+                // The clip's map of the technique, whichever of its frames shows.
+                match self.instability_map(id) {
+                    Some(map) => HeatInput::Map(map),
+                    None => HeatInput::Missing(
+                        "temporal instability needs a clip recorded with the reference on screen"
+                            .to_owned(),
+                    ),
+                }
+            } else {
+                let Some(pixels) = &image.pixels else {
+                    continue;
+                };
+                HeatInput::Image(std::sync::Arc::clone(pixels))
+            };
+            images.push(image.stamp.serial);
+            tests.push((source, input));
         }
         (!tests.is_empty()).then(|| HeatJob {
             key: HeatKey {
@@ -314,7 +330,7 @@ impl AaLabApp {
                     .width(120.0)
                     .selected_text(m.metric.label())
                     .show_ui(ui, |ui| {
-                        for metric in DiffMetric::ALL {
+                        for metric in DiffMetric::MENU {
                             ui.selectable_value(&mut m.metric, metric, metric.label())
                                 .on_hover_text(metric.help());
                         }

@@ -24,6 +24,7 @@ use crate::gpu::readback::{PendingReadback, ReadbackBelt, ReadbackError, Region,
 use crate::gpu::{Gpu, GpuError};
 use crate::graph::params::Param;
 use crate::graph::{FrameGraph, FrameInfo, FrameScope, FrameTimings, MemoryReport};
+use crate::metrics::Plane;
 use crate::metrics::stability::{ClipMetrics, TemporalScores};
 use crate::scene::Scene;
 use crate::scene::camera::FrameCamera;
@@ -123,6 +124,9 @@ pub struct ClipSummary {
     pub scores: Option<Vec<TemporalScores>>,
     /// The reference's mean luma change per pixel and frame.
     pub reference_change: Option<f64>,
+    /// Per technique of the job, with the reference: each pixel's mean luma change over the
+    /// reference's mean change of the whole frame (the instability map).
+    pub instability_maps: Option<Vec<Plane>>,
 }
 
 /// A finished image: the pixels (sRGB-encoded RGBA8) and the same bytes on eframe's device.
@@ -467,9 +471,27 @@ impl RenderState {
             }
             send(Event::ClipFrame { outputs, reference });
         }
+        let reference_change = metrics.as_ref().and_then(|m| m.reference().mean_change());
+        let instability_maps = metrics
+            .as_ref()
+            .zip(reference_change)
+            .and_then(|(m, change)| {
+                (change > 0.0)
+                    .then(|| {
+                        (0..job.run.len())
+                            .map(|i| {
+                                let mut map = m.technique(i)?.change_map()?;
+                                map.data.iter_mut().for_each(|v| *v /= change as f32);
+                                Some(map)
+                            })
+                            .collect::<Option<Vec<Plane>>>()
+                    })
+                    .flatten()
+            });
         Ok(ClipSummary {
             complete,
-            reference_change: metrics.as_ref().and_then(|m| m.reference().mean_change()),
+            reference_change,
+            instability_maps,
             scores: metrics
                 .map(|m| m.scores())
                 .filter(|scores| scores.len() == job.run.len()),

@@ -80,11 +80,21 @@ pub enum DiffMetric {
     Ssim,
     /// NVIDIA's FLIP error map.
     Flip,
+    /// Per pixel temporal instability over the shown clip (see `metrics::stability`).
+    Instability,
 }
 
 impl DiffMetric {
-    /// Every metric, in menu order.
+    /// Every metric comparing two images, in menu order.
     pub const ALL: [Self; 3] = [Self::AbsoluteError, Self::Ssim, Self::Flip];
+
+    /// Every metric of the menu: the comparisons, then the clip's temporal one.
+    pub const MENU: [Self; 4] = [
+        Self::AbsoluteError,
+        Self::Ssim,
+        Self::Flip,
+        Self::Instability,
+    ];
 
     /// Menu label.
     pub fn label(self) -> &'static str {
@@ -92,6 +102,7 @@ impl DiffMetric {
             Self::AbsoluteError => "Absolute error",
             Self::Ssim => "SSIM map",
             Self::Flip => "FLIP",
+            Self::Instability => "Temporal instability",
         }
     }
 
@@ -119,6 +130,13 @@ impl DiffMetric {
                  it, so FLIP's filters at the lens border see their real neighbours. Black is \
                  indistinguishable, the brightest colour 1.",
                 ppd = flip::PIXELS_PER_DEGREE,
+            ),
+            Self::Instability => format!(
+                "Per pixel, over the shown clip (recorded with the reference): the mean \
+                 frame-to-frame change of luma of the technique, divided by the reference's mean \
+                 change over the whole frame. Black is still, the brightest colour {} times the \
+                 reference's mean change or more: where a technique crawls and shimmers.",
+                super::difference::INSTABILITY_FULL_SCALE
             ),
         }
     }

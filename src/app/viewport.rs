@@ -188,9 +188,18 @@ impl AaLabApp {
                 let rect = ui.max_rect();
                 let ppp = ui.ctx().pixels_per_point();
                 let tiles_rects = tile_rects(self.settings.layout, rect, ppp);
-                let wanted = match self.settings.resolution {
-                    Resolution::FitViewport => physical_size(tiles_rects[0], ppp),
-                    Resolution::Fixed(w, h) => (w, h),
+                let clip_size = self
+                    .engine
+                    .as_ref()
+                    .filter(|e| e.clip_shown())
+                    .and_then(|e| e.clip())
+                    .map(|c| c.recipe.size);
+                // A clip on screen keeps the size it was recorded at (the lens is in its
+                // pixels); the live view renders at the size the viewport asks for.
+                let wanted = match (clip_size, self.settings.resolution) {
+                    (Some(size), _) => size,
+                    (None, Resolution::FitViewport) => physical_size(tiles_rects[0], ppp),
+                    (None, Resolution::Fixed(w, h)) => (w, h),
                 };
                 self.viewport.resized = wanted != self.viewport.render_size;
                 self.viewport.render_size = wanted;

@@ -62,6 +62,9 @@ pub enum MetricsError {
         /// Images given.
         got: usize,
     },
+    /// A temporal map was asked of two still images.
+    #[error("temporal instability is measured over a recorded clip, not between two images")]
+    NotTemporal,
 }
 
 /// The per-pixel metrics a [`Metric`] names, for heatmaps.
