@@ -475,6 +475,7 @@ impl AaLabApp {
             spec.to_owned()
         };
         let camera = scene.camera;
+        let interior = scene.interior;
         let info = SceneInfo {
             spec: spec.clone(),
             name: scene.name.clone(),
@@ -522,6 +523,11 @@ impl AaLabApp {
         }
         self.settings.scene = spec;
         self.camera.set_rig(camera);
+        self.camera.set_mode(if interior {
+            super::camera::CameraMode::Fly
+        } else {
+            super::camera::CameraMode::Orbit
+        });
         self.scene = Some(info);
         self.quality.clear();
         self.magnifier.clear();
