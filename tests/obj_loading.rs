@@ -106,7 +106,10 @@ fn closed_objects_are_framed_from_outside_and_interiors_seen_inside() {
     assert!(set.interior);
     let pose = aa_lab::scene::camera::OrbitPose::at_frame(&set.camera, 0);
     let eye = pose.eye();
-    assert!(eye.x > 2.0 && (eye.y - 2.0).abs() < 1e-4 && eye.z.abs() < 1e-4, "{eye}");
+    assert!(
+        eye.x > 2.0 && (eye.y - 2.0).abs() < 1e-4 && eye.z.abs() < 1e-4,
+        "{eye}"
+    );
     assert!((pose.target - eye).normalize().x < -0.99);
 }
 

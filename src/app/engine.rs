@@ -191,6 +191,23 @@ impl Published {
     pub fn size(&self) -> (u32, u32) {
         self.size
     }
+
+    /// An image that does not come from the engine (a file of the image set): `pixels`,
+    /// uploaded to egui as `name` from `color` (the same pixels as egui's colour image).
+    pub fn from_pixels(
+        ctx: &egui::Context,
+        name: &str,
+        pixels: Arc<image::RgbaImage>,
+        color: egui::ColorImage,
+        stamp: ImageStamp,
+    ) -> Self {
+        Self {
+            size: pixels.dimensions(),
+            pixels: Some(pixels),
+            stamp,
+            shown: Shown::Uploaded(ctx.load_texture(name, color, TextureOptions::NEAREST)),
+        }
+    }
 }
 
 /// Stores `image` in `slot`, updating its texture in place when there is one. The upload

@@ -25,6 +25,8 @@ mod camera;
 mod difference;
 mod engine;
 mod export;
+mod image_panel;
+mod image_set;
 mod magnifier;
 mod metrics_panel;
 mod panels;

@@ -189,9 +189,11 @@ impl AaLabApp {
                 let rect = ui.max_rect();
                 let ppp = ui.ctx().pixels_per_point();
                 let tiles_rects = tile_rects(self.settings.layout, rect, ppp);
-                let wanted = match self.settings.resolution {
-                    Resolution::FitViewport => physical_size(tiles_rects[0], ppp),
-                    Resolution::Fixed(w, h) => (w, h),
+                let wanted = match (self.images.open(), self.settings.resolution) {
+                    // Images are shown at their own size.
+                    (Some(set), _) => set.size(),
+                    (None, Resolution::FitViewport) => physical_size(tiles_rects[0], ppp),
+                    (None, Resolution::Fixed(w, h)) => (w, h),
                 };
                 self.viewport.resized = wanted != self.viewport.render_size;
                 self.viewport.render_size = wanted;
@@ -200,7 +202,7 @@ impl AaLabApp {
                     ui.scope_id().with("viewport"),
                     Sense::click_and_drag(),
                 );
-                if self.engine.is_none() {
+                if self.engine.is_none() && !self.images.is_open() {
                     paint_background(ui.painter(), rect, &[]);
                     self.empty_state(ui, rect, true);
                     return;
@@ -291,13 +293,7 @@ impl AaLabApp {
                 let (hold_b, hold_r) =
                     ctx.input(|i| (i.key_down(egui::Key::B), i.key_down(egui::Key::R)));
                 let typing = ctx.egui_wants_keyboard_input();
-                if hold_r
-                    && !typing
-                    && self
-                        .engine
-                        .as_ref()
-                        .is_some_and(|e| e.reference().is_some())
-                {
+                if hold_r && !typing && self.reference_for().is_some() {
                     vec![Shown::Reference]
                 } else if hold_b && !typing {
                     vec![b.unwrap_or(a)]
@@ -309,15 +305,17 @@ impl AaLabApp {
     }
 
     fn shown_image(&self, shown: Shown) -> Option<&Published> {
-        let engine = self.engine.as_ref()?;
         match shown {
-            Shown::Technique(_, id) => engine.image(id),
-            Shown::Reference => engine.reference().map(|(image, _)| image),
+            Shown::Technique(_, id) => self.image_for(id),
+            Shown::Reference => self.reference_for().map(|(image, _)| image),
         }
     }
 
     /// The label text of what a tile shows.
     pub(super) fn shown_label(&self, id: &str) -> String {
+        if let Some(label) = self.image_label(id) {
+            return label;
+        }
         let Some(entry) = self.engine.as_ref().and_then(|e| e.entry(id)) else {
             return id.to_owned();
         };
@@ -337,11 +335,7 @@ impl AaLabApp {
                 &self.shown_label(id),
             ),
             Shown::Reference => {
-                let text = match self.engine.as_ref().and_then(|e| e.reference()) {
-                    Some((_, p)) => format!("Reference · {}/{} spp", p.samples, p.total),
-                    None => "Reference".to_owned(),
-                };
-                style::chip(painter, at, "R", REFERENCE_COLOR, &text)
+                style::chip(painter, at, "R", REFERENCE_COLOR, &self.reference_title())
             }
         }
     }
@@ -486,7 +480,7 @@ impl AaLabApp {
             painter.text(
                 rect.center(),
                 egui::Align2::CENTER_CENTER,
-                "Drop an OBJ, glTF or GLB file to open it",
+                "Drop an OBJ, glTF or GLB file, or up to four PNG/JPEG images",
                 egui::FontId::proportional(22.0),
                 Color32::WHITE,
             );
@@ -595,6 +589,8 @@ impl AaLabApp {
                     self.settings.magnifier.center = Some([f.x, f.y]);
                     ctx.set_cursor_icon(CursorIcon::Grabbing);
                 }
+                // Images have no camera.
+                (Some(Drag::Camera), _, _) if self.images.is_open() => {}
                 (Some(Drag::Camera), _, _) => {
                     if response.dragged_by(egui::PointerButton::Primary)
                         && !ctx.input(|i| i.modifiers.shift)
@@ -611,7 +607,7 @@ impl AaLabApp {
         if response.drag_stopped() {
             self.viewport.drag = None;
         }
-        if response.hovered() {
+        if response.hovered() && !self.images.is_open() {
             let scroll = ctx.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
                 self.camera.zoom(scroll);
