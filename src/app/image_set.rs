@@ -504,7 +504,7 @@ impl AaLabApp {
         match (self.images.open(), self.reference_state_for()) {
             (Some(set), _) => format!("Reference · {}", set.reference().name),
             (None, Some(ReferenceState::Ready(p))) => {
-                format!("Reference · {}/{} spp", p.samples, p.total)
+                format!("Reference {}/{} spp", p.samples, p.total)
             }
             _ => "Reference".to_owned(),
         }
