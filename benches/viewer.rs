@@ -15,6 +15,10 @@
 //!   half: Single, 2x2 grid, Wipe, A/B flip; the render size is fixed, so only the UI changes):
 //!   from the key event to the end of the UI frame that shows the new layout;
 //! - **idle UI frame**: the same with the camera still and the engine idle.
+//! - **clip playback**: a 48-frame clip of the four techniques is recorded (camera panning,
+//!   no reference) and played at 30 frames per second for a few seconds: UI frames per second,
+//!   clip frames shown per second (every clip frame the UI showed, counted once per change) and
+//!   the UI frame's time while playing.
 //!
 //! `cargo bench --bench viewer -- [--seconds S] [--scenes a,b] [--out file.json]`; with
 //! `--features profile` it also prints where the UI frame's time goes (puffin scopes).
@@ -23,8 +27,10 @@
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use aa_lab::app::{AaLabApp, LaunchOptions, Layout, Resolution};
+use aa_lab::app::{AaLabApp, ClipPath, ClipSettings, LaunchOptions, Layout, Resolution};
+use aa_lab::scene::motion::Motion;
 use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
 
 /// The render size the issue's targets are stated for.
 const RENDER_SIZE: (u32, u32) = (1280, 720);
@@ -52,6 +58,9 @@ struct SceneFigures {
     ui_frame_ms_median: f64,
     ui_frame_ms_p95: f64,
     ui_frame_ms_max: f64,
+    /// The part of a UI frame before the paint: the app's update, layout, tessellation.
+    ui_update_ms_median: f64,
+    ui_update_ms_p95: f64,
     engine_frames_per_second: f64,
     engine_frames_per_second_with_input: f64,
     layout_latency_ms_median: f64,
@@ -59,7 +68,20 @@ struct SceneFigures {
     layout_changes: usize,
     idle_ui_frame_ms_median: f64,
     idle_ui_frame_ms_p95: f64,
+    idle_ui_update_ms_median: f64,
+    idle_ui_update_ms_p95: f64,
+    clip_frames: usize,
+    clip_record_seconds: f64,
+    playback_ui_frames_per_second: f64,
+    playback_clip_frames_per_second: f64,
+    playback_ui_frame_ms_median: f64,
+    playback_ui_frame_ms_p95: f64,
 }
+
+/// Frames of the played clip.
+const CLIP_FRAMES: u32 = 48;
+/// How long the clip plays.
+const PLAYBACK: Duration = Duration::from_secs(8);
 
 struct Options {
     seconds: f64,
@@ -111,12 +133,20 @@ fn sorted(mut values: Vec<f64>) -> Vec<f64> {
     values
 }
 
-/// One UI frame, painted: its wall time in milliseconds.
-fn step_timed(harness: &mut Harness<'_, AaLabApp>) -> f64 {
+/// Whole UI frames and their update parts, each sorted.
+fn split(timed: Vec<(f64, f64)>) -> (Vec<f64>, Vec<f64>) {
+    let (frames, updates) = timed.into_iter().unzip();
+    (sorted(frames), sorted(updates))
+}
+
+/// One UI frame, painted: its wall time in milliseconds, and the part of it before the paint
+/// (the app's update, layout and tessellation: the UI thread's own CPU).
+fn step_timed(harness: &mut Harness<'_, AaLabApp>) -> (f64, f64) {
     let start = Instant::now();
     harness.step();
+    let update = start.elapsed().as_secs_f64() * 1000.0;
     harness.render().expect("the window paints");
-    start.elapsed().as_secs_f64() * 1000.0
+    (start.elapsed().as_secs_f64() * 1000.0, update)
 }
 
 /// When the app wants its next frame, as eframe learns it: every repaint request (from the
@@ -263,9 +293,51 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
         pace(&mut next);
     }
 
-    let frames = sorted(frames);
+    // A clip: recorded once, then played at 30 frames per second.
+    harness.state_mut().settings_mut().clip = ClipSettings {
+        frames: CLIP_FRAMES,
+        warmup: 4,
+        path: ClipPath::Motion(Motion::Pan),
+        reference: false,
+        ..ClipSettings::default()
+    };
+    let recording = Instant::now();
+    harness.get_by_label("Record").click();
+    while harness.state().clip_progress() != Some((CLIP_FRAMES as usize, false)) {
+        assert!(
+            recording.elapsed() < TIMEOUT,
+            "the clip of {scene} was not recorded"
+        );
+        harness.step();
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let clip_record_seconds = recording.elapsed().as_secs_f64();
+    let mut playback = Vec::new();
+    let mut shown_frames = 0usize;
+    let mut shown = harness.state().shown_clip_frame();
+    let start = Instant::now();
+    let mut last_frame = Instant::now();
+    while start.elapsed() < PLAYBACK {
+        if repaint.due() && last_frame.elapsed() >= UI_PERIOD {
+            repaint.clear();
+            last_frame = Instant::now();
+            playback.push(step_timed(&mut harness));
+            let now_shown = harness.state().shown_clip_frame();
+            if now_shown != shown {
+                shown_frames += 1;
+                shown = now_shown;
+            }
+        } else {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+    let playing = start.elapsed().as_secs_f64();
+    let playback_ui_frames_per_second = playback.len() as f64 / playing;
+    let (playback, _) = split(playback);
+
+    let (frames, updates) = split(frames);
+    let (idle, idle_updates) = split(idle);
     let latencies = sorted(latencies);
-    let idle = sorted(idle);
     SceneFigures {
         scene: scene.to_owned(),
         seconds: elapsed,
@@ -274,6 +346,8 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
         ui_frame_ms_median: percentile(&frames, 0.5),
         ui_frame_ms_p95: percentile(&frames, 0.95),
         ui_frame_ms_max: frames.last().copied().unwrap_or(f64::NAN),
+        ui_update_ms_median: percentile(&updates, 0.5),
+        ui_update_ms_p95: percentile(&updates, 0.95),
         engine_frames_per_second: (engine_at_half - engine_start) as f64 / half.as_secs_f64(),
         engine_frames_per_second_with_input: (engine_end - engine_at_half) as f64
             / (elapsed - half.as_secs_f64()),
@@ -282,6 +356,14 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
         layout_changes: latencies.len(),
         idle_ui_frame_ms_median: percentile(&idle, 0.5),
         idle_ui_frame_ms_p95: percentile(&idle, 0.95),
+        idle_ui_update_ms_median: percentile(&idle_updates, 0.5),
+        idle_ui_update_ms_p95: percentile(&idle_updates, 0.95),
+        clip_frames: CLIP_FRAMES as usize,
+        clip_record_seconds,
+        playback_ui_frames_per_second,
+        playback_clip_frames_per_second: shown_frames as f64 / playing,
+        playback_ui_frame_ms_median: percentile(&playback, 0.5),
+        playback_ui_frame_ms_p95: percentile(&playback, 0.95),
     }
 }
 
@@ -293,7 +375,7 @@ fn main() {
         let figures = measure(scene, options.seconds);
         println!(
             "{:<10} {:>5.1} UI frames/s, median {:>6.1} ms  p95 {:>6.1} ms  max {:>7.1} ms | engine {:>5.2} frames/s ({:.2} with input) | \
-             layout change visible after median {:>6.1} ms, worst {:>6.1} ms ({} changes) | idle UI frame median {:>5.1} ms p95 {:>5.1} ms",
+             layout change visible after median {:>6.1} ms, worst {:>6.1} ms ({} changes) | idle UI frame median {:>5.1} ms p95 {:>5.1} ms | update (before the paint) median {:>5.1} ms p95 {:>5.1} ms, idle {:>5.1} ms p95 {:>5.1} ms | clip of {} frames recorded in {:.0} s, plays at {:.1} UI frames/s showing {:.1} clip frames/s, UI frame median {:.1} ms p95 {:.1} ms",
             figures.scene,
             figures.ui_frames_per_second,
             figures.ui_frame_ms_median,
@@ -306,6 +388,16 @@ fn main() {
             figures.layout_changes,
             figures.idle_ui_frame_ms_median,
             figures.idle_ui_frame_ms_p95,
+            figures.ui_update_ms_median,
+            figures.ui_update_ms_p95,
+            figures.idle_ui_update_ms_median,
+            figures.idle_ui_update_ms_p95,
+            figures.clip_frames,
+            figures.clip_record_seconds,
+            figures.playback_ui_frames_per_second,
+            figures.playback_clip_frames_per_second,
+            figures.playback_ui_frame_ms_median,
+            figures.playback_ui_frame_ms_p95,
         );
         all.push(figures);
     }

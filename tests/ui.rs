@@ -11,7 +11,8 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use aa_lab::app::{AaLabApp, DisplayPath, LaunchOptions, Layout};
+use aa_lab::app::{AaLabApp, ClipPath, DisplayPath, LaunchOptions, Layout};
+use aa_lab::scene::motion::Motion;
 use aa_lab::scene::procedural::SceneOptions;
 use aa_lab::spec::{self, RenderSpec, RunOptions};
 use egui::{Event, Modifiers, PointerButton, Pos2, Rect, pos2, vec2};
@@ -362,6 +363,121 @@ fn export_writes_frames_sheet_and_a_sidecar_that_reproduces_them() {
             path.display()
         );
     }
+}
+
+#[test]
+fn a_recorded_clip_plays_every_pane_in_lockstep_and_exports_an_animation() {
+    const FRAMES: usize = 5;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut harness = viewer("chart");
+    harness.state_mut().set_export_dir(dir.path().to_path_buf());
+    {
+        let clip = &mut harness.state_mut().settings_mut().clip;
+        clip.frames = FRAMES as u32;
+        clip.warmup = 2;
+        clip.path = ClipPath::Motion(Motion::Pan);
+        clip.speed_px = 2.0;
+        clip.reference = true;
+        clip.reference_samples = 16;
+    }
+    harness.get_by_label("Record").click();
+    harness.step();
+    wait(&mut harness, "the clip", |app| {
+        app.clip_progress() == Some((FRAMES, false))
+    });
+    let scores = harness
+        .state()
+        .clip_scores()
+        .expect("figures with the reference");
+    assert_eq!(scores.len(), 4, "one row per compared technique");
+    for score in &scores {
+        let instability = score.temporal_instability.expect("the reference moved");
+        assert!(instability.is_finite() && instability > 0.0, "{score:?}");
+    }
+
+    // Paused, the panes step together: every technique shows the same instant.
+    harness.get_by_label("Pause clip").click();
+    harness.step();
+    let ids = harness.state().compared();
+    let pixels = |app: &AaLabApp| -> Vec<Arc<image::RgbaImage>> {
+        ids.iter()
+            .map(|id| {
+                app.output_pixels(id)
+                    .expect("a clip frame of every technique")
+            })
+            .collect()
+    };
+    let first = harness
+        .state()
+        .shown_clip_frame()
+        .expect("the clip is on screen");
+    let at_first = pixels(harness.state());
+    harness.get_by_label("+1").click();
+    harness.step();
+    assert_eq!(
+        harness.state().shown_clip_frame(),
+        Some((first + 1) % FRAMES)
+    );
+    let at_next = pixels(harness.state());
+    for ((id, a), b) in ids.iter().zip(&at_first).zip(&at_next) {
+        assert!(
+            a != b,
+            "{id} did not move to the next frame with the others"
+        );
+    }
+    harness.get_by_label("-1").click();
+    harness.step();
+    assert!(
+        pixels(harness.state()) == at_first,
+        "stepping back shows the same frame again"
+    );
+
+    // Playing advances with time.
+    harness.get_by_label("Play clip").click();
+    let shown = harness.state().shown_clip_frame();
+    wait(&mut harness, "the next frame of the playing clip", |app| {
+        std::thread::sleep(Duration::from_millis(10));
+        app.shown_clip_frame() != shown
+    });
+
+    // Export: a looping APNG of every frame and its record.
+    harness.get_by_label("Export…").click();
+    harness.step();
+    wait(&mut harness, "the clip export", |app| {
+        !app.exporting() && !app.last_export().is_empty()
+    });
+    let written = harness.state().last_export().to_vec();
+    let animation = written
+        .iter()
+        .find(|p| p.extension().is_some_and(|e| e == "png"))
+        .expect("an animation");
+    let bytes = std::fs::read(animation).expect("the animation");
+    let chunks = aa_lab::export::animation::png_chunks(&bytes).expect("a PNG");
+    let (_, actl) = chunks
+        .iter()
+        .find(|(kind, _)| kind == b"acTL")
+        .expect("an animated PNG");
+    assert_eq!(
+        u32::from_be_bytes(actl[0..4].try_into().unwrap()),
+        FRAMES as u32
+    );
+    assert_eq!(
+        u32::from_be_bytes(actl[4..8].try_into().unwrap()),
+        0,
+        "loops forever"
+    );
+    let record: serde_json::Value = serde_json::from_slice(
+        &std::fs::read(animation.with_extension("json")).expect("the record"),
+    )
+    .expect("JSON");
+    assert_eq!(record["techniques"].as_array().map(Vec::len), Some(4));
+    assert_eq!(record["recipe"]["frames"], FRAMES);
+
+    // Back to the live view: the engine renders again.
+    harness.get_by_label("Live").click();
+    harness.step();
+    assert_eq!(harness.state().shown_clip_frame(), None);
+    wait(&mut harness, "a live frame", AaLabApp::frame_ready);
 }
 
 fn name(path: &Path) -> String {

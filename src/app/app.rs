@@ -157,6 +157,7 @@ impl AaLabApp {
     /// Creates the app on eframe's wgpu device and starts loading the scene.
     pub fn new(cc: &eframe::CreationContext<'_>, options: LaunchOptions) -> Result<Self, AppError> {
         let state = cc.wgpu_render_state.as_ref().ok_or(AppError::NoWgpu)?;
+        super::blit::install(state);
         let gpu = Gpu::from_parts(
             state.adapter.clone(),
             state.device.clone(),
@@ -203,7 +204,7 @@ impl AaLabApp {
             magnifier: MagnifierState::default(),
             quality: QualityTracker::default(),
             export: ExportState::default(),
-            images: ImageSetState::default(),
+            images: ImageSetState::new(super::blit::Uploader::new(state)),
             help_open: false,
             panels_hidden: false,
             file_dialog: None,
@@ -596,7 +597,7 @@ impl AaLabApp {
     fn poll_background(&mut self, ctx: &egui::Context) {
         profiling::function_scope!();
         self.finish_load(ctx);
-        self.finish_image_load(ctx);
+        self.finish_image_load();
         let answer = match &self.file_dialog {
             Some((_, receiver)) => match receiver.try_recv() {
                 Ok(picked) => Some(picked),
@@ -646,7 +647,7 @@ impl AaLabApp {
                     self.set_technique_enabled(id, !on);
                 }
             }
-            Action::PlayPause => self.camera.playing = !self.camera.playing,
+            Action::PlayPause => self.toggle_play(),
             Action::Step => {
                 self.camera.playing = false;
                 self.camera.step();
@@ -724,16 +725,28 @@ impl AaLabApp {
         let Some(engine) = &self.engine else {
             return false;
         };
-        if self.images.is_open() {
+        if engine.live_paused() || self.images.is_open() {
             return false;
         }
         self.camera.moving_by_itself()
             || (self.camera.playing && (engine.animated() || engine.temporal_enabled()))
     }
 
+    /// Play or pause: the shown clip's playback, else time (animation, temporal jitter).
+    pub(super) fn toggle_play(&mut self) {
+        match self
+            .engine
+            .as_mut()
+            .and_then(|e| if e.clip_shown() { e.clip_mut() } else { None })
+        {
+            Some(clip) => clip.player.playing = !clip.player.playing,
+            None => self.camera.playing = !self.camera.playing,
+        }
+    }
+
     /// Publishes a finished engine frame and starts the next one when the engine is free.
     /// Returns whether more frames are wanted.
-    fn engine_frame(&mut self, ctx: &egui::Context) -> bool {
+    fn engine_frame(&mut self) -> bool {
         profiling::function_scope!();
         let size = self.viewport.render_size;
         let want_reference = self.reference_wanted();
@@ -743,9 +756,9 @@ impl AaLabApp {
         let Some(engine) = &mut self.engine else {
             return false;
         };
-        let publication = engine.poll(ctx);
+        let publication = engine.poll();
         let mut errors = publication.problems;
-        if size.0 > 0 && size.1 > 0 && !engine.busy() && !idle {
+        if size.0 > 0 && size.1 > 0 && !engine.busy() && !engine.live_paused() && !idle {
             let (camera, cut) = self.camera.next_frame(size);
             if let Err(err) = engine.submit(camera, cut, want_reference, want_pixels) {
                 errors.push(err.to_string());
@@ -822,14 +835,25 @@ impl eframe::App for AaLabApp {
         if ctx.input(|i| i.key_pressed(egui::Key::Escape)) {
             self.help_open = false;
         }
-        let more = self.engine_frame(&ctx);
+        let more = self.engine_frame();
+        self.tick_clip(&ctx);
         self.update_quality(&ctx);
         self.update_magnifier(&ctx);
 
         profiling::scope!("panels");
+        // The panels' background, under everything (the panels are transparent).
+        super::blit::fill(
+            &ctx.layer_painter(egui::LayerId::background()),
+            ctx.content_rect(),
+            style::PANEL_FILL,
+        );
         self.menu_bar(ui);
         self.toolbar(ui);
         self.status_bar(ui);
+        // Clips record the scene; images have none.
+        if !self.images.is_open() {
+            self.clip_panel(ui);
+        }
         let show_side = !self.panels_hidden;
         if show_side && self.settings.show_techniques {
             self.techniques_panel(ui);

@@ -104,6 +104,11 @@ impl CameraController {
         };
     }
 
+    /// The scene's camera rig.
+    pub fn rig(&self) -> &CameraRig {
+        &self.rig
+    }
+
     /// The current pose.
     pub fn pose(&self) -> OrbitPose {
         self.pose

@@ -10,15 +10,15 @@
 //! the thread, which answers with the authoritative settings.
 //!
 //! **Two display paths** ([`Display`]), chosen by the adapter:
-//! - *Native* (hardware adapters): the render thread renders on eframe's device and egui draws
-//!   each technique's output texture directly (registered as a native texture through its
+//! - *Native* (hardware adapters): the render thread renders on eframe's device and the window
+//!   draws each technique's output texture directly ([`super::blit`], through the texture's
 //!   `Rgba8Unorm` view, which holds the sRGB-encoded bytes; the magnifier draws UV crops of the
 //!   same textures). Nothing is copied per displayed frame; pixels come back to the CPU only
 //!   for what reads them (pixel values, error maps, quality figures, export), once the view is
 //!   still, through a frame that only reads.
 //! - *Readback* (software adapters): the render thread has a device of its own; every output
-//!   is read back, converted on the render thread and uploaded as an egui texture (nearest
-//!   sampling, no dithering), which the magnifier, metrics and export then use as they are.
+//!   is read back and uploaded by the render thread to a texture on eframe's device, drawn the
+//!   same way; the magnifier, metrics and export use the read-back pixels as they are.
 //!   Measured with the viewer benchmark on lavapipe (atrium, four techniques at 1280x720,
 //!   camera orbiting): readback 146 ms UI frame median and 135 ms until a layout change
 //!   shows, native 263 ms and 457 ms. Work on one queue runs
@@ -31,12 +31,12 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use egui::{TextureHandle, TextureId, TextureOptions};
-
+use super::blit::{DisplayTexture, Uploader};
+use super::clip::{Clip, ClipFrame, ClipRecipe, ClipStatus};
 use super::reference::REFERENCE_ID;
 use super::render_thread::{
-    Command, Event, FramePlan, FrameResult, ReferenceRequest, RenderDevice, RenderThread,
-    RenderedImage, SettingsChange, TechniqueSettings,
+    ClipJob, ClipSummary, Command, Event, FramePlan, FrameResult, ReferenceRequest, RenderDevice,
+    RenderThread, RenderedImage, SettingsChange, TechniqueSettings,
 };
 use super::schedule::{self, Stamp, TechniqueState, ViewKey};
 use super::stats::GpuStats;
@@ -69,9 +69,9 @@ pub struct ImageStamp {
 #[derive(Clone)]
 pub enum Display {
     /// The engine renders on a device of its own; every output is read back and uploaded to
-    /// egui (software adapters).
-    Readback(wgpu::Adapter),
-    /// The engine renders on eframe's device and egui draws the output textures directly;
+    /// eframe's device (software adapters).
+    Readback(egui_wgpu::RenderState),
+    /// The engine renders on eframe's device and the output textures are drawn directly;
     /// pixels come back to the CPU only when something reads them (hardware adapters).
     Native(egui_wgpu::RenderState),
 }
@@ -101,7 +101,7 @@ impl Display {
                 _ => state.adapter.get_info().device_type != wgpu::DeviceType::Cpu,
             },
         };
-        // egui draws an output through its linear view of the sRGB texture.
+        // An output is drawn through its linear view of the sRGB texture.
         let viewable = state
             .adapter
             .get_downlevel_capabilities()
@@ -111,7 +111,13 @@ impl Display {
         if native {
             Self::Native(state.clone())
         } else {
-            Self::Readback(state.adapter.clone())
+            Self::Readback(state.clone())
+        }
+    }
+
+    fn state(&self) -> &egui_wgpu::RenderState {
+        match self {
+            Self::Readback(state) | Self::Native(state) => state,
         }
     }
 
@@ -120,53 +126,7 @@ impl Display {
     }
 }
 
-/// A technique's output texture registered with egui's renderer; unregistered when dropped.
-struct NativeTexture {
-    id: TextureId,
-    texture: wgpu::Texture,
-    state: egui_wgpu::RenderState,
-}
-
-impl NativeTexture {
-    /// The egui texture showing `texture` through its `Rgba8Unorm` view: egui's own textures
-    /// hold sRGB-encoded bytes that it samples undecoded, so this view makes the screen show
-    /// the very bytes of the output (every output texture can be viewed so).
-    fn register(state: &egui_wgpu::RenderState, texture: wgpu::Texture) -> Self {
-        let view = texture.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("egui view of an output"),
-            format: Some(wgpu::TextureFormat::Rgba8Unorm),
-            ..Default::default()
-        });
-        let id = state.renderer.write().register_native_texture(
-            &state.device,
-            &view,
-            wgpu::FilterMode::Nearest,
-        );
-        Self {
-            id,
-            texture,
-            state: state.clone(),
-        }
-    }
-}
-
-impl Drop for NativeTexture {
-    fn drop(&mut self) {
-        // egui did not create the texture, so freeing the id leaves the texture alone.
-        self.state.renderer.write().free_texture(&self.id);
-    }
-}
-
-/// The texture egui draws a published image from.
-#[derive(Clone)]
-enum Shown {
-    /// An egui texture holding the read-back bytes.
-    Uploaded(TextureHandle),
-    /// The output texture itself.
-    Native(Arc<NativeTexture>),
-}
-
-/// A finished image: an egui texture and, when read back, its pixels on the CPU.
+/// A finished image: the texture it is drawn from and, when read back, its pixels on the CPU.
 #[derive(Clone)]
 pub struct Published {
     /// The pixels (sRGB-encoded RGBA8) when they were read back: always on the readback path,
@@ -174,103 +134,28 @@ pub struct Published {
     pub pixels: Option<Arc<image::RgbaImage>>,
     /// What the image shows.
     pub stamp: ImageStamp,
-    size: (u32, u32),
-    shown: Shown,
+    texture: Arc<DisplayTexture>,
 }
 
 impl Published {
-    /// The egui texture (nearest sampling).
-    pub fn id(&self) -> TextureId {
-        match &self.shown {
-            Shown::Uploaded(handle) => handle.id(),
-            Shown::Native(native) => native.id,
+    /// An image whose pixels are on the CPU and on screen.
+    pub fn new(image: RenderedImage, stamp: ImageStamp) -> Self {
+        Self {
+            pixels: Some(Arc::new(image.pixels)),
+            stamp,
+            texture: image.texture,
         }
+    }
+
+    /// What [`blit::paint`] draws.
+    pub fn texture(&self) -> &Arc<DisplayTexture> {
+        &self.texture
     }
 
     /// Size in pixels.
     pub fn size(&self) -> (u32, u32) {
-        self.size
+        self.texture.size()
     }
-
-    /// An image that does not come from the engine (a file of the image set): `pixels`,
-    /// uploaded to egui as `name` from `color` (the same pixels as egui's colour image).
-    pub fn from_pixels(
-        ctx: &egui::Context,
-        name: &str,
-        pixels: Arc<image::RgbaImage>,
-        color: egui::ColorImage,
-        stamp: ImageStamp,
-    ) -> Self {
-        Self {
-            size: pixels.dimensions(),
-            pixels: Some(pixels),
-            stamp,
-            shown: Shown::Uploaded(ctx.load_texture(name, color, TextureOptions::NEAREST)),
-        }
-    }
-}
-
-/// Stores `image` in `slot`, updating its texture in place when there is one. The upload
-/// itself happens when egui paints (a copy of bytes prepared on the render thread).
-fn publish(
-    ctx: &egui::Context,
-    slot: &mut Option<Published>,
-    name: &str,
-    image: RenderedImage,
-    stamp: ImageStamp,
-) {
-    let RenderedImage { pixels, color } = image;
-    let size = pixels.dimensions();
-    let pixels = Some(Arc::new(pixels));
-    match slot {
-        Some(Published {
-            shown: Shown::Uploaded(handle),
-            ..
-        }) => {
-            handle.set(color, TextureOptions::NEAREST);
-            let handle = handle.clone();
-            *slot = Some(Published {
-                pixels,
-                stamp,
-                size,
-                shown: Shown::Uploaded(handle),
-            });
-        }
-        _ => {
-            *slot = Some(Published {
-                shown: Shown::Uploaded(ctx.load_texture(name, color, TextureOptions::NEAREST)),
-                pixels,
-                stamp,
-                size,
-            });
-        }
-    }
-}
-
-/// Stores a native output in `slot`: the texture (registered again only when it is another
-/// texture, after a resize) and the pixels when they were read back. Pixels of an older frame
-/// are dropped: they no longer show what the texture shows.
-fn publish_native(
-    state: &egui_wgpu::RenderState,
-    slot: &mut Option<Published>,
-    texture: wgpu::Texture,
-    pixels: Option<image::RgbaImage>,
-    stamp: ImageStamp,
-) {
-    let size = (texture.width(), texture.height());
-    let shown = match slot.take() {
-        Some(Published {
-            shown: Shown::Native(native),
-            ..
-        }) if native.texture == texture => Shown::Native(native),
-        _ => Shown::Native(Arc::new(NativeTexture::register(state, texture))),
-    };
-    *slot = Some(Published {
-        pixels: pixels.map(Arc::new),
-        stamp,
-        size,
-        shown,
-    });
 }
 
 /// One registry technique in the viewer.
@@ -393,6 +278,12 @@ pub struct Engine {
     pub gpu_stats: GpuStats,
     memory: Option<MemoryReport>,
     scene_renders: usize,
+    /// The recorded (or recording) clip.
+    clip: Option<Clip>,
+    /// The clip is on screen instead of the live view.
+    clip_shown: bool,
+    /// The graph's state belongs to a clip: the next live frame starts over.
+    after_clip: bool,
 }
 
 impl Engine {
@@ -428,7 +319,7 @@ impl Engine {
         let animated = scene.meshes.iter().any(|m| m.spin.is_some());
         let wake = ctx.clone();
         let device = match &display {
-            Display::Readback(adapter) => RenderDevice::Own(adapter.clone()),
+            Display::Readback(state) => RenderDevice::Own(state.adapter.clone()),
             Display::Native(state) => RenderDevice::Shared(crate::gpu::Gpu::from_parts(
                 state.adapter.clone(),
                 state.device.clone(),
@@ -437,6 +328,7 @@ impl Engine {
         };
         let thread = RenderThread::spawn(
             device,
+            Uploader::new(display.state()),
             scene,
             entries.iter().map(TechniqueEntry::available).collect(),
             reference_samples,
@@ -467,6 +359,9 @@ impl Engine {
             gpu_stats: GpuStats::default(),
             memory: None,
             scene_renders: 0,
+            clip: None,
+            clip_shown: false,
+            after_clip: false,
         })
     }
 
@@ -491,6 +386,138 @@ impl Engine {
         self.scene_generation += 1;
         self.gpu_stats.clear();
         self.memory = None;
+        self.discard_clip();
+    }
+
+    /// Records the clip of `recipe` along `cameras` (its warm-up first) through the
+    /// techniques `ids`, with the complete reference per frame when the recipe has one.
+    /// Frames arrive with [`Engine::poll`]; the clip is shown as they do, and no live frame
+    /// renders until the user goes back to the live view.
+    pub fn record_clip(
+        &mut self,
+        cameras: Vec<FrameCamera>,
+        ids: &[&'static str],
+        recipe: ClipRecipe,
+        description: String,
+    ) -> Result<(), EngineError> {
+        if let Some(reason) = &self.stopped {
+            return Err(EngineError::Stopped(reason.clone()));
+        }
+        let run: Vec<usize> = ids
+            .iter()
+            .filter_map(|id| self.entries.iter().position(|e| e.id == *id))
+            .collect();
+        let cancel = Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let job = ClipJob {
+            cameras,
+            warmup: recipe.warmup as usize,
+            run,
+            reference: recipe.reference_samples,
+            cancel: Arc::clone(&cancel),
+        };
+        if !self.send(Command::Clip(job)) {
+            return Err(EngineError::Stopped(String::new()));
+        }
+        self.clip = Some(Clip::recording(ids.to_vec(), recipe, description, cancel));
+        self.clip_shown = true;
+        self.after_clip = true;
+        Ok(())
+    }
+
+    /// The clip, if one was recorded.
+    pub fn clip(&self) -> Option<&Clip> {
+        self.clip.as_ref()
+    }
+
+    /// The clip, to control its playback.
+    pub fn clip_mut(&mut self) -> Option<&mut Clip> {
+        self.clip.as_mut()
+    }
+
+    /// Whether live frames wait: a clip is on screen or being recorded.
+    pub fn live_paused(&self) -> bool {
+        self.clip_shown() || self.clip.as_ref().is_some_and(Clip::recording_now)
+    }
+
+    /// Whether the clip is on screen (every image lookup reads its shown frame).
+    pub fn clip_shown(&self) -> bool {
+        self.clip_shown && self.clip.is_some()
+    }
+
+    /// Shows the clip (`true`) or the live view.
+    pub fn show_clip(&mut self, shown: bool) {
+        self.clip_shown = shown && self.clip.is_some();
+        if let Some(clip) = &mut self.clip {
+            clip.player.pause_clock();
+        }
+    }
+
+    /// Drops the clip (stopping its recording) and shows the live view.
+    pub fn discard_clip(&mut self) {
+        if let Some(clip) = &self.clip {
+            clip.cancel();
+        }
+        self.clip = None;
+        self.clip_shown = false;
+    }
+
+    fn receive_clip_frame(
+        &mut self,
+        outputs: Vec<(usize, RenderedImage)>,
+        reference: Option<RenderedImage>,
+    ) {
+        let Some(clip) = &mut self.clip else {
+            return;
+        };
+        // Every clip frame is a view of its own: figures and heatmaps keyed on views follow
+        // the frame shown.
+        self.view_serial += 1;
+        let view = self.view_serial;
+        let mut slots: Vec<Option<Published>> = vec![None; clip.techniques.len()];
+        for (index, image) in outputs {
+            let entry = &self.entries[index];
+            if let Some(slot) = clip.techniques.iter().position(|t| *t == entry.id) {
+                self.publish_serial += 1;
+                let stamp = ImageStamp {
+                    view,
+                    revision: entry.revision,
+                    serial: self.publish_serial,
+                };
+                slots[slot] = Some(Published::new(image, stamp));
+            }
+        }
+        let reference = reference.map(|image| {
+            self.publish_serial += 1;
+            let stamp = ImageStamp {
+                view,
+                revision: self.reference_revision,
+                serial: self.publish_serial,
+            };
+            Published::new(image, stamp)
+        });
+        clip.push(ClipFrame {
+            view,
+            outputs: slots,
+            reference,
+        });
+    }
+
+    fn end_clip(&mut self, end: Result<ClipSummary, super::render_thread::RenderError>) {
+        let Some(clip) = &mut self.clip else {
+            return;
+        };
+        clip.status = match end {
+            Ok(summary) => {
+                clip.scores = summary.scores;
+                clip.reference_change = summary.reference_change;
+                if summary.complete {
+                    ClipStatus::Complete
+                } else {
+                    ClipStatus::Cancelled
+                }
+            }
+            Err(err) => ClipStatus::Failed(err.to_string()),
+        };
     }
 
     /// Whether the scene has moving objects (the view changes with every frame while playing).
@@ -657,8 +684,12 @@ impl Engine {
         self.reference_published = None;
     }
 
-    /// The image shown for a technique: its selected debug view, or its output.
+    /// The image shown for a technique: its selected debug view, or its output (the shown
+    /// clip frame's output while a clip is on screen).
     pub fn image(&self, id: &str) -> Option<&Published> {
+        if let Some(clip) = self.shown_clip() {
+            return clip.image(id);
+        }
         let entry = self.entry(id).filter(|e| e.enabled)?;
         let debug = entry.debug_view.as_ref().and_then(|view| {
             entry
@@ -672,14 +703,30 @@ impl Engine {
 
     /// A technique's output (never a debug view), for metrics and export.
     pub fn output(&self, id: &str) -> Option<&Published> {
+        if let Some(clip) = self.shown_clip() {
+            return clip.image(id);
+        }
         self.entry(id).filter(|e| e.enabled)?.output.as_ref()
     }
 
     /// The reference with its progress, when it belongs to the displayed view.
     pub fn reference(&self) -> Option<(&Published, Progress)> {
+        if let Some(clip) = self.shown_clip() {
+            let image = clip.shown()?.reference.as_ref()?;
+            let total = clip.recipe.reference_samples?;
+            let complete = Progress {
+                samples: total,
+                total,
+            };
+            return Some((image, complete));
+        }
         let image = self.reference_image.as_ref()?;
         let (key, progress) = self.reference_published?;
         (Some(key) == self.displayed_key && progress.samples > 0).then_some((image, progress))
+    }
+
+    fn shown_clip(&self) -> Option<&Clip> {
+        self.clip.as_ref().filter(|_| self.clip_shown)
     }
 
     /// Where the reference stands.
@@ -695,6 +742,9 @@ impl Engine {
     /// scene or (for animated scenes) the frame changes, or the camera cuts. Images stamped
     /// with an older view no longer show what the camera sees.
     pub fn current_view(&self) -> u64 {
+        if let Some(frame) = self.shown_clip().and_then(Clip::shown) {
+            return frame.view;
+        }
         self.view_serial
     }
 
@@ -731,7 +781,7 @@ impl Engine {
     }
 
     /// Picks up what the render thread finished and publishes its images.
-    pub fn poll(&mut self, ctx: &egui::Context) -> Publication {
+    pub fn poll(&mut self) -> Publication {
         profiling::function_scope!();
         let mut publication = Publication::default();
         for event in self.thread.poll() {
@@ -752,9 +802,17 @@ impl Engine {
                         continue;
                     };
                     match result {
-                        Ok(frame) => self.publish_frame(ctx, flight, frame, &mut publication),
+                        Ok(frame) => self.publish_frame(flight, frame, &mut publication),
                         Err(err) => publication.problems.push(err.to_string()),
                     }
+                }
+                Event::ClipFrame { outputs, reference } => {
+                    self.receive_clip_frame(outputs, reference);
+                    publication.outputs = true;
+                }
+                Event::ClipEnd(end) => {
+                    self.end_clip(end);
+                    publication.outputs = true;
                 }
                 Event::Failed(err) => {
                     self.in_flight = None;
@@ -790,7 +848,6 @@ impl Engine {
 
     fn publish_frame(
         &mut self,
-        ctx: &egui::Context,
         flight: InFlight,
         frame: FrameResult,
         publication: &mut Publication,
@@ -814,24 +871,25 @@ impl Engine {
                 revision: entry.revision,
                 serial: self.publish_serial,
             };
-            match (&self.display, output.texture, output.image) {
-                (Display::Native(state), Some(texture), image) => {
-                    let pixels = image.map(|i| i.pixels);
-                    publish_native(state, &mut entry.output, texture, pixels, stamp);
+            let pixels = output.pixels.map(Arc::new);
+            match output.display {
+                Some(texture) => {
+                    entry.output = Some(Published {
+                        pixels,
+                        stamp,
+                        texture,
+                    });
                 }
                 // Pixels read later of the texture on screen: same image, same stamp.
-                (Display::Native(_), None, Some(image)) => {
+                None => {
                     if let Some(published) = &mut entry.output
-                        && published.size == image.pixels.dimensions()
+                        && let Some(pixels) = pixels
+                        && published.size() == pixels.dimensions()
                     {
-                        published.pixels = Some(Arc::new(image.pixels));
+                        published.pixels = Some(pixels);
                     }
                     continue;
                 }
-                (Display::Readback(_), _, Some(image)) => {
-                    publish(ctx, &mut entry.output, entry.id, image, stamp);
-                }
-                _ => continue,
             }
             publication.outputs = true;
         }
@@ -853,7 +911,7 @@ impl Engine {
                 revision: entry.revision,
                 serial: self.publish_serial,
             };
-            publish(ctx, &mut entry.debug_images[position].2, name, image, stamp);
+            entry.debug_images[position].2 = Some(Published::new(image, stamp));
             if entry.debug_view.as_deref() == Some("") {
                 entry.debug_view = Some(name.to_owned());
             }
@@ -869,7 +927,7 @@ impl Engine {
                 revision,
                 serial: self.publish_serial,
             };
-            publish(ctx, &mut self.reference_image, REFERENCE_ID, image, stamp);
+            self.reference_image = Some(Published::new(image, stamp));
             self.reference_accumulated = Some((key, progress));
             self.reference_published = Some((key, progress));
             publication.reference = true;
@@ -899,6 +957,19 @@ impl Engine {
         if self.in_flight.is_some() || !self.ready() {
             return Ok(false);
         }
+        if self.live_paused() {
+            return Ok(false);
+        }
+        let after_clip = std::mem::take(&mut self.after_clip);
+        if after_clip {
+            // The graph's outputs, histories and reference samples are a clip's: all start
+            // over.
+            for entry in &mut self.entries {
+                entry.rendered = None;
+            }
+            self.reference_accumulated = None;
+        }
+        let cut = cut || after_clip;
         let key = ViewKey {
             pose: camera.pose,
             size: camera.size,

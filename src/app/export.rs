@@ -12,11 +12,13 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, mpsc};
 
 use super::app::{AaLabApp, DialogPurpose, Level};
+use super::clip::ClipRecipe;
 use super::difference::lens_heatmap;
 use super::magnifier::{Source, crop};
 use crate::export::sheet::{self, Cell, Row};
 use crate::export::write_png;
 use crate::files::{self, Overwrite};
+use crate::metrics::stability::TemporalScores;
 use crate::spec::{RenderSpec, TechniqueSpec};
 
 /// The first name `stem`, `stem-2`, `stem-3`... for which none of the set's files exist.
@@ -92,14 +94,17 @@ impl ExportState {
     }
 }
 
-fn write_in_background(plan: Plan) -> mpsc::Receiver<Result<Vec<PathBuf>, String>> {
+/// Runs `job` (composing, encoding and writing files) on a thread of its own.
+fn in_background(
+    job: impl FnOnce() -> Result<Vec<PathBuf>, String> + Send + 'static,
+) -> mpsc::Receiver<Result<Vec<PathBuf>, String>> {
     let (sender, receiver) = mpsc::channel();
     let spawned = std::thread::Builder::new()
         .name("aa-lab export".to_owned())
         .spawn({
             let sender = sender.clone();
             move || {
-                let _ = sender.send(write_files(&plan));
+                let _ = sender.send(job());
             }
         });
     if let Err(err) = spawned {
@@ -140,6 +145,79 @@ fn write_files(plan: &Plan) -> Result<Vec<PathBuf>, String> {
     files::write_bytes(&sidecar, &policy, plan.record.as_bytes()).map_err(|e| e.to_string())?;
     written.push(sidecar);
     Ok(written)
+}
+
+/// Version of the record beside a clip exported from the viewer.
+const CLIP_SCHEMA: &str = "aa-lab viewer clip 1";
+
+/// The record beside an exported clip.
+#[derive(serde::Serialize)]
+struct ClipExportRecord {
+    schema: &'static str,
+    /// Scene, camera path, size, techniques with their settings, reference, adapter, build.
+    recipe: ClipRecipe,
+    /// Frames in the animation (fewer than the recipe's when the recording was cancelled).
+    recorded_frames: usize,
+    /// Playback rate of the animation.
+    fps: u16,
+    /// Region shown, pixels of the render (`None`: whole frames).
+    region: Option<sheet::Rect>,
+    /// Zoom of the panes.
+    zoom: u32,
+    definitions: crate::export::clip::Definitions,
+    /// The reference's mean luma change per pixel and frame.
+    reference_mean_change: Option<f64>,
+    techniques: Vec<ClipExportTechnique>,
+}
+
+#[derive(serde::Serialize)]
+struct ClipExportTechnique {
+    id: &'static str,
+    label: String,
+    #[serde(flatten)]
+    scores: TemporalScores,
+}
+
+/// Composes the clip's frames and writes the animation and its record under the first free
+/// `stem` in `dir`.
+fn write_clip(
+    dir: &Path,
+    stem: &str,
+    layout: &crate::export::clip::Layout,
+    region: Option<sheet::Rect>,
+    frames: &[Vec<Arc<image::RgbaImage>>],
+    fps: u16,
+    record: &str,
+) -> Result<Vec<PathBuf>, String> {
+    let composed = frames
+        .iter()
+        .enumerate()
+        .map(|(n, panes)| {
+            let crops: Vec<image::RgbaImage> = panes
+                .iter()
+                .map(|image| match region {
+                    Some(r) => {
+                        image::imageops::crop_imm(image.as_ref(), r.x, r.y, r.width, r.height)
+                            .to_image()
+                    }
+                    None => image.as_ref().clone(),
+                })
+                .collect();
+            let refs: Vec<&image::RgbaImage> = crops.iter().collect();
+            layout.compose(n, frames.len(), &refs)
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| format!("clip export: {e}"))?;
+    std::fs::create_dir_all(dir)
+        .map_err(|e| format!("cannot create the export folder {}: {e}", dir.display()))?;
+    let stem = free_stem(dir, stem, &[".png".to_owned(), ".json".to_owned()]);
+    let policy = Overwrite::new(false);
+    let animation = dir.join(format!("{stem}.png"));
+    crate::export::animation::write_apng(&animation, &composed, fps, Some(record), &policy)
+        .map_err(|e| e.to_string())?;
+    let sidecar = dir.join(format!("{stem}.json"));
+    files::write_bytes(&sidecar, &policy, record.as_bytes()).map_err(|e| e.to_string())?;
+    Ok(vec![animation, sidecar])
 }
 
 impl AaLabApp {
@@ -304,7 +382,139 @@ impl AaLabApp {
                 .then(|| self.magnifier_sheet())
                 .flatten(),
         };
-        self.export.job = Some(write_in_background(plan));
+        self.export.job = Some(in_background(move || write_files(&plan)));
+    }
+
+    /// Exports the clip as a looping animated PNG of the magnifier's panes (the lens region,
+    /// zoomed as the magnifier shows it; whole frames in a grid when the magnifier is closed)
+    /// with its temporal figures, and the clip's record beside it, into the export folder.
+    pub(super) fn export_clip(&mut self) {
+        if self.export.running() {
+            return;
+        }
+        let Some(clip) = self.engine.as_ref().and_then(|e| e.clip()) else {
+            return;
+        };
+        let lens = self.settings.show_magnifier.then(|| self.lens()).flatten();
+        let region = lens.map(|l| sheet::Rect {
+            x: l.x,
+            y: l.y,
+            width: l.width,
+            height: l.height,
+        });
+        let zoom = if region.is_some() {
+            self.settings.magnifier.zoom
+        } else {
+            1
+        };
+        let size = clip.recipe.size;
+        let pane_size = region.map_or(size, |r| (r.width, r.height));
+        let panes = clip.techniques.len() + usize::from(clip.recipe.reference_samples.is_some());
+        if let Err(err) = crate::export::clip::check(panes, region.is_some(), pane_size, zoom) {
+            self.notify(Level::Error, format!("clip export: {err}"));
+            return;
+        }
+        let width = pane_size.0 * zoom;
+        let no_scores = TemporalScores {
+            mean_change: None,
+            temporal_instability: None,
+            ghosting: None,
+        };
+        let scores: Vec<TemporalScores> = (0..clip.techniques.len())
+            .map(|i| {
+                clip.scores
+                    .as_ref()
+                    .and_then(|s| s.get(i).copied())
+                    .unwrap_or(no_scores)
+            })
+            .collect();
+        let mut layout_panes: Vec<crate::export::clip::Pane> = clip
+            .techniques
+            .iter()
+            .zip(&scores)
+            .map(|(id, scores)| crate::export::clip::Pane {
+                label: self.shown_label(id),
+                caption: crate::export::clip::fit(
+                    &[
+                        crate::export::clip::caption(scores),
+                        crate::export::clip::short_caption(scores),
+                    ],
+                    width,
+                ),
+            })
+            .collect();
+        if let Some(samples) = clip.recipe.reference_samples {
+            layout_panes.push(crate::export::clip::Pane {
+                label: format!("Reference ({samples} spp)"),
+                caption: crate::export::clip::reference_caption(clip.reference_change, width),
+            });
+        }
+        let scene = self.scene.as_ref().map_or("scene", |s| s.name.as_str());
+        let layout = crate::export::clip::Layout {
+            title: format!("aa-lab viewer clip: {}", clip.description),
+            scene: scene.to_owned(),
+            region,
+            zoom,
+            footer: format!(
+                "captions: temporal instability / ghosting (luma levels); {} on {}",
+                clip.recipe.build, clip.recipe.adapter
+            ),
+            panes: layout_panes,
+        };
+        // Pixels of every frame's panes, in pane order (the reference last).
+        let frames: Vec<Vec<Arc<image::RgbaImage>>> = clip
+            .frames
+            .iter()
+            .map(|frame| {
+                frame
+                    .outputs
+                    .iter()
+                    .chain(std::iter::once(&frame.reference).filter(|r| r.is_some()))
+                    .filter_map(|image| image.as_ref()?.pixels.clone())
+                    .collect()
+            })
+            .filter(|panes: &Vec<_>| panes.len() == layout.panes.len())
+            .collect();
+        if frames.is_empty() {
+            self.notify(
+                Level::Warning,
+                "The clip has no complete frame to export yet.",
+            );
+            return;
+        }
+        let fps = clip.player.rate.fps().round() as u16;
+        let record = ClipExportRecord {
+            schema: CLIP_SCHEMA,
+            recipe: clip.recipe.clone(),
+            recorded_frames: frames.len(),
+            fps,
+            region,
+            zoom,
+            definitions: crate::export::clip::Definitions::over(match region {
+                Some(_) => "every pixel of the whole frame, every recorded frame (the animation shows the lens region)".to_owned(),
+                None => "every pixel of the whole frame, every recorded frame".to_owned(),
+            }),
+            reference_mean_change: clip.reference_change,
+            techniques: clip
+                .techniques
+                .iter()
+                .zip(&scores)
+                .map(|(id, scores)| ClipExportTechnique {
+                    id,
+                    label: self.shown_label(id),
+                    scores: *scores,
+                })
+                .collect(),
+        };
+        let Ok(text) = serde_json::to_string_pretty(&record) else {
+            self.notify(Level::Error, "clip export: the record could not be written");
+            return;
+        };
+        let dir = self.settings.export_dir.clone();
+        let stem = format!("{scene}-clip");
+        self.export.job = Some(in_background(move || {
+            write_clip(&dir, &stem, &layout, region, &frames, fps, &text)
+        }));
     }
 
     /// Copies the magnifier sheet to the clipboard.

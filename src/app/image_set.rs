@@ -11,8 +11,9 @@
 //!   follow), which one is the reference, and the "view" their figures are stamped with (it
 //!   changes whenever what is compared changes: another reference, another order).
 //! - [`decode`] and the loader thread: files are decoded, checked (at most four, all PNG or
-//!   JPEG, one size, within the texture limit) and converted for egui off the UI thread; a
-//!   set that fails any check is refused whole with a message, and whatever was shown stays.
+//!   JPEG, one size, within the texture limit) and uploaded to eframe's device off the UI
+//!   thread; a set that fails any check is refused whole with a message, and whatever was
+//!   shown stays.
 //! - The lookups the viewport, the magnifier, the quality figures and the export use to find
 //!   an image by id ([`AaLabApp::image_for`], [`AaLabApp::reference_for`], ...): the open set
 //!   when there is one, the engine otherwise.
@@ -25,7 +26,9 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, mpsc};
 
 use super::app::{AaLabApp, Level};
+use super::blit::Uploader;
 use super::engine::{ImageStamp, Published, ReferenceState};
+use super::render_thread::RenderedImage;
 use crate::aa::ssaa::Progress;
 
 /// The ids of the images of a set, in file order.
@@ -77,9 +80,7 @@ pub struct DecodedImage {
     /// Where it came from.
     pub path: PathBuf,
     /// The pixels, sRGB-encoded RGBA8, opaque.
-    pub pixels: Arc<image::RgbaImage>,
-    /// The same pixels as egui's colour image.
-    pub color: egui::ColorImage,
+    pub pixels: image::RgbaImage,
 }
 
 /// A decoded set, ready to be shown.
@@ -149,14 +150,9 @@ pub fn decode(paths: &[PathBuf], max_side: u32) -> Result<Decoded, String> {
                 file_name(path)
             ));
         }
-        let color = egui::ColorImage::from_rgba_unmultiplied(
-            [width as usize, height as usize],
-            pixels.as_raw(),
-        );
         images.push(DecodedImage {
             path: path.clone(),
-            pixels: Arc::new(pixels),
-            color,
+            pixels,
         });
     }
     let first = images[0].pixels.dimensions();
@@ -232,12 +228,16 @@ impl ImageSet {
     }
 }
 
+/// A loaded set: each file with its pixels on eframe's device, and the notes.
+type Uploaded = (Vec<(PathBuf, RenderedImage)>, Vec<String>);
+
 /// A load in progress: the files asked for and the answer to come.
-type Pending = (Vec<PathBuf>, mpsc::Receiver<Result<Decoded, String>>);
+type Pending = (Vec<PathBuf>, mpsc::Receiver<Result<Uploaded, String>>);
 
 /// The image set of the viewer: the open one, the one loading, and the bookkeeping.
-#[derive(Default)]
 pub struct ImageSetState {
+    /// Puts decoded images on eframe's device (from the decoder thread).
+    uploader: Uploader,
     open: Option<ImageSet>,
     pending: Option<Pending>,
     /// Counts views and publications of image sets.
@@ -247,6 +247,17 @@ pub struct ImageSetState {
 }
 
 impl ImageSetState {
+    /// No set, images to be uploaded by `uploader`.
+    pub fn new(uploader: Uploader) -> Self {
+        Self {
+            uploader,
+            open: None,
+            pending: None,
+            serial: 0,
+            leave_for_scene: false,
+        }
+    }
+
     /// The open set.
     pub fn open(&self) -> Option<&ImageSet> {
         self.open.as_ref()
@@ -283,7 +294,7 @@ impl ImageSetState {
     }
 
     /// The finished load, if the decoder is done.
-    fn poll(&mut self) -> Option<Result<Decoded, String>> {
+    fn poll(&mut self) -> Option<Result<Uploaded, String>> {
         let (_, receiver) = self.pending.as_ref()?;
         let answer = match receiver.try_recv() {
             Ok(answer) => answer,
@@ -319,10 +330,26 @@ impl AaLabApp {
         let max_side = self.gpu.caps.max_texture_dimension_2d;
         let wake = ctx.clone();
         let files = paths.clone();
+        let uploader = self.images.uploader.clone();
         let spawned = std::thread::Builder::new()
             .name("aa-lab image decoder".to_owned())
             .spawn(move || {
-                let _ = sender.send(decode(&files, max_side));
+                let uploaded = decode(&files, max_side).map(|decoded| {
+                    let images = decoded
+                        .images
+                        .into_iter()
+                        .map(|image| {
+                            let texture = uploader.upload(&image.pixels);
+                            let rendered = RenderedImage {
+                                pixels: image.pixels,
+                                texture,
+                            };
+                            (image.path, rendered)
+                        })
+                        .collect();
+                    (images, decoded.notes)
+                });
+                let _ = sender.send(uploaded);
                 super::request_one_frame(&wake);
             });
         match spawned {
@@ -390,12 +417,12 @@ impl AaLabApp {
     }
 
     /// Shows a finished load (called once per UI frame).
-    pub(super) fn finish_image_load(&mut self, ctx: &egui::Context) {
+    pub(super) fn finish_image_load(&mut self) {
         let Some(answer) = self.images.poll() else {
             return;
         };
-        let decoded = match answer {
-            Ok(decoded) => decoded,
+        let (loaded, notes) = match answer {
+            Ok(uploaded) => uploaded,
             Err(err) => {
                 let kept = if self.images.is_open() {
                     "the open images stay"
@@ -408,16 +435,16 @@ impl AaLabApp {
         };
         let view = self.images.next_serial();
         let mut images = Vec::new();
-        for (id, image) in IMAGE_IDS.iter().zip(decoded.images) {
+        for (path, image) in loaded {
             let stamp = ImageStamp {
                 view,
                 revision: 0,
                 serial: self.images.next_serial(),
             };
             images.push(SetImage {
-                name: file_name(&image.path),
-                published: Published::from_pixels(ctx, id, image.pixels, image.color, stamp),
-                path: image.path,
+                name: file_name(&path),
+                published: Published::new(image, stamp),
+                path,
             });
         }
         let names: Vec<&str> = images.iter().map(|i| i.name.as_str()).collect();
@@ -437,7 +464,7 @@ impl AaLabApp {
         self.images.stay();
         self.quality.clear();
         self.magnifier.clear();
-        for note in decoded.notes {
+        for note in notes {
             self.notify(Level::Warning, note);
         }
         self.notify(Level::Info, text);
@@ -624,10 +651,9 @@ mod tests {
         let b = write(dir.path(), "b.png", &see_through);
         let decoded = decode(&[a.clone(), b.clone()], 4096).unwrap();
         assert_eq!(decoded.images.len(), 2);
-        assert_eq!(*decoded.images[0].pixels, gradient(8, 6));
+        assert_eq!(decoded.images[0].pixels, gradient(8, 6));
         assert_eq!(decoded.images[1].pixels.get_pixel(1, 1).0, [1, 2, 3, 255]);
         assert_eq!(decoded.notes.len(), 1, "{:?}", decoded.notes);
-        assert_eq!(decoded.images[0].color.size, [8, 6]);
 
         let other = write(dir.path(), "other.png", &gradient(9, 6));
         let err = decode(&[a.clone(), other], 4096).err().unwrap();

@@ -12,6 +12,7 @@
 use egui::{Color32, Rect, Sense, Stroke, StrokeKind, TextureHandle, pos2, vec2};
 
 use super::app::{AaLabApp, Level};
+use super::blit;
 use super::difference::{self, HeatJob, HeatKey, HeatResult, heat_color};
 use super::engine::{Published, ReferenceState};
 use super::settings::{DiffMetric, MagnifierSettings};
@@ -436,7 +437,7 @@ impl AaLabApp {
         size: (u32, u32),
     ) {
         let painter = ui.painter().with_clip_rect(rect);
-        painter.rect_filled(rect, 0.0, Color32::from_gray(12));
+        blit::fill(&painter, rect, Color32::from_gray(12));
         let ppp = ui.ctx().pixels_per_point();
         let zoom = self.settings.magnifier.zoom.max(1);
         let difference = self.settings.magnifier.difference && source != Source::Reference;
@@ -496,7 +497,10 @@ impl AaLabApp {
                     (lens.y + lens.height) as f32 / size.1 as f32,
                 ),
             );
-            painter.image(image.id(), rect, uv, Color32::WHITE);
+            let grid = self.settings.magnifier.pixel_grid && zoom >= 4;
+            // egui's former grid: black lines at 90/255.
+            let darken = if grid { 90.0 / 255.0 } else { 0.0 };
+            blit::paint_with_grid(&painter, image.texture(), rect, uv, darken);
         } else {
             let text = match source {
                 Source::Reference => "reference: waiting for a still camera",
@@ -512,7 +516,9 @@ impl AaLabApp {
             );
             painter.galley(rect.center() - galley.size() / 2.0, galley, color);
         }
-        if self.settings.magnifier.pixel_grid && zoom >= 4 {
+        // Over heatmaps (egui images) the grid is drawn as lines; image panes draw it in their
+        // blit.
+        if difference && self.settings.magnifier.pixel_grid && zoom >= 4 {
             let stroke = Stroke::new(1.0, Color32::from_black_alpha(90));
             let step = zoom as f32 / ppp;
             for i in 1..lens.width {

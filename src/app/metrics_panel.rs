@@ -54,6 +54,10 @@ impl AaLabApp {
                     self.memory_section(ui);
                     ui.separator();
                     self.quality_section(ui);
+                    if self.engine.as_ref().is_some_and(|e| e.clip().is_some()) {
+                        ui.separator();
+                        self.clip_section(ui);
+                    }
                 });
             });
     }
@@ -202,6 +206,46 @@ impl AaLabApp {
                 .small(),
             )
             .on_hover_text("Techniques that read the same scene image (No AA, FXAA and SMAA 1x read the 1x render) share one render: the frame graph draws each distinct scene input once.");
+        }
+    }
+
+    /// The clip's temporal figures (see `metrics::stability`).
+    fn clip_section(&mut self, ui: &mut egui::Ui) {
+        style::section(ui, "Clip: temporal stability");
+        let Some(clip) = self.engine.as_ref().and_then(|e| e.clip()) else {
+            return;
+        };
+        let Some(scores) = &clip.scores else {
+            ui.weak(if clip.recording_now() {
+                "after the recording"
+            } else {
+                "recorded without the reference: no figures"
+            });
+            return;
+        };
+        egui::Grid::new("clip table")
+            .num_columns(3)
+            .striped(true)
+            .spacing([10.0, 3.0])
+            .show(ui, |ui| {
+                ui.weak("technique");
+                ui.weak("instability");
+                ui.weak("ghosting");
+                ui.end_row();
+                for (id, scores) in clip.techniques.iter().zip(scores) {
+                    ui.label(self.shown_label(id));
+                    let figure = |v: Option<f64>, digits: usize| {
+                        v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
+                    };
+                    number(ui, figure(scores.temporal_instability, 2), "Mean frame-to-frame luma change over the reference's (1 = as steady as the reference, higher flickers more).");
+                    number(ui, figure(scores.ghosting, 1), "Mean luma error against the reference where the reference moved (levels of 0..255): trails and aliasing on moving edges.");
+                    ui.end_row();
+                }
+            });
+        if let Some(change) = clip.reference_change {
+            ui.weak(format!(
+                "reference: {change:.2} luma levels change per pixel and frame"
+            ));
         }
     }
 

@@ -9,10 +9,12 @@
 //! - The engine never runs on the UI thread: the render thread (render_thread.rs) owns the
 //!   render device, the frame graph and every technique, and does all slow engine work
 //!   (pipeline creation, scene uploads, target resizes, rendering, readback through the one
-//!   readback belt of `gpu/`, conversion to egui images). engine.rs is the UI's side: it
+//!   readback belt of `gpu/`, uploads for display). engine.rs is the UI's side: it
 //!   decides what to render (schedule.rs, plain data), mirrors the techniques' settings and
-//!   publishes finished frames as egui textures. A toggle, a layout change or a settings edit
-//!   shows in the next UI frame; the new images replace the previous ones when they arrive.
+//!   publishes finished frames, which blit.rs draws (one texel load per screen pixel: egui's
+//!   own image path costs several times more on a software rasteriser). A toggle, a layout
+//!   change or a settings edit shows in the next UI frame; the new images replace the
+//!   previous ones when they arrive.
 //! - Scene loading, file dialogs, PNG encoding, the quality figures (quality.rs) and the
 //!   magnifier's heatmaps (difference.rs) run on worker threads (worker.rs) as well.
 //! - Settings and layout persist through eframe's storage (settings.rs); keyboard shortcuts and
@@ -21,7 +23,9 @@
 // `app.rs` holds the `eframe::App`, as the module layout of the design names it.
 #[allow(clippy::module_inception)]
 mod app;
+mod blit;
 mod camera;
+mod clip;
 mod difference;
 mod engine;
 mod export;
@@ -46,6 +50,7 @@ use std::sync::Arc;
 
 pub use app::{AaLabApp, LaunchOptions};
 pub use camera::CameraController;
+pub use clip::{ClipPath, ClipSettings};
 pub use engine::DisplayPath;
 pub use quality::{Figures, PixelFigures};
 pub use settings::{DiffMetric, Layout, Resolution, Settings};

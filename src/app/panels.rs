@@ -157,7 +157,7 @@ impl AaLabApp {
     fn camera_menu(&mut self, ui: &mut egui::Ui) {
         let play = if self.camera.playing { "Pause" } else { "Play" };
         if menu_item(ui, play, Some(Action::PlayPause)) {
-            self.camera.playing = !self.camera.playing;
+            self.toggle_play();
         }
         if menu_item(ui, "Step one frame", Some(Action::Step)) {
             self.camera.playing = false;
@@ -342,7 +342,7 @@ impl AaLabApp {
                         .on_hover_text(shortcut_hint(&ctx, Action::PlayPause, tip))
                         .clicked()
                     {
-                        self.camera.playing = !self.camera.playing;
+                        self.toggle_play();
                     }
                     if ui
                         .button("Step")

@@ -397,6 +397,14 @@ impl AaLabApp {
         if !self.settings.quality || self.quality.failed {
             return;
         }
+        // A playing clip changes frames faster than figures can follow: they are measured
+        // for the frame it pauses on.
+        let clip_playing = |e: &super::engine::Engine| {
+            e.clip().is_some_and(|c| c.player.playing) && e.clip_shown()
+        };
+        if !self.images.is_open() && self.engine.as_ref().is_some_and(clip_playing) {
+            return;
+        }
         let Some((reference, progress)) = self.reference_for() else {
             return;
         };

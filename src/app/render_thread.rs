@@ -2,7 +2,7 @@
 //! and the progressive reference, and does every slow engine step off the UI thread: creating
 //! the device and the techniques' pipelines, uploading scenes, resizing targets (inside the
 //! graph's frame), recording and submitting frames, waiting for the GPU, reading the outputs
-//! back and converting them into egui images.
+//! back and uploading them as display textures on eframe's device ([`super::blit`]).
 //!
 //! The UI talks to it through two channels. [`Command`]s (scene, settings changes, frames to
 //! render) are handled in the order sent; each answer comes back as an [`Event`] and wakes the
@@ -12,9 +12,11 @@
 //! registry index (the UI's entry index); a technique whose pipelines cannot be created here
 //! is reported unavailable in [`Event::Ready`] and ignored afterwards.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, mpsc};
 use std::time::Duration;
 
+use super::blit::{DisplayTexture, Uploader};
 use super::reference::{ProgressiveReference, SharedControl};
 use crate::aa::ssaa::Progress;
 use crate::aa::{self, ParamMap, ParamValue};
@@ -22,7 +24,9 @@ use crate::gpu::readback::{PendingReadback, ReadbackBelt, ReadbackError, Region,
 use crate::gpu::{Gpu, GpuError};
 use crate::graph::params::Param;
 use crate::graph::{FrameGraph, FrameInfo, FrameScope, FrameTimings, MemoryReport};
+use crate::metrics::stability::{ClipMetrics, TemporalScores};
 use crate::scene::Scene;
+use crate::scene::camera::FrameCamera;
 
 /// What the UI mirrors of a technique's settings.
 #[derive(Clone, Debug)]
@@ -80,7 +84,8 @@ pub struct FramePlan {
     /// Registry indices whose outputs are read back to the CPU (rendered in this frame or
     /// not: a plan may only read).
     pub read: Vec<usize>,
-    /// Hand out the output textures of the techniques that run (egui draws them directly).
+    /// Hand out the output textures of the techniques that run (the window draws them
+    /// directly).
     pub textures: bool,
     /// Registry indices (a subset of `run`) whose debug views are read back too.
     pub debug: Vec<usize>,
@@ -92,28 +97,50 @@ pub struct FramePlan {
     pub delay: Duration,
 }
 
-/// A finished image: the pixels (sRGB-encoded RGBA8) and the same bytes as an egui image.
+/// A clip to record: every camera in turn through the same techniques (temporal ones with
+/// their real history), each frame read back and uploaded for display. The thread renders it
+/// in one go, answering [`Event::ClipFrame`] per recorded frame and [`Event::ClipEnd`] at the
+/// end; commands sent meanwhile wait.
+pub struct ClipJob {
+    /// Warm-up cameras first (rendered for the history only), then the clip's.
+    pub cameras: Vec<FrameCamera>,
+    /// How many of `cameras` are warm-up.
+    pub warmup: usize,
+    /// Registry indices of the techniques.
+    pub run: Vec<usize>,
+    /// Render the reference, complete, with every recorded frame, at this many samples per
+    /// pixel.
+    pub reference: Option<u32>,
+    /// Set by the UI to stop after the frame being rendered.
+    pub cancel: Arc<AtomicBool>,
+}
+
+/// How a clip ended.
+pub struct ClipSummary {
+    /// Every frame was recorded (not cancelled).
+    pub complete: bool,
+    /// Temporal figures per technique of the job, when it rendered the reference.
+    pub scores: Option<Vec<TemporalScores>>,
+    /// The reference's mean luma change per pixel and frame.
+    pub reference_change: Option<f64>,
+}
+
+/// A finished image: the pixels (sRGB-encoded RGBA8) and the same bytes on eframe's device.
 pub struct RenderedImage {
     /// The pixels.
     pub pixels: image::RgbaImage,
-    /// The same pixels, ready for a texture upload.
-    pub color: egui::ColorImage,
-}
-
-impl RenderedImage {
-    fn new(pixels: image::RgbaImage) -> Self {
-        let size = [pixels.width() as usize, pixels.height() as usize];
-        let color = egui::ColorImage::from_rgba_unmultiplied(size, pixels.as_raw());
-        Self { pixels, color }
-    }
+    /// The same pixels, ready to draw.
+    pub texture: Arc<DisplayTexture>,
 }
 
 /// A technique's output in a [`FrameResult`].
 pub struct FrameOutput {
-    /// The output texture, when the plan asked for textures and the technique ran.
-    pub texture: Option<wgpu::Texture>,
+    /// What to draw: the output texture itself when the plan asked for textures and the
+    /// technique ran, else the upload of the read-back pixels (`None` when a plan for textures
+    /// only read pixels back).
+    pub display: Option<Arc<DisplayTexture>>,
     /// The pixels, when the plan asked for them.
-    pub image: Option<RenderedImage>,
+    pub pixels: Option<image::RgbaImage>,
 }
 
 /// A rendered frame.
@@ -156,6 +183,8 @@ pub enum Command {
     ReferenceSamples(u32),
     /// Render a frame.
     Render(FramePlan),
+    /// Record a clip.
+    Clip(ClipJob),
 }
 
 /// Answers to the UI.
@@ -175,6 +204,16 @@ pub enum Event {
     },
     /// A frame finished (or failed).
     Frame(Result<FrameResult, RenderError>),
+    /// The next frame of a clip: the outputs by registry index (in the job's order) and the
+    /// reference.
+    ClipFrame {
+        /// Per technique.
+        outputs: Vec<(usize, RenderedImage)>,
+        /// When the job asked for it.
+        reference: Option<RenderedImage>,
+    },
+    /// A clip ended (or failed).
+    ClipEnd(Result<ClipSummary, RenderError>),
     /// The thread could not start; it has ended.
     Failed(RenderError),
 }
@@ -196,10 +235,11 @@ pub struct RenderThread {
 
 impl RenderThread {
     /// Starts the thread: it opens `device`, creates the graph for `scene` and every registry
-    /// technique that `available` allows, then answers [`Event::Ready`]. `wake` is called after
-    /// every event.
+    /// technique that `available` allows, then answers [`Event::Ready`]. Read-back images are
+    /// uploaded with `uploader`; `wake` is called after every event.
     pub fn spawn(
         device: RenderDevice,
+        uploader: Uploader,
         scene: Arc<Scene>,
         available: Vec<bool>,
         reference_samples: u32,
@@ -215,7 +255,8 @@ impl RenderThread {
                     wake();
                 };
                 let mut state =
-                    match RenderState::new(device, &scene, &available, reference_samples) {
+                    match RenderState::new(device, uploader, &scene, &available, reference_samples)
+                    {
                         Ok((state, ready)) => {
                             send(Event::Ready(ready));
                             state
@@ -226,9 +267,7 @@ impl RenderThread {
                         }
                     };
                 while let Ok(command) = command_receiver.recv() {
-                    if let Some(event) = state.handle(command) {
-                        send(event);
-                    }
+                    state.handle(command, &send);
                 }
             })?;
         Ok(Self { commands, events })
@@ -268,11 +307,13 @@ struct RenderState {
     timings_serial: u64,
     /// Every image of a frame goes back through one staging buffer, mapped once.
     belt: ReadbackBelt,
+    uploader: Uploader,
 }
 
 impl RenderState {
     fn new(
         device: RenderDevice,
+        uploader: Uploader,
         scene: &Scene,
         available: &[bool],
         reference_samples: u32,
@@ -315,31 +356,136 @@ impl RenderState {
             reference: control,
             reference_samples,
             timings_serial: 0,
+            uploader,
         };
         Ok((state, ready))
     }
 
-    fn handle(&mut self, command: Command) -> Option<Event> {
+    /// Carries out `command`, answering through `send`.
+    fn handle(&mut self, command: Command, send: &dyn Fn(Event)) {
         match command {
-            Command::Scene(scene) => {
-                self.graph.set_scene(&scene);
-                None
-            }
-            Command::Configure(index, change) => self.configure(index, change),
-            Command::ReferenceSamples(samples) => {
-                if samples != self.reference_samples {
-                    let (reference, control) = ProgressiveReference::new(&self.gpu, samples);
-                    self.graph.slots_mut()[self.reference_slot].technique = Box::new(reference);
-                    self.reference = control;
-                    self.reference_samples = samples;
+            Command::Scene(scene) => self.graph.set_scene(&scene),
+            Command::Configure(index, change) => {
+                if let Some(event) = self.configure(index, change) {
+                    send(event);
                 }
-                None
             }
+            Command::ReferenceSamples(samples) => self.set_reference_samples(samples),
             Command::Render(plan) => {
                 std::thread::sleep(plan.delay);
-                Some(Event::Frame(self.render(&plan)))
+                send(Event::Frame(self.render(&plan)));
+            }
+            Command::Clip(job) => {
+                let end = self.record_clip(&job, send);
+                send(Event::ClipEnd(end));
             }
         }
+    }
+
+    /// Replaces the reference with one of `samples` samples per pixel.
+    fn set_reference_samples(&mut self, samples: u32) {
+        if samples != self.reference_samples {
+            let (reference, control) = ProgressiveReference::new(&self.gpu, samples);
+            self.graph.slots_mut()[self.reference_slot].technique = Box::new(reference);
+            self.reference = control;
+            self.reference_samples = samples;
+        }
+    }
+
+    /// Renders `job`, sending each recorded frame through `send`, and scores it (the viewer's
+    /// reference comes back afterwards).
+    fn record_clip(
+        &mut self,
+        job: &ClipJob,
+        send: &dyn Fn(Event),
+    ) -> Result<ClipSummary, RenderError> {
+        let live_samples = self.reference_samples;
+        if let Some(samples) = job.reference {
+            self.set_reference_samples(samples);
+        }
+        let recorded = self.record_clip_frames(job, send);
+        self.set_reference_samples(live_samples);
+        recorded
+    }
+
+    /// Renders `job`, sending each recorded frame through `send`, and scores it.
+    fn record_clip_frames(
+        &mut self,
+        job: &ClipJob,
+        send: &dyn Fn(Event),
+    ) -> Result<ClipSummary, RenderError> {
+        let mut metrics = job.reference.map(|_| ClipMetrics::new(job.run.len()));
+        let mut complete = true;
+        for (number, camera) in job.cameras.iter().enumerate() {
+            if job.cancel.load(Ordering::Relaxed) {
+                complete = false;
+                break;
+            }
+            let frame = FrameInfo {
+                camera: *camera,
+                reset_history: number == 0,
+            };
+            if number < job.warmup {
+                // Warm-up: the temporal techniques' history only, nothing read.
+                self.enable(&job.run, false);
+                self.graph.render(&frame, FrameScope::TemporalOnly)?;
+                self.graph.finish();
+                continue;
+            }
+            let plan = FramePlan {
+                frame,
+                run: job.run.clone(),
+                read: job.run.clone(),
+                // Every frame needs textures of its own: the outputs' are overwritten.
+                textures: false,
+                debug: Vec::new(),
+                reference: job.reference.map(|_| ReferenceRequest {
+                    restart: true,
+                    budget: self.reference_samples,
+                }),
+                measure_memory: false,
+                delay: Duration::ZERO,
+            };
+            let result = self.render(&plan)?;
+            let outputs: Vec<(usize, RenderedImage)> = result
+                .outputs
+                .into_iter()
+                .filter_map(|(index, output)| {
+                    let texture = output.display?;
+                    let pixels = output.pixels?;
+                    Some((index, RenderedImage { pixels, texture }))
+                })
+                .collect();
+            let reference = result.reference.map(|(_, image)| image);
+            if let (Some(metrics), Some(reference)) = (&mut metrics, &reference) {
+                let images: Vec<&image::RgbaImage> =
+                    outputs.iter().map(|(_, image)| &image.pixels).collect();
+                if metrics.push(&reference.pixels, &images).is_err() {
+                    // A technique that produced no image this frame: no figures.
+                    *metrics = ClipMetrics::new(0);
+                }
+            }
+            send(Event::ClipFrame { outputs, reference });
+        }
+        Ok(ClipSummary {
+            complete,
+            reference_change: metrics.as_ref().and_then(|m| m.reference().mean_change()),
+            scores: metrics
+                .map(|m| m.scores())
+                .filter(|scores| scores.len() == job.run.len()),
+        })
+    }
+
+    /// Switches on exactly the slots of `run` (and the reference when `reference`).
+    fn enable(&mut self, run: &[usize], reference: bool) {
+        let running: Vec<usize> = run
+            .iter()
+            .filter_map(|&index| self.slots.get(index).copied().flatten())
+            .collect();
+        for (slot, state) in self.graph.slots_mut().iter_mut().enumerate() {
+            state.enabled = running.contains(&slot);
+        }
+        self.graph.slots_mut()[self.reference_slot].enabled = reference;
     }
 
     fn configure(&mut self, index: usize, change: SettingsChange) -> Option<Event> {
@@ -371,16 +517,13 @@ impl RenderState {
             .iter()
             .filter_map(|&index| Some((index, self.slots.get(index).copied().flatten()?)))
             .collect();
-        for (slot, state) in self.graph.slots_mut().iter_mut().enumerate() {
-            state.enabled = running.iter().any(|&(_, s)| s == slot);
-        }
+        self.enable(&plan.run, plan.reference.is_some());
         let before = self.reference.lock().progress;
         if let Some(request) = plan.reference {
             let mut control = self.reference.lock();
             control.restart = request.restart;
             control.budget = request.budget;
         }
-        self.graph.slots_mut()[self.reference_slot].enabled = plan.reference.is_some();
 
         // The readback copies go into the frame's own encoder: one submission, one mapping.
         let slot_of = &self.slots;
@@ -420,7 +563,7 @@ impl RenderState {
         } else {
             Vec::new()
         };
-        let mut result = tickets.take(pending, after, textures)?;
+        let mut result = tickets.take(pending, &self.uploader, after, textures, !plan.textures)?;
         result.memory = memory;
         result.scene_renders = scene_renders;
         result.timings = timings;
@@ -445,7 +588,13 @@ impl RenderState {
         );
         let pending = self.belt.finish(&mut encoder);
         self.gpu.queue.submit([encoder.finish()]);
-        tickets?.take(pending, Progress::default(), Vec::new())
+        tickets?.take(
+            pending,
+            &self.uploader,
+            Progress::default(),
+            Vec::new(),
+            !plan.textures,
+        )
     }
 }
 
@@ -502,38 +651,49 @@ impl Tickets {
         Ok(tickets)
     }
 
-    /// Waits for the copies and builds the frame's result (without the graph's figures).
+    /// Waits for the copies, uploads the images for display and builds the frame's result
+    /// (without the graph's figures). `textures` are outputs shown from their own texture;
+    /// other read-back outputs are uploaded when `shown_as_is` (the read-back display), and
+    /// only their pixels kept otherwise (the native display reading a still frame's pixels).
     fn take(
         self,
         pending: PendingReadback,
+        uploader: &Uploader,
         reference_progress: Progress,
         textures: Vec<(usize, wgpu::Texture)>,
+        shown_as_is: bool,
     ) -> Result<FrameResult, RenderError> {
         let read = pending.wait()?;
         let image = |ticket: Ticket| -> Result<RenderedImage, RenderError> {
-            Ok(RenderedImage::new(read.rgba8(ticket)?))
+            let pixels = read.rgba8(ticket)?;
+            let texture = uploader.upload(&pixels);
+            Ok(RenderedImage { pixels, texture })
         };
         let mut outputs: Vec<(usize, FrameOutput)> = textures
             .into_iter()
             .map(|(index, texture)| {
                 let output = FrameOutput {
-                    texture: Some(texture),
-                    image: None,
+                    display: Some(uploader.wrap(texture)),
+                    pixels: None,
                 };
                 (index, output)
             })
             .collect();
         for &(index, ticket) in &self.outputs {
-            let pixels = Some(image(ticket)?);
+            let pixels = read.rgba8(ticket)?;
             match outputs.iter_mut().find(|(i, _)| *i == index) {
-                Some((_, output)) => output.image = pixels,
-                None => outputs.push((
-                    index,
-                    FrameOutput {
-                        texture: None,
-                        image: pixels,
-                    },
-                )),
+                // The output texture itself is shown: the pixels are for the CPU only.
+                Some((_, output)) => output.pixels = Some(pixels),
+                None => {
+                    let display = shown_as_is.then(|| uploader.upload(&pixels));
+                    outputs.push((
+                        index,
+                        FrameOutput {
+                            display,
+                            pixels: Some(pixels),
+                        },
+                    ));
+                }
             }
         }
         Ok(FrameResult {

@@ -288,6 +288,8 @@ pub struct Settings {
     pub show_magnifier: bool,
     /// The GPU table lists every pass, not only per technique.
     pub show_passes: bool,
+    /// What "Record clip" records.
+    pub clip: super::clip::ClipSettings,
 }
 
 impl Default for Settings {
@@ -313,6 +315,7 @@ impl Default for Settings {
             show_metrics: true,
             show_magnifier: true,
             show_passes: false,
+            clip: super::clip::ClipSettings::default(),
         }
     }
 }

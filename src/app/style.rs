@@ -18,6 +18,9 @@ pub const SLOT_COLORS: [Color32; 4] = [
 pub const REFERENCE_COLOR: Color32 = Color32::from_rgb(0xe8, 0xe8, 0xe8);
 /// Letters of compared techniques.
 pub const SLOT_LETTERS: [&str; 4] = ["A", "B", "C", "D"];
+/// Background of the panels: painted once for the whole window by the viewer's fill
+/// ([`super::blit::fill`]), so egui's panels themselves are transparent.
+pub const PANEL_FILL: Color32 = Color32::from_gray(30);
 /// Background behind images (neutral, darker than the panels).
 pub const VIEWPORT_BG: Color32 = Color32::from_gray(18);
 /// Text that warns (stale figures, unavailable techniques).
@@ -30,7 +33,7 @@ pub fn apply(ctx: &egui::Context) {
     ctx.set_theme(egui::Theme::Dark);
     ctx.all_styles_mut(|style| {
         let v = &mut style.visuals;
-        v.panel_fill = Color32::from_gray(30);
+        v.panel_fill = Color32::TRANSPARENT;
         v.window_fill = Color32::from_gray(34);
         v.extreme_bg_color = Color32::from_gray(20);
         v.faint_bg_color = Color32::from_gray(36);

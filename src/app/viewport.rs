@@ -11,6 +11,7 @@
 use egui::{Color32, CursorIcon, Pos2, Rect, Sense, Stroke, StrokeKind, Vec2, pos2, vec2};
 
 use super::app::AaLabApp;
+use super::blit;
 use super::engine::Published;
 use super::magnifier::lens_region;
 use super::settings::{Layout, Resolution};
@@ -120,11 +121,9 @@ fn tile_rects(layout: Layout, rect: Rect, ppp: f32) -> Vec<Rect> {
 /// are opaque) lies: on a software rasteriser every painted pixel costs, and the images cover
 /// most of the viewport. Plain meshes, so no anti-aliasing fringe reaches into an image.
 fn paint_background(painter: &egui::Painter, area: Rect, covered: &[Rect]) {
-    let mut mesh = egui::Mesh::default();
     for rect in uncovered(area, covered) {
-        mesh.add_colored_rect(rect, VIEWPORT_BG);
+        blit::fill(painter, rect, VIEWPORT_BG);
     }
-    painter.add(mesh);
 }
 
 /// `area` minus the union of `covered`, as disjoint rectangles (horizontal bands split at
@@ -252,11 +251,11 @@ impl AaLabApp {
                     if self.settings.layout == Layout::Wipe && shown.len() == 2 {
                         self.paint_wipe(&painter, &tile, size_points, &shown, ppp);
                     } else if let (Some(what), Some(image)) = (what, image) {
-                        painter.image(
-                            image.id(),
+                        blit::paint(
+                            &painter,
+                            image.texture(),
                             Rect::from_min_size(tile.origin, size_points),
                             Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
-                            Color32::WHITE,
                         );
                         self.tile_label(&painter, tile_rect.min + vec2(8.0, 8.0), what);
                     } else {
@@ -365,11 +364,11 @@ impl AaLabApp {
             } else {
                 Rect::from_min_max(pos2(x, tile.rect.min.y), tile.rect.max)
             };
-            painter.with_clip_rect(clip.intersect(tile.rect)).image(
-                image.id(),
+            blit::paint(
+                &painter.with_clip_rect(clip.intersect(tile.rect)),
+                image.texture(),
                 image_rect,
                 uv,
-                Color32::WHITE,
             );
         }
         let top = pos2(x, visible.top());

@@ -3,7 +3,8 @@
 //! with their real history, after `--warmup` frames to fill it), and writes a looping animation
 //! of the labelled, nearest-neighbour zoomed panes side by side (the magnifier's layout; a
 //! full-frame grid without `--region`) plus `<out>.json`: the full recipe and, per technique,
-//! the temporal figures of [`crate::metrics::stability`] over the whole frame.
+//! the temporal figures of [`crate::metrics::stability`] over the whole frame and, with a
+//! region, over the region alone (the captions show those: what the animation shows).
 //!
 //! The output is a pure function of the command line (and the adapter): no timestamps, so the
 //! same command writes the same bytes.
@@ -20,11 +21,12 @@ use super::render::{
 };
 use crate::aa::FrameInfo;
 use crate::export::animation::{self, AnimationFormat};
-use crate::export::sheet::{self, Cell, Rect, Row, Sheet};
+use crate::export::clip::{self, Definitions};
+use crate::export::sheet::Rect;
 use crate::files;
 use crate::gpu::{Gpu, read_texture_rgba8};
 use crate::graph::FrameScope;
-use crate::metrics::stability::{ClipMetrics, GHOST_THRESHOLD, TemporalScores};
+use crate::metrics::stability::{ClipMetrics, TemporalScores};
 use crate::scene::motion::{DEFAULT_SPEED_PX, Motion};
 use crate::spec::{self, RenderSpec, TechniqueSpec};
 
@@ -95,6 +97,9 @@ pub struct ClipTechnique {
     /// Temporal figures over the clip (full frame).
     #[serde(flatten)]
     pub scores: TemporalScores,
+    /// The same over the `--region` pixels only (what the animation shows), with a region.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub region: Option<TemporalScores>,
 }
 
 /// What `<out>.json` (and the animation's `aa-lab` text chunk) holds.
@@ -129,32 +134,12 @@ pub struct ClipRecord {
     pub moving_fraction: f64,
     /// The reference's mean absolute luma change per pixel and frame.
     pub reference_mean_change: Option<f64>,
+    /// The same over the region, with one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub region_reference_mean_change: Option<f64>,
     /// Per technique, in pane order.
     pub techniques: Vec<ClipTechnique>,
 }
-
-/// The definitions behind the figures, stated in every record.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct Definitions {
-    /// Luma the figures use.
-    pub luma: &'static str,
-    /// `temporal_instability`.
-    pub temporal_instability: &'static str,
-    /// `ghosting`.
-    pub ghosting: &'static str,
-    /// Threshold of the moving-pixel mask, luma levels.
-    pub ghost_threshold: f32,
-    /// Pixels the figures are measured over.
-    pub measured_over: &'static str,
-}
-
-const DEFINITIONS: Definitions = Definitions {
-    luma: "BT.601 on 8-bit sRGB-encoded values: 0.299 R' + 0.587 G' + 0.114 B', 0..255",
-    temporal_instability: "mean over pixels and frame pairs of |luma(t) - luma(t-1)| of the technique, divided by the same for the reference",
-    ghosting: "mean |luma_technique(t) - luma_reference(t)| over the pixels where |luma_reference(t) - luma_reference(t-1)| > ghost_threshold, over all frame pairs",
-    ghost_threshold: GHOST_THRESHOLD,
-    measured_over: "every pixel of the whole frame, frames warmup..warmup+frames",
-};
 
 /// Parses `X,Y,W,H` and checks it against the render size: refused when any part lies
 /// outside (a clip's figures and panes must show what was asked for).
@@ -183,48 +168,6 @@ fn parse_region(text: &str, size: (u32, u32)) -> anyhow::Result<Rect> {
 /// `<out>` with the extension `.json`.
 fn json_path(out: &Path) -> PathBuf {
     out.with_extension("json")
-}
-
-/// Columns of the full-frame grid of `panes` panes: as square as it gets.
-fn grid_columns(panes: usize) -> usize {
-    (1..=panes.max(1))
-        .find(|c| c * c >= panes)
-        .unwrap_or(panes.max(1))
-}
-
-fn caption(scores: &TemporalScores) -> String {
-    let figure = |v: Option<f64>, digits: usize| {
-        v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
-    };
-    format!(
-        "instability {}  ghosting {}",
-        figure(scores.temporal_instability, 2),
-        figure(scores.ghosting, 1)
-    )
-}
-
-/// The short caption of narrow panes: `instability / ghosting`.
-fn short_caption(scores: &TemporalScores) -> String {
-    let figure = |v: Option<f64>, digits: usize| {
-        v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
-    };
-    format!(
-        "{} / {}",
-        figure(scores.temporal_instability, 2),
-        figure(scores.ghosting, 1)
-    )
-}
-
-/// The first text that fits in `width` pixels as a sheet caption, else the last one (the
-/// figures are in the record and on stdout either way).
-fn fit(texts: &[String], width: u32) -> String {
-    let sans = crate::export::text::Typeface::sans();
-    texts
-        .iter()
-        .find(|t| sans.width(t, sheet::CAPTION_SIZE) <= width as f32)
-        .or(texts.last())
-        .cloned()
-        .unwrap_or_default()
 }
 
 /// Runs `aa-lab clip`.
@@ -277,13 +220,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         width: args.scene.size.0,
         height: args.scene.size.1,
     });
-    let columns = if region.is_some() {
-        panes
-    } else {
-        grid_columns(panes)
-    };
-    let rows = panes.div_ceil(columns);
-    sheet::check_layout(columns, &vec![pane; rows], zoom)?;
+    clip::check(panes, region.is_some(), (pane.width, pane.height), zoom)?;
     let pixels = u64::from(args.frames)
         * panes as u64
         * u64::from(pane.width)
@@ -329,6 +266,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     );
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
     let mut metrics = ClipMetrics::new(techniques.len());
+    let mut region_metrics = region.map(|_| ClipMetrics::new(techniques.len()));
     // Per frame, per pane: the unzoomed crop.
     let mut crops: Vec<Vec<image::RgbaImage>> = Vec::new();
     for frame in 0..total {
@@ -368,15 +306,20 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
                 .context("the clip has no reference pane")?;
             let refs: Vec<&image::RgbaImage> = technique_images.iter().collect();
             metrics.push(reference_image, &refs)?;
-            crops.push(
-                images
-                    .iter()
-                    .map(|image| {
-                        image::imageops::crop_imm(image, pane.x, pane.y, pane.width, pane.height)
-                            .to_image()
-                    })
-                    .collect(),
-            );
+            let cropped: Vec<image::RgbaImage> = images
+                .iter()
+                .map(|image| {
+                    image::imageops::crop_imm(image, pane.x, pane.y, pane.width, pane.height)
+                        .to_image()
+                })
+                .collect();
+            if let (Some(region_metrics), Some((reference_crop, technique_crops))) =
+                (&mut region_metrics, cropped.split_last())
+            {
+                let refs: Vec<&image::RgbaImage> = technique_crops.iter().collect();
+                region_metrics.push(reference_crop, &refs)?;
+            }
+            crops.push(cropped);
         }
         bar.inc(1);
     }
@@ -384,98 +327,48 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     drop(graph);
 
     let scores = metrics.scores();
-    let reference_change = metrics
-        .reference()
-        .mean_change()
-        .map_or_else(|| "n/a".to_owned(), |c| format!("{c:.2}"));
+    let region_scores = region_metrics.as_ref().map(ClipMetrics::scores);
+    // The captions give the figures of what the animation shows.
+    let shown_metrics = region_metrics.as_ref().unwrap_or(&metrics);
+    let shown_scores = region_scores.as_ref().unwrap_or(&scores);
     let width = pane.width * zoom;
-    let mut captions: Vec<String> = scores
+    let mut panes: Vec<clip::Pane> = labels
         .iter()
-        .map(|s| fit(&[caption(s), short_caption(s)], width))
+        .zip(shown_scores)
+        .map(|(label, scores)| clip::Pane {
+            label: label.clone(),
+            caption: clip::fit(&[clip::caption(scores), clip::short_caption(scores)], width),
+        })
         .collect();
-    captions.push(fit(
-        &[
-            format!("change {reference_change}/frame"),
-            format!("{reference_change}/frame"),
-        ],
-        width,
-    ));
-    let footer = format!(
-        "captions: temporal instability / ghosting (luma levels); {} on {}",
-        spec::build_id(),
-        spec.adapter.clone().unwrap_or_default()
-    );
+    panes.push(clip::Pane {
+        label: labels.last().cloned().unwrap_or_default(),
+        caption: clip::reference_caption(shown_metrics.reference().mean_change(), width),
+    });
     let motion_text = if args.motion.uses_speed() {
         format!("{} {} px/frame", args.motion, args.speed)
     } else {
         args.motion.to_string()
     };
-    let mut frames = Vec::with_capacity(crops.len());
-    for (n, panes_of_frame) in crops.iter().enumerate() {
-        let cells = panes_of_frame
-            .iter()
-            .map(|crop| sheet::crop_zoom(crop, Rect { x: 0, y: 0, ..pane }, zoom))
-            .collect::<Result<Vec<_>, _>>()?;
-        let title = format!(
-            "aa-lab clip: {}, {motion_text}, frame {}/{}",
-            scene.name,
-            n + 1,
-            args.frames
-        );
-        let sheet = match region {
-            Some(rect) => Sheet {
-                title,
-                columns: labels.clone(),
-                rows: vec![Row {
-                    label: scene.name.clone(),
-                    detail: Some(format!(
-                        "{}x{} at {},{}, {zoom}x",
-                        rect.width, rect.height, rect.x, rect.y
-                    )),
-                    cells: cells
-                        .into_iter()
-                        .zip(&captions)
-                        .map(|(image, caption)| Cell {
-                            image,
-                            caption: Some(caption.clone()),
-                        })
-                        .collect(),
-                }],
-                footer: Some(footer.clone()),
-            },
-            None => {
-                let mut cells: Vec<Cell> = cells
-                    .into_iter()
-                    .zip(labels.iter().zip(&captions))
-                    .map(|(image, (label, caption))| Cell {
-                        image,
-                        caption: Some(fit(
-                            &[format!("{label}: {caption}"), label.clone()],
-                            pane.width * zoom,
-                        )),
-                    })
-                    .collect();
-                let mut grid = Vec::new();
-                while !cells.is_empty() {
-                    let rest = cells.split_off(columns.min(cells.len()));
-                    grid.push(Row {
-                        label: String::new(),
-                        detail: None,
-                        cells,
-                    });
-                    cells = rest;
-                }
-                Sheet {
-                    title,
-                    columns: Vec::new(),
-                    rows: grid,
-                    footer: Some(footer.clone()),
-                }
-            }
-        };
-        frames.push(sheet::compose(&sheet));
-    }
-    // Grid rows may have fewer cells than the first: compose pads them to one size already.
+    let layout = clip::Layout {
+        title: format!("aa-lab clip: {}, {motion_text}", scene.name),
+        scene: scene.name.clone(),
+        region,
+        zoom,
+        footer: format!(
+            "captions: temporal instability / ghosting (luma levels); {} on {}",
+            spec::build_id(),
+            spec.adapter.clone().unwrap_or_default()
+        ),
+        panes,
+    };
+    let frames = crops
+        .iter()
+        .enumerate()
+        .map(|(n, panes_of_frame)| {
+            let refs: Vec<&image::RgbaImage> = panes_of_frame.iter().collect();
+            layout.compose(n, crops.len(), &refs)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
 
     let record = ClipRecord {
         schema: SCHEMA,
@@ -489,17 +382,24 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         region,
         zoom,
         format,
-        definitions: DEFINITIONS,
+        definitions: clip::Definitions::over(
+            "every pixel of the whole frame, frames warmup..warmup+frames; `region` figures and the captions: the --region pixels only".to_owned(),
+        ),
+        region_reference_mean_change: region_metrics
+            .as_ref()
+            .and_then(|m| m.reference().mean_change()),
         moving_fraction: metrics.moving_fraction(),
         reference_mean_change: metrics.reference().mean_change(),
         techniques: ids
             .iter()
             .zip(&labels)
             .zip(&scores)
-            .map(|((id, label), scores)| ClipTechnique {
+            .enumerate()
+            .map(|(i, ((id, label), scores))| ClipTechnique {
                 id: id.clone(),
                 label: label.clone(),
                 scores: *scores,
+                region: region_scores.as_ref().and_then(|r| r.get(i).copied()),
             })
             .collect(),
     };
@@ -526,13 +426,29 @@ fn print_table(record: &ClipRecord) {
     let figure = |v: Option<f64>, digits: usize| {
         v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
     };
+    let regional = record.region.is_some();
     println!(
-        "{:<24} {:>12} {:>12} {:>10}",
-        "technique", "instability", "mean change", "ghosting"
+        "{:<24} {:>12} {:>12} {:>10}{}",
+        "technique",
+        "instability",
+        "mean change",
+        "ghosting",
+        if regional {
+            "  | region: instability  ghosting"
+        } else {
+            ""
+        }
     );
     for t in &record.techniques {
+        let region = t.region.map_or_else(String::new, |r| {
+            format!(
+                "  | {:>19} {:>9}",
+                figure(r.temporal_instability, 3),
+                figure(r.ghosting, 2)
+            )
+        });
         println!(
-            "{:<24} {:>12} {:>12} {:>10}",
+            "{:<24} {:>12} {:>12} {:>10}{region}",
             t.label,
             figure(t.scores.temporal_instability, 3),
             figure(t.scores.mean_change, 3),
@@ -575,15 +491,6 @@ mod tests {
         ] {
             assert!(parse_region(bad, size).is_err(), "{bad}");
         }
-    }
-
-    #[test]
-    fn grids_are_about_square() {
-        assert_eq!(grid_columns(1), 1);
-        assert_eq!(grid_columns(2), 2);
-        assert_eq!(grid_columns(5), 3);
-        assert_eq!(grid_columns(9), 3);
-        assert_eq!(grid_columns(10), 4);
     }
 
     #[test]

@@ -4,6 +4,7 @@
 
 pub mod animation;
 pub mod charts;
+pub mod clip;
 pub mod heatmap;
 pub mod png;
 pub mod report;

@@ -50,6 +50,14 @@ pub const SHADERS: &[(&str, &str)] = &[
         "metrics_copy.wgsl",
         include_str!("../../shaders/metrics_copy.wgsl"),
     ),
+    (
+        "viewer_blit.wgsl",
+        include_str!("../../shaders/viewer_blit.wgsl"),
+    ),
+    (
+        "viewer_fill.wgsl",
+        include_str!("../../shaders/viewer_fill.wgsl"),
+    ),
 ];
 
 /// The source of `shaders/<name>`.

@@ -240,6 +240,20 @@ impl Default for CameraRig {
 }
 
 impl CameraRig {
+    /// This rig with its frame-0 pose replaced by `pose` (the far plane and the orbit speed
+    /// stay): motions then start where the camera is now.
+    pub fn starting_at(&self, pose: super::camera::OrbitPose) -> Self {
+        Self {
+            target: pose.target,
+            distance: pose.distance,
+            yaw_degrees: pose.yaw_degrees,
+            pitch_degrees: pose.pitch_degrees,
+            fov_y_degrees: pose.fov_y_degrees,
+            near: pose.near,
+            ..*self
+        }
+    }
+
     /// A rig whose frame 0 looks from `eye` at `look_at` (turning about `look_at` at
     /// `orbit_degrees_per_frame`); `None` when the two points coincide or are not finite.
     pub fn looking_at(

@@ -127,6 +127,30 @@ impl Motion {
     }
 }
 
+/// The pose a fraction `t` (0..=1) along the path through `poses`, each leg taking the same
+/// time: target, distance, pitch, field of view and near plane interpolate linearly, yaw along
+/// the shorter way round. `None` with fewer than two poses.
+pub fn along_path(poses: &[OrbitPose], t: f32) -> Option<OrbitPose> {
+    if poses.len() < 2 {
+        return None;
+    }
+    let legs = (poses.len() - 1) as f32;
+    let at = t.clamp(0.0, 1.0) * legs;
+    let leg = (at.floor() as usize).min(poses.len() - 2);
+    let (a, b) = (poses[leg], poses[leg + 1]);
+    let f = at - leg as f32;
+    let mix = |x: f32, y: f32| x + (y - x) * f;
+    let turn = (b.yaw_degrees - a.yaw_degrees + 180.0).rem_euclid(360.0) - 180.0;
+    Some(OrbitPose {
+        target: a.target.lerp(b.target, f),
+        distance: mix(a.distance, b.distance),
+        yaw_degrees: (a.yaw_degrees + turn * f).rem_euclid(360.0),
+        pitch_degrees: mix(a.pitch_degrees, b.pitch_degrees),
+        fov_y_degrees: mix(a.fov_y_degrees, b.fov_y_degrees),
+        near: mix(a.near, b.near),
+    })
+}
+
 impl std::fmt::Display for Motion {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
@@ -146,6 +170,23 @@ mod tests {
     }
 
     const SIZE: (u32, u32) = (320, 180);
+
+    #[test]
+    fn paths_pass_through_every_pose_at_an_even_pace_and_turn_the_short_way() {
+        let pose = |yaw: f32, distance: f32| OrbitPose {
+            yaw_degrees: yaw,
+            distance,
+            ..OrbitPose::default()
+        };
+        let poses = [pose(350.0, 2.0), pose(10.0, 4.0), pose(10.0, 8.0)];
+        assert!(along_path(&poses[..1], 0.5).is_none());
+        assert_eq!(along_path(&poses, 0.0), Some(poses[0]));
+        assert_eq!(along_path(&poses, 0.5), Some(poses[1]));
+        assert_eq!(along_path(&poses, 1.0), Some(poses[2]));
+        let quarter = along_path(&poses, 0.25).unwrap();
+        assert!(quarter.yaw_degrees.abs() < 1e-3 || (quarter.yaw_degrees - 360.0).abs() < 1e-3);
+        assert!((quarter.distance - 3.0).abs() < 1e-6);
+    }
 
     #[test]
     fn orbit_is_the_rig_path() {
