@@ -85,6 +85,35 @@ fn assert_framed(scene: &Scene) {
 }
 
 #[test]
+fn closed_objects_are_framed_from_outside_and_interiors_seen_inside() {
+    // An ordinary closed object: the orbit framing.
+    let cube = load("cube.obj");
+    assert!(!cube.interior);
+    assert_framed(&cube);
+
+    // A room with inward faces: the eye inside, looking level along its long (x) axis.
+    let room = load("room.obj");
+    assert!(room.interior);
+    let pose = aa_lab::scene::camera::OrbitPose::at_frame(&room.camera, 0);
+    let (lo, hi) = room.bounds().expect("bounds");
+    let eye = pose.eye();
+    assert!(eye.cmpgt(lo).all() && eye.cmplt(hi).all(), "{eye}");
+    assert!((pose.target - eye).normalize().x > 0.99);
+    assert_eq!(room.camera.orbit_degrees_per_frame, 0.0);
+
+    // A box open at +x (the Cornell box's shape): looked into through the opening.
+    let set = load("open_box.obj");
+    assert!(set.interior);
+    let pose = aa_lab::scene::camera::OrbitPose::at_frame(&set.camera, 0);
+    let eye = pose.eye();
+    assert!(
+        eye.x > 2.0 && (eye.y - 2.0).abs() < 1e-4 && eye.z.abs() < 1e-4,
+        "{eye}"
+    );
+    assert!((pose.target - eye).normalize().x < -0.99);
+}
+
+#[test]
 fn textured_quad_flips_v_to_a_top_left_origin() {
     let scene = load("textured_quad.obj");
     assert_eq!(scene.name, "textured_quad");

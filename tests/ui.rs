@@ -51,6 +51,7 @@ fn viewer_with(
                     fresh_settings: true,
                     engine_frame_delay: frame_delay,
                     display,
+                    ..Default::default()
                 },
             )
             .expect("the viewer starts")
@@ -692,4 +693,193 @@ fn snapshots_of_the_main_layouts() {
     harness.step();
     harness.mask(status_bar);
     harness.snapshot_options("viewer-difference", &options);
+}
+
+/// A test image: a pattern with edges, or the same with a band shifted (`changed`).
+fn test_image(width: u32, height: u32, changed: bool) -> image::RgbaImage {
+    image::RgbaImage::from_fn(width, height, |x, y| {
+        let stripe = (x / 7 + y / 5) % 2 == 0;
+        let band = changed && (30..60).contains(&y);
+        let v = if stripe != band { 230 } else { 25 };
+        image::Rgba([v, (x * 255 / width) as u8, (y * 255 / height) as u8, 255])
+    })
+}
+
+fn write_png(dir: &Path, name: &str, image: &image::RgbaImage) -> PathBuf {
+    let path = dir.join(name);
+    image.save(&path).expect("a test PNG");
+    path
+}
+
+fn last_notice(app: &AaLabApp) -> String {
+    app.notices()
+        .last()
+        .map(|n| n.text.clone())
+        .unwrap_or_default()
+}
+
+/// File > Open images (through the method the menu uses): generated PNGs become the panes,
+/// the window shows their very pixels, the figures compare against the chosen reference
+/// (an identical image scores SSIM 1 and PSNR ∞), and sets that cannot be shown are refused
+/// with a message while the open images stay.
+#[test]
+fn images_open_as_panes_and_are_measured_against_the_chosen_reference() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (w, h) = (160, 96);
+    let capture = test_image(w, h, false);
+    let other = test_image(w, h, true);
+    let a = write_png(dir.path(), "capture.png", &capture);
+    let b = write_png(dir.path(), "capture-ref.png", &capture);
+    let c = write_png(dir.path(), "other-renderer.png", &other);
+    let mut harness = viewer("chart");
+    let ctx = harness.ctx.clone();
+    harness
+        .state_mut()
+        .open_images(&ctx, vec![a.clone(), b.clone(), c.clone()]);
+    wait(&mut harness, "the images", AaLabApp::image_set_open);
+    let app = harness.state();
+    assert_eq!(app.compared(), ["image-1", "image-2", "image-3"]);
+    let (names, reference) = app.image_names().expect("a set");
+    assert_eq!(
+        names,
+        ["capture.png", "capture-ref.png", "other-renderer.png"]
+    );
+    assert_eq!(reference, 1, "the file named ref is the reference");
+    assert_eq!(*app.reference_pixels().expect("a reference"), capture);
+    assert_eq!(app.render_size(), (w, h), "shown at their own size");
+    assert!(!app.rendering(), "the engine is idle");
+
+    // The window shows the image's own pixels, 1:1, below its label chip and around the
+    // lens outline.
+    harness.step();
+    let screen = harness.render().expect("the UI renders");
+    let rect = harness.state().image_rect().expect("A is drawn");
+    assert_eq!((rect.width() as u32, rect.height() as u32), (w, h));
+    let (lx, ly, lw, lh) = harness.state().lens_region().expect("a lens");
+    let outline =
+        |x: u32, y: u32| x + 3 >= lx && x <= lx + lw + 2 && y + 3 >= ly && y <= ly + lh + 2;
+    for y in 40..h {
+        for x in (0..w).filter(|&x| !outline(x, y)) {
+            let shown = screen.get_pixel(rect.min.x as u32 + x, rect.min.y as u32 + y);
+            assert_eq!(
+                shown.0[..3],
+                capture.get_pixel(x, y).0[..3],
+                "pixel ({x}, {y})"
+            );
+        }
+    }
+    assert!(
+        harness
+            .query_all_by_label("capture-ref.png · reference")
+            .next()
+            .is_some(),
+        "the panes are labelled with the file names"
+    );
+
+    // Figures against the reference: the identical image is perfect, the other one is
+    // measured as the metrics library measures it.
+    let measured = |app: &AaLabApp, ids: &[&str]| {
+        ids.iter()
+            .all(|id| app.quality_figures(id).is_some_and(|f| f.flip.is_some()))
+    };
+    wait(&mut harness, "the figures", |app| {
+        measured(app, &["image-1", "image-3"])
+    });
+    let app = harness.state();
+    let same = app.quality_figures("image-1").expect("figures").pixels;
+    assert_eq!(same.ssim, 1.0);
+    assert!(same.psnr.is_infinite() && same.mae == 0.0, "{same:?}");
+    assert!(
+        app.quality_figures("image-2").is_none(),
+        "the reference is not measured"
+    );
+    let library = aa_lab::metrics::compare(&capture, &other).expect("comparable");
+    let figures = app.quality_figures("image-3").expect("figures");
+    assert!(
+        (figures.pixels.ssim - library.ssim).abs() < 1e-3,
+        "{figures:?} vs {library:?}"
+    );
+    assert!((figures.pixels.psnr - library.psnr).abs() < 0.01);
+    assert!((figures.flip.expect("FLIP").0 - library.flip).abs() < 1e-9);
+    assert!(library.ssim < 0.99);
+    assert!(
+        harness.query_all_by_label("∞ dB").next().is_some(),
+        "the panel shows PSNR ∞"
+    );
+
+    // The magnifier's heatmaps: no error where the image equals the reference.
+    harness.state_mut().settings_mut().magnifier.difference = true;
+    wait(&mut harness, "the heatmaps", |app| {
+        app.difference_means().is_some()
+    });
+    let means = harness.state().difference_means().expect("heatmaps");
+    assert_eq!(means.len(), 3);
+    assert_eq!(means[0], 0.0, "{means:?}");
+    harness.state_mut().settings_mut().magnifier.difference = false;
+
+    // Another reference: the old figures go at once, the new ones compare against it.
+    harness.state_mut().set_image_reference(2);
+    assert!(harness.state().quality_figures("image-1").is_none());
+    wait(
+        &mut harness,
+        "the figures against the new reference",
+        |app| measured(app, &["image-1", "image-2"]),
+    );
+    let library = aa_lab::metrics::compare(&other, &capture).expect("comparable");
+    let figures = harness.state().quality_figures("image-1").expect("figures");
+    assert!((figures.pixels.ssim - library.ssim).abs() < 1e-3);
+
+    // The layouts work on the images.
+    for key in [egui::Key::G, egui::Key::W, egui::Key::F] {
+        harness.key_press(key);
+        harness.step();
+    }
+    assert_eq!(harness.state().settings().layout, Layout::Flip);
+    assert!(harness.state().image_rect().is_some());
+
+    // Refused sets: nothing changes but a message.
+    let small = write_png(dir.path(), "small.png", &test_image(80, 48, false));
+    let text = dir.path().join("notes.png");
+    std::fs::write(&text, "not an image").expect("a text file");
+    for (paths, message) in [
+        (vec![a.clone(), small], "differ in size"),
+        (vec![a.clone(), text], "not a PNG or JPEG"),
+        (vec![a.clone(); 5], "at most 4"),
+    ] {
+        harness.state_mut().open_images(&ctx, paths);
+        wait(&mut harness, message, |app| !app.images_loading());
+        let app = harness.state();
+        assert!(last_notice(app).contains(message), "{}", last_notice(app));
+        let (names, reference) = app.image_names().expect("the set stays");
+        assert_eq!(names.len(), 3);
+        assert_eq!(reference, 2);
+    }
+
+    // Back to the scene; then images dropped on the window open too, and a dropped model
+    // replaces them once it has loaded.
+    harness.state_mut().close_images();
+    wait(&mut harness, "the scene", AaLabApp::frame_ready);
+    assert_eq!(
+        harness.state().compared(),
+        ["none", "fxaa", "smaa", "msaa4"]
+    );
+    for path in [a, c] {
+        harness
+            .input_mut()
+            .dropped_files
+            .push(Arc::new(Dropped(path)));
+    }
+    harness.step();
+    wait(&mut harness, "the dropped images", AaLabApp::image_set_open);
+    assert_eq!(harness.state().compared(), ["image-1", "image-2"]);
+    let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/obj/cube.obj");
+    harness
+        .input_mut()
+        .dropped_files
+        .push(Arc::new(Dropped(cube)));
+    harness.step();
+    wait(&mut harness, "the model", |app| {
+        !app.image_set_open() && app.scene_name() == Some("cube")
+    });
+    wait(&mut harness, "a frame of the model", AaLabApp::frame_ready);
 }

@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 use super::camera::CameraController;
 use super::engine::{Display, DisplayPath, Engine};
 use super::export::ExportState;
+use super::image_set::ImageSetState;
 use super::magnifier::MagnifierState;
 use super::quality::QualityTracker;
 use super::scene_loader::SceneLoader;
@@ -38,6 +39,8 @@ pub struct LaunchOptions {
     pub engine_frame_delay: Duration,
     /// How the engine's images reach the screen.
     pub display: DisplayPath,
+    /// Images to compare instead of the scene (File > Open images).
+    pub images: Vec<PathBuf>,
 }
 
 /// Errors of creating the app.
@@ -80,6 +83,8 @@ pub(super) enum DialogPurpose {
     ImportBookmarks(String),
     /// Send exports to the picked folder.
     ExportFolder,
+    /// Open the picked images as panes.
+    OpenImages,
 }
 
 /// Facts about the loaded scene.
@@ -110,10 +115,13 @@ pub struct AaLabApp {
     pub(super) magnifier: MagnifierState,
     pub(super) quality: QualityTracker,
     pub(super) export: ExportState,
+    /// Images shown instead of the scene (image_set.rs).
+    pub(super) images: ImageSetState,
     pub(super) help_open: bool,
     pub(super) panels_hidden: bool,
-    /// The open file dialog (on its own thread): what its answer is for, and the answer.
-    pub(super) file_dialog: Option<(DialogPurpose, mpsc::Receiver<Option<PathBuf>>)>,
+    /// The open file dialog (on its own thread): what its answer is for, and the answer (the
+    /// files picked).
+    pub(super) file_dialog: Option<(DialogPurpose, mpsc::Receiver<Option<Vec<PathBuf>>>)>,
     engine_frame_delay: Duration,
     /// How the engine's images reach the screen.
     display: Display,
@@ -196,6 +204,7 @@ impl AaLabApp {
             magnifier: MagnifierState::default(),
             quality: QualityTracker::default(),
             export: ExportState::default(),
+            images: ImageSetState::new(super::blit::Uploader::new(state)),
             help_open: false,
             panels_hidden: false,
             file_dialog: None,
@@ -211,6 +220,9 @@ impl AaLabApp {
         };
         let scene = app.settings.scene.clone();
         app.load_scene(&cc.egui_ctx, &scene);
+        if !options.images.is_empty() {
+            app.open_images(&cc.egui_ctx, options.images);
+        }
         Ok(app)
     }
 
@@ -255,8 +267,11 @@ impl AaLabApp {
     }
 
     /// Whether every compared technique shows an image rendered at the current size and no
-    /// frame is in flight (tests wait for this).
+    /// frame is in flight, or an image set is shown (tests wait for this).
     pub fn frame_ready(&self) -> bool {
+        if self.images.is_open() {
+            return true;
+        }
         let Some(engine) = &self.engine else {
             return false;
         };
@@ -269,16 +284,15 @@ impl AaLabApp {
                 .all(|id| engine.image(id).is_some_and(|i| i.size() == size))
     }
 
-    /// Whether a technique has an image to show (of any size).
+    /// Whether a technique (or an image of the open set) has an image to show (of any size).
     pub fn has_image(&self, id: &str) -> bool {
-        self.engine.as_ref().is_some_and(|e| e.image(id).is_some())
+        self.image_for(id).is_some()
     }
 
-    /// The published output of a technique (the bytes on screen), when its pixels were read
-    /// back.
+    /// The published output of a technique or image of the open set (the bytes on screen),
+    /// when its pixels were read back.
     pub fn output_pixels(&self, id: &str) -> Option<std::sync::Arc<image::RgbaImage>> {
-        let engine = self.engine.as_ref()?;
-        engine.output(id).and_then(|p| p.pixels.clone())
+        self.output_for(id).and_then(|p| p.pixels.clone())
     }
 
     /// Where technique A's image was drawn in the last frame (points).
@@ -286,18 +300,15 @@ impl AaLabApp {
         self.viewport.image_rect
     }
 
-    /// The published reference of the displayed view (the bytes the figures compare against).
+    /// The published reference of the displayed view, or the reference image of the open set
+    /// (the bytes the figures compare against).
     pub fn reference_pixels(&self) -> Option<std::sync::Arc<image::RgbaImage>> {
-        let engine = self.engine.as_ref()?;
-        engine.reference().and_then(|(p, _)| p.pixels.clone())
+        self.reference_for().and_then(|(p, _)| p.pixels.clone())
     }
 
-    /// Samples the displayed reference rests on (0 when there is none).
+    /// Samples the displayed reference rests on (0 when there is none; 1 for an image).
     pub fn reference_samples_done(&self) -> u32 {
-        self.engine
-            .as_ref()
-            .and_then(|e| e.reference())
-            .map_or(0, |(_, p)| p.samples)
+        self.reference_for().map_or(0, |(_, p)| p.samples)
     }
 
     /// Raises a notice.
@@ -331,6 +342,26 @@ impl AaLabApp {
             .load(spec, move || super::request_one_frame(&ctx));
     }
 
+    /// Loads a scene the user asked for: an open image set gives way to it once it has
+    /// loaded.
+    pub(super) fn open_scene(&mut self, ctx: &egui::Context, spec: &str) {
+        self.images.leave_for_scene();
+        self.load_scene(ctx, spec);
+    }
+
+    /// Asks the OS for up to four images (PNG, JPEG) to open as panes.
+    pub(super) fn open_images_dialog(&mut self, ctx: &egui::Context) {
+        self.ask_for_paths(ctx, DialogPurpose::OpenImages, || {
+            rfd::FileDialog::new()
+                .set_title("Open up to four images of one size")
+                .add_filter(
+                    "Images (PNG, JPEG)",
+                    &["png", "PNG", "jpg", "JPG", "jpeg", "JPEG"],
+                )
+                .pick_files()
+        });
+    }
+
     /// Asks the OS for a model file (OBJ, glTF, GLB) to open.
     pub(super) fn open_file_dialog(&mut self, ctx: &egui::Context) {
         self.ask_for_path(ctx, DialogPurpose::OpenModel, || {
@@ -352,6 +383,16 @@ impl AaLabApp {
         purpose: DialogPurpose,
         dialog: impl FnOnce() -> Option<PathBuf> + Send + 'static,
     ) {
+        self.ask_for_paths(ctx, purpose, move || dialog().map(|path| vec![path]));
+    }
+
+    /// [`AaLabApp::ask_for_path`] for a dialog that picks several files.
+    pub(super) fn ask_for_paths(
+        &mut self,
+        ctx: &egui::Context,
+        purpose: DialogPurpose,
+        dialog: impl FnOnce() -> Option<Vec<PathBuf>> + Send + 'static,
+    ) {
         if self.file_dialog.is_some() {
             return;
         }
@@ -369,19 +410,33 @@ impl AaLabApp {
         }
     }
 
-    /// Acts on the path a file dialog gave.
-    fn dialog_answered(&mut self, ctx: &egui::Context, purpose: DialogPurpose, path: PathBuf) {
+    /// Acts on the paths a file dialog gave.
+    fn dialog_answered(
+        &mut self,
+        ctx: &egui::Context,
+        purpose: DialogPurpose,
+        mut paths: Vec<PathBuf>,
+    ) {
+        if let DialogPurpose::OpenImages = purpose {
+            self.open_images(ctx, paths);
+            return;
+        }
+        let Some(path) = paths.pop() else { return };
         match purpose {
-            DialogPurpose::OpenModel => self.load_scene(ctx, &path.display().to_string()),
+            DialogPurpose::OpenImages => {}
+            DialogPurpose::OpenModel => self.open_scene(ctx, &path.display().to_string()),
             DialogPurpose::ExportBookmarks(marks) => self.write_bookmarks(&path, &marks),
             DialogPurpose::ImportBookmarks(scene) => self.read_bookmarks(&path, &scene),
             DialogPurpose::ExportFolder => self.use_export_dir(path),
         }
     }
 
-    /// The ids compared as A, B, C, D: the marked ones that are on, then other techniques
-    /// that are on, in panel order.
+    /// The ids compared as A, B, C, D: the images of the open set in order; else the marked
+    /// techniques that are on, then other techniques that are on, in panel order.
     pub fn compared(&self) -> Vec<&'static str> {
+        if let Some(set) = self.images.open() {
+            return set.ids();
+        }
         let Some(engine) = &self.engine else {
             return Vec::new();
         };
@@ -448,6 +503,7 @@ impl AaLabApp {
         match loaded.result {
             Ok(scene) => self.install_scene(ctx, &loaded.spec, scene),
             Err(err) => {
+                self.images.stay();
                 let kept = match &self.scene {
                     Some(s) => format!("; {} stays loaded", s.name),
                     None => String::new(),
@@ -476,6 +532,7 @@ impl AaLabApp {
             spec.to_owned()
         };
         let camera = scene.camera;
+        let interior = scene.interior;
         let info = SceneInfo {
             spec: spec.clone(),
             name: scene.name.clone(),
@@ -522,7 +579,15 @@ impl AaLabApp {
             self.settings.remember_recent(&spec);
         }
         self.settings.scene = spec;
+        if self.images.take_leave() {
+            self.close_images();
+        }
         self.camera.set_rig(camera);
+        self.camera.set_mode(if interior {
+            super::camera::CameraMode::Fly
+        } else {
+            super::camera::CameraMode::Orbit
+        });
         self.scene = Some(info);
         self.quality.clear();
         self.magnifier.clear();
@@ -532,6 +597,7 @@ impl AaLabApp {
     fn poll_background(&mut self, ctx: &egui::Context) {
         profiling::function_scope!();
         self.finish_load(ctx);
+        self.finish_image_load();
         let answer = match &self.file_dialog {
             Some((_, receiver)) => match receiver.try_recv() {
                 Ok(picked) => Some(picked),
@@ -542,9 +608,9 @@ impl AaLabApp {
         };
         if let Some(picked) = answer
             && let Some((purpose, _)) = self.file_dialog.take()
-            && let Some(path) = picked
+            && let Some(paths) = picked
         {
-            self.dialog_answered(ctx, purpose, path);
+            self.dialog_answered(ctx, purpose, paths);
         }
         let dropped: Vec<PathBuf> = ctx.input(|i| {
             i.raw
@@ -553,8 +619,8 @@ impl AaLabApp {
                 .map(|f| f.path().to_path_buf())
                 .collect()
         });
-        for path in dropped {
-            self.load_scene(ctx, &path.display().to_string());
+        if !dropped.is_empty() {
+            self.open_dropped(ctx, dropped);
         }
         let finished = self.export.poll();
         for (level, text) in finished {
@@ -567,6 +633,8 @@ impl AaLabApp {
 
     fn handle_action(&mut self, ctx: &egui::Context, action: Action) {
         match action {
+            // The techniques are not shown while images are.
+            Action::ToggleTechnique(_) if self.images.is_open() => {}
             Action::ToggleTechnique(n) => {
                 let id = self.engine.as_ref().and_then(|e| {
                     e.entries()
@@ -657,7 +725,7 @@ impl AaLabApp {
         let Some(engine) = &self.engine else {
             return false;
         };
-        if engine.live_paused() {
+        if engine.live_paused() || self.images.is_open() {
             return false;
         }
         self.camera.moving_by_itself()
@@ -683,18 +751,20 @@ impl AaLabApp {
         let size = self.viewport.render_size;
         let want_reference = self.reference_wanted();
         let want_pixels = self.pixels_wanted();
+        // The engine stays idle while images are shown.
+        let idle = self.images.is_open();
         let Some(engine) = &mut self.engine else {
             return false;
         };
         let publication = engine.poll();
         let mut errors = publication.problems;
-        if size.0 > 0 && size.1 > 0 && !engine.busy() && !engine.live_paused() {
+        if size.0 > 0 && size.1 > 0 && !engine.busy() && !engine.live_paused() && !idle {
             let (camera, cut) = self.camera.next_frame(size);
             if let Err(err) = engine.submit(camera, cut, want_reference, want_pixels) {
                 errors.push(err.to_string());
             }
         }
-        let more = engine.reference_incomplete();
+        let more = engine.reference_incomplete() && !idle;
         self.clock.tick(publication.outputs);
         self.engine_frames += u64::from(publication.outputs);
         for err in errors {
@@ -751,7 +821,7 @@ impl eframe::App for AaLabApp {
             self.styled = true;
         }
         self.poll_background(&ctx);
-        let flying = self.camera.mode == super::camera::CameraMode::Fly;
+        let flying = self.camera.mode == super::camera::CameraMode::Fly && !self.images.is_open();
         for action in shortcuts::pressed_actions(&ctx, flying) {
             self.handle_action(&ctx, action);
         }
@@ -780,7 +850,10 @@ impl eframe::App for AaLabApp {
         self.menu_bar(ui);
         self.toolbar(ui);
         self.status_bar(ui);
-        self.clip_panel(ui);
+        // Clips record the scene; images have none.
+        if !self.images.is_open() {
+            self.clip_panel(ui);
+        }
         let show_side = !self.panels_hidden;
         if show_side && self.settings.show_techniques {
             self.techniques_panel(ui);
@@ -795,7 +868,7 @@ impl eframe::App for AaLabApp {
         shortcuts::help_overlay(&ctx, &mut self.help_open);
 
         // (An open file dialog wakes the UI itself when answered.)
-        let pending_jobs = self.loading() || self.export.running();
+        let pending_jobs = self.loading() || self.export.running() || self.images.loading();
         // Measurements wake the UI when they finish; this catches paced ones that wait.
         let measuring = self.quality.waiting() || self.magnifier.computing();
         if self.rendering() {

@@ -6,7 +6,8 @@
 //! *orbit* turns the eye about the target; *fly* (for interiors) keeps the eye where it is and
 //! turns the view about it (mouse look), and WASD/QE move eye and target together, at a speed
 //! scaled to the scene (a quarter of the framing distance per second, four times that with
-//! Shift).
+//! Shift). A loaded scene opens in the mode its default view suits: fly for an interior
+//! (whose default view is an inside one, `scene::interior`), orbit otherwise.
 //!
 //! The frame number is the scene's animation clock and the temporal techniques' jitter index:
 //! it advances by one per rendered frame while playing and stands still while paused. The
@@ -164,6 +165,13 @@ impl CameraController {
             }
             CameraMode::Fly => CameraMode::Orbit,
         };
+    }
+
+    /// Switches to `mode` as [`CameraController::toggle_mode`] does, unless already in it.
+    pub fn set_mode(&mut self, mode: CameraMode) {
+        if self.mode != mode {
+            self.toggle_mode();
+        }
     }
 
     /// Pans by a drag of `delta` points in a viewport `height` points tall: the point under the

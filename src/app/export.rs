@@ -306,8 +306,12 @@ impl AaLabApp {
         } else {
             String::new()
         };
+        let what = match self.image_names() {
+            Some((names, _)) => names.join(", "),
+            None => format!("{scene}, frame {frame}"),
+        };
         Some(sheet::compose(&sheet::Sheet {
-            title: format!("{scene}, frame {frame}, {w}×{h}{mode}"),
+            title: format!("{what}, {w}×{h}{mode}"),
             columns,
             rows: vec![Row {
                 label: format!("lens {zoom}×"),
@@ -328,6 +332,13 @@ impl AaLabApp {
     /// Starts an export of the displayed frame (see the module docs).
     pub(super) fn start_export(&mut self, _ctx: &egui::Context) {
         if self.export.running() {
+            return;
+        }
+        if self.images.is_open() {
+            self.notify(
+                Level::Warning,
+                "Export writes rendered frames; the open images are files already (Copy magnifier sheet copies their magnified panes)",
+            );
             return;
         }
         let Some(spec) = self.current_spec() else {

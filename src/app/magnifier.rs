@@ -126,12 +126,11 @@ impl AaLabApp {
         sources
     }
 
-    /// The published image of a pane.
+    /// The published image of a pane (a technique's, or an image of the open set).
     pub(super) fn source_image(&self, source: Source) -> Option<&Published> {
-        let engine = self.engine.as_ref()?;
         match source {
-            Source::Technique(_, id) => engine.image(id),
-            Source::Reference => engine.reference().map(|(image, _)| image),
+            Source::Technique(_, id) => self.image_for(id),
+            Source::Reference => self.reference_for().map(|(image, _)| image),
         }
     }
 
@@ -274,7 +273,7 @@ impl AaLabApp {
 
     /// The heatmap of a pane when it shows the displayed view with the selected metric.
     fn pane_heat(&self, source: Source) -> Option<&PaneHeat> {
-        let view = self.engine.as_ref()?.current_view();
+        let view = self.current_view()?;
         self.magnifier.heatmaps.iter().find(|h| {
             h.source == source
                 && h.key.view == view
@@ -491,7 +490,7 @@ impl AaLabApp {
                     );
                 }
                 None => {
-                    let text = match self.engine.as_ref().map(|e| e.reference_state()) {
+                    let text = match self.reference_state_for() {
                         Some(ReferenceState::Ready(_)) => "computing…",
                         _ => {
                             "waiting for the reference\n(it accumulates while the camera is still)"
@@ -557,15 +556,7 @@ impl AaLabApp {
             Source::Technique(slot, id) => {
                 (SLOT_LETTERS[slot], SLOT_COLORS[slot], self.shown_label(id))
             }
-            Source::Reference => {
-                let name = match self.engine.as_ref().map(|e| e.reference_state()) {
-                    Some(ReferenceState::Ready(p)) => {
-                        format!("Reference {}/{} spp", p.samples, p.total)
-                    }
-                    _ => "Reference".to_owned(),
-                };
-                ("R", REFERENCE_COLOR, name)
-            }
+            Source::Reference => ("R", REFERENCE_COLOR, self.reference_title()),
         }
     }
 
@@ -573,7 +564,8 @@ impl AaLabApp {
     /// difference mode).
     pub(super) fn pane_figures(&self, source: Source) -> String {
         match source {
-            Source::Reference => match self.engine.as_ref().map(|e| e.reference_state()) {
+            Source::Reference if self.images.is_open() => "reference image".to_owned(),
+            Source::Reference => match self.reference_state_for() {
                 Some(ReferenceState::Ready(p)) if p.complete() => "converged".to_owned(),
                 Some(ReferenceState::Ready(p)) => format!("accumulating {}/{}", p.samples, p.total),
                 _ => "waiting for a still camera".to_owned(),
@@ -592,6 +584,9 @@ impl AaLabApp {
                 }
                 if let Some(figures) = self.figures_text(id) {
                     parts.push(figures);
+                }
+                if self.is_reference_image(id) {
+                    parts.push("reference image".to_owned());
                 }
                 parts.join(" · ")
             }

@@ -42,6 +42,11 @@ impl AaLabApp {
                 egui::ScrollArea::vertical().show(ui, |ui| {
                     ui.add_space(4.0);
                     ui.heading("Metrics");
+                    if self.images.is_open() {
+                        // Nothing renders: only the images' figures apply.
+                        self.image_quality_section(ui);
+                        return;
+                    }
                     self.performance_section(ui);
                     ui.separator();
                     self.gpu_section(ui);
@@ -417,7 +422,7 @@ impl AaLabApp {
                         }
                         ui.label(self.shown_label(id));
                     });
-                    let pixels = self.quality.current_pixels(id, engine);
+                    let pixels = self.quality.current_pixels(id, self.measure_key(id));
                     match pixels.map(|m| (&m.value, m)) {
                         Some((Ok(f), m)) => {
                             let n = m.reference.samples;
@@ -438,7 +443,7 @@ impl AaLabApp {
                             }
                         }
                     }
-                    match self.quality.current_flip(id, engine) {
+                    match self.quality.current_flip(id, self.measure_key(id)) {
                         Some(m) => match &m.value {
                             Ok(v) => {
                                 let tip = format!(
@@ -462,7 +467,7 @@ impl AaLabApp {
             });
         let samples: Vec<u32> = enabled
             .iter()
-            .filter_map(|id| self.quality.current_pixels(id, engine))
+            .filter_map(|id| self.quality.current_pixels(id, self.measure_key(id)))
             .map(|m| m.reference.samples)
             .collect();
         if let (Some(lo), Some(hi)) = (samples.iter().min(), samples.iter().max()) {

@@ -29,6 +29,8 @@ mod clip;
 mod difference;
 mod engine;
 mod export;
+mod image_panel;
+mod image_set;
 mod magnifier;
 mod metrics_panel;
 mod panels;

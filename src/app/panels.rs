@@ -53,13 +53,28 @@ impl AaLabApp {
         if menu_item(ui, "Open OBJ…", Some(Action::Open)) {
             self.open_file_dialog(ctx);
         }
+        if ui
+            .button("Open images…")
+            .on_hover_text("Compare up to four PNG or JPEG images of one size (captures from another renderer, aa-lab's own exports) instead of the scene, one of them as the reference; dropping image files on the window does the same")
+            .clicked()
+        {
+            self.open_images_dialog(ctx);
+        }
+        if self.images.is_open()
+            && ui
+                .button("Close images")
+                .on_hover_text("Back to the scene")
+                .clicked()
+        {
+            self.close_images();
+        }
         ui.menu_button("Open recent", |ui| {
             if self.settings.recent.is_empty() {
                 ui.weak("No recent files");
             }
             for path in self.settings.recent.clone() {
                 if ui.button(&path).clicked() {
-                    self.load_scene(ctx, &path);
+                    self.open_scene(ctx, &path);
                 }
             }
         });
@@ -67,7 +82,7 @@ impl AaLabApp {
             for name in BUILTIN_SCENES {
                 let current = self.scene.as_ref().is_some_and(|s| s.spec == *name);
                 if ui.add(Button::selectable(current, *name)).clicked() {
-                    self.load_scene(ctx, name);
+                    self.open_scene(ctx, name);
                 }
             }
         });
@@ -405,12 +420,19 @@ impl AaLabApp {
                 .on_hover_text(format!("Compared technique {}: {name}", SLOT_LETTERS[slot]));
             ui.label(name);
         }
+        if self.images.is_open() {
+            self.image_strip(ui);
+        }
         if compared.len() >= 2
             && ui
                 .small_button("swap A/B")
                 .on_hover_text("Swap A and B")
                 .clicked()
         {
+            if self.images.is_open() {
+                self.swap_images();
+                return;
+            }
             let (a, b) = (compared[0].to_owned(), compared[1].to_owned());
             let mut order: Vec<String> = compared.iter().map(|s| (*s).to_owned()).collect();
             order[0] = b;
@@ -443,7 +465,14 @@ impl AaLabApp {
                     let (w, h) = self.viewport.render_size;
                     ui.label(RichText::new(format!("{w} × {h}")).small().monospace())
                         .on_hover_text("Render resolution of every technique (1:1 on screen)");
-                    if let Some(scene) = &self.scene {
+                    if let Some(set) = self.images.open() {
+                        ui.separator();
+                        let (w, h) = set.size();
+                        let paths: Vec<String> =
+                            set.images().iter().map(|i| i.path.display().to_string()).collect();
+                        ui.label(RichText::new(format!("{} image(s) · {w} × {h}", paths.len())).small())
+                            .on_hover_text(paths.join("\n"));
+                    } else if let Some(scene) = &self.scene {
                         ui.separator();
                         ui.label(RichText::new(format!("{} · {} triangles", scene.name, scene.triangles)).small())
                             .on_hover_text(&scene.spec);
@@ -497,6 +526,10 @@ impl AaLabApp {
     /// Every registry technique with its switch, comparison mark and settings.
     pub(super) fn techniques_panel(&mut self, ui: &mut egui::Ui) {
         profiling::function_scope!();
+        if self.images.is_open() {
+            self.images_panel(ui);
+            return;
+        }
         egui::Panel::left("techniques")
             .resizable(true)
             .default_size(300.0)

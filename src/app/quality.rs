@@ -27,7 +27,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use super::app::{AaLabApp, Level};
-use super::engine::{Engine, ImageStamp};
+use super::engine::ImageStamp;
 use super::render_thread::open_device;
 use super::worker::{Reporter, Worker};
 use crate::aa::ssaa::Progress;
@@ -289,15 +289,21 @@ impl QualityTracker {
             || self.flip_worker.as_ref().is_some_and(Worker::busy)
     }
 
-    /// The SSIM, PSNR and MAE measurement of a technique if it is valid for what is on
-    /// screen now.
-    pub fn current_pixels(&self, id: &str, engine: &Engine) -> Option<&Measured<PixelFigures>> {
-        current(self.pixels.get(id), id, engine)
+    /// The SSIM, PSNR and MAE measurement of a technique (or image) if it is valid for what
+    /// is on screen now: `key` is the view and settings revision it must have been made at
+    /// ([`AaLabApp::measure_key`]).
+    pub fn current_pixels(
+        &self,
+        id: &str,
+        key: Option<(u64, u64)>,
+    ) -> Option<&Measured<PixelFigures>> {
+        current(self.pixels.get(id), key)
     }
 
-    /// The FLIP measurement of a technique if it is valid for what is on screen now.
-    pub fn current_flip(&self, id: &str, engine: &Engine) -> Option<&Measured<f64>> {
-        current(self.flip.get(id), id, engine)
+    /// The FLIP measurement of a technique (or image) if it is valid for what is on screen
+    /// now (`key` as for [`QualityTracker::current_pixels`]).
+    pub fn current_flip(&self, id: &str, key: Option<(u64, u64)>) -> Option<&Measured<f64>> {
+        current(self.flip.get(id), key)
     }
 
     /// Takes the workers' results.
@@ -328,14 +334,10 @@ impl QualityTracker {
     }
 }
 
-/// `stored` if it is valid for the technique's current view and settings.
-fn current<'a, T>(
-    stored: Option<&'a Measured<T>>,
-    id: &str,
-    engine: &Engine,
-) -> Option<&'a Measured<T>> {
-    let entry = engine.entry(id).filter(|e| e.enabled)?;
-    stored.filter(|m| valid_for(m, engine.current_view(), entry.revision()))
+/// `stored` if it was measured at `key` (view, settings revision).
+fn current<T>(stored: Option<&Measured<T>>, key: Option<(u64, u64)>) -> Option<&Measured<T>> {
+    let (view, revision) = key?;
+    stored.filter(|m| valid_for(m, view, revision))
 }
 
 /// Hands a job for the techniques that need it to `worker`, respecting its pace; returns
@@ -387,33 +389,29 @@ impl AaLabApp {
         profiling::function_scope!();
         self.quality.collect();
         self.quality.deferred = false;
-        let Some(engine) = &self.engine else { return };
-        let view = engine.current_view();
+        // The engine's view, or the open image set's.
+        let Some(view) = self.current_view() else {
+            return;
+        };
         self.quality.current_view.store(view, Ordering::Relaxed);
         if !self.settings.quality || self.quality.failed {
             return;
         }
         // A playing clip changes frames faster than figures can follow: they are measured
         // for the frame it pauses on.
-        if engine.clip().is_some_and(|c| c.player.playing) && engine.clip_shown() {
+        let clip_playing = |e: &super::engine::Engine| {
+            e.clip().is_some_and(|c| c.player.playing) && e.clip_shown()
+        };
+        if !self.images.is_open() && self.engine.as_ref().is_some_and(clip_playing) {
             return;
         }
-        let Some((reference, progress)) = engine.reference() else {
+        let Some((reference, progress)) = self.reference_for() else {
             return;
         };
         if reference.stamp.view != view {
             return;
         }
-        let tests: Vec<(&'static str, ImageStamp, Arc<image::RgbaImage>)> = engine
-            .entries()
-            .iter()
-            .filter_map(|entry| {
-                let output = engine.output(entry.id)?;
-                let pixels = output.pixels.as_ref()?;
-                (output.stamp.view == view && output.stamp.revision == entry.revision())
-                    .then(|| (entry.id, output.stamp, Arc::clone(pixels)))
-            })
-            .collect();
+        let tests = self.measured_images(view);
         if tests.is_empty() {
             return;
         }
@@ -470,11 +468,11 @@ impl AaLabApp {
     /// The quality figures of a technique that describe what is on screen now (`None` while
     /// they are stale or being measured).
     pub fn quality_figures(&self, id: &str) -> Option<Figures> {
-        let engine = self.engine.as_ref()?;
-        let pixels = self.quality.current_pixels(id, engine)?;
+        let key = self.measure_key(id);
+        let pixels = self.quality.current_pixels(id, key)?;
         let flip = self
             .quality
-            .current_flip(id, engine)
+            .current_flip(id, key)
             .and_then(|m| m.value.as_ref().ok().map(|v| (*v, m.reference.samples)));
         Some(Figures {
             pixels: *pixels.value.as_ref().ok()?,

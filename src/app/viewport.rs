@@ -194,9 +194,11 @@ impl AaLabApp {
                     .filter(|e| e.clip_shown())
                     .and_then(|e| e.clip())
                     .map(|c| c.recipe.size);
-                // A clip on screen keeps the size it was recorded at (the lens is in its
-                // pixels); the live view renders at the size the viewport asks for.
-                let wanted = match (clip_size, self.settings.resolution) {
+                // Open images are shown at their own size, and a clip on screen keeps the
+                // size it was recorded at (the lens is in their pixels); the live view
+                // renders at the size the viewport asks for.
+                let fixed = self.images.open().map(|set| set.size()).or(clip_size);
+                let wanted = match (fixed, self.settings.resolution) {
                     (Some(size), _) => size,
                     (None, Resolution::FitViewport) => physical_size(tiles_rects[0], ppp),
                     (None, Resolution::Fixed(w, h)) => (w, h),
@@ -208,7 +210,7 @@ impl AaLabApp {
                     ui.scope_id().with("viewport"),
                     Sense::click_and_drag(),
                 );
-                if self.engine.is_none() {
+                if self.engine.is_none() && !self.images.is_open() {
                     paint_background(ui.painter(), rect, &[]);
                     self.empty_state(ui, rect, true);
                     return;
@@ -299,13 +301,7 @@ impl AaLabApp {
                 let (hold_b, hold_r) =
                     ctx.input(|i| (i.key_down(egui::Key::B), i.key_down(egui::Key::R)));
                 let typing = ctx.egui_wants_keyboard_input();
-                if hold_r
-                    && !typing
-                    && self
-                        .engine
-                        .as_ref()
-                        .is_some_and(|e| e.reference().is_some())
-                {
+                if hold_r && !typing && self.reference_for().is_some() {
                     vec![Shown::Reference]
                 } else if hold_b && !typing {
                     vec![b.unwrap_or(a)]
@@ -317,15 +313,17 @@ impl AaLabApp {
     }
 
     fn shown_image(&self, shown: Shown) -> Option<&Published> {
-        let engine = self.engine.as_ref()?;
         match shown {
-            Shown::Technique(_, id) => engine.image(id),
-            Shown::Reference => engine.reference().map(|(image, _)| image),
+            Shown::Technique(_, id) => self.image_for(id),
+            Shown::Reference => self.reference_for().map(|(image, _)| image),
         }
     }
 
     /// The label text of what a tile shows.
     pub(super) fn shown_label(&self, id: &str) -> String {
+        if let Some(label) = self.image_label(id) {
+            return label;
+        }
         let Some(entry) = self.engine.as_ref().and_then(|e| e.entry(id)) else {
             return id.to_owned();
         };
@@ -345,11 +343,7 @@ impl AaLabApp {
                 &self.shown_label(id),
             ),
             Shown::Reference => {
-                let text = match self.engine.as_ref().and_then(|e| e.reference()) {
-                    Some((_, p)) => format!("Reference · {}/{} spp", p.samples, p.total),
-                    None => "Reference".to_owned(),
-                };
-                style::chip(painter, at, "R", REFERENCE_COLOR, &text)
+                style::chip(painter, at, "R", REFERENCE_COLOR, &self.reference_title())
             }
         }
     }
@@ -494,7 +488,7 @@ impl AaLabApp {
             painter.text(
                 rect.center(),
                 egui::Align2::CENTER_CENTER,
-                "Drop an OBJ, glTF or GLB file to open it",
+                "Drop an OBJ, glTF or GLB file, or up to four PNG/JPEG images",
                 egui::FontId::proportional(22.0),
                 Color32::WHITE,
             );
@@ -603,6 +597,8 @@ impl AaLabApp {
                     self.settings.magnifier.center = Some([f.x, f.y]);
                     ctx.set_cursor_icon(CursorIcon::Grabbing);
                 }
+                // Images have no camera.
+                (Some(Drag::Camera), _, _) if self.images.is_open() => {}
                 (Some(Drag::Camera), _, _) => {
                     if response.dragged_by(egui::PointerButton::Primary)
                         && !ctx.input(|i| i.modifiers.shift)
@@ -619,7 +615,7 @@ impl AaLabApp {
         if response.drag_stopped() {
             self.viewport.drag = None;
         }
-        if response.hovered() {
+        if response.hovered() && !self.images.is_open() {
             let scroll = ctx.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
                 self.camera.zoom(scroll);

@@ -50,6 +50,11 @@ pub struct Cli {
     /// Viewer: start from the default settings instead of the saved ones.
     #[arg(long)]
     pub default_settings: bool,
+    /// Viewer: compare these images (up to four PNG/JPEG files of one size, e.g. captures
+    /// from another renderer) instead of the scene; the first whose name has the word
+    /// `reference` or `ref`, else the first, is the reference.
+    #[arg(long, num_args = 1.., value_name = "IMAGE")]
+    pub images: Vec<std::path::PathBuf>,
 }
 
 /// The subcommands.
@@ -95,10 +100,15 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Info { json }) => info::info(json),
         Some(Command::Techniques { json, verbose }) => info::techniques(json, verbose),
+        None if !crate::app::display_available() && !cli.images.is_empty() => anyhow::bail!(
+            "--images opens the images in the viewer, and there is no display (neither DISPLAY \
+             nor WAYLAND_DISPLAY is set); `aa-lab compare` scores images headless"
+        ),
         None if !crate::app::display_available() => render_headless(cli.scene),
         None => Ok(crate::app::run(crate::app::LaunchOptions {
             scene: cli.scene,
             fresh_settings: cli.default_settings,
+            images: cli.images,
             ..Default::default()
         })?),
     }

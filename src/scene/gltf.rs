@@ -31,7 +31,8 @@
 //! * Cameras: every perspective camera of the drawn nodes becomes a [`SceneView`] (its
 //!   position and viewing direction; roll is dropped because the orbit camera keeps +Y up);
 //!   the first is the default view. The rig turns about a point ahead of the camera at the
-//!   depth of the model's centre. Without cameras the orbit framing of the OBJ loader is used.
+//!   depth of the model's centre. Without cameras the OBJ loader's default applies: the orbit
+//!   framing, or an inside view for an interior ([`super::interior`]).
 //! * Extensions: a file that *requires* an extension other than `KHR_materials_unlit` is
 //!   refused with an error naming it; one that merely uses others loads with a warning
 //!   naming them (they are ignored).
@@ -187,6 +188,7 @@ pub fn load_gltf(path: &Path) -> Result<Scene, GltfError> {
         materials: loader.materials,
         textures: loader.textures,
         camera: CameraRig::default(),
+        interior: false,
         light: DirectionalLight::default(),
         clear_color: CLEAR_COLOR,
         views: Vec::new(),
@@ -205,7 +207,16 @@ pub fn load_gltf(path: &Path) -> Result<Scene, GltfError> {
         .into_iter()
         .filter_map(|c| c.view(center, radius, framed.orbit_degrees_per_frame))
         .collect();
-    scene.camera = scene.views.first().map_or(framed, |v| v.camera);
+    scene.camera = match scene.views.first() {
+        Some(view) => view.camera,
+        None => match super::interior::inside_view(&scene) {
+            Some(inside) => {
+                scene.interior = true;
+                inside
+            }
+            None => framed,
+        },
+    };
     Ok(scene)
 }
 

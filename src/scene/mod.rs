@@ -4,6 +4,7 @@
 
 pub mod camera;
 pub mod gltf;
+pub mod interior;
 pub mod model;
 pub mod motion;
 pub mod obj;

@@ -340,6 +340,9 @@ pub struct Scene {
     pub textures: Vec<TextureImage>,
     /// Camera path (the default view).
     pub camera: CameraRig,
+    /// The model encloses its bounds' centre and `camera` is an inside view
+    /// ([`super::interior`]); the viewer opens it with the fly camera.
+    pub interior: bool,
     /// Cameras the scene file defines, in file order; the first is `camera` when there is one.
     pub views: Vec<SceneView>,
     /// Light.
@@ -363,6 +366,7 @@ impl Scene {
             materials: Vec::new(),
             textures: Vec::new(),
             camera: CameraRig::default(),
+            interior: false,
             light: DirectionalLight::default(),
             clear_color: Vec3::ZERO,
             views: Vec::new(),

@@ -56,6 +56,8 @@
 //! 0.5 degrees per frame. Its distance makes the sphere about that centre through the farthest
 //! vertex fill the vertical field of view less a 10% margin, so no orbit angle clips the
 //! model (for image heights up to the width). Near and far planes scale with the radius.
+//! A model that encloses that centre (a room, a Cornell box: see [`super::interior`]) opens
+//! with an inside view instead, and [`Scene::interior`] says so.
 
 use std::borrow::Cow;
 use std::cell::RefCell;
@@ -240,10 +242,14 @@ pub fn load_obj(path: &Path) -> Result<Scene, ObjError> {
         ));
     }
     match bounding_sphere(&scene) {
-        Some((center, radius)) if scene.triangle_count() > 0 => Ok(Scene {
-            camera: framed_camera(center, radius),
-            ..scene
-        }),
+        Some((center, radius)) if scene.triangle_count() > 0 => {
+            let inside = super::interior::inside_view(&scene);
+            Ok(Scene {
+                camera: inside.unwrap_or_else(|| framed_camera(center, radius)),
+                interior: inside.is_some(),
+                ..scene
+            })
+        }
         _ => Err(ObjError::NoFaces {
             path: path.to_owned(),
         }),
@@ -1127,6 +1133,7 @@ impl SceneBuilder<'_> {
             materials: self.materials,
             textures: self.textures.images,
             camera: CameraRig::default(),
+            interior: false,
             light: DirectionalLight::default(),
             clear_color: CLEAR_COLOR,
             views: Vec::new(),

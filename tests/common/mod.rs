@@ -100,6 +100,7 @@ pub fn flat_chart(slant_degrees: f32) -> Scene {
             far: 100.0,
             orbit_degrees_per_frame: 0.0,
         },
+        interior: false,
         light: Default::default(),
         clear_color: Vec3::ONE,
         views: Vec::new(),

@@ -564,6 +564,7 @@ pub fn chart(_options: &SceneOptions) -> Scene {
             far: 100.0,
             orbit_degrees_per_frame: 0.0,
         },
+        interior: false,
         light: DirectionalLight::default(),
         clear_color: Vec3::ONE,
         views: Vec::new(),

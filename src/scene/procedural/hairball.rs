@@ -146,6 +146,7 @@ pub fn hairball(options: &SceneOptions) -> Scene {
             far: 20.0,
             orbit_degrees_per_frame: 0.5,
         },
+        interior: false,
         light: DirectionalLight {
             direction: Vec3::new(0.45, -0.7, -0.55).normalize(),
             color: Vec3::splat(1.0),

@@ -706,6 +706,7 @@ pub fn atrium(options: &SceneOptions) -> Scene {
         materials,
         textures: textures::all(options.seed),
         camera: camera(),
+        interior: false,
         light: DirectionalLight {
             direction: Vec3::new(0.3, -0.85, 0.45).normalize(),
             color: Vec3::new(1.0, 0.93, 0.82),
