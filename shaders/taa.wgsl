@@ -7,6 +7,12 @@
 //     colour box (min/max, mean and variance), and the nearest surface among the pixel and its
 //     neighbours (reverse-Z: largest depth; the 4 diagonal ones or all 8) gives the motion
 //     vector, so silhouettes carry the foreground's motion.
+//     The current frame's contribution is either the pixel's own sample or (Gaussian
+//     filter) the neighbourhood's samples weighed by exp(-a d^2) of their distance d from the
+//     pixel centre (a sample sits at its pixel's centre minus the jitter; a = 6 gives the
+//     variance of the pixel's box): an estimate of the pixel's area average from the reads the
+//     box already makes (Karis filters the current frame the same way). The filtered estimate
+//     is mixed in as far as resampling blurs the history (step 4).
 //  2. Reprojection: the history is read at uv - motion (the motion vectors hold no jitter) with
 //     one bilinear tap or a five-tap bilinear-optimised Catmull-Rom filter (sharper; fewer taps
 //     than the 4x4 cubic by dropping its corners; its overshoot is removed by the
@@ -38,6 +44,10 @@ struct TaaParams {
     // weight with the blur of resampling the history (else with the speed); w: 1 to ease the
     // trust off as that blur grows.
     trust: vec4<f32>,
+    // xy: this frame's jitter offset in pixels (+y down; the pixel's sample sits at its centre
+    // minus it), z: sharpness a of the current frame's filter exp(-a d^2), w: 1 to filter,
+    // 0 to take the pixel's own sample.
+    current_filter: vec4<f32>,
 }
 
 @group(0) @binding(0) var current: texture_2d<f32>;
@@ -168,6 +178,8 @@ fn resolve(position: vec2<f32>) -> Resolved {
     var sum = vec3<f32>(0.0);
     var sum_squares = vec3<f32>(0.0);
     var count = 0.0;
+    var filtered = vec3<f32>(0.0);
+    var filter_total = 0.0;
     var nearest = pixel;
     var nearest_depth = 0.0;
     if VELOCITY_TAPS > 0u {
@@ -183,6 +195,10 @@ fn resolve(position: vec2<f32>) -> Resolved {
                 if centre_tap {
                     centre = rgb;
                 }
+                let d = vec2<f32>(f32(dx), f32(dy)) - params.current_filter.xy;
+                let weight = exp(-params.current_filter.z * dot(d, d));
+                filtered += weight * rgb;
+                filter_total += weight;
                 let c = to_box_space(rgb);
                 low = min(low, c);
                 high = max(high, c);
@@ -199,6 +215,8 @@ fn resolve(position: vec2<f32>) -> Resolved {
             }
         }
     }
+
+    let estimate = filtered / filter_total;
 
     // 2. Reprojection.
     let uv = (floor(position) + 0.5) * params.size.zw;
@@ -266,6 +284,12 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // most).
     let adapt = select(saturate(speed), blur, params.trust.z > 0.5);
     let alpha = mix(params.blend.x, max(params.blend.x, params.blend.w), adapt);
+    // The current frame's estimate of the pixel: where the history stays sharp (still camera,
+    // whole-pixel motion) the accumulated point samples converge to the pixel's box average and
+    // the pixel's own sample is exact; where resampling blurs the history every frame it never
+    // gets there, the current frame's weight rises and its point-sample noise dominates, so the
+    // filtered estimate takes over by the same measure (a mix, not a branch on the uniform).
+    centre = mix(centre, estimate, params.current_filter.w * adapt);
     var colour: vec3<f32>;
     if LUMA_WEIGHT {
         let w_current = alpha / (1.0 + luminance(centre));
