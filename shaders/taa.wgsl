@@ -44,10 +44,11 @@ struct TaaParams {
     // weight with the blur of resampling the history (else with the speed); w: 1 to ease the
     // trust off as that blur grows.
     trust: vec4<f32>,
-    // xy: this frame's jitter offset in pixels (+y down; the pixel's sample sits at its centre
-    // minus it), z: sharpness a of the current frame's filter exp(-a d^2), w: 1 to filter,
-    // 0 to take the pixel's own sample.
-    current_filter: vec4<f32>,
+    // Weights of the current frame's filter for the 3x3 taps, row by row (index 3 (dy + 1) +
+    // dx + 1), normalised over the taps of the colour neighbourhood: exp(-a d^2) of each
+    // sample's distance d from the pixel centre (they depend only on this frame's jitter, so
+    // they are computed once per frame), or 1 for the centre tap alone (no filter).
+    current_filter: array<vec4<f32>, 3>,
 }
 
 @group(0) @binding(0) var current: texture_2d<f32>;
@@ -179,7 +180,6 @@ fn resolve(position: vec2<f32>) -> Resolved {
     var sum_squares = vec3<f32>(0.0);
     var count = 0.0;
     var filtered = vec3<f32>(0.0);
-    var filter_total = 0.0;
     var nearest = pixel;
     var nearest_depth = 0.0;
     if VELOCITY_TAPS > 0u {
@@ -195,10 +195,8 @@ fn resolve(position: vec2<f32>) -> Resolved {
                 if centre_tap {
                     centre = rgb;
                 }
-                let d = vec2<f32>(f32(dx), f32(dy)) - params.current_filter.xy;
-                let weight = exp(-params.current_filter.z * dot(d, d));
-                filtered += weight * rgb;
-                filter_total += weight;
+                let tap = u32(3 * (dy + 1) + dx + 1);
+                filtered += params.current_filter[tap / 4u][tap % 4u] * rgb;
                 let c = to_box_space(rgb);
                 low = min(low, c);
                 high = max(high, c);
@@ -215,8 +213,6 @@ fn resolve(position: vec2<f32>) -> Resolved {
             }
         }
     }
-
-    let estimate = filtered / filter_total;
 
     // 2. Reprojection.
     let uv = (floor(position) + 0.5) * params.size.zw;
@@ -289,7 +285,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // the pixel's own sample is exact; where resampling blurs the history every frame it never
     // gets there, the current frame's weight rises and its point-sample noise dominates, so the
     // filtered estimate takes over by the same measure (a mix, not a branch on the uniform).
-    centre = mix(centre, estimate, params.current_filter.w * adapt);
+    centre = mix(centre, filtered, adapt);
     var colour: vec3<f32>;
     if LUMA_WEIGHT {
         let w_current = alpha / (1.0 + luminance(centre));

@@ -198,6 +198,33 @@ impl CurrentFilter {
     pub const GAUSSIAN_SHARPNESS: f32 = 6.0;
 }
 
+/// The current frame's filter weights for the 3x3 taps (row by row, padded to three vec4s),
+/// normalised over the taps of the colour neighbourhood: the Gaussian of each sample's
+/// distance from the pixel centre (a sample sits at its pixel's centre minus `jitter`), or the
+/// centre tap alone.
+fn current_filter_weights(settings: &TaaSettings, jitter: Vec2) -> [[f32; 4]; 3] {
+    let mut weights = [0.0f32; 12];
+    if settings.current_filter == CurrentFilter::Sample {
+        weights[4] = 1.0;
+    } else {
+        for (tap, weight) in weights.iter_mut().take(9).enumerate() {
+            let offset = Vec2::new((tap % 3) as f32 - 1.0, (tap / 3) as f32 - 1.0);
+            let diagonal = offset.x != 0.0 && offset.y != 0.0;
+            if settings.neighbourhood == Neighbourhood::Box || !diagonal {
+                let d = offset - jitter;
+                *weight = (-CurrentFilter::GAUSSIAN_SHARPNESS * d.length_squared()).exp();
+            }
+        }
+        let total: f32 = weights.iter().sum();
+        weights.iter_mut().for_each(|w| *w /= total);
+    }
+    [
+        [weights[0], weights[1], weights[2], weights[3]],
+        [weights[4], weights[5], weights[6], weights[7]],
+        [weights[8], weights[9], weights[10], weights[11]],
+    ]
+}
+
 /// Looks a name up in parallel `names` / `values` tables.
 fn by_name<T: Copy>(values: &[T], names: &[&str], name: &str) -> Option<T> {
     names.iter().position(|n| *n == name).map(|i| values[i])
@@ -375,7 +402,7 @@ struct TaaUniform {
     size: [f32; 4],
     blend: [f32; 4],
     trust: [f32; 4],
-    current_filter: [f32; 4],
+    current_filter: [[f32; 4]; 3],
 }
 
 #[repr(C)]
@@ -764,17 +791,10 @@ impl Technique for Taa {
                 f32::from(u8::from(self.settings.resample_feedback)),
                 f32::from(u8::from(self.settings.trust_sharp_only)),
             ],
-            current_filter: {
-                let jitter = jitter_offset(camera.frame, self.settings.samples);
-                [
-                    jitter.x,
-                    jitter.y,
-                    CurrentFilter::GAUSSIAN_SHARPNESS,
-                    f32::from(u8::from(
-                        self.settings.current_filter == CurrentFilter::Gaussian,
-                    )),
-                ]
-            },
+            current_filter: current_filter_weights(
+                &self.settings,
+                jitter_offset(camera.frame, self.settings.samples),
+            ),
         };
         ctx.gpu
             .queue
