@@ -15,7 +15,8 @@
 //  4. The nearer end decides the blend: pixels near the end of a staircase step move up to half
 //     a pixel across the edge, provided the luma at that end falls on the other side of the
 //     local average. A sub-pixel term from the 3x3 low-pass (weighted by `subpix`) handles
-//     isolated features that have no edge span.
+//     isolated features that have no edge span; it moves the read by the gentler of its
+//     linear and its encoded-luma reading (see there).
 //  5. One bilinear read at the pixel centre moved across the edge by that offset.
 //
 // Colour spaces, as FXAA 3.11 prescribes for sRGB targets: every luma test (steps 1-4) reads
@@ -88,6 +89,14 @@ fn encode_srgb(linear: vec3<f32>) -> vec3<f32> {
     let low = c * 12.92;
     let high = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
     return select(high, low, c <= vec3<f32>(0.0031308));
+}
+
+// The sRGB transfer function's inverse for one value, as a cubic (within 0.002 of it over
+// 0..1; three multiply-adds where the exact curve costs a pow, which on a software rasteriser
+// is a tenth of this pass).
+fn decode_srgb(encoded: f32) -> f32 {
+    let c = saturate(encoded);
+    return c * (c * (c * 0.305306011 + 0.682171111) + 0.012522878);
 }
 
 fn luma_at(pixel: vec2<i32>) -> f32 {
@@ -225,7 +234,24 @@ fn analyse(position: vec2<f32>) -> Analysis {
     let good_n = (end_n < 0.0) != centre_below;
     let good_p = (end_p < 0.0) != centre_below;
     let good = select(good_p, good_n, nearer_n);
-    let offset = max(select(0.0, span_offset, good), subpix_offset);
+    // The sub-pixel amount is a softening Lottes tuned on encoded values, and the read mixes
+    // linear light: 5% of a white neighbour lifts a black pixel to 63/255 in linear light where
+    // the encoded blend gives 13/255, and every pixel beside a straight high-contrast edge gets
+    // that 5% (its 3x3 low-pass differs from it by a third of the range). So the read moves by
+    // the gentler of the two readings of the amount: the linear fraction itself, or the linear
+    // fraction that moves the encoded luma that far towards the neighbour across. A dark pixel
+    // then keeps its encoded-blend look, a bright one loses no more light than the fraction.
+    let luma_across = select(luma_s, luma_n, towards_n);
+    let target_luma = luma_m + subpix_offset * (luma_across - luma_m);
+    let decoded_m = decode_srgb(luma_m);
+    let decoded_step = decode_srgb(luma_across) - decoded_m;
+    let subpix_encoded = select(
+        subpix_offset,
+        (decode_srgb(target_luma) - decoded_m) / decoded_step,
+        abs(decoded_step) > 1e-4,
+    );
+    let subpix = min(subpix_offset, subpix_encoded);
+    let offset = max(select(0.0, span_offset, good), subpix);
     result.offset = offset;
 
     // 5. Read across the edge.

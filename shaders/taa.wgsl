@@ -7,6 +7,12 @@
 //     colour box (min/max, mean and variance), and the nearest surface among the pixel and its
 //     neighbours (reverse-Z: largest depth; the 4 diagonal ones or all 8) gives the motion
 //     vector, so silhouettes carry the foreground's motion.
+//     The current frame's contribution is either the pixel's own sample or (Gaussian
+//     filter) the neighbourhood's samples weighed by exp(-a d^2) of their distance d from the
+//     pixel centre (a sample sits at its pixel's centre minus the jitter; a = 6 gives the
+//     variance of the pixel's box): an estimate of the pixel's area average from the reads the
+//     box already makes (Karis filters the current frame the same way). The filtered estimate
+//     is mixed in as far as resampling blurs the history (step 4).
 //  2. Reprojection: the history is read at uv - motion (the motion vectors hold no jitter) with
 //     one bilinear tap or a five-tap bilinear-optimised Catmull-Rom filter (sharper; fewer taps
 //     than the 4x4 cubic by dropping its corners; its overshoot is removed by the
@@ -38,6 +44,11 @@ struct TaaParams {
     // weight with the blur of resampling the history (else with the speed); w: 1 to ease the
     // trust off as that blur grows.
     trust: vec4<f32>,
+    // Weights of the current frame's filter for the 3x3 taps, row by row (index 3 (dy + 1) +
+    // dx + 1), normalised over the taps of the colour neighbourhood: exp(-a d^2) of each
+    // sample's distance d from the pixel centre (they depend only on this frame's jitter, so
+    // they are computed once per frame), or 1 for the centre tap alone (no filter).
+    current_filter: array<vec4<f32>, 3>,
 }
 
 @group(0) @binding(0) var current: texture_2d<f32>;
@@ -168,6 +179,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
     var sum = vec3<f32>(0.0);
     var sum_squares = vec3<f32>(0.0);
     var count = 0.0;
+    var filtered = vec3<f32>(0.0);
     var nearest = pixel;
     var nearest_depth = 0.0;
     if VELOCITY_TAPS > 0u {
@@ -183,6 +195,8 @@ fn resolve(position: vec2<f32>) -> Resolved {
                 if centre_tap {
                     centre = rgb;
                 }
+                let tap = u32(3 * (dy + 1) + dx + 1);
+                filtered += params.current_filter[tap / 4u][tap % 4u] * rgb;
                 let c = to_box_space(rgb);
                 low = min(low, c);
                 high = max(high, c);
@@ -266,6 +280,12 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // most).
     let adapt = select(saturate(speed), blur, params.trust.z > 0.5);
     let alpha = mix(params.blend.x, max(params.blend.x, params.blend.w), adapt);
+    // The current frame's estimate of the pixel: where the history stays sharp (still camera,
+    // whole-pixel motion) the accumulated point samples converge to the pixel's box average and
+    // the pixel's own sample is exact; where resampling blurs the history every frame it never
+    // gets there, the current frame's weight rises and its point-sample noise dominates, so the
+    // filtered estimate takes over by the same measure (a mix, not a branch on the uniform).
+    centre = mix(centre, filtered, adapt);
     var colour: vec3<f32>;
     if LUMA_WEIGHT {
         let w_current = alpha / (1.0 + luminance(centre));
