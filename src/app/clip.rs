@@ -29,6 +29,8 @@ use crate::scene::motion::{DEFAULT_SPEED_PX, Motion};
 pub const DEFAULT_FRAMES: u32 = 48;
 /// Longest clip.
 pub const MAX_FRAMES: u32 = 600;
+/// Playback rates from which the UI repaints continuously (below, once per clip frame).
+const REPAINT_EVERY_FRAME_FPS: f64 = 30.0;
 /// Memory a clip may hold unless the user allows more, MiB (pixels on the CPU and the same on
 /// the display device).
 pub const DEFAULT_BUDGET_MIB: u32 = 2048;
@@ -379,6 +381,11 @@ impl ClipPlayer {
             } as f64;
             self.position = (self.position + elapsed * self.rate.fps()).rem_euclid(period);
         }
+    }
+
+    /// Seconds until the frame shown changes, while playing.
+    pub fn until_next_frame(&self) -> f64 {
+        (self.position.floor() + 1.0 - self.position) / self.rate.fps()
     }
 
     /// Stops the clock between ticks (so a pause does not jump on resume).
@@ -757,8 +764,15 @@ impl super::app::AaLabApp {
         let frames = clip.frames.len();
         clip.player.tick(Instant::now(), frames);
         if clip.player.playing && frames > 1 {
-            let period = std::time::Duration::from_secs_f64(1.0 / clip.player.rate.fps());
-            ctx.request_repaint_after(period);
+            if clip.player.rate.fps() >= REPAINT_EVERY_FRAME_FPS {
+                // Real time: paint as often as the display (or the rasteriser) allows, so a
+                // frame that takes most of a clip period still lands on every clip frame.
+                super::request_one_frame(ctx);
+            } else {
+                // Slow motion: the next UI frame when the next clip frame is due.
+                let due = std::time::Duration::from_secs_f64(clip.player.until_next_frame());
+                ctx.request_repaint_after(due);
+            }
         }
     }
 }
@@ -767,25 +781,28 @@ impl super::app::AaLabApp {
 mod tests {
     use super::*;
 
+    /// The frames `player` shows at positions 0..9 of a 4-frame clip.
+    fn shown_over_nine_steps(player: &mut ClipPlayer) -> Vec<usize> {
+        (0..9)
+            .map(|step| {
+                player.position = f64::from(step);
+                player.frame(4)
+            })
+            .collect()
+    }
+
     #[test]
     fn loops_wrap_and_ping_pong_turns_at_the_ends() {
         let mut player = ClipPlayer::default();
-        let frames = 4;
-        let seen: Vec<usize> = (0..9)
-            .map(|step| {
-                player.position = step as f64;
-                player.frame(frames)
-            })
-            .collect();
-        assert_eq!(seen, [0, 1, 2, 3, 0, 1, 2, 3, 0]);
+        assert_eq!(
+            shown_over_nine_steps(&mut player),
+            [0, 1, 2, 3, 0, 1, 2, 3, 0]
+        );
         player.ping_pong = true;
-        let seen: Vec<usize> = (0..9)
-            .map(|step| {
-                player.position = step as f64;
-                player.frame(frames)
-            })
-            .collect();
-        assert_eq!(seen, [0, 1, 2, 3, 2, 1, 0, 1, 2]);
+        assert_eq!(
+            shown_over_nine_steps(&mut player),
+            [0, 1, 2, 3, 2, 1, 0, 1, 2]
+        );
     }
 
     #[test]
@@ -795,6 +812,10 @@ mod tests {
         player.tick(start, 48);
         player.tick(start + std::time::Duration::from_millis(500), 48);
         assert_eq!(player.frame(48), 15, "30 fps for half a second");
+        assert!(
+            (player.until_next_frame() - 1.0 / 30.0).abs() < 1e-6,
+            "at a frame boundary"
+        );
         player.rate = PlayRate::Slow;
         player.tick(start + std::time::Duration::from_millis(1500), 48);
         assert_eq!(player.frame(48), 22, "then 7.5 fps for a second");

@@ -7,6 +7,7 @@ use egui::RichText;
 
 use super::app::AaLabApp;
 use super::image_set::IMAGE_IDS;
+use super::metrics_panel::{number, number_weak};
 use super::quality;
 use super::style::{self, SLOT_COLORS, SLOT_LETTERS};
 
@@ -153,27 +154,27 @@ impl AaLabApp {
                         Some(m) => match &m.value {
                             Ok(f) => {
                                 let how = format!("\n\nMeasured on the {} in {}.", m.on, style::ms(m.ms));
-                                cell(ui, format!("{:.4}", f.ssim), &(image_help("SSIM of BT.601 luma, Gaussian 11x11 window; 1 = identical.") + &how));
-                                cell(ui, quality::psnr_text(f.psnr), &(image_help("PSNR of R'G'B' in dB; ∞ = identical.") + &how));
-                                cell(ui, format!("{:.3}", f.mae), &(image_help("Mean absolute error of R'G'B', 0..255.") + &how));
+                                number(ui, format!("{:.4}", f.ssim), &(image_help("SSIM of BT.601 luma, Gaussian 11x11 window; 1 = identical.") + &how));
+                                number(ui, quality::psnr_text(f.psnr), &(image_help("PSNR of R'G'B' in dB; ∞ = identical.") + &how));
+                                number(ui, format!("{:.3}", f.mae), &(image_help("Mean absolute error of R'G'B', 0..255.") + &how));
                             }
                             Err(err) => {
                                 for _ in 0..3 {
-                                    weak_cell(ui, "error", err);
+                                    number_weak(ui, "error", err);
                                 }
                                 notes.push(format!("{name}: {err}"));
                             }
                         },
                         None => {
                             for _ in 0..3 {
-                                weak_cell(ui, missing, missing_tip);
+                                number_weak(ui, missing, missing_tip);
                             }
                         }
                     }
                     match self.quality.current_flip(id, key).map(|m| &m.value) {
-                        Some(Ok(v)) => cell(ui, format!("{v:.4}"), &image_help("Mean of NVIDIA's FLIP (LDR) error; 0 = indistinguishable.")),
-                        Some(Err(err)) => weak_cell(ui, "error", err),
-                        None => weak_cell(ui, missing, "FLIP is computed on the CPU, after the others."),
+                        Some(Ok(v)) => number(ui, format!("{v:.4}"), &image_help("Mean of NVIDIA's FLIP (LDR) error; 0 = indistinguishable.")),
+                        Some(Err(err)) => number_weak(ui, "error", err),
+                        None => number_weak(ui, missing, "FLIP is computed on the CPU, after the others."),
                     }
                     ui.end_row();
                 }
@@ -187,19 +188,4 @@ impl AaLabApp {
 /// A figure's tooltip: what it measures, against the reference image.
 fn image_help(what: &str) -> String {
     format!("{what} Measured against the reference image, as decoded from its file.")
-}
-
-/// A right-aligned monospace number cell with a tooltip.
-fn cell(ui: &mut egui::Ui, text: String, tip: &str) {
-    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-        ui.label(RichText::new(text).monospace()).on_hover_text(tip);
-    });
-}
-
-/// A right-aligned greyed cell standing for a missing number.
-fn weak_cell(ui: &mut egui::Ui, text: &str, tip: &str) {
-    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-        ui.label(RichText::new(text).monospace().weak())
-            .on_hover_text(tip);
-    });
 }

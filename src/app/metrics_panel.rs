@@ -16,14 +16,14 @@ use super::reference::REFERENCE_ID;
 use super::style::{self, ACCENT, SLOT_COLORS, SLOT_LETTERS};
 
 /// A right-aligned monospace number cell with a tooltip.
-fn number(ui: &mut egui::Ui, text: String, tip: &str) {
+pub(super) fn number(ui: &mut egui::Ui, text: String, tip: &str) {
     ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
         ui.label(RichText::new(text).monospace()).on_hover_text(tip);
     });
 }
 
 /// A right-aligned greyed cell standing for a missing number, with why as its tooltip.
-fn number_weak(ui: &mut egui::Ui, text: &str, tip: &str) {
+pub(super) fn number_weak(ui: &mut egui::Ui, text: &str, tip: &str) {
     ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
         ui.label(RichText::new(text).monospace().weak())
             .on_hover_text(tip);
