@@ -15,8 +15,8 @@
 //  4. The nearer end decides the blend: pixels near the end of a staircase step move up to half
 //     a pixel across the edge, provided the luma at that end falls on the other side of the
 //     local average. A sub-pixel term from the 3x3 low-pass (weighted by `subpix`) handles
-//     isolated features that have no edge span; it moves the read by the gentler of its
-//     linear and its encoded-luma reading (see there).
+//     isolated features that have no edge span; it moves the read by the light-conserving
+//     reading of it for the pair across the edge (see there).
 //  5. One bilinear read at the pixel centre moved across the edge by that offset.
 //
 // Colour spaces, as FXAA 3.11 prescribes for sRGB targets: every luma test (steps 1-4) reads
@@ -238,17 +238,20 @@ fn analyse(position: vec2<f32>) -> Analysis {
     // linear light: 5% of a white neighbour lifts a black pixel to 63/255 in linear light where
     // the encoded blend gives 13/255, and every pixel beside a straight high-contrast edge gets
     // that 5% (its 3x3 low-pass differs from it by a third of the range). So the read moves by
-    // the gentler of the two readings of the amount: the linear fraction itself, or the linear
-    // fraction that moves the encoded luma that far towards the neighbour across. A dark pixel
-    // then keeps its encoded-blend look, a bright one loses no more light than the fraction.
+    // the linear fraction that moves the encoded luma that far up from the darker of the pixel
+    // and its neighbour across (never more than the fraction itself). The pair then trades the
+    // same amount of light both ways: a dark pixel keeps its encoded-blend look, and the bright
+    // one gives up no more than the dark one gains (taking the gentler reading from each
+    // pixel's own side instead lost 11% of the light of sub-pixel geometry such as hairball's).
     let luma_across = select(luma_s, luma_n, towards_n);
-    let target_luma = luma_m + subpix_offset * (luma_across - luma_m);
-    let decoded_m = decode_srgb(luma_m);
-    let decoded_step = decode_srgb(luma_across) - decoded_m;
+    let darker = min(luma_m, luma_across);
+    let brighter = max(luma_m, luma_across);
+    let decoded_darker = decode_srgb(darker);
+    let decoded_step = decode_srgb(brighter) - decoded_darker;
     let subpix_encoded = select(
         subpix_offset,
-        (decode_srgb(target_luma) - decoded_m) / decoded_step,
-        abs(decoded_step) > 1e-4,
+        (decode_srgb(darker + subpix_offset * (brighter - darker)) - decoded_darker) / decoded_step,
+        decoded_step > 1e-4,
     );
     let subpix = min(subpix_offset, subpix_encoded);
     let offset = max(select(0.0, span_offset, good), subpix);

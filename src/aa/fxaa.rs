@@ -8,10 +8,12 @@
 //! final bilinear read goes through the sRGB view, whose texels the sampler decodes before
 //! filtering, and is encoded again on output. (Blending the encoded values, as this pass did
 //! before, left a half-covered black/white pixel at 100/255 where the reference has 179.)
-//! The sub-pixel amount, a softening Lottes tuned on encoded values, moves the read by the
-//! gentler of its linear and its encoded-luma reading: read as a linear fraction alone it lifted
-//! every black pixel beside a straight black/white edge to 63/255 (5% of the light) where the
-//! encoded blend gives 13/255, which cost more than half of the gain on near-vertical edges.
+//! The sub-pixel amount, a softening Lottes tuned on encoded values, moves the read by the linear
+//! fraction that moves the encoded luma that far up from the darker side of the edge: read as a
+//! linear fraction alone it lifted every black pixel beside a straight black/white edge to
+//! 63/255 (5% of the light) where the encoded blend gives 13/255, which cost more than half of
+//! the gain on near-vertical edges; read from each pixel's own side, bright pixels gave up more
+//! light than dark ones gained (sub-pixel geometry lost 11% of its light, and FLIP rose).
 //! Settings:
 //! - `quality`: Lottes' presets 10-15 (few steps, a long last step: medium dither), 20-29 (more,
 //!   shorter steps: less dither) and 39 (twelve short steps, no dither); the search step list
