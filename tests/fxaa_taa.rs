@@ -17,62 +17,29 @@ use image::RgbaImage;
 
 const SIZE: (u32, u32) = (320, 180);
 
-fn graph(gpu: &Gpu, scene: &Scene, techniques: Vec<Box<dyn Technique>>) -> FrameGraph {
-    let mut graph = FrameGraph::new(gpu.clone(), scene);
-    for t in techniques {
-        graph.add(t);
-    }
-    graph
-}
-
 /// Frame `frame` of the scene's own camera path (still for the flat chart).
 fn still(scene: &Scene, frame: u64, size: (u32, u32)) -> FrameCamera {
-    FrameCamera::from_rig(&scene.camera, frame, size)
+    common::camera(scene, frame, size)
 }
 
 /// Runs `cameras` in order (the first frame resets the history; earlier frames run only the
 /// temporal techniques, as `spec::run` does) and returns every technique's output after the
 /// last one.
-fn run(gpu: &Gpu, graph: &mut FrameGraph, cameras: &[FrameCamera]) -> Vec<RgbaImage> {
+fn run(graph: &mut FrameGraph, cameras: &[FrameCamera]) -> Vec<RgbaImage> {
     for (i, camera) in cameras.iter().enumerate() {
         let scope = if i + 1 == cameras.len() {
             FrameScope::All
         } else {
             FrameScope::TemporalOnly
         };
-        render_scope(graph, *camera, i == 0, scope);
+        common::render(graph, *camera, i == 0, scope);
     }
-    outputs(gpu, graph)
+    common::outputs(graph)
 }
 
+/// Renders one frame of every technique.
 fn render(graph: &mut FrameGraph, camera: FrameCamera, reset_history: bool) {
-    render_scope(graph, camera, reset_history, FrameScope::All);
-}
-
-fn render_scope(
-    graph: &mut FrameGraph,
-    camera: FrameCamera,
-    reset_history: bool,
-    scope: FrameScope,
-) {
-    graph
-        .render(
-            &FrameInfo {
-                camera,
-                reset_history,
-            },
-            scope,
-        )
-        .unwrap_or_else(|e| panic!("{e}"));
-}
-
-fn outputs(gpu: &Gpu, graph: &mut FrameGraph) -> Vec<RgbaImage> {
-    graph.finish();
-    graph
-        .slots()
-        .iter()
-        .map(|s| read_texture_rgba8(gpu, s.output().expect("output")).expect("readback"))
-        .collect()
+    common::render(graph, camera, reset_history, FrameScope::All);
 }
 
 /// The flat chart's slanted edge at 320x180 (its other edges are axis-aligned and fall exactly
@@ -133,9 +100,9 @@ fn with_reference_on(
         &[("mode", "ordered"), ("factor", "8")],
     )];
     all.extend(techniques);
-    let mut graph = graph(gpu, scene, all);
+    let mut graph = common::graph(gpu, scene, all);
     let cameras: Vec<FrameCamera> = (0..frames).map(camera).collect();
-    let mut images = run(gpu, &mut graph, &cameras);
+    let mut images = run(&mut graph, &cameras);
     let reference = images.remove(0);
     (reference, images)
 }
@@ -144,7 +111,7 @@ fn with_reference_on(
 fn fxaa_and_taa_change_edges_and_leave_flat_regions() {
     let gpu = common::gpu();
     let scene = common::flat_chart(5.0);
-    let mut graph = graph(
+    let mut graph = common::graph(
         &gpu,
         &scene,
         vec![
@@ -154,7 +121,7 @@ fn fxaa_and_taa_change_edges_and_leave_flat_regions() {
         ],
     );
     let cameras: Vec<FrameCamera> = (0..16).map(|f| still(&scene, f, SIZE)).collect();
-    let images = run(&gpu, &mut graph, &cameras);
+    let images = run(&mut graph, &cameras);
     for (name, image) in [("fxaa", &images[1]), ("taa", &images[2])] {
         let (flat_changes, edge_changes) = flat_and_edge_changes(&images[0], image);
         assert!(
@@ -175,7 +142,7 @@ fn fxaa_and_taa_change_edges_and_leave_flat_regions() {
 fn every_fxaa_quality_preset_and_luma_antialiases_the_edge() {
     let gpu = common::gpu();
     let scene = common::flat_chart(5.0);
-    let presets = aa::fxaa::QUALITY_NAMES;
+    let presets = <aa::fxaa::Quality as aa::Named>::NAMES;
     let mut techniques = vec![
         common::technique(&gpu, "none", &[]),
         common::technique(&gpu, "fxaa", &[("luma", "green")]),
@@ -309,14 +276,14 @@ fn taa_forgets_its_history_on_a_cut_a_resize_and_a_settings_change() {
     let scene = common::flat_chart(5.0);
     // A fresh TAA at one frame: what a reset must reproduce exactly.
     let fresh = |settings: &[(&str, &str)], camera: FrameCamera| {
-        let mut g = graph(&gpu, &scene, vec![common::technique(&gpu, "taa", settings)]);
+        let mut g = common::graph(&gpu, &scene, vec![common::technique(&gpu, "taa", settings)]);
         render(&mut g, camera, true);
-        outputs(&gpu, &mut g).remove(0)
+        common::outputs(&mut g).remove(0)
     };
-    let mut g = graph(&gpu, &scene, vec![common::technique(&gpu, "taa", &[])]);
+    let mut g = common::graph(&gpu, &scene, vec![common::technique(&gpu, "taa", &[])]);
     let step = |g: &mut FrameGraph, camera: FrameCamera, reset: bool| {
         render(g, camera, reset);
-        outputs(&gpu, g).remove(0)
+        common::outputs(g).remove(0)
     };
     let mut settled = None;
     for f in 0..10 {
@@ -422,7 +389,7 @@ fn trail(
 ) -> (u8, f64) {
     const FRAMES: u64 = 12;
     const LOOK_BACK: u64 = 4;
-    let mut g = graph(
+    let mut g = common::graph(
         gpu,
         scene,
         vec![
@@ -434,7 +401,7 @@ fn trail(
     for f in 0..=FRAMES {
         render(&mut g, camera(f), f == 0);
         if f + LOOK_BACK >= FRAMES {
-            recent.push(outputs(gpu, &mut g));
+            recent.push(common::outputs(&mut g));
         }
     }
     let current = recent.last().expect("frames ran");
@@ -508,7 +475,7 @@ fn debug_views_have_the_output_size_and_show_something() {
     for t in &mut techniques {
         t.set_debug_views(true);
     }
-    let mut g = graph(&gpu, &scene, techniques);
+    let mut g = common::graph(&gpu, &scene, techniques);
     for f in 0..3 {
         render(&mut g, panning(&scene, f, 0.02, SIZE), f == 0);
     }

@@ -7,9 +7,8 @@ mod common;
 use std::path::Path;
 
 use aa_lab::aa::{self, FrameInfo};
-use aa_lab::gpu::{Gpu, read_texture_rgba8};
-use aa_lab::graph::{FrameGraph, FrameScope, GraphError};
-use aa_lab::scene::camera::FrameCamera;
+use aa_lab::gpu::Gpu;
+use aa_lab::graph::{FrameScope, GraphError};
 use aa_lab::scene::procedural::{BUILTIN_SCENES, SceneOptions};
 use aa_lab::scene::{Scene, source};
 
@@ -19,15 +18,13 @@ fn render_none(
     size: (u32, u32),
     frame: u64,
 ) -> Result<image::RgbaImage, GraphError> {
-    let mut graph = FrameGraph::new(gpu.clone(), scene);
-    graph.add(aa::create(gpu, "none").expect("none"));
+    let mut graph = common::graph(gpu, scene, vec![common::technique(gpu, aa::none::ID, &[])]);
     let info = FrameInfo {
-        camera: FrameCamera::from_rig(&scene.camera, frame, size),
+        camera: common::camera(scene, frame, size),
         reset_history: true,
     };
     graph.render(&info, FrameScope::All)?;
-    graph.finish();
-    Ok(read_texture_rgba8(gpu, graph.slots()[0].output().expect("output")).expect("readback"))
+    Ok(common::outputs(&mut graph).remove(0))
 }
 
 /// Share of pixels that differ from the top-left pixel (the background in every scene here).
@@ -114,31 +111,19 @@ fn render_together(
     ids: &[&str],
     last: u64,
 ) -> Vec<(String, image::RgbaImage)> {
-    let mut graph = FrameGraph::new(gpu.clone(), scene);
-    for id in ids {
-        let settings: &[(&str, &str)] = if *id == "ssaa" {
-            &[("mode", "jittered")]
-        } else {
-            &[]
-        };
-        graph.add(common::technique(gpu, id, settings));
-    }
-    for frame in 0..=last {
-        let info = FrameInfo {
-            camera: FrameCamera::from_rig(&scene.camera, frame, (160, 90)),
-            reset_history: frame == 0,
-        };
-        graph.render(&info, FrameScope::All).expect("renders");
-    }
-    graph.finish();
-    graph
-        .slots()
+    let techniques = ids
         .iter()
-        .map(|slot| {
-            let image = read_texture_rgba8(gpu, slot.output().expect("output")).expect("readback");
-            (slot.technique.id().to_string(), image)
+        .map(|id| {
+            let settings: &[(&str, &str)] = if *id == aa::ssaa::ID {
+                &[("mode", "jittered")]
+            } else {
+                &[]
+            };
+            common::technique(gpu, id, settings)
         })
-        .collect()
+        .collect();
+    let images = common::render_techniques(gpu, scene, techniques, (160, 90), last);
+    ids.iter().map(|id| (*id).to_owned()).zip(images).collect()
 }
 
 /// Many scene renders in one frame (16 jittered SSAA samples, two temporal inputs, MSAA) must

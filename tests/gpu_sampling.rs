@@ -6,16 +6,15 @@ mod common;
 use std::collections::BTreeSet;
 
 use aa_lab::aa::{self, FrameInfo, ParamValue, SceneInput, Technique};
-use aa_lab::gpu::{Gpu, read_texture_rgba8};
+use aa_lab::gpu::Gpu;
 use aa_lab::graph::{FrameGraph, FrameScope};
 use aa_lab::scene::Scene;
-use aa_lab::scene::camera::FrameCamera;
 
 const SIZE: (u32, u32) = (320, 180);
 
 fn frame(scene: &Scene, size: (u32, u32)) -> FrameInfo {
     FrameInfo {
-        camera: FrameCamera::from_rig(&scene.camera, 0, size),
+        camera: common::camera(scene, 0, size),
         reset_history: true,
     }
 }
@@ -33,28 +32,9 @@ fn render_frames(
     techniques: Vec<Box<dyn Technique>>,
     last: u64,
 ) -> Vec<Vec<u8>> {
-    let mut graph = FrameGraph::new(gpu.clone(), scene);
-    for t in techniques {
-        graph.add(t);
-    }
-    for n in 0..=last {
-        let info = FrameInfo {
-            camera: FrameCamera::from_rig(&scene.camera, n, SIZE),
-            reset_history: n == 0,
-        };
-        graph.render(&info, FrameScope::All).expect("frame renders");
-    }
-    graph.finish();
-    graph
-        .slots()
+    common::render_techniques(gpu, scene, techniques, SIZE, last)
         .iter()
-        .map(|s| {
-            read_texture_rgba8(gpu, s.output().expect("output"))
-                .expect("readback")
-                .pixels()
-                .map(|p| p[0])
-                .collect()
-        })
+        .map(|image| image.pixels().map(|p| p[0]).collect())
         .collect()
 }
 
@@ -291,10 +271,7 @@ fn msaa4_memory_at_4k_matches_the_arithmetic() {
     let scene = common::flat_chart(5.0);
     let mut graph = FrameGraph::new(gpu.clone(), &scene);
     graph.add(common::technique(&gpu, "msaa4", &[]));
-    let info = FrameInfo {
-        camera: FrameCamera::from_rig(&scene.camera, 0, (3840, 2160)),
-        reset_history: true,
-    };
+    let info = frame(&scene, (3840, 2160));
     graph
         .render(&info, FrameScope::All)
         .expect("4K frame renders");

@@ -5,13 +5,11 @@
 mod common;
 
 use aa_lab::aa::floor::{COPY_FLOOR_ID, CopyFloor};
-use aa_lab::aa::{self, FrameInfo, ParamValue};
-use aa_lab::gpu::read_texture_rgba8;
-use aa_lab::graph::{FrameGraph, FrameScope};
+use aa_lab::aa::{self, ParamValue};
+use aa_lab::graph::FrameGraph;
 use aa_lab::metrics::coverage::chart_truth;
 use aa_lab::metrics::gpu::{GpuMetrics, upload_image};
 use aa_lab::metrics::{self, ssim};
-use aa_lab::scene::camera::FrameCamera;
 use aa_lab::scene::procedural::{SceneOptions, chart, chart_layout};
 
 /// Renders `ids` (with settings) of a scene at frame 0 and reads every output back.
@@ -22,26 +20,19 @@ fn render(
     techniques: &[(&str, &[(&str, ParamValue)])],
     statistics: bool,
 ) -> (FrameGraph, Vec<image::RgbaImage>) {
-    let mut graph = FrameGraph::new(gpu.clone(), scene);
-    for (id, settings) in techniques {
-        let mut technique = aa::create(gpu, id).expect("technique");
-        for (key, value) in *settings {
-            aa::set_param(technique.as_mut(), key, value.clone()).expect("setting");
-        }
-        graph.add(technique);
-    }
-    assert_eq!(graph.set_pipeline_statistics(statistics), statistics);
-    let frame = FrameInfo {
-        camera: FrameCamera::from_rig(&scene.camera, 0, size),
-        reset_history: true,
-    };
-    graph.render(&frame, FrameScope::All).expect("renders");
-    graph.finish();
-    let images = graph
-        .slots()
+    let techniques = techniques
         .iter()
-        .map(|s| read_texture_rgba8(gpu, s.output().expect("output")).expect("readback"))
+        .map(|(id, settings)| {
+            let mut technique = aa::create(gpu, id).expect("technique");
+            for (key, value) in *settings {
+                aa::set_param(technique.as_mut(), key, value.clone()).expect("setting");
+            }
+            technique
+        })
         .collect();
+    let mut graph = common::graph(gpu, scene, techniques);
+    assert_eq!(graph.set_pipeline_statistics(statistics), statistics);
+    let images = common::render_frames(&mut graph, scene, size, 0..=0);
     (graph, images)
 }
 
@@ -172,25 +163,18 @@ fn fragment_invocations_show_where_shading_happens() {
 fn copy_floor_copies_the_shared_input_exactly() {
     let gpu = common::gpu();
     let scene = common::flat_chart(3.0);
-    let mut graph = FrameGraph::new(gpu.clone(), &scene);
-    graph.add(aa::create(&gpu, "none").unwrap());
-    graph.add(Box::new(CopyFloor::new(&gpu)));
-    let frame = FrameInfo {
-        camera: FrameCamera::from_rig(&scene.camera, 0, (200, 120)),
-        reset_history: true,
-    };
-    for _ in 0..2 {
-        graph.render(&frame, FrameScope::All).expect("renders");
-    }
-    graph.finish();
+    let techniques = vec![
+        common::technique(&gpu, aa::none::ID, &[]),
+        Box::new(CopyFloor::new(&gpu)) as Box<dyn aa::Technique>,
+    ];
+    let mut graph = common::graph(&gpu, &scene, techniques);
+    let images = common::render_frames(&mut graph, &scene, (200, 120), 0..=1);
     assert_eq!(
         graph.scene_renders_last_frame(),
         1,
         "the floor shares No AA's input"
     );
-    let none = read_texture_rgba8(&gpu, graph.slots()[0].output().unwrap()).unwrap();
-    let copy = read_texture_rgba8(&gpu, graph.slots()[1].output().unwrap()).unwrap();
-    assert!(none == copy, "the copy pass changed pixels");
+    assert!(images[0] == images[1], "the copy pass changed pixels");
     let timings = graph.timings().unwrap();
     assert_eq!(timings.technique_passes(COPY_FLOOR_ID).count(), 1);
 }

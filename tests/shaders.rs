@@ -1,23 +1,71 @@
-//! Every WGSL file under `shaders/` parses and validates with naga (no GPU needed), with all
-//! capabilities this engine may use, and every file is listed in `gpu::shader::SHADERS` so that
-//! none escapes this test or the binary.
+//! Every WGSL file of the repository (the shared ones under `shaders/`, each technique's in its
+//! folder under `src/aa/`) parses and validates with naga (no GPU needed), with all
+//! capabilities this engine may use, and every file is compiled into the binary: listed in
+//! `gpu::shader::SHADERS` or in its technique's registry entry, so that none escapes this test
+//! or the binary.
 
-use std::path::Path;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use aa_lab::gpu::shader::{SHADERS, Shader};
+
+/// Every `.wgsl` file under `dir`, recursively, as a path relative to the repository root
+/// with `/` separators.
+fn wgsl_files(root: &Path, dir: &Path, out: &mut Vec<String>) {
+    let entries = std::fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    for entry in entries.filter_map(|e| e.ok()) {
+        let path = entry.path();
+        if path.is_dir() {
+            wgsl_files(root, &path, out);
+        } else if path.extension().is_some_and(|e| e == "wgsl") {
+            let relative = path.strip_prefix(root).expect("under the root");
+            let parts: Vec<String> = relative
+                .components()
+                .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                .collect();
+            out.push(parts.join("/"));
+        }
+    }
+}
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Every WGSL file in the repository.
+fn files_on_disk() -> Vec<String> {
+    let root = root();
+    let mut files = Vec::new();
+    for dir in ["shaders", "src"] {
+        wgsl_files(&root, &root.join(dir), &mut files);
+    }
+    files.sort();
+    files
+}
+
+/// Every shader compiled into the binary, by path: the shared list and every technique's.
+fn listed() -> BTreeMap<&'static str, Shader> {
+    let mut listed = BTreeMap::new();
+    let techniques = aa_lab::aa::registry();
+    let all = SHADERS
+        .iter()
+        .chain(techniques.iter().flat_map(|t| t.shaders.iter()));
+    for shader in all {
+        listed.insert(shader.path, *shader);
+    }
+    listed
+}
 
 #[test]
 fn every_shader_validates_with_naga() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
-    let mut files: Vec<String> = std::fs::read_dir(&dir)
-        .expect("shaders/ exists")
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|name| name.ends_with(".wgsl"))
-        .collect();
-    files.sort();
-    assert!(!files.is_empty(), "no shaders found in {}", dir.display());
+    let files = files_on_disk();
+    assert!(
+        files.iter().any(|f| f.starts_with("shaders/")) && files.iter().any(|f| f.starts_with("src/aa/")),
+        "shaders missing: {files:?}"
+    );
     let mut failures = Vec::new();
     for name in &files {
-        let source = std::fs::read_to_string(dir.join(name)).expect("readable shader");
+        let source = std::fs::read_to_string(root().join(name)).expect("readable shader");
         let module = match naga::front::wgsl::parse_str(&source) {
             Ok(module) => module,
             Err(err) => {
@@ -43,23 +91,38 @@ fn every_shader_validates_with_naga() {
 }
 
 #[test]
-fn every_shader_file_is_compiled_into_the_binary() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
-    for entry in std::fs::read_dir(&dir)
-        .expect("shaders/ exists")
-        .filter_map(|e| e.ok())
-    {
-        let name = entry.file_name().to_string_lossy().into_owned();
-        if name.ends_with(".wgsl") {
-            let listed = aa_lab::gpu::shader::SHADERS
-                .iter()
-                .find(|(file, _)| *file == name);
-            let source = std::fs::read_to_string(entry.path()).expect("readable shader");
-            assert_eq!(
-                listed.map(|(_, s)| *s),
-                Some(source.as_str()),
-                "{name} is missing from gpu::shader::SHADERS"
-            );
+fn every_shader_file_is_compiled_into_the_binary_and_every_listed_one_exists() {
+    let listed = listed();
+    let files = files_on_disk();
+    for name in &files {
+        let source = std::fs::read_to_string(root().join(name)).expect("readable shader");
+        assert_eq!(
+            listed.get(name.as_str()).map(|s| s.source),
+            Some(source.as_str()),
+            "{name} is in neither gpu::shader::SHADERS nor its technique's registry entry"
+        );
+    }
+    for path in listed.keys() {
+        assert!(
+            files.iter().any(|f| f == path),
+            "{path} is listed but no such file exists"
+        );
+    }
+}
+
+#[test]
+fn shared_shaders_stay_in_shaders_and_technique_shaders_in_their_folders() {
+    for shader in SHADERS {
+        assert!(shader.path.starts_with("shaders/"), "{}", shader.path);
+    }
+    for technique in aa_lab::aa::registry() {
+        for shader in technique.shaders {
+            assert!(shader.path.starts_with("src/aa/"), "{}: {}", technique.id, shader.path);
         }
     }
+    // Shared shaders are looked up by file name, so their names are unique.
+    let mut names: Vec<&str> = SHADERS.iter().map(Shader::name).collect();
+    names.sort_unstable();
+    names.dedup();
+    assert_eq!(names.len(), SHADERS.len());
 }

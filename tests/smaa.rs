@@ -4,55 +4,27 @@
 
 mod common;
 
-use aa_lab::aa::{self, FrameInfo, Technique};
+use aa_lab::aa::{self, Technique};
 use aa_lab::gpu::{Gpu, read_texture_rgba8};
 use aa_lab::graph::{FrameGraph, FrameScope};
 use aa_lab::scene::Scene;
-use aa_lab::scene::camera::FrameCamera;
 use image::RgbaImage;
 
 const SIZE: (u32, u32) = (320, 180);
 
-fn frame_info(scene: &Scene, frame: u64, reset: bool) -> FrameInfo {
-    FrameInfo {
-        camera: FrameCamera::from_rig(&scene.camera, frame, SIZE),
-        reset_history: reset,
-    }
-}
-
-/// Every slot's output after rendering frames `frames` (the first with a history reset).
+/// Every slot's output after rendering frames `frames` at [`SIZE`].
 fn render_frames(
     graph: &mut FrameGraph,
     scene: &Scene,
     frames: std::ops::RangeInclusive<u64>,
 ) -> Vec<RgbaImage> {
-    let first = *frames.start();
-    for frame in frames {
-        graph
-            .render(&frame_info(scene, frame, frame == first), FrameScope::All)
-            .expect("frame renders");
-    }
-    graph.finish();
-    outputs(graph)
-}
-
-fn outputs(graph: &FrameGraph) -> Vec<RgbaImage> {
-    graph
-        .slots()
-        .iter()
-        .map(|s| read_texture_rgba8(graph.gpu(), s.output().expect("output")).expect("readback"))
-        .collect()
+    common::render_frames(graph, scene, SIZE, frames)
 }
 
 fn render(gpu: &Gpu, scene: &Scene, techniques: Vec<Box<dyn Technique>>) -> Vec<RgbaImage> {
-    let mut graph = FrameGraph::new(gpu.clone(), scene);
-    for t in techniques {
-        graph.add(t);
-    }
-    render_frames(&mut graph, scene, 0..=0)
+    common::render_techniques(gpu, scene, techniques, SIZE, 0)
 }
 
-/// Mean absolute difference of the RGB bytes.
 /// Mean absolute difference of the RGB bytes in the band of 12 pixels either side of the flat
 /// chart's slanted edge, rows 40..140 (away from the quad's corners). The chart's other
 /// edges are pixel-aligned: the reference has them exact, and there SMAA can only lose (it
@@ -174,8 +146,7 @@ fn smaa_moves_slanted_edges_towards_the_supersampled_reference() {
 fn debug_views_show_edges_and_weights_only_on_edges() {
     let gpu = common::gpu();
     let scene = common::flat_chart(5.0);
-    let mut graph = FrameGraph::new(gpu.clone(), &scene);
-    graph.add(common::technique(&gpu, "none", &[]));
+    let mut graph = common::graph(&gpu, &scene, vec![common::technique(&gpu, "none", &[])]);
     let mut smaa = common::technique(&gpu, "smaa", &[]);
     smaa.set_debug_views(true);
     graph.add(smaa);
@@ -240,15 +211,12 @@ fn t2x_is_deterministic_changes_edges_and_resets() {
     let gpu = common::gpu();
     let scene = common::flat_chart(5.0);
     let run = |frames: std::ops::RangeInclusive<u64>| {
-        let mut graph = FrameGraph::new(gpu.clone(), &scene);
-        graph.add(common::technique(&gpu, "none", &[]));
-        graph.add(common::technique(&gpu, "smaa-t2x", &[]));
-        graph.add(common::technique(
-            &gpu,
-            "ssaa",
-            &[("mode", "ordered"), ("factor", "8")],
-        ));
-        render_frames(&mut graph, &scene, frames)
+        let techniques = vec![
+            common::technique(&gpu, "none", &[]),
+            common::technique(&gpu, "smaa-t2x", &[]),
+            common::technique(&gpu, "ssaa", &[("mode", "ordered"), ("factor", "8")]),
+        ];
+        render_frames(&mut common::graph(&gpu, &scene, techniques), &scene, frames)
     };
     let a = run(0..=3);
     let b = run(0..=3);
@@ -273,17 +241,12 @@ fn t2x_is_deterministic_changes_edges_and_resets() {
     );
 
     // A reset drops the history: frame 3 after a reset equals frame 3 rendered fresh.
-    let mut graph = FrameGraph::new(gpu.clone(), &scene);
-    graph.add(common::technique(&gpu, "smaa-t2x", &[]));
+    let mut graph = common::graph(&gpu, &scene, vec![common::technique(&gpu, "smaa-t2x", &[])]);
     render_frames(&mut graph, &scene, 0..=2);
-    graph
-        .render(&frame_info(&scene, 3, true), FrameScope::All)
-        .expect("frame renders");
-    graph.finish();
-    let after_reset = outputs(&graph);
+    common::render(&mut graph, common::camera(&scene, 3, SIZE), true, FrameScope::All);
+    let after_reset = common::outputs(&mut graph);
     let fresh = {
-        let mut graph = FrameGraph::new(gpu.clone(), &scene);
-        graph.add(common::technique(&gpu, "smaa-t2x", &[]));
+        let mut graph = common::graph(&gpu, &scene, vec![common::technique(&gpu, "smaa-t2x", &[])]);
         render_frames(&mut graph, &scene, 3..=3)
     };
     assert_eq!(after_reset[0], fresh[0]);
@@ -293,8 +256,7 @@ fn t2x_is_deterministic_changes_edges_and_resets() {
     );
 
     // Changing a setting also drops it.
-    let mut graph = FrameGraph::new(gpu.clone(), &scene);
-    graph.add(common::technique(&gpu, "smaa-t2x", &[]));
+    let mut graph = common::graph(&gpu, &scene, vec![common::technique(&gpu, "smaa-t2x", &[])]);
     render_frames(&mut graph, &scene, 0..=2);
     aa::set_param(
         graph.slots_mut()[0].technique.as_mut(),
@@ -302,19 +264,11 @@ fn t2x_is_deterministic_changes_edges_and_resets() {
         aa::ParamValue::Float(0.05),
     )
     .expect("threshold");
-    graph
-        .render(&frame_info(&scene, 3, false), FrameScope::All)
-        .expect("frame renders");
-    graph.finish();
-    let changed_settings = outputs(&graph);
+    common::render(&mut graph, common::camera(&scene, 3, SIZE), false, FrameScope::All);
+    let changed_settings = common::outputs(&mut graph);
     let fresh = {
-        let mut graph = FrameGraph::new(gpu.clone(), &scene);
-        graph.add(common::technique(
-            &gpu,
-            "smaa-t2x",
-            &[("threshold", "0.05")],
-        ));
-        render_frames(&mut graph, &scene, 3..=3)
+        let t2x = common::technique(&gpu, "smaa-t2x", &[("threshold", "0.05")]);
+        render_frames(&mut common::graph(&gpu, &scene, vec![t2x]), &scene, 3..=3)
     };
     assert_eq!(changed_settings[0], fresh[0]);
 }
@@ -325,8 +279,7 @@ fn s2x_reports_its_path_and_renders_once_per_sample_without_2x_msaa() {
     let scene = common::flat_chart(5.0);
     let s2x = common::technique(&gpu, "smaa-s2x", &[]);
     let note = s2x.path_note().expect("path note");
-    let mut graph = FrameGraph::new(gpu.clone(), &scene);
-    graph.add(s2x);
+    let mut graph = common::graph(&gpu, &scene, vec![s2x]);
     render_frames(&mut graph, &scene, 0..=0);
     if gpu.caps.supports_sample_count(2) {
         assert!(note.contains("2x MSAA render"), "{note}");
@@ -345,14 +298,12 @@ fn t2x_is_at_least_as_close_to_the_charts_exact_truth_as_smaa_1x() {
     let gpu = common::gpu();
     let scene =
         aa_lab::scene::source::load("chart", &Default::default()).unwrap_or_else(|e| panic!("{e}"));
-    let mut graph = FrameGraph::new(gpu.clone(), &scene);
-    for t in [
+    let techniques = vec![
         common::technique(&gpu, "none", &[]),
         common::technique(&gpu, "smaa", &[]),
         common::technique(&gpu, "smaa-t2x", &[]),
-    ] {
-        graph.add(t);
-    }
+    ];
+    let mut graph = common::graph(&gpu, &scene, techniques);
     let images = render_frames(&mut graph, &scene, 0..=8);
     let truth =
         aa_lab::metrics::coverage::chart_truth(&aa_lab::scene::procedural::chart_layout(), SIZE);

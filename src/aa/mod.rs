@@ -1,22 +1,32 @@
 //! The antialiasing techniques: each implements [`Technique`] (defined in `crate::graph`, which
 //! runs techniques without knowing them), the registry lists them, and the helpers here set
-//! their parameters from any value form and create them with their pipelines checked. Adding a
-//! technique means adding one module and one registry entry.
+//! their parameters from any value form and create them with their pipelines checked.
+//!
+//! Every technique has the same shape: a folder `src/aa/<name>/` with `mod.rs` (its `ID`
+//! constant, its registry entry `INFO` (or `INFOS` for a family such as MSAA 2x..16x), the
+//! [`Technique`] implementation), `settings.rs` (typed settings; choices are
+//! [`named_enum!`](crate::named_enum)s, which give the CLI, the viewer and the sidecars their
+//! names and docs), its passes and debug views, and its `.wgsl` files, which it lists in its
+//! entry. What several techniques share lives once in [`common`] (samplers, encoded views,
+//! debug textures, a pipeline cache, colour maths, sample patterns and filters). Adding a
+//! technique is one folder and one line in [`registry::registry`].
+//!
 //! [`floor`] is a technique outside the registry: the full-screen copy `bench` measures every
 //! post-process pass against (it lives here so that `metrics/` does not depend on `aa/`).
 
-pub mod color;
+pub mod common;
 pub mod floor;
 pub mod fxaa;
 pub mod msaa;
 pub mod none;
 pub mod registry;
-pub mod sampling;
 pub mod smaa;
 pub mod ssaa;
 pub mod taa;
 
-pub use crate::graph::params::{self, Param, ParamError, ParamKind, ParamMap, ParamValue};
+pub use crate::graph::params::{
+    self, Named, Param, ParamError, ParamKind, ParamMap, ParamValue,
+};
 pub use crate::graph::technique::{DebugView, FrameInfo, SceneInput, Technique};
 pub use registry::{TechniqueInfo, registry};
 

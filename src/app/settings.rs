@@ -13,7 +13,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use crate::aa::ParamMap;
+use crate::aa::{self, ParamMap};
 use crate::scene::camera::OrbitPose;
 
 /// Key of the settings in eframe's storage.
@@ -312,7 +312,7 @@ pub struct Settings {
 
 impl Default for Settings {
     fn default() -> Self {
-        let first_four = ["none", "fxaa", "smaa", "msaa4"];
+        let first_four = [aa::none::ID, aa::fxaa::ID, aa::smaa::ID_1X, aa::msaa::ID_4X];
         Self {
             layout: Layout::Single,
             enabled: first_four.iter().map(|s| (*s).to_owned()).collect(),

@@ -26,7 +26,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::render::{parse_size, technique_ids};
 use crate::aa::floor::{COPY_FLOOR_ID, CopyFloor};
-use crate::aa::{self, FrameInfo, ParamValue, SceneInput};
+use crate::aa::{self, FrameInfo, Named, ParamValue, SceneInput};
 use crate::export::heatmap::{HeatmapStyle, write_heatmap};
 use crate::export::report::{
     self, BenchReport, BenchSettings, InputReport, Invocations, MemorySummary, PassReport,
@@ -196,15 +196,19 @@ fn technique_specs(gpu: &Gpu, ids: &[String]) -> anyhow::Result<Vec<TechniqueSpe
 
 /// The reference: SSAA, ordered grid, 8 x 8 (`bench` and `clip`).
 pub(super) fn reference_spec(gpu: &Gpu) -> anyhow::Result<TechniqueSpec> {
-    let mut ssaa = aa::create(gpu, "ssaa")?;
-    aa::set_param(ssaa.as_mut(), "mode", ParamValue::Choice("ordered".into()))?;
+    let mut ssaa = aa::create(gpu, aa::ssaa::ID)?;
+    aa::set_param(
+        ssaa.as_mut(),
+        "mode",
+        ParamValue::Choice(aa::ssaa::Mode::Ordered.name().into()),
+    )?;
     aa::set_param(
         ssaa.as_mut(),
         "factor",
         ParamValue::Int(i64::from(REFERENCE_FACTOR)),
     )?;
     Ok(TechniqueSpec {
-        id: "ssaa".to_owned(),
+        id: aa::ssaa::ID.to_owned(),
         settings: aa::param_map(ssaa.as_ref()),
     })
 }
@@ -585,7 +589,7 @@ impl Bench<'_> {
         let none_total = samples
             .techniques
             .iter()
-            .find(|(id, _)| id == "none")
+            .find(|(id, _)| id == aa::none::ID)
             .map(|(_, s)| Summary::of(&sum_samples(&s.own, &s.input)).median);
         let floor_ms = Summary::of(&samples.floor);
         let pixels = f64::from(run.size.0) * f64::from(run.size.1);
@@ -602,7 +606,7 @@ impl Bench<'_> {
                         .find(|(i, _)| i == id)
                         .and_then(|(_, input)| input.map(|x| x.label()))
                 });
-                let post_process = s.input_label.is_some() && s.post_process && id != "none";
+                let post_process = s.input_label.is_some() && s.post_process && id != aa::none::ID;
                 let invocations = statistics.as_ref().map(|st| {
                     let own = st.technique_invocations(id);
                     let input = samples

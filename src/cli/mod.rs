@@ -21,7 +21,7 @@ use clap::{Parser, Subcommand};
 pub use bench::{BenchArgs, Sweep};
 pub use clip::ClipArgs;
 pub use compare::CompareArgs;
-pub use render::{RenderArgs, parse_vec3};
+pub use render::{RenderArgs, TechniqueArgs, parse_vec3, technique_specs};
 
 /// The overwrite policy as `--help` states it (see the module docs).
 const FILES_HELP: &str = "Files: aa-lab never replaces an existing file unless the command is given \

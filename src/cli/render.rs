@@ -8,7 +8,8 @@ use anyhow::{Context, bail};
 use glam::Vec3;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::aa::{self, ParamValue, params::parse_value};
+use crate::aa::ssaa::Mode;
+use crate::aa::{self, Named, ParamValue, params::parse_value};
 use crate::export::{
     self,
     png::{MAX_RECORD_BYTES, read_record},
@@ -24,7 +25,7 @@ use crate::spec::{self, RenderSpec, RunOptions, TechniqueSpec};
 #[derive(Debug, clap::Args)]
 pub struct TechniqueArgs {
     /// Comma-separated technique ids, or `all` (see `aa-lab techniques`).
-    #[arg(long, short, default_value = "none")]
+    #[arg(long, short, default_value = aa::none::ID)]
     pub technique: String,
     /// SSAA ordered grid: k x k samples per pixel (8 gives the 64-sample reference).
     #[arg(long, value_name = "K")]
@@ -304,13 +305,13 @@ fn shorthand_settings(
         );
     }
     let mut ssaa =
-        |key: &str, value: ParamValue| out.push(("ssaa".to_owned(), key.to_owned(), value));
+        |key: &str, value: ParamValue| out.push((aa::ssaa::ID.to_owned(), key.to_owned(), value));
     if let Some(k) = args.ssaa_factor {
-        ssaa("mode", ParamValue::Choice("ordered".into()));
+        ssaa("mode", ParamValue::Choice(Mode::Ordered.name().into()));
         ssaa("factor", ParamValue::Int(i64::from(k)));
     }
     if jittered {
-        ssaa("mode", ParamValue::Choice("jittered".into()));
+        ssaa("mode", ParamValue::Choice(Mode::Jittered.name().into()));
     }
     if let Some(p) = &args.ssaa_pattern {
         ssaa("pattern", ParamValue::Choice(p.clone()));
@@ -321,14 +322,17 @@ fn shorthand_settings(
     if let Some(f) = &args.ssaa_filter {
         ssaa("filter", ParamValue::Choice(f.clone()));
     }
-    if !out.is_empty() && !ids.iter().any(|id| id == "ssaa") {
+    if !out.is_empty() && !ids.iter().any(|id| id == aa::ssaa::ID) {
         bail!(
             "--ssaa-* options apply to the ssaa technique, which is not among --technique {}",
             ids.join(",")
         );
     }
     if let Some(resolve) = &args.msaa_resolve {
-        let msaa: Vec<&String> = ids.iter().filter(|id| id.starts_with("msaa")).collect();
+        let msaa: Vec<&String> = ids
+            .iter()
+            .filter(|id| aa::msaa::INFOS.iter().any(|info| info.id == id.as_str()))
+            .collect();
         if msaa.is_empty() {
             bail!(
                 "--msaa-resolve applies to MSAA techniques, and none is among --technique {}",

@@ -15,7 +15,7 @@ use super::charts::{
     BarChart, BarLayout, BarSeries, ChartError, Line, LineChart, TradeoffChart, TradeoffPoint,
     draw_bars, draw_lines, draw_tradeoff, pareto_front,
 };
-use crate::aa::ParamMap;
+use crate::aa::{self, ParamMap};
 use crate::files::Overwrite;
 use crate::gpu::Capabilities;
 use crate::metrics::{Comparison, Summary};
@@ -585,7 +585,7 @@ pub fn scaling_curves(
                 .iter()
                 .filter_map(|r| {
                     let t = r.technique(&id)?;
-                    let none = r.technique("none").map_or(0.0, |n| n.total_ms.median);
+                    let none = r.technique(aa::none::ID).map_or(0.0, |n| n.total_ms.median);
                     Some(ScalingPoint {
                         x: x_of(r),
                         total_ms: t.total_ms.median,
@@ -783,7 +783,7 @@ pub fn write_charts(
             ] {
                 let lines: Vec<Line> = curves
                     .iter()
-                    .filter(|(id, _, _)| kind == "total" || id != "none")
+                    .filter(|(id, _, _)| kind == "total" || id != aa::none::ID)
                     .map(|(_, name, points)| Line {
                         name: name.clone(),
                         points: points

@@ -40,6 +40,17 @@ impl Fullscreen {
         device: &wgpu::Device,
         fragment: &FragmentDesc<'_>,
     ) -> wgpu::RenderPipeline {
+        self.pipeline_with_depth(device, fragment, None)
+    }
+
+    /// [`Fullscreen::pipeline`] with a depth/stencil state (passes masked by a stencil, or
+    /// writing depth).
+    pub fn pipeline_with_depth(
+        &self,
+        device: &wgpu::Device,
+        fragment: &FragmentDesc<'_>,
+        depth_stencil: Option<wgpu::DepthStencilState>,
+    ) -> wgpu::RenderPipeline {
         let targets: Vec<Option<wgpu::ColorTargetState>> = fragment
             .targets
             .iter()
@@ -61,7 +72,7 @@ impl Fullscreen {
                 buffers: &[],
             },
             primitive: Default::default(),
-            depth_stencil: None,
+            depth_stencil,
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
                 module: fragment.module,

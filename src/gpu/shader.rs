@@ -1,6 +1,7 @@
-//! Loading WGSL from `shaders/`. The sources are compiled into the binary with
-//! `include_str!`, so an installed `aa-lab` needs no files beside it; the naga validation test
-//! reads the same files from disk.
+//! Loading WGSL: the shared shaders of `shaders/` and each technique's own (in its folder under
+//! `src/aa/`). The sources are compiled into the binary with `include_str!` ([`wgsl!`]), so an
+//! installed `aa-lab` needs no files beside it; the naga validation test reads the same files
+//! from disk.
 //!
 //! **Uniforms never steer control flow on their own.** Mesa's lavapipe (22.x, the driver of
 //! CI and of machines without a GPU) specialises a shader on the uniforms that alone decide an
@@ -14,69 +15,69 @@
 //! a varying or the pixel position are not affected. `tests/long_runs.rs` renders hundreds of
 //! frames of every technique and fails on growth.
 
-/// Every WGSL file under `shaders/`, by file name. The naga test checks this list against the
-/// directory so that no shader escapes validation.
-pub const SHADERS: &[(&str, &str)] = &[
-    (
-        "fullscreen.wgsl",
-        include_str!("../../shaders/fullscreen.wgsl"),
-    ),
-    ("scene.wgsl", include_str!("../../shaders/scene.wgsl")),
-    (
-        "msaa_resolve.wgsl",
-        include_str!("../../shaders/msaa_resolve.wgsl"),
-    ),
-    (
-        "msaa_debug.wgsl",
-        include_str!("../../shaders/msaa_debug.wgsl"),
-    ),
-    ("ssaa.wgsl", include_str!("../../shaders/ssaa.wgsl")),
-    ("fxaa.wgsl", include_str!("../../shaders/fxaa.wgsl")),
-    ("taa.wgsl", include_str!("../../shaders/taa.wgsl")),
-    (
-        "taa_debug.wgsl",
-        include_str!("../../shaders/taa_debug.wgsl"),
-    ),
-    ("smaa.wgsl", include_str!("../../shaders/smaa.wgsl")),
-    (
-        "smaa_modes.wgsl",
-        include_str!("../../shaders/smaa_modes.wgsl"),
-    ),
-    (
-        "metrics_ssim.wgsl",
-        include_str!("../../shaders/metrics_ssim.wgsl"),
-    ),
-    (
-        "metrics_copy.wgsl",
-        include_str!("../../shaders/metrics_copy.wgsl"),
-    ),
-    (
-        "viewer_blit.wgsl",
-        include_str!("../../shaders/viewer_blit.wgsl"),
-    ),
-    (
-        "viewer_fill.wgsl",
-        include_str!("../../shaders/viewer_fill.wgsl"),
-    ),
+/// A WGSL file compiled into the binary: its path from the repository root and its text.
+/// Shared shaders are listed in [`SHADERS`]; a technique lists its own in its folder and
+/// registry entry (`aa::TechniqueInfo::shaders`). The naga test walks `shaders/` and `src/`
+/// and checks every file against those lists, so that none escapes validation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shader {
+    /// Path from the repository root (`shaders/scene.wgsl`, `src/aa/fxaa/fxaa.wgsl`).
+    pub path: &'static str,
+    /// The WGSL text.
+    pub source: &'static str,
+}
+
+/// A [`Shader`] from its path relative to the repository root, its text included at compile
+/// time (so the path written once is the path read).
+#[macro_export]
+macro_rules! wgsl {
+    ($path:literal) => {
+        $crate::gpu::shader::Shader {
+            path: $path,
+            source: include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/", $path)),
+        }
+    };
+}
+
+impl Shader {
+    /// The file name (the module's label).
+    pub fn name(&self) -> &'static str {
+        self.path.rsplit('/').next().unwrap_or(self.path)
+    }
+
+    /// Creates the shader module.
+    pub fn module(&self, device: &wgpu::Device) -> wgpu::ShaderModule {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(self.name()),
+            source: wgpu::ShaderSource::Wgsl(self.source.into()),
+        })
+    }
+}
+
+/// The shared WGSL files under `shaders/` (scene, full-screen vertex stage, metrics, viewer);
+/// each technique's own shaders live in its folder under `src/aa/`.
+pub const SHADERS: &[Shader] = &[
+    crate::wgsl!("shaders/fullscreen.wgsl"),
+    crate::wgsl!("shaders/scene.wgsl"),
+    crate::wgsl!("shaders/metrics_ssim.wgsl"),
+    crate::wgsl!("shaders/metrics_copy.wgsl"),
+    crate::wgsl!("shaders/viewer_blit.wgsl"),
+    crate::wgsl!("shaders/viewer_fill.wgsl"),
 ];
 
-/// The source of `shaders/<name>`.
+/// The shared shader `shaders/<name>`.
 ///
 /// # Panics
 /// Panics if `name` is not in [`SHADERS`]: shader names are compile-time constants of this
 /// crate, so a miss is a programming error caught by the tests, never user input.
-pub fn source(name: &str) -> &'static str {
+pub fn shared(name: &str) -> &'static Shader {
     SHADERS
         .iter()
-        .find(|(file, _)| *file == name)
-        .map(|(_, src)| *src)
+        .find(|shader| shader.name() == name)
         .unwrap_or_else(|| panic!("shader {name} is not listed in gpu::shader::SHADERS"))
 }
 
-/// Creates a shader module from `shaders/<name>`.
+/// Creates a shader module from the shared shader `shaders/<name>`.
 pub fn module(device: &wgpu::Device, name: &str) -> wgpu::ShaderModule {
-    device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(name),
-        source: wgpu::ShaderSource::Wgsl(source(name).into()),
-    })
+    shared(name).module(device)
 }

@@ -195,6 +195,16 @@ impl Param {
         }
     }
 
+    /// A choice among the values of a [`Named`] enum.
+    pub fn named<E: Named>(
+        key: &'static str,
+        label: &'static str,
+        help: &'static str,
+        value: E,
+    ) -> Self {
+        Self::choice(key, label, help, E::NAMES, value.name())
+    }
+
     /// Checks `value` against this parameter's kind and range, converting text and
     /// compatible numbers (an integer given for a real, `true`/`on` for a bool).
     pub fn validate(&self, technique: &str, value: ParamValue) -> Result<ParamValue, ParamError> {
@@ -309,6 +319,87 @@ pub fn as_choice(value: &ParamValue) -> &str {
         ParamValue::Choice(s) => s,
         _ => "",
     }
+}
+
+/// A settings enum with stable names: the one way a technique's typed choice becomes the
+/// name the CLI's `--set`, the viewer's menus and the sidecars use, and back. Declare such an
+/// enum with [`named_enum!`](crate::named_enum), which also keeps each variant's doc comment
+/// as its description.
+pub trait Named: Copy + PartialEq + 'static {
+    /// Every value, in the order front ends list them.
+    const ALL: &'static [Self];
+    /// The names of [`Named::ALL`], in the same order.
+    const NAMES: &'static [&'static str];
+    /// The doc comments of [`Named::ALL`], in the same order.
+    const DOCS: &'static [&'static str];
+
+    /// Position in [`Named::ALL`] (also the value of the WGSL override constant that selects
+    /// it, where a shader branches on it).
+    fn index(self) -> usize {
+        Self::ALL.iter().position(|v| *v == self).unwrap_or(0)
+    }
+
+    /// The name, as the CLI and the sidecars spell it.
+    fn name(self) -> &'static str {
+        Self::NAMES[self.index()]
+    }
+
+    /// What this value does (the variant's doc comment).
+    fn doc(self) -> &'static str {
+        Self::DOCS[self.index()].trim()
+    }
+
+    /// The value of a name (ASCII case-insensitive, as [`Param::validate`] accepts choices).
+    fn from_name(name: &str) -> Option<Self> {
+        Self::NAMES
+            .iter()
+            .position(|n| n.eq_ignore_ascii_case(name))
+            .map(|i| Self::ALL[i])
+    }
+}
+
+/// Declares a [`Named`] enum: each variant with its doc comment and its name.
+///
+/// ```
+/// aa_lab::named_enum! {
+///     /// Which way.
+///     pub enum Way {
+///         /// To the left.
+///         Left => "left",
+///         /// To the right.
+///         Right => "right",
+///     }
+/// }
+/// use aa_lab::graph::params::Named;
+/// assert_eq!(Way::from_name("right"), Some(Way::Right));
+/// assert_eq!(Way::Left.name(), "left");
+/// assert_eq!(Way::Right.doc(), "To the right.");
+/// ```
+#[macro_export]
+macro_rules! named_enum {
+    (
+        $(#[$meta:meta])*
+        $vis:vis enum $enum:ident {
+            $( $(#[doc = $doc:literal])* $variant:ident => $name:literal ),+ $(,)?
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        $vis enum $enum {
+            $( $(#[doc = $doc])* $variant ),+
+        }
+
+        impl $crate::graph::params::Named for $enum {
+            const ALL: &'static [Self] = &[$(Self::$variant),+];
+            const NAMES: &'static [&'static str] = &[$($name),+];
+            const DOCS: &'static [&'static str] = &[$(concat!($($doc),*)),+];
+        }
+    };
+}
+
+/// Reads a validated choice of a [`Named`] enum.
+pub fn as_named<E: Named>(value: &ParamValue) -> Option<E> {
+    E::from_name(as_choice(value))
 }
 
 #[cfg(test)]

@@ -1,13 +1,19 @@
 //! Shared helpers of the tests: the device (failing loudly when no adapter exists), a
-//! technique with settings, image differences, fixture images, running the binary, and small
-//! generated scenes whose expected pixels are known exactly.
+//! technique with settings, the one harness that renders techniques on a scene and reads their
+//! outputs back, image differences, fixture images, running the binary, and small generated
+//! scenes whose expected pixels are known exactly.
 
 #![allow(dead_code)]
 
-use aa_lab::aa::{self, Technique};
-use aa_lab::gpu::Gpu;
+use std::ops::RangeInclusive;
+
+use aa_lab::aa::{self, FrameInfo, Technique};
+use aa_lab::gpu::{Gpu, read_texture_rgba8};
+use aa_lab::graph::{FrameGraph, FrameScope};
+use aa_lab::scene::camera::FrameCamera;
 use aa_lab::scene::{AlphaMode, CameraRig, Material, Mesh, Scene, TextureImage, Vertex};
 use glam::{Vec2, Vec3};
+use image::RgbaImage;
 
 /// The test device. GPU tests must never pass silently without one.
 pub fn gpu() -> Gpu {
@@ -117,6 +123,72 @@ pub fn technique(gpu: &Gpu, id: &str, settings: &[(&str, &str)]) -> Box<dyn Tech
             .unwrap_or_else(|e| panic!("{e}"));
     }
     t
+}
+
+/// Frame `frame` of the scene's own camera path at `size`.
+pub fn camera(scene: &Scene, frame: u64, size: (u32, u32)) -> FrameCamera {
+    FrameCamera::from_rig(&scene.camera, frame, size)
+}
+
+/// A frame graph over `scene` running `techniques`, in that order.
+pub fn graph(gpu: &Gpu, scene: &Scene, techniques: Vec<Box<dyn Technique>>) -> FrameGraph {
+    let mut graph = FrameGraph::new(gpu.clone(), scene);
+    for technique in techniques {
+        graph.add(technique);
+    }
+    graph
+}
+
+/// Renders one frame of `graph` (`scope`: every technique, or only the temporal ones as a
+/// warm-up), panicking with the graph's error.
+pub fn render(graph: &mut FrameGraph, camera: FrameCamera, reset_history: bool, scope: FrameScope) {
+    graph
+        .render(
+            &FrameInfo {
+                camera,
+                reset_history,
+            },
+            scope,
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+}
+
+/// Finishes the graph's frame and reads every technique's output back, in the order the
+/// techniques were added.
+pub fn outputs(graph: &mut FrameGraph) -> Vec<RgbaImage> {
+    graph.finish();
+    graph
+        .slots()
+        .iter()
+        .map(|s| read_texture_rgba8(graph.gpu(), s.output().expect("output")).expect("readback"))
+        .collect()
+}
+
+/// Renders frames `frames` of the scene's camera at `size` with every technique of `graph`
+/// (the first frame resets the histories) and reads every output of the last frame back.
+pub fn render_frames(
+    graph: &mut FrameGraph,
+    scene: &Scene,
+    size: (u32, u32),
+    frames: RangeInclusive<u64>,
+) -> Vec<RgbaImage> {
+    let first = *frames.start();
+    for frame in frames {
+        render(graph, camera(scene, frame, size), frame == first, FrameScope::All);
+    }
+    outputs(graph)
+}
+
+/// The harness in one call: renders `techniques` together on `scene` at `size` over frames
+/// `0..=last` and returns each technique's output of the last frame.
+pub fn render_techniques(
+    gpu: &Gpu,
+    scene: &Scene,
+    techniques: Vec<Box<dyn Technique>>,
+    size: (u32, u32),
+    last: u64,
+) -> Vec<RgbaImage> {
+    render_frames(&mut graph(gpu, scene, techniques), scene, size, 0..=last)
 }
 
 /// Mean absolute difference over RGB of two images of the same size, in 8-bit steps.

@@ -13,7 +13,8 @@
 //! - `smaa-s2x`: per sample of a two-sample render, averaged ([`multisample`]).
 //!
 //! The lookup tables are generated at first use from their rules ([`lut`]); the settings,
-//! presets and parameters live in [`settings`]; [`pipeline`] has the wgpu helpers. Only edge
+//! presets and parameters live in [`settings`]; [`pipeline`] has the wgpu helpers; the WGSL
+//! is `smaa.wgsl` (the three SMAA passes, debug views) and `smaa_modes.wgsl` (T2x, S2x) here. Only edge
 //! pixels run the blending-weight pass: the edge pass marks them in a stencil buffer that the
 //! weight pass tests. Debug views: the edges and the blending weights.
 
@@ -26,14 +27,81 @@ pub mod temporal;
 
 pub use settings::{EdgeMode, Preset, SmaaSettings};
 
-use super::params::{Param, ParamError, ParamValue};
-use super::{DebugView, FrameInfo, SceneInput, Technique};
-use crate::gpu::Gpu;
+use crate::aa::params::{Named, Param, ParamError, ParamValue};
+use crate::aa::registry::{FULL_SET_HINT, TechniqueInfo, needs_encoded_views};
+use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
+use crate::gpu::shader::Shader;
+use crate::gpu::{Capabilities, Gpu};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
 use multisample::Multisample;
 use passes::{Input, SmaaPasses};
 use temporal::Temporal;
+
+/// Stable id of SMAA 1x.
+pub const ID_1X: &str = "smaa";
+/// Stable id of SMAA T2x.
+pub const ID_T2X: &str = "smaa-t2x";
+/// Stable id of SMAA S2x.
+pub const ID_S2X: &str = "smaa-s2x";
+
+/// The edge, blending-weight and neighbourhood-blending passes and the debug views.
+const WGSL: Shader = crate::wgsl!("src/aa/smaa/smaa.wgsl");
+/// The T2x temporal resolve and the S2x sample passes.
+const MODES_WGSL: Shader = crate::wgsl!("src/aa/smaa/smaa_modes.wgsl");
+
+/// The registry entries of the three modes.
+pub const INFOS: [TechniqueInfo; 3] = [
+    TechniqueInfo {
+        id: ID_1X,
+        name: "SMAA 1x",
+        summary: "Morphological antialiasing of the finished image: edges are found by luma (or colour or \
+             depth), the shape of each staircase is recognised (L, Z and U patterns, 45-degree diagonals, sharp corners) \
+             and every edge pixel is blended with its neighbour by the area the reconstructed edge line covers, read from \
+             precomputed tables. Smooth, sharp edges for about the cost of three fullscreen passes and no extra scene \
+             memory, but it cannot recover detail the single sample missed (sub-pixel geometry still breaks up and \
+             flickers) and it may soften text and fine texture.",
+        availability: needs_encoded_views,
+        create: |gpu| Box::new(Smaa::new(gpu, Mode::X1)),
+        shaders: &[WGSL, MODES_WGSL],
+    },
+    TechniqueInfo {
+        id: ID_T2X,
+        name: "SMAA T2x",
+        summary: "SMAA 1x on a render jittered by a quarter pixel, alternating between two offsets, mixed \
+             with the previous frame found through motion vectors (half weight, less where the pixel's speed \
+             changed). Two samples per pixel over two frames recover some sub-pixel detail and steady \
+             crawling edges for the cost of SMAA plus one resolve pass, but fast motion and disocclusions \
+             fall back to SMAA 1x and the jitter can shimmer where the history is rejected.",
+        availability: needs_encoded_views,
+        create: |gpu| Box::new(Smaa::new(gpu, Mode::T2x)),
+        shaders: &[WGSL, MODES_WGSL],
+    },
+    TechniqueInfo {
+        id: ID_S2X,
+        name: "SMAA S2x",
+        summary: "SMAA 1x on each sample of a two-sample render at the standard 2x MSAA positions, averaged: \
+             MSAA's real sub-pixel coverage plus SMAA's gradients, better than either alone on thin geometry, \
+             at the cost of a 2x render and two SMAA runs. Without 2x MSAA on the adapter it renders the scene \
+             twice at the two positions instead.",
+        availability: s2x_availability,
+        create: |gpu| Box::new(Smaa::new(gpu, Mode::S2x)),
+        shaders: &[WGSL, MODES_WGSL],
+    },
+];
+
+/// SMAA S2x reads depth with `textureLoad`, which wgpu cannot translate to GLSL.
+fn s2x_availability(caps: &Capabilities) -> Result<(), String> {
+    needs_encoded_views(caps)?;
+    if caps.is_gl() {
+        Err(format!(
+            "SMAA S2x loads depth samples with textureLoad, which the OpenGL backend's GLSL \
+             cannot do; {FULL_SET_HINT}"
+        ))
+    } else {
+        Ok(())
+    }
+}
 
 /// Which SMAA mode a technique runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,9 +118,9 @@ impl Mode {
     /// The technique id.
     pub fn id(self) -> &'static str {
         match self {
-            Self::X1 => "smaa",
-            Self::T2x => "smaa-t2x",
-            Self::S2x => "smaa-s2x",
+            Self::X1 => ID_1X,
+            Self::T2x => ID_T2X,
+            Self::S2x => ID_S2X,
         }
     }
 }

@@ -1,5 +1,5 @@
 //! SMAA 1x on one single-sample image, the building block of every SMAA mode: the edge,
-//! blending-weight and neighbourhood-blending passes of `shaders/smaa.wgsl`, their private
+//! blending-weight and neighbourhood-blending passes of `smaa.wgsl`, their private
 //! targets, the lookup-table textures and the debug views.
 //!
 //! The edge pass writes a `Stencil8` mask (reference 1 wherever a fragment survives, i.e. on
@@ -12,10 +12,11 @@
 use glam::Vec2;
 
 use super::pipeline::{
-    self, Binding, LutTextures, PassDesc, Stencil, Vertex, bind_group, cleared, view_as,
+    self, Binding, LutTextures, PassDesc, Stencil, Vertex, bind_group, cleared,
 };
+use crate::aa::common::{bilinear_clamp_sampler, view_as};
 use super::settings::{EdgeMode, PipelineKey, SmaaSettings};
-use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu, MOTION_FORMAT, shader};
+use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu, MOTION_FORMAT};
 use crate::graph::{MemoryItem, PassContext};
 
 /// The uniform block of `smaa.wgsl` (`Params`).
@@ -89,7 +90,7 @@ pub struct SmaaPasses {
     /// The shared fullscreen vertex stage.
     pub vertex: Vertex,
     module: wgpu::ShaderModule,
-    /// `shaders/smaa_modes.wgsl`, shared with the T2x and S2x passes.
+    /// `smaa_modes.wgsl`, shared with the T2x and S2x passes.
     pub modes_module: wgpu::ShaderModule,
     /// Bilinear, clamp-to-edge.
     pub sampler: wgpu::Sampler,
@@ -111,14 +112,9 @@ impl SmaaPasses {
         let no_motion = pipeline::target(device, "smaa no motion", (1, 1), MOTION_FORMAT, &[]);
         Self {
             vertex: Vertex::new(device),
-            module: shader::module(device, "smaa.wgsl"),
-            modes_module: shader::module(device, "smaa_modes.wgsl"),
-            sampler: device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("smaa bilinear"),
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                ..Default::default()
-            }),
+            module: super::WGSL.module(device),
+            modes_module: super::MODES_WGSL.module(device),
+            sampler: bilinear_clamp_sampler(device, "smaa bilinear"),
             edge_layout: pipeline::layout(
                 device,
                 "smaa edges",
@@ -411,12 +407,12 @@ impl SmaaPasses {
             self.debug = Some(DebugViews {
                 edges_pipeline: build("fs_debug_edges"),
                 weights_pipeline: build("fs_debug_weights"),
-                edges: crate::aa::msaa::debug_texture(
+                edges: crate::aa::common::debug_texture(
                     &self.device,
                     "smaa edges view",
                     targets.size,
                 ),
-                weights: crate::aa::msaa::debug_texture(
+                weights: crate::aa::common::debug_texture(
                     &self.device,
                     "smaa weights view",
                     targets.size,

@@ -1,9 +1,10 @@
 //! Small wgpu helpers shared by the SMAA passes: explicit bind-group layouts (the passes
 //! share one WGSL module per file, so layouts are spelled out rather than derived),
-//! fullscreen pipelines with an optional stencil state (the shared fullscreen helper has no
-//! depth-stencil), bind groups, private render targets and the lookup-table textures.
+//! full-screen pipelines with SMAA's stencil use (built by the shared
+//! `crate::gpu::fullscreen` helper), bind groups, private render targets and the lookup-table
+//! textures.
 
-use crate::gpu::shader;
+use crate::gpu::fullscreen::{FragmentDesc, Fullscreen};
 
 use super::lut;
 
@@ -120,13 +121,13 @@ pub struct PassDesc<'a> {
     pub stencil: Stencil,
 }
 
-/// The shared fullscreen vertex stage (`shaders/fullscreen.wgsl`).
-pub struct Vertex(wgpu::ShaderModule);
+/// The shared full-screen vertex stage, building SMAA's pipelines.
+pub struct Vertex(Fullscreen);
 
 impl Vertex {
     /// Compiles the vertex stage.
     pub fn new(device: &wgpu::Device) -> Self {
-        Self(shader::module(device, "fullscreen.wgsl"))
+        Self(Fullscreen::new(device))
     }
 
     /// Builds a fullscreen pipeline drawing one triangle.
@@ -172,34 +173,18 @@ impl Vertex {
             bind_group_layouts: &[Some(desc.layout)],
             immediate_size: 0,
         });
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(desc.label),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &self.0,
-                entry_point: Some("vs_fullscreen"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: Default::default(),
-            depth_stencil,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
+        self.0.pipeline_with_depth(
+            device,
+            &FragmentDesc {
+                label: desc.label,
                 module: desc.module,
-                entry_point: Some(desc.entry_point),
-                compilation_options: wgpu::PipelineCompilationOptions {
-                    constants: desc.constants,
-                    ..Default::default()
-                },
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: desc.format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
+                entry_point: desc.entry_point,
+                targets: &[desc.format],
+                constants: desc.constants,
+                layout: Some(&pipeline_layout),
+            },
+            depth_stencil,
+        )
     }
 }
 
@@ -223,14 +208,6 @@ pub fn target(
             )
         },
     )
-}
-
-/// A view of a texture in another (compatible) format.
-pub fn view_as(texture: &wgpu::Texture, format: wgpu::TextureFormat) -> wgpu::TextureView {
-    texture.create_view(&wgpu::TextureViewDescriptor {
-        format: Some(format),
-        ..Default::default()
-    })
 }
 
 /// A colour attachment cleared to zero.

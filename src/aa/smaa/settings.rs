@@ -3,71 +3,36 @@
 //! between settings that change pipelines ([`PipelineKey`], WGSL override constants) and
 //! those that only change a uniform.
 
-use crate::aa::params::{Param, ParamError, ParamValue, as_bool, as_choice, as_f32, as_i64};
+use crate::aa::params::{
+    Named, Param, ParamError, ParamValue, as_bool, as_f32, as_i64, as_named,
+};
 
 use super::lut::MAX_DIAG_DISTANCE;
 
-/// Quality presets (threshold / search steps / diagonal steps / corner rounding):
-/// Low .15/4/off/off, Medium .10/8/off/off, High .10/16/8/25, Ultra .05/32/16/25.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Preset {
-    /// Fastest: short searches, no diagonal or corner handling.
-    Low,
-    /// Longer searches.
-    Medium,
-    /// Diagonals and sharp corners (the reference implementation's default).
-    #[default]
-    High,
-    /// Lowest threshold and longest searches.
-    Ultra,
-}
-
-impl Preset {
-    /// Every preset, in UI order.
-    pub const ALL: [Self; 4] = [Self::Low, Self::Medium, Self::High, Self::Ultra];
-    /// Names as the CLI spells them.
-    pub const NAMES: &'static [&'static str] = &["low", "medium", "high", "ultra"];
-
-    /// Name as the CLI spells it.
-    pub fn name(self) -> &'static str {
-        Self::NAMES[self as usize]
-    }
-
-    /// The preset of a name (case-insensitive).
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|p| p.name().eq_ignore_ascii_case(name))
+crate::named_enum! {
+    /// Quality presets (threshold / search steps / diagonal steps / corner rounding):
+    /// Low .15/4/off/off, Medium .10/8/off/off, High .10/16/8/25, Ultra .05/32/16/25.
+    pub enum Preset {
+        /// Fastest: short searches, no diagonal or corner handling.
+        Low => "low",
+        /// Longer searches.
+        Medium => "medium",
+        /// Diagonals and sharp corners (the reference implementation's default).
+        High => "high",
+        /// Lowest threshold and longest searches.
+        Ultra => "ultra",
     }
 }
 
-/// What the edge-detection pass compares between neighbours.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum EdgeMode {
-    /// Perceived brightness of the sRGB-encoded colour (the recommended mode).
-    #[default]
-    Luma,
-    /// The largest difference of the three sRGB-encoded channels.
-    Color,
-    /// Scene depth: only geometric edges, no shading or texture edges.
-    Depth,
-}
-
-impl EdgeMode {
-    /// Names as the CLI spells them.
-    pub const NAMES: &'static [&'static str] = &["luma", "color", "depth"];
-
-    fn from_name(name: &str) -> Self {
-        match name {
-            "color" => Self::Color,
-            "depth" => Self::Depth,
-            _ => Self::Luma,
-        }
-    }
-
-    /// Name as the CLI spells it.
-    pub fn name(self) -> &'static str {
-        Self::NAMES[self as usize]
+crate::named_enum! {
+    /// What the edge-detection pass compares between neighbours.
+    pub enum EdgeMode {
+        /// Perceived brightness of the sRGB-encoded colour (the recommended mode).
+        Luma => "luma",
+        /// The largest difference of the three sRGB-encoded channels.
+        Color => "color",
+        /// Scene depth: only geometric edges, no shading or texture edges.
+        Depth => "depth",
     }
 }
 
@@ -154,7 +119,7 @@ impl SmaaSettings {
 
     /// The preset these settings equal, if any (otherwise they are custom).
     pub fn matching_preset(&self) -> Option<Preset> {
-        Preset::ALL.into_iter().find(|&p| {
+        Preset::ALL.iter().copied().find(|&p| {
             let mut probe = *self;
             probe.apply_preset(p);
             probe == *self
@@ -240,15 +205,14 @@ impl SmaaSettings {
                 100,
                 i64::from(self.corner_rounding),
             ),
-            Param::choice(
+            Param::named(
                 "edge_detection",
                 "Edge detection",
                 "What is compared between neighbours: luma (brightness; finds shading and texture edges \
                  too, the recommended mode), color (largest channel step; a little more sensitive to \
                  chroma-only edges) or depth (geometric edges only; misses edges between surfaces at the \
                  same depth and inside textures).",
-                EdgeMode::NAMES,
-                self.edge_mode.name(),
+                self.edge_mode,
             ),
             Param::float(
                 "local_contrast_factor",
@@ -330,7 +294,7 @@ impl SmaaSettings {
             "max_search_steps_diag" => self.max_search_steps_diag = steps(value, MAX_DIAG_DISTANCE),
             "corner_detection" => self.corner_detection = as_bool(value),
             "corner_rounding" => self.corner_rounding = as_i64(value).clamp(0, 100) as u32,
-            "edge_detection" => self.edge_mode = EdgeMode::from_name(as_choice(value)),
+            "edge_detection" => self.edge_mode = as_named(value).unwrap_or(EdgeMode::Luma),
             "local_contrast_factor" => self.local_contrast_factor = as_f32(value),
             "predication" => self.predication = as_bool(value),
             "predication_threshold" => self.predication_threshold = as_f32(value),
@@ -357,7 +321,7 @@ impl SmaaSettings {
 
 impl Default for SmaaSettings {
     fn default() -> Self {
-        Self::preset(Preset::default())
+        Self::preset(Preset::High)
     }
 }
 

@@ -3,7 +3,7 @@
 //!
 //! The jitter of frame N is [`JITTER`]`[N % 2]`, an offset of the image in pixels (the sample
 //! sits at the pixel centre minus it); the area sub-tables follow the sample position
-//! (`lut::subsample_indices`). The resolve (`fs_resolve` in `shaders/smaa_modes.wgsl`) fetches
+//! (`lut::subsample_indices`). The resolve (`fs_resolve` in `smaa_modes.wgsl`) fetches
 //! the previous result where the motion vector says the pixel was and mixes it in with weight
 //! 1/2, lowered where the pixel's speed changed between the frames (velocity weighting; the
 //! speed travels in the results' alpha). The history is dropped on `reset_history`, on a

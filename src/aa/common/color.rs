@@ -1,5 +1,5 @@
 //! Colour maths shared by the post-process techniques, as CPU functions that the shaders
-//! (`shaders/fxaa.wgsl`, `shaders/taa.wgsl`) mirror line for line, so that the tests can
+//! (`src/aa/fxaa/fxaa.wgsl`, `src/aa/taa/taa.wgsl`) mirror line for line, so that the tests can
 //! check the formulas without a GPU.
 //!
 //! - Luma: FXAA measures contrast on the sRGB-encoded image with the BT.601 weights (or the
@@ -16,43 +16,27 @@
 
 use glam::{Vec2, Vec3};
 
+#[cfg(test)]
+use crate::graph::params::Named;
+
 /// BT.601 luma weights, applied to sRGB-encoded values (FXAA's perceptual luma).
 pub const LUMA_BT601: Vec3 = Vec3::new(0.299, 0.587, 0.114);
 
 /// Rec. 709 luminance weights, applied to linear values.
 pub const LUMINANCE_REC709: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 
-/// Which luma FXAA computes from a sample.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum LumaSource {
-    /// BT.601 weights on the sRGB-encoded colour, computed for every tap in the pass.
-    Bt601,
-    /// The encoded green channel (FXAA's `FXAA_GREEN_AS_LUMA`: cheaper, misses red/blue
-    /// edges).
-    Green,
+crate::named_enum! {
+    /// Which luma FXAA computes from a sample.
+    pub enum LumaSource {
+        /// BT.601 weights on the sRGB-encoded colour, computed for every tap in the pass.
+        Bt601 => "bt601",
+        /// The encoded green channel (FXAA's `FXAA_GREEN_AS_LUMA`: cheaper, misses red/blue
+        /// edges).
+        Green => "green",
+    }
 }
 
 impl LumaSource {
-    /// Names as the `luma` parameter offers them.
-    pub const NAMES: &'static [&'static str] = &["bt601", "green"];
-
-    /// Parses a name from [`LumaSource::NAMES`].
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "bt601" => Some(Self::Bt601),
-            "green" => Some(Self::Green),
-            _ => None,
-        }
-    }
-
-    /// The name in [`LumaSource::NAMES`].
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Bt601 => "bt601",
-            Self::Green => "green",
-        }
-    }
-
     /// Luma of a sRGB-encoded colour.
     pub fn luma(self, encoded: Vec3) -> f32 {
         match self {

@@ -7,7 +7,7 @@
 //! shifted by the next offset of a Halton(2,3) sequence of 8 or 16 samples, so over a cycle
 //! every pixel is sampled at that many places, and textures get a negative mip bias (-1.5 by
 //! default: -1/2 log2 of the 8 samples the history averages, so textures come out as sharp as
-//! in a supersampled image). The resolve (`shaders/taa.wgsl`, one fullscreen pass with two
+//! in a supersampled image). The resolve (`taa.wgsl` in this folder, one fullscreen pass with two
 //! targets) reprojects the history with the renderer's motion vectors (camera and object
 //! motion, without jitter; taken from the nearest surface among the pixel and its diagonal
 //! neighbours), rectifies it against the current neighbourhood's colours (clamp, YCoCg clip or
@@ -75,29 +75,54 @@
 //! Debug views: `velocity` (motion vectors), `rejection` (where the history was rectified or
 //! dropped) and `jitter` (the sample pattern inside one pixel).
 
-use std::collections::HashMap;
+mod debug;
+pub mod settings;
+
+pub use settings::{
+    CurrentFilter, HistoryFilter, JitterSamples, Neighbourhood, Preset, Rectify, TaaSettings,
+    VelocityTaps,
+};
 
 use glam::Vec2;
 
-use super::fxaa::{bilinear_clamp_sampler, encoded_view};
-use super::msaa::debug_texture;
-use super::params::{Param, ParamError, ParamValue, as_bool, as_choice, as_f32};
-use super::sampling::halton;
-use super::{DebugView, FrameInfo, SceneInput, Technique};
+use crate::aa::common::sampling::halton;
+use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, encoded_view};
+use crate::aa::params::{Named, Param, ParamError, ParamValue, as_bool, as_f32, as_named};
+use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
+use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
-use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu, shader};
+use crate::gpu::shader::Shader;
+use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu};
+use debug::TaaDebug;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::camera::FrameCamera;
 use crate::scene::renderer::SceneTargets;
 
+/// Stable id, as on the command line.
+pub const ID: &str = "taa";
+
+/// The resolve (reprojection, rectification, blend).
+const WGSL: Shader = crate::wgsl!("src/aa/taa/taa.wgsl");
+/// The velocity and jitter debug views.
+const DEBUG_WGSL: Shader = crate::wgsl!("src/aa/taa/taa_debug.wgsl");
+
+/// The registry entry.
+pub const INFO: TechniqueInfo = TechniqueInfo {
+    id: ID,
+    name: "TAA",
+    summary: "Temporal antialiasing (after Karis 2014 and Salvi 2016): every frame renders one \
+         sample per pixel at a different sub-pixel jitter and blends it into a reprojected \
+         history, so a still image converges towards many samples per pixel for the cost of \
+         one post pass. It handles edges, textures and specular shimmer alike, but needs \
+         motion vectors, blurs slightly under motion, and can ghost or smear where the \
+         history cannot be matched (disocclusions, transparency, fast-changing shading).",
+    availability: needs_encoded_views,
+    create: |gpu| Box::new(Taa::new(gpu)),
+    shaders: &[WGSL, DEBUG_WGSL],
+};
+
 /// Format of the accumulated history.
 pub const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Jitter sequence lengths offered.
-pub const SAMPLE_COUNT_NAMES: &[&str] = &["8", "16"];
-/// Longest jitter sequence (the jitter debug view's uniform holds this many positions).
-const MAX_SAMPLES: usize = 16;
-/// Speed in pixels per frame that the velocity view shows at half brightness.
-const VELOCITY_HALF_SPEED: f32 = 2.0;
 
 /// The jitter offset of a frame, in pixels (content moves by it; the pixel's sample sits at
 /// its centre minus the offset): element `frame mod samples` + 1 of Halton(2,3), centred, so
@@ -105,97 +130,6 @@ const VELOCITY_HALF_SPEED: f32 = 2.0;
 pub fn jitter_offset(frame: u64, samples: u32) -> Vec2 {
     let index = (frame % u64::from(samples.max(1))) as u32 + 1;
     Vec2::new(halton(index, 2), halton(index, 3)) - Vec2::splat(0.5)
-}
-
-/// How the reprojected history is read.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum HistoryFilter {
-    /// One bilinear tap (cheap, blurs a little more every frame the camera moves).
-    Bilinear,
-    /// Five-tap bilinear-optimised Catmull-Rom (keeps the history sharp under motion).
-    CatmullRom,
-}
-
-impl HistoryFilter {
-    const ALL: [Self; 2] = [Self::Bilinear, Self::CatmullRom];
-    /// Names as the `history_filter` parameter offers them.
-    pub const NAMES: &'static [&'static str] = &["bilinear", "catmull-rom"];
-}
-
-/// How the history is made consistent with the current frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Rectify {
-    /// Not at all: moving content leaves ghost trails (for comparison).
-    None,
-    /// Per-channel clamp to the 3x3 neighbourhood's RGB min/max.
-    Clamp,
-    /// Clip towards the centre of the neighbourhood's YCoCg min/max box (Karis).
-    Clip,
-    /// Clip to the YCoCg variance box mean +/- gamma sigma, within min/max (Salvi).
-    Variance,
-}
-
-impl Rectify {
-    const ALL: [Self; 4] = [Self::None, Self::Clamp, Self::Clip, Self::Variance];
-    /// Names as the `rectify` parameter offers them.
-    pub const NAMES: &'static [&'static str] = &["none", "clamp", "clip", "variance"];
-}
-
-/// Which neighbours are searched for the nearest surface, whose motion the pixel reprojects
-/// with.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum VelocityTaps {
-    /// The pixel's own motion (no depth reads).
-    Own,
-    /// The nearest of the pixel and its four diagonal neighbours (five depth reads): catches
-    /// a silhouette on either axis at about half the reads of the full block.
-    Diagonals,
-    /// The nearest of the 3x3 neighbourhood (nine depth reads).
-    Box,
-}
-
-impl VelocityTaps {
-    const ALL: [Self; 3] = [Self::Own, Self::Diagonals, Self::Box];
-    /// Names as the `velocity` parameter offers them.
-    pub const NAMES: &'static [&'static str] = &["own", "diagonals", "3x3"];
-}
-
-/// Which current-frame colours make the box the history is rectified against.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Neighbourhood {
-    /// The 3x3 block (nine colour reads).
-    Box,
-    /// The pixel and its four direct neighbours (five reads; a tighter box).
-    Cross,
-}
-
-impl Neighbourhood {
-    const ALL: [Self; 2] = [Self::Box, Self::Cross];
-    /// Names as the `neighbourhood` parameter offers them.
-    pub const NAMES: &'static [&'static str] = &["3x3", "cross"];
-}
-
-/// What the current frame contributes to the blend.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum CurrentFilter {
-    /// The pixel's own jittered sample (a point sample of the scene).
-    Sample,
-    /// The samples of the colour neighbourhood weighed by a Gaussian of their distance from
-    /// the pixel centre (each sample sits at its pixel's centre minus the jitter), with the
-    /// variance of the pixel's box (1/12 per axis, `exp(-6 d^2)`): the current frame then
-    /// estimates the pixel's area average, as the supersampled reference does, instead of one
-    /// point of it. Mixed in as far as resampling blurs the history (none on a still camera).
-    /// No extra reads.
-    Gaussian,
-}
-
-impl CurrentFilter {
-    const ALL: [Self; 2] = [Self::Sample, Self::Gaussian];
-    /// Names as the `current_filter` parameter offers them.
-    pub const NAMES: &'static [&'static str] = &["sample", "gaussian"];
-    /// Sharpness a of the Gaussian `exp(-a d^2)` (d in pixels): a = 1 / (2 sigma^2) with
-    /// sigma^2 = 1/12, the variance of a one-pixel box.
-    pub const GAUSSIAN_SHARPNESS: f32 = 6.0;
 }
 
 /// The current frame's filter weights for the 3x3 taps (row by row, padded to three vec4s),
@@ -225,166 +159,6 @@ fn current_filter_weights(settings: &TaaSettings, jitter: Vec2) -> [[f32; 4]; 3]
     ]
 }
 
-/// Looks a name up in parallel `names` / `values` tables.
-fn by_name<T: Copy>(values: &[T], names: &[&str], name: &str) -> Option<T> {
-    names.iter().position(|n| *n == name).map(|i| values[i])
-}
-
-/// The name of a value in parallel `values` / `names` tables.
-fn name_of<T: PartialEq>(values: &[T], names: &[&'static str], value: &T) -> &'static str {
-    values
-        .iter()
-        .position(|v| v == value)
-        .map_or("", |i| names[i])
-}
-
-/// TAA settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TaaSettings {
-    /// Length of the Halton jitter sequence (8 or 16).
-    pub samples: u32,
-    /// History filter.
-    pub history_filter: HistoryFilter,
-    /// History rectification.
-    pub rectify: Rectify,
-    /// Width of the variance box in standard deviations.
-    pub gamma: f32,
-    /// Share of the current frame in the blend (before luminance weighting).
-    pub current_weight: f32,
-    /// Share of the current frame where the content moves one pixel per frame or more (the
-    /// weight rises from `current_weight` with the speed; never below `current_weight`).
-    pub motion_weight: f32,
-    /// Change of speed (pixels per frame) between the history and the current pixel at which
-    /// rectification applies in full; smaller changes ease it off proportionally (0: always
-    /// rectify in full).
-    pub velocity_tolerance: f32,
-    /// Raise the current frame's share with the blur of reading the history between texels
-    /// (else with the speed).
-    pub resample_feedback: bool,
-    /// Ease the velocity trust off as the read between texels blurs the history.
-    pub trust_sharp_only: bool,
-    /// Compare the history's speed with the pixel's own surface's (else with the speed of the
-    /// nearest surface it reprojects with).
-    pub trust_own_speed: bool,
-    /// Karis' 1 / (1 + luminance) weighting of the blend.
-    pub luma_weight: bool,
-    /// What the current frame contributes.
-    pub current_filter: CurrentFilter,
-    /// Where the motion vector comes from.
-    pub velocity: VelocityTaps,
-    /// The colour box's neighbourhood.
-    pub neighbourhood: Neighbourhood,
-    /// Texture mip bias of the jittered render.
-    pub mip_bias: f32,
-}
-
-impl Default for TaaSettings {
-    fn default() -> Self {
-        Self {
-            samples: 8,
-            history_filter: HistoryFilter::CatmullRom,
-            rectify: Rectify::Variance,
-            gamma: 0.5,
-            current_weight: 0.1,
-            motion_weight: 0.3,
-            velocity_tolerance: 1.0,
-            resample_feedback: true,
-            trust_own_speed: false,
-            trust_sharp_only: false,
-            luma_weight: false,
-            current_filter: CurrentFilter::Gaussian,
-            velocity: VelocityTaps::Diagonals,
-            neighbourhood: Neighbourhood::Cross,
-            mip_bias: -1.5,
-        }
-    }
-}
-
-/// Preset names, in the order a UI offers them.
-pub const PRESET_NAMES: &[&str] = &[
-    "default",
-    "fast",
-    "quality",
-    "karis",
-    "salvi",
-    "unrectified",
-];
-
-impl TaaSettings {
-    /// The settings of a preset from [`PRESET_NAMES`].
-    pub fn preset(name: &str) -> Option<Self> {
-        let default = Self::default();
-        Some(match name {
-            "default" => default,
-            // The cheapest variant: bilinear history, RGB clamp to the 5-pixel cross, the
-            // pixel's own motion (7 reads per pixel).
-            "fast" => Self {
-                history_filter: HistoryFilter::Bilinear,
-                rectify: Rectify::Clamp,
-                velocity: VelocityTaps::Own,
-                neighbourhood: Neighbourhood::Cross,
-                ..default
-            },
-            // The most reads: nearest surface and colour box of the 3x3 block, 16 jitter
-            // positions and a mip bias of -2 to match them.
-            "quality" => Self {
-                samples: 16,
-                velocity: VelocityTaps::Box,
-                neighbourhood: Neighbourhood::Box,
-                mip_bias: -2.0,
-                ..default
-            },
-            // Karis 2014: YCoCg clip, a small current weight with luminance weighting.
-            "karis" => Self {
-                rectify: Rectify::Clip,
-                current_weight: 0.04,
-                luma_weight: true,
-                ..default
-            },
-            // Salvi 2016: variance clipping with gamma 1.
-            "salvi" => Self {
-                rectify: Rectify::Variance,
-                gamma: 1.0,
-                ..default
-            },
-            // No rectification: shows the ghosting that rectification exists to remove.
-            "unrectified" => Self {
-                rectify: Rectify::None,
-                ..default
-            },
-            _ => return None,
-        })
-    }
-
-    fn constants(&self) -> [(&'static str, f64); 5] {
-        [
-            (
-                "HISTORY_FILTER",
-                f64::from(u8::from(self.history_filter == HistoryFilter::CatmullRom)),
-            ),
-            (
-                "RECTIFY",
-                Rectify::ALL
-                    .iter()
-                    .position(|r| *r == self.rectify)
-                    .unwrap_or(0) as f64,
-            ),
-            ("LUMA_WEIGHT", f64::from(u8::from(self.luma_weight))),
-            (
-                "VELOCITY_TAPS",
-                VelocityTaps::ALL
-                    .iter()
-                    .position(|v| *v == self.velocity)
-                    .unwrap_or(0) as f64,
-            ),
-            (
-                "NEIGHBOURHOOD",
-                f64::from(u8::from(self.neighbourhood == Neighbourhood::Cross)),
-            ),
-        ]
-    }
-}
-
 /// Everything a resolve pipeline is specialised on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct PipelineKey {
@@ -403,13 +177,6 @@ struct TaaUniform {
     blend: [f32; 4],
     trust: [f32; 4],
     current_filter: [[f32; 4]; 3],
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct DebugUniform {
-    size: [f32; 4],
-    samples: [[f32; 4]; MAX_SAMPLES],
 }
 
 /// The two history textures and which holds the latest result.
@@ -445,16 +212,6 @@ impl History {
     }
 }
 
-/// Debug-view targets and the passes that fill the velocity and jitter views.
-struct TaaDebug {
-    rejection: wgpu::Texture,
-    velocity: wgpu::Texture,
-    jitter: wgpu::Texture,
-    uniform: wgpu::Buffer,
-    velocity_pipeline: wgpu::RenderPipeline,
-    jitter_pipeline: wgpu::RenderPipeline,
-}
-
 /// The TAA technique.
 pub struct Taa {
     settings: TaaSettings,
@@ -464,7 +221,7 @@ pub struct Taa {
     pipeline_layout: wgpu::PipelineLayout,
     sampler: wgpu::Sampler,
     uniform: wgpu::Buffer,
-    pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
+    pipelines: PipelineCache<PipelineKey>,
     history: Option<History>,
     /// A setting changed since the last frame: the next frame starts a new history.
     reset_pending: bool,
@@ -543,7 +300,7 @@ impl Taa {
         });
         Self {
             settings,
-            module: shader::module(device, "taa.wgsl"),
+            module: WGSL.module(device),
             sampler: bilinear_clamp_sampler(device, "taa history"),
             uniform: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("taa params"),
@@ -554,7 +311,7 @@ impl Taa {
             layout,
             pipeline_layout,
             device: device.clone(),
-            pipelines: HashMap::new(),
+            pipelines: PipelineCache::default(),
             history: None,
             reset_pending: true,
             last_camera: None,
@@ -575,7 +332,7 @@ impl Taa {
     }
 
     fn resolve_pipeline(&mut self, ctx: &PassContext<'_>, debug: bool) -> wgpu::RenderPipeline {
-        let s = &self.settings;
+        let s = self.settings;
         let key = PipelineKey {
             history_filter: s.history_filter,
             rectify: s.rectify,
@@ -584,135 +341,34 @@ impl Taa {
             neighbourhood: s.neighbourhood,
             debug,
         };
-        if let Some(pipeline) = self.pipelines.get(&key) {
-            return pipeline.clone();
-        }
-        let targets: &[wgpu::TextureFormat] = if debug {
-            &[COLOR_FORMAT, HISTORY_FORMAT, COLOR_FORMAT_ENCODED_VIEW]
-        } else {
-            &[COLOR_FORMAT, HISTORY_FORMAT]
-        };
-        let entry_point = if debug {
-            "fs_resolve_debug"
-        } else {
-            "fs_resolve"
-        };
-        let pipeline = ctx.fullscreen.pipeline(
-            &self.device,
-            &FragmentDesc {
-                label: &format!("taa {entry_point} {key:?}"),
-                module: &self.module,
-                entry_point,
-                targets,
-                constants: &s.constants(),
-                layout: Some(&self.pipeline_layout),
-            },
-        );
-        self.pipelines.insert(key, pipeline.clone());
-        pipeline
-    }
-
-    fn ensure_debug(&mut self, ctx: &PassContext<'_>, size: (u32, u32)) {
-        if self
-            .debug
-            .as_ref()
-            .is_some_and(|d| (d.rejection.width(), d.rejection.height()) == size)
-        {
-            return;
-        }
-        let module = shader::module(&self.device, "taa_debug.wgsl");
-        let pipeline = |entry_point: &str| {
+        let (device, module, layout) = (&self.device, &self.module, &self.pipeline_layout);
+        self.pipelines.get_or_build(key, |key| {
+            let targets: &[wgpu::TextureFormat] = if debug {
+                &[COLOR_FORMAT, HISTORY_FORMAT, COLOR_FORMAT_ENCODED_VIEW]
+            } else {
+                &[COLOR_FORMAT, HISTORY_FORMAT]
+            };
+            let entry_point = if debug {
+                "fs_resolve_debug"
+            } else {
+                "fs_resolve"
+            };
             ctx.fullscreen.pipeline(
-                &self.device,
+                device,
                 &FragmentDesc {
-                    label: &format!("taa {entry_point}"),
-                    module: &module,
+                    label: &format!("taa {entry_point} {key:?}"),
+                    module,
                     entry_point,
-                    targets: &[COLOR_FORMAT_ENCODED_VIEW],
-                    constants: &[],
-                    layout: None,
+                    targets,
+                    constants: &s.constants(),
+                    layout: Some(layout),
                 },
             )
-        };
-        self.debug = Some(TaaDebug {
-            rejection: debug_texture(&self.device, "taa rejection", size),
-            velocity: debug_texture(&self.device, "taa velocity", size),
-            jitter: debug_texture(&self.device, "taa jitter", size),
-            uniform: self.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("taa debug params"),
-                size: std::mem::size_of::<DebugUniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-            velocity_pipeline: pipeline("fs_velocity"),
-            jitter_pipeline: pipeline("fs_jitter"),
-        });
+        })
     }
 
-    /// Records the velocity and jitter views (the rejection view comes from the resolve).
-    fn encode_debug_views(&self, ctx: &mut PassContext<'_>, motion: &wgpu::Texture) {
-        let Some(debug) = &self.debug else { return };
-        let (width, height) = (debug.velocity.width(), debug.velocity.height());
-        let n = self.settings.samples.min(MAX_SAMPLES as u32);
-        let current = (ctx.frame.camera.frame % u64::from(n.max(1))) as u32;
-        let mut uniform = DebugUniform {
-            size: [width as f32, height as f32, VELOCITY_HALF_SPEED, n as f32],
-            samples: [[0.0; 4]; MAX_SAMPLES],
-        };
-        for (k, slot) in uniform.samples.iter_mut().enumerate().take(n as usize) {
-            let position = Vec2::splat(0.5) - jitter_offset(k as u64, n);
-            let state = match (k as u32).cmp(&current) {
-                std::cmp::Ordering::Less => 1.0,
-                std::cmp::Ordering::Equal => 2.0,
-                std::cmp::Ordering::Greater => 0.0,
-            };
-            *slot = [position.x, position.y, state, 0.0];
-        }
-        ctx.gpu
-            .queue
-            .write_buffer(&debug.uniform, 0, bytemuck::bytes_of(&uniform));
-        let motion_view = motion.create_view(&Default::default());
-        let velocity_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("taa velocity view"),
-            layout: &debug.velocity_pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&motion_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: debug.uniform.as_entire_binding(),
-                },
-            ],
-        });
-        let jitter_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("taa jitter view"),
-            layout: &debug.jitter_pipeline.get_bind_group_layout(0),
-            entries: &[wgpu::BindGroupEntry {
-                binding: 1,
-                resource: debug.uniform.as_entire_binding(),
-            }],
-        });
-        ctx.fullscreen_pass(
-            "debug velocity",
-            &encoded_view(&debug.velocity),
-            &debug.velocity_pipeline,
-            &velocity_group,
-        );
-        ctx.fullscreen_pass(
-            "debug jitter",
-            &encoded_view(&debug.jitter),
-            &debug.jitter_pipeline,
-            &jitter_group,
-        );
-    }
 }
 
-/// Whether `next` continues the sequence whose last frame had camera `last`: the next frame
-/// number with `last`'s pose as its previous pose (so the motion vectors lead back into the
-/// history), or the same frame again (a paused viewer, timing repeats). Anything else is a
-/// camera cut, also when the caller did not flag it.
 fn continues(last: &FrameCamera, next: &FrameCamera) -> bool {
     let same = next.frame == last.frame && next.pose == last.pose;
     let following = next.frame == last.frame + 1 && next.prev_pose == last.pose;
@@ -721,16 +377,16 @@ fn continues(last: &FrameCamera, next: &FrameCamera) -> bool {
 
 impl Technique for Taa {
     fn id(&self) -> &'static str {
-        "taa"
+        ID
     }
 
     fn label(&self) -> String {
-        super::registry::display_name(self.id())
+        crate::aa::registry::display_name(self.id())
     }
 
     fn scene_input(&self, frame: &FrameInfo) -> Option<SceneInput> {
         Some(SceneInput::jittered(
-            jitter_offset(frame.camera.frame, self.settings.samples),
+            jitter_offset(frame.camera.frame, self.settings.samples.count()),
             self.settings.mip_bias,
         ))
     }
@@ -757,7 +413,10 @@ impl Technique for Taa {
         }
         let debug = self.debug_enabled;
         if debug {
-            self.ensure_debug(ctx, size);
+            let stale = self.debug.as_ref().is_none_or(|d| d.size() != size);
+            if stale {
+                self.debug = Some(TaaDebug::new(ctx, &self.device, &DEBUG_WGSL, size));
+            }
         }
         let pipeline = self.resolve_pipeline(ctx, debug);
         let camera = ctx.frame.camera;
@@ -793,7 +452,7 @@ impl Technique for Taa {
             ],
             current_filter: current_filter_weights(
                 &self.settings,
-                jitter_offset(camera.frame, self.settings.samples),
+                jitter_offset(camera.frame, self.settings.samples.count()),
             ),
         };
         ctx.gpu
@@ -847,7 +506,9 @@ impl Technique for Taa {
         history.latest = write;
         history.valid = true;
         if debug {
-            self.encode_debug_views(ctx, motion);
+            if let Some(views) = &self.debug {
+                views.encode(ctx, &self.device, motion, self.settings.samples.count());
+            }
         }
     }
 
@@ -869,32 +530,29 @@ impl Technique for Taa {
     fn params(&self) -> Vec<Param> {
         let s = &self.settings;
         vec![
-            Param::choice(
+            Param::named(
                 "samples",
                 "Jitter samples",
                 "Length of the Halton(2,3) jitter sequence: each pixel is sampled at this many \
                  places in turn. 8 converges faster; 16 resolves finer detail on a still image.",
-                SAMPLE_COUNT_NAMES,
-                if s.samples == 16 { "16" } else { "8" },
+                s.samples,
             ),
-            Param::choice(
+            Param::named(
                 "history_filter",
                 "History filter",
                 "How the previous result is read at the reprojected position: bilinear is cheap \
                  but softens the image a little more every frame the camera moves; catmull-rom \
                  (five bilinear taps) keeps it sharp.",
-                HistoryFilter::NAMES,
-                name_of(&HistoryFilter::ALL, HistoryFilter::NAMES, &s.history_filter),
+                s.history_filter,
             ),
-            Param::choice(
+            Param::named(
                 "rectify",
                 "History rectification",
                 "How the history is made to agree with the current frame, which removes ghosts of \
                  moved or uncovered content: none (ghost trails, for comparison); clamp to the RGB \
                  range of the 3x3 neighbourhood; clip towards the neighbourhood's YCoCg box (Karis); \
                  variance: clip to mean +/- gamma standard deviations (Salvi: tighter, less ghosting).",
-                Rectify::NAMES,
-                name_of(&Rectify::ALL, Rectify::NAMES, &s.rectify),
+                s.rectify,
             ),
             Param::float(
                 "gamma",
@@ -937,7 +595,7 @@ impl Technique for Taa {
                 4.0,
                 s.velocity_tolerance,
             ),
-            Param::choice(
+            Param::named(
                 "current_filter",
                 "Current-frame filter",
                 "What the new frame adds to the history: sample, the pixel's own jittered sample (a \
@@ -947,8 +605,7 @@ impl Technique for Taa {
                  supersampled image does (less noise on sub-pixel geometry, a little softer; no \
                  extra reads). It takes over as far as resampling blurs the history: a still \
                  camera keeps the exact samples.",
-                CurrentFilter::NAMES,
-                name_of(&CurrentFilter::ALL, CurrentFilter::NAMES, &s.current_filter),
+                s.current_filter,
             ),
             Param::bool(
                 "luma_weight",
@@ -957,7 +614,7 @@ impl Technique for Taa {
                  sample cannot make a pixel flicker.",
                 s.luma_weight,
             ),
-            Param::choice(
+            Param::named(
                 "velocity",
                 "Velocity source",
                 "Which motion vector reprojects the pixel: own (the pixel's, no depth reads); \
@@ -965,17 +622,15 @@ impl Technique for Taa {
                  five depth reads); 3x3 (the nearest of the whole block, nine). The nearest \
                  surface makes antialiased silhouettes move with the foreground object; without it \
                  thin geometry smears.",
-                VelocityTaps::NAMES,
-                name_of(&VelocityTaps::ALL, VelocityTaps::NAMES, &s.velocity),
+                s.velocity,
             ),
-            Param::choice(
+            Param::named(
                 "neighbourhood",
                 "Colour neighbourhood",
                 "Which current-frame colours bound the history: 3x3 (nine reads) or cross (the \
                  pixel and its four direct neighbours: five reads, a tighter box that rejects a \
                  little more history).",
-                Neighbourhood::NAMES,
-                name_of(&Neighbourhood::ALL, Neighbourhood::NAMES, &s.neighbourhood),
+                s.neighbourhood,
             ),
             Param::bool(
                 "resample_feedback",
@@ -1019,56 +674,38 @@ impl Technique for Taa {
     fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
         let mut s = self.settings;
         match key {
-            "samples" => s.samples = if as_choice(value) == "16" { 16 } else { 8 },
-            "history_filter" => {
-                s.history_filter =
-                    by_name(&HistoryFilter::ALL, HistoryFilter::NAMES, as_choice(value))
-                        .unwrap_or(s.history_filter);
-            }
-            "rectify" => {
-                s.rectify =
-                    by_name(&Rectify::ALL, Rectify::NAMES, as_choice(value)).unwrap_or(s.rectify);
-            }
+            "samples" => s.samples = as_named(value).unwrap_or(s.samples),
+            "history_filter" => s.history_filter = as_named(value).unwrap_or(s.history_filter),
+            "rectify" => s.rectify = as_named(value).unwrap_or(s.rectify),
             "gamma" => s.gamma = as_f32(value),
             "current_weight" => s.current_weight = as_f32(value),
             "motion_weight" => s.motion_weight = as_f32(value),
             "velocity_tolerance" => s.velocity_tolerance = as_f32(value),
             "luma_weight" => s.luma_weight = as_bool(value),
-            "current_filter" => {
-                s.current_filter =
-                    by_name(&CurrentFilter::ALL, CurrentFilter::NAMES, as_choice(value))
-                        .unwrap_or(s.current_filter);
-            }
-            "velocity" => {
-                s.velocity = by_name(&VelocityTaps::ALL, VelocityTaps::NAMES, as_choice(value))
-                    .unwrap_or(s.velocity);
-            }
-            "neighbourhood" => {
-                s.neighbourhood =
-                    by_name(&Neighbourhood::ALL, Neighbourhood::NAMES, as_choice(value))
-                        .unwrap_or(s.neighbourhood);
-            }
+            "current_filter" => s.current_filter = as_named(value).unwrap_or(s.current_filter),
+            "velocity" => s.velocity = as_named(value).unwrap_or(s.velocity),
+            "neighbourhood" => s.neighbourhood = as_named(value).unwrap_or(s.neighbourhood),
             "trust_own_speed" => s.trust_own_speed = as_bool(value),
             "resample_feedback" => s.resample_feedback = as_bool(value),
             "trust_sharp_only" => s.trust_sharp_only = as_bool(value),
             "mip_bias" => s.mip_bias = as_f32(value),
-            _ => return Err(ParamError::unknown_key("taa", key, &self.params())),
+            _ => return Err(ParamError::unknown_key(ID, key, &self.params())),
         }
         self.set_settings(s);
         Ok(())
     }
 
     fn presets(&self) -> &'static [&'static str] {
-        PRESET_NAMES
+        Preset::NAMES
     }
 
     fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
-        let settings = TaaSettings::preset(name).ok_or_else(|| ParamError::UnknownPreset {
-            technique: "taa".to_owned(),
+        let preset = Preset::from_name(name).ok_or_else(|| ParamError::UnknownPreset {
+            technique: ID.to_owned(),
             name: name.to_owned(),
-            known: PRESET_NAMES.join(", "),
+            known: Preset::NAMES.join(", "),
         })?;
-        self.set_settings(settings);
+        self.set_settings(TaaSettings::preset(preset));
         Ok(())
     }
 
@@ -1106,19 +743,19 @@ impl Technique for Taa {
 
     fn path_note(&self) -> Option<String> {
         let s = &self.settings;
-        let rectify = name_of(&Rectify::ALL, Rectify::NAMES, &s.rectify);
+        let rectify = s.rectify.name();
         Some(format!(
             "{} jitter samples, {} current frame, {} history, {rectify} rectification on the {} colours{}, {} velocity, current weight {}",
-            s.samples,
-            name_of(&CurrentFilter::ALL, CurrentFilter::NAMES, &s.current_filter),
-            name_of(&HistoryFilter::ALL, HistoryFilter::NAMES, &s.history_filter),
-            name_of(&Neighbourhood::ALL, Neighbourhood::NAMES, &s.neighbourhood),
+            s.samples.count(),
+            s.current_filter.name(),
+            s.history_filter.name(),
+            s.neighbourhood.name(),
             if s.rectify == Rectify::Variance {
                 format!(" (gamma {})", s.gamma)
             } else {
                 String::new()
             },
-            name_of(&VelocityTaps::ALL, VelocityTaps::NAMES, &s.velocity),
+            s.velocity.name(),
             s.current_weight
         ))
     }
@@ -1182,15 +819,14 @@ mod tests {
 
     #[test]
     fn presets_and_names_round_trip() {
-        for name in PRESET_NAMES {
-            assert!(TaaSettings::preset(name).is_some(), "{name}");
+        for preset in Preset::ALL {
+            assert_eq!(Preset::from_name(preset.name()), Some(*preset));
         }
-        assert!(TaaSettings::preset("nope").is_none());
-        for (value, name) in Rectify::ALL.iter().zip(Rectify::NAMES) {
-            assert_eq!(by_name(&Rectify::ALL, Rectify::NAMES, name), Some(*value));
-            assert_eq!(name_of(&Rectify::ALL, Rectify::NAMES, value), *name);
+        assert!(Preset::from_name("nope").is_none());
+        for value in Rectify::ALL {
+            assert_eq!(Rectify::from_name(value.name()), Some(*value));
         }
-        let constants = TaaSettings::preset("fast").expect("preset").constants();
+        let constants = TaaSettings::preset(Preset::Fast).constants();
         assert_eq!(
             constants,
             [

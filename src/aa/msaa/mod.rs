@@ -11,51 +11,121 @@
 //! - `sample_shading`: the fragment shader runs per sample, which turns MSAA into SSAA at the
 //!   same sample count.
 //!
-//! Debug views: per-pixel count of covered samples and the "complex pixel" mask.
+//! Debug views ([`debug`]): per-pixel count of covered samples and the "complex pixel" mask.
 //! Sample counts are queried from the adapter; the registry offers only supported ones.
+//!
+//! Folder: `mod.rs` (the technique and its registry entries), `settings.rs` (the resolves),
+//! `debug.rs` (the debug views), `msaa_resolve.wgsl` and `msaa_debug.wgsl`.
 
-use super::params::{Param, ParamError, ParamValue, as_bool, as_choice};
-use super::sampling::{Filter, gather_weights, quincunx_weights, standard_msaa_positions};
-use super::{DebugView, FrameInfo, SceneInput, Technique};
+mod debug;
+pub mod settings;
+
+pub use settings::Resolve;
+
+use crate::aa::common::sampling::{gather_weights, quincunx_weights, standard_msaa_positions};
+use crate::aa::params::{Named, Param, ParamError, ParamValue, as_bool, as_named};
+use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
+use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
-use crate::gpu::{COLOR_FORMAT, Gpu, shader};
+use crate::gpu::shader::Shader;
+use crate::gpu::{COLOR_FORMAT, Capabilities, Gpu};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::{RasterOptions, SceneTargets, ShadingRate};
+use debug::MsaaDebug;
 use wgpu::util::DeviceExt;
 
-/// Resolve choices, as the `resolve` parameter names them.
-pub const RESOLVE_NAMES: &[&str] = &["box", "tent", "gaussian", "blackman-harris", "quincunx"];
+/// Stable id of MSAA 2x.
+pub const ID_2X: &str = "msaa2";
+/// Stable id of MSAA 4x.
+pub const ID_4X: &str = "msaa4";
+/// Stable id of MSAA 8x.
+pub const ID_8X: &str = "msaa8";
+/// Stable id of MSAA 16x.
+pub const ID_16X: &str = "msaa16";
+
+/// The custom resolves.
+const RESOLVE_WGSL: Shader = crate::wgsl!("src/aa/msaa/msaa_resolve.wgsl");
+/// The coverage and complex-pixel debug views.
+const DEBUG_WGSL: Shader = crate::wgsl!("src/aa/msaa/msaa_debug.wgsl");
+
+const SUMMARY: &str = "Multisampling: coverage and depth are tested at n sample positions per pixel but the \
+     pixel shader runs once per pixel, and the samples are averaged at the end. Geometric edges get n+1 \
+     coverage levels at a fraction of SSAA's shading cost, but colour and depth memory grow n times, and \
+     aliasing inside triangles (textures, specular highlights, alpha-tested cut-outs) is left alone unless \
+     alpha-to-coverage or sample-rate shading is switched on. Its cost grows with scene complexity.";
+
+/// The registry entries, one per sample count (the adapter decides which can run).
+pub const INFOS: [TechniqueInfo; 4] = [
+    TechniqueInfo {
+        id: ID_2X,
+        name: "MSAA 2x",
+        summary: SUMMARY,
+        availability: |caps| availability(caps, 2),
+        create: |gpu| Box::new(Msaa::new(gpu, 2)),
+        shaders: &[RESOLVE_WGSL, DEBUG_WGSL],
+    },
+    TechniqueInfo {
+        id: ID_4X,
+        name: "MSAA 4x",
+        summary: SUMMARY,
+        availability: |caps| availability(caps, 4),
+        create: |gpu| Box::new(Msaa::new(gpu, 4)),
+        shaders: &[RESOLVE_WGSL, DEBUG_WGSL],
+    },
+    TechniqueInfo {
+        id: ID_8X,
+        name: "MSAA 8x",
+        summary: SUMMARY,
+        availability: |caps| availability(caps, 8),
+        create: |gpu| Box::new(Msaa::new(gpu, 8)),
+        shaders: &[RESOLVE_WGSL, DEBUG_WGSL],
+    },
+    TechniqueInfo {
+        id: ID_16X,
+        name: "MSAA 16x",
+        summary: SUMMARY,
+        availability: |caps| availability(caps, 16),
+        create: |gpu| Box::new(Msaa::new(gpu, 16)),
+        shaders: &[RESOLVE_WGSL, DEBUG_WGSL],
+    },
+];
 
 /// Stable ids of the MSAA techniques by sample count.
 pub fn id_for(samples: u32) -> Option<&'static str> {
     Some(match samples {
-        2 => "msaa2",
-        4 => "msaa4",
-        8 => "msaa8",
-        16 => "msaa16",
+        2 => ID_2X,
+        4 => ID_4X,
+        8 => ID_8X,
+        16 => ID_16X,
         _ => return None,
     })
+}
+
+fn availability(caps: &Capabilities, samples: u32) -> Result<(), String> {
+    needs_encoded_views(caps)?;
+    if caps.supports_sample_count(samples) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{samples}x MSAA is not supported by {} for the scene's colour, depth and motion formats \
+             (supported sample counts: {:?})",
+            caps.adapter_name, caps.scene_sample_counts
+        ))
+    }
 }
 
 /// MSAA with a fixed sample count.
 pub struct Msaa {
     id: &'static str,
     samples: u32,
-    resolve: &'static str,
+    resolve: Resolve,
     raster: RasterOptions,
     device: wgpu::Device,
     resolve_module: wgpu::ShaderModule,
     /// The custom resolve's pipeline and its weight table, for the resolve they were built for.
-    custom: Option<(&'static str, wgpu::RenderPipeline, wgpu::Buffer)>,
+    custom: Option<(Resolve, wgpu::RenderPipeline, wgpu::Buffer)>,
     debug: Option<MsaaDebug>,
     debug_enabled: bool,
-}
-
-struct MsaaDebug {
-    coverage_pipeline: wgpu::RenderPipeline,
-    complex_pipeline: wgpu::RenderPipeline,
-    coverage: wgpu::Texture,
-    complex: wgpu::Texture,
 }
 
 impl Msaa {
@@ -64,9 +134,9 @@ impl Msaa {
         Self {
             id: id_for(samples).unwrap_or("msaa"),
             samples,
-            resolve: "box",
+            resolve: Resolve::Box,
             raster: RasterOptions::default(),
-            resolve_module: shader::module(&gpu.device, "msaa_resolve.wgsl"),
+            resolve_module: RESOLVE_WGSL.module(&gpu.device),
             device: gpu.device.clone(),
             custom: None,
             debug: None,
@@ -77,7 +147,7 @@ impl Msaa {
     /// The weight table of a custom resolve.
     fn resolve_weights(&self) -> Vec<f32> {
         let positions = standard_msaa_positions(self.samples).unwrap_or_default();
-        match Filter::from_name(self.resolve) {
+        match self.resolve.filter() {
             Some(filter) => gather_weights(filter, &positions),
             None => quincunx_weights(&positions),
         }
@@ -98,7 +168,7 @@ impl Msaa {
             let pipeline = ctx.fullscreen.pipeline(
                 &self.device,
                 &FragmentDesc {
-                    label: &format!("{} resolve {}", self.id, self.resolve),
+                    label: &format!("{} resolve {}", self.id, self.resolve.name()),
                     module: &self.resolve_module,
                     entry_point: "fs_resolve",
                     targets: &[COLOR_FORMAT],
@@ -109,7 +179,7 @@ impl Msaa {
             let table = self
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(&format!("{} {} weights", self.id, self.resolve)),
+                    label: Some(&format!("{} {} weights", self.id, self.resolve.name())),
                     contents: bytemuck::cast_slice(&weights),
                     usage: wgpu::BufferUsages::UNIFORM,
                 });
@@ -135,93 +205,12 @@ impl Msaa {
         });
         let target = output.create_view(&Default::default());
         ctx.fullscreen_pass(
-            &format!("resolve {}", self.resolve),
+            &format!("resolve {}", self.resolve.name()),
             &target,
             pipeline,
             &bind_group,
         );
     }
-
-    fn encode_debug(&mut self, ctx: &mut PassContext<'_>, input: &SceneTargets) {
-        let size = input.desc.size;
-        let stale = self
-            .debug
-            .as_ref()
-            .is_none_or(|d| (d.coverage.width(), d.coverage.height()) != size);
-        if stale {
-            let module = shader::module(&self.device, "msaa_debug.wgsl");
-            let pipeline = |entry_point: &str| {
-                ctx.fullscreen.pipeline(
-                    &self.device,
-                    &FragmentDesc {
-                        label: &format!("{} {entry_point}", self.id),
-                        module: &module,
-                        entry_point,
-                        targets: &[COLOR_FORMAT],
-                        constants: &[],
-                        layout: None,
-                    },
-                )
-            };
-            self.debug = Some(MsaaDebug {
-                coverage_pipeline: pipeline("fs_coverage"),
-                complex_pipeline: pipeline("fs_complex"),
-                coverage: debug_texture(&self.device, &format!("{} coverage", self.id), size),
-                complex: debug_texture(&self.device, &format!("{} complex pixels", self.id), size),
-            });
-        }
-        let Some(debug) = &self.debug else { return };
-        let views = [
-            (
-                &debug.coverage_pipeline,
-                &debug.coverage,
-                &input.depth,
-                "coverage",
-            ),
-            (
-                &debug.complex_pipeline,
-                &debug.complex,
-                &input.color,
-                "complex pixels",
-            ),
-        ];
-        for (binding, (pipeline, target, source, name)) in views.into_iter().enumerate() {
-            let source_view = source.create_view(&Default::default());
-            let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some(name),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &[wgpu::BindGroupEntry {
-                    binding: binding as u32,
-                    resource: wgpu::BindingResource::TextureView(&source_view),
-                }],
-            });
-            let target_view = target.create_view(&Default::default());
-            ctx.fullscreen_pass(
-                &format!("debug {name}"),
-                &target_view,
-                pipeline,
-                &bind_group,
-            );
-        }
-    }
-}
-
-/// A debug-view texture: RGBA8 sRGB at the output size, readable back and viewable by egui.
-pub fn debug_texture(device: &wgpu::Device, label: &str, size: (u32, u32)) -> wgpu::Texture {
-    crate::gpu::texture_2d(
-        device,
-        &crate::gpu::Texture2d {
-            view_formats: &[crate::gpu::COLOR_FORMAT_ENCODED_VIEW],
-            ..crate::gpu::Texture2d::new(
-                label,
-                size,
-                COLOR_FORMAT,
-                wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::COPY_SRC,
-            )
-        },
-    )
 }
 
 impl Technique for Msaa {
@@ -230,7 +219,7 @@ impl Technique for Msaa {
     }
 
     fn label(&self) -> String {
-        super::registry::display_name(self.id())
+        crate::aa::registry::display_name(self.id())
     }
 
     fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
@@ -247,13 +236,18 @@ impl Technique for Msaa {
         output: &wgpu::Texture,
     ) {
         let Some(input) = input else { return };
-        if self.resolve == "box" {
+        if self.resolve == Resolve::Box {
             ctx.copy_texture("copy resolve", input.color_1x(), output);
         } else {
             self.custom_resolve(ctx, input, output);
         }
         if self.debug_enabled {
-            self.encode_debug(ctx, input);
+            let debug = self.debug.take().filter(|d| d.size() == input.desc.size);
+            let debug = debug.unwrap_or_else(|| {
+                MsaaDebug::new(ctx, &self.device, self.id, &DEBUG_WGSL, input.desc.size)
+            });
+            debug.encode(ctx, &self.device, input);
+            self.debug = Some(debug);
         }
     }
 
@@ -261,7 +255,7 @@ impl Technique for Msaa {
         let mut items = Vec::new();
         if let Some((name, _, table)) = &self.custom {
             items.push(MemoryItem::buffer(
-                format!("{} {name} weights", self.id),
+                format!("{} {} weights", self.id, name.name()),
                 table,
             ));
         }
@@ -280,14 +274,13 @@ impl Technique for Msaa {
 
     fn params(&self) -> Vec<Param> {
         vec![
-            Param::choice(
+            Param::named(
                 "resolve",
                 "Resolve",
                 "How samples become pixels: box is the hardware average of the pixel's own samples; \
                  tent, gaussian and blackman-harris weigh the samples of neighbouring pixels too, by \
                  their distance from the pixel centre (smoother edges, slightly softer image); \
                  quincunx takes half the pixel and an eighth of each corner (soft, like NVIDIA's Quincunx).",
-                RESOLVE_NAMES,
                 self.resolve,
             ),
             Param::bool(
@@ -317,14 +310,7 @@ impl Technique for Msaa {
 
     fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
         match key {
-            "resolve" => {
-                let name = as_choice(value);
-                self.resolve = RESOLVE_NAMES
-                    .iter()
-                    .copied()
-                    .find(|n| *n == name)
-                    .unwrap_or("box");
-            }
+            "resolve" => self.resolve = as_named(value).unwrap_or(Resolve::Box),
             "alpha_to_coverage" => self.raster.alpha_to_coverage = as_bool(value),
             "centroid" => {
                 if as_bool(value) {

@@ -2,7 +2,7 @@
 //! one fullscreen pass over the shared one-sample render that finds luma edges, walks along
 //! each edge to its ends and blends across it by how far the pixel is from the nearer end.
 //!
-//! The pass (`shaders/fxaa.wgsl`) makes every luma test on the sRGB-encoded values (read through
+//! The pass (`fxaa.wgsl` in this folder) makes every luma test on the sRGB-encoded values (read through
 //! an `Rgba8Unorm` view; BT.601 weights, or the green channel), as the thresholds are tuned for
 //! perceptual LDR values, but blends in linear light, as Lottes intended for sRGB targets: the
 //! final bilinear read goes through the sRGB view, whose texels the sampler decodes before
@@ -26,131 +26,45 @@
 //! Presets: `default` (Lottes' defaults: quality 12, subpix 0.75, thresholds 0.166 / 0.0833)
 //! and Bevy's sensitivity levels `low` .. `extreme`, which set the two thresholds.
 //! Debug view `edges`: the luma, with the pixels FXAA treats as edges coloured by orientation.
+//!
+//! Folder: `mod.rs` (the technique, its registry entry, passes and debug view), `settings.rs`
+//! (quality presets, thresholds, named presets) and `fxaa.wgsl`.
 
-use std::collections::HashMap;
+pub mod settings;
 
-use super::color::LumaSource;
-use super::msaa::debug_texture;
-use super::params::{Param, ParamError, ParamValue, as_choice, as_f32};
-use super::{DebugView, FrameInfo, SceneInput, Technique};
+pub use settings::{FxaaSettings, MAX_STEPS, Preset, Quality};
+
+use crate::aa::common::color::LumaSource;
+use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, debug_texture, encoded_view};
+use crate::aa::params::{Named, Param, ParamError, ParamValue, as_f32, as_named};
+use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
+use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
-use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu, shader};
+use crate::gpu::shader::Shader;
+use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
 
-/// Most search steps a preset has (the shader has this many step constants).
-pub const MAX_STEPS: usize = 12;
+/// Stable id, as on the command line.
+pub const ID: &str = "fxaa";
 
-/// FXAA 3.11's quality presets with their edge-search step lengths in pixels.
-pub const QUALITY_PRESETS: &[(&str, &[f32])] = &[
-    ("10", &[1.5, 3.0, 12.0]),
-    ("11", &[1.0, 1.5, 3.0, 12.0]),
-    ("12", &[1.0, 1.5, 2.0, 4.0, 12.0]),
-    ("13", &[1.0, 1.5, 2.0, 2.0, 4.0, 12.0]),
-    ("14", &[1.0, 1.5, 2.0, 2.0, 2.0, 4.0, 12.0]),
-    ("15", &[1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 4.0, 12.0]),
-    ("20", &[1.5, 2.0, 8.0]),
-    ("21", &[1.0, 1.5, 2.0, 8.0]),
-    ("22", &[1.0, 1.5, 2.0, 2.0, 8.0]),
-    ("23", &[1.0, 1.5, 2.0, 2.0, 2.0, 8.0]),
-    ("24", &[1.0, 1.5, 2.0, 2.0, 2.0, 3.0, 8.0]),
-    ("25", &[1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0]),
-    ("26", &[1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0]),
-    ("27", &[1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0]),
-    (
-        "28",
-        &[1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0],
-    ),
-    (
-        "29",
-        &[1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0],
-    ),
-    (
-        "39",
-        &[1.0, 1.0, 1.0, 1.0, 1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0],
-    ),
-];
+/// The antialiasing pass and the edge-mask debug view.
+const WGSL: Shader = crate::wgsl!("src/aa/fxaa/fxaa.wgsl");
 
-/// The preset names, as the `quality` parameter accepts them (the first column of
-/// [`QUALITY_PRESETS`]).
-pub const QUALITY_NAMES: &[&str] = &{
-    let mut names = [""; QUALITY_PRESETS.len()];
-    let mut i = 0;
-    while i < names.len() {
-        names[i] = QUALITY_PRESETS[i].0;
-        i += 1;
-    }
-    names
+/// The registry entry.
+pub const INFO: TechniqueInfo = TechniqueInfo {
+    id: ID,
+    name: "FXAA",
+    summary: "Fast Approximate Antialiasing (Lottes, NVIDIA; the FXAA 3.11 quality path): one \
+         post pass over the finished image finds luma edges, follows each to its ends and \
+         blends across it. About the cost of a blur and independent of scene complexity, \
+         but it only sees the final pixels: it cannot recover sub-pixel geometry, it softens \
+         textures and text with contrast, and a still image's stair steps become a slight \
+         crawl in motion.",
+    availability: needs_encoded_views,
+    create: |gpu| Box::new(Fxaa::new(gpu)),
+    shaders: &[WGSL],
 };
-
-/// The search steps of a quality preset by name.
-pub fn search_steps(quality: &str) -> Option<&'static [f32]> {
-    QUALITY_PRESETS
-        .iter()
-        .find(|(name, _)| *name == quality)
-        .map(|(_, steps)| *steps)
-}
-
-/// Bevy's sensitivity presets: (name, edge_threshold, edge_threshold_min).
-pub const SENSITIVITY_PRESETS: &[(&str, f32, f32)] = &[
-    ("low", 0.250, 0.0833),
-    ("medium", 0.166, 0.0625),
-    ("high", 0.125, 0.0312),
-    ("ultra", 0.063, 0.0156),
-    ("extreme", 0.031, 0.0078),
-];
-
-/// Every preset name: Lottes' defaults, then Bevy's sensitivities.
-pub const PRESET_NAMES: &[&str] = &["default", "low", "medium", "high", "ultra", "extreme"];
-
-/// FXAA settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FxaaSettings {
-    /// Quality preset name from [`QUALITY_NAMES`].
-    pub quality: &'static str,
-    /// Sub-pixel blending: 0 off, 0.75 default, 1 softest.
-    pub subpix: f32,
-    /// Contrast needed to process a pixel, relative to the brightest luma of its cross.
-    pub edge_threshold: f32,
-    /// Contrast below which dark pixels are skipped regardless.
-    pub edge_threshold_min: f32,
-    /// How luma is computed.
-    pub luma: LumaSource,
-}
-
-impl Default for FxaaSettings {
-    /// Lottes' FXAA 3.11 defaults.
-    fn default() -> Self {
-        Self {
-            quality: "12",
-            subpix: 0.75,
-            edge_threshold: 0.166,
-            edge_threshold_min: 0.0833,
-            luma: LumaSource::Bt601,
-        }
-    }
-}
-
-impl FxaaSettings {
-    /// The override constants of the quality preset and luma choice.
-    fn constants(&self) -> Vec<(String, f64)> {
-        let steps = search_steps(self.quality).unwrap_or(&[]);
-        let mut constants = vec![
-            (
-                "GREEN_AS_LUMA".to_owned(),
-                f64::from(u8::from(self.luma == LumaSource::Green)),
-            ),
-            ("STEP_COUNT".to_owned(), steps.len() as f64),
-        ];
-        constants.extend((0..MAX_STEPS).map(|i| {
-            (
-                format!("STEP_{i}"),
-                f64::from(steps.get(i).copied().unwrap_or(0.0)),
-            )
-        }));
-        constants
-    }
-}
 
 /// Which fragment entry point a pipeline runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -160,7 +74,7 @@ enum Pass {
 }
 
 /// Everything a pipeline is specialised on.
-type PipelineKey = (&'static str, LumaSource, Pass);
+type PipelineKey = (Quality, LumaSource, Pass);
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -176,7 +90,7 @@ pub struct Fxaa {
     module: wgpu::ShaderModule,
     sampler: wgpu::Sampler,
     uniform: wgpu::Buffer,
-    pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
+    pipelines: PipelineCache<PipelineKey>,
     debug_enabled: bool,
     mask: Option<wgpu::Texture>,
 }
@@ -192,7 +106,7 @@ impl Fxaa {
         let device = &gpu.device;
         Self {
             settings,
-            module: shader::module(device, "fxaa.wgsl"),
+            module: WGSL.module(device),
             sampler: bilinear_clamp_sampler(device, "fxaa bilinear"),
             uniform: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("fxaa params"),
@@ -201,7 +115,7 @@ impl Fxaa {
                 mapped_at_creation: false,
             }),
             device: device.clone(),
-            pipelines: HashMap::new(),
+            pipelines: PipelineCache::default(),
             debug_enabled: false,
             mask: None,
         }
@@ -214,33 +128,33 @@ impl Fxaa {
 
     /// The pipeline for a pass with the current preset, built on first use.
     fn pipeline(&mut self, ctx: &PassContext<'_>, pass: Pass) -> wgpu::RenderPipeline {
-        let key = (self.settings.quality, self.settings.luma, pass);
-        if let Some(pipeline) = self.pipelines.get(&key) {
-            return pipeline.clone();
-        }
-        let owned = self.settings.constants();
-        let constants: Vec<(&str, f64)> = owned.iter().map(|(k, v)| (k.as_str(), *v)).collect();
-        let entry_point = match pass {
-            Pass::Antialias => "fs_fxaa",
-            Pass::Mask => "fs_mask",
-        };
-        let pipeline = ctx.fullscreen.pipeline(
-            &self.device,
-            &FragmentDesc {
-                label: &format!(
-                    "fxaa {entry_point} q{} {}",
-                    self.settings.quality,
-                    self.settings.luma.name()
-                ),
-                module: &self.module,
-                entry_point,
-                targets: &[COLOR_FORMAT_ENCODED_VIEW],
-                constants: &constants,
-                layout: None,
-            },
-        );
-        self.pipelines.insert(key, pipeline.clone());
-        pipeline
+        let settings = self.settings;
+        let (device, module) = (&self.device, &self.module);
+        self.pipelines
+            .get_or_build((settings.quality, settings.luma, pass), |_| {
+                let owned = settings.constants();
+                let constants: Vec<(&str, f64)> =
+                    owned.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+                let entry_point = match pass {
+                    Pass::Antialias => "fs_fxaa",
+                    Pass::Mask => "fs_mask",
+                };
+                ctx.fullscreen.pipeline(
+                    device,
+                    &FragmentDesc {
+                        label: &format!(
+                            "fxaa {entry_point} q{} {}",
+                            settings.quality.name(),
+                            settings.luma.name()
+                        ),
+                        module,
+                        entry_point,
+                        targets: &[COLOR_FORMAT_ENCODED_VIEW],
+                        constants: &constants,
+                        layout: None,
+                    },
+                )
+            })
     }
 
     /// The bind group of a pipeline (layouts are derived from the shader) over `source`.
@@ -276,34 +190,13 @@ impl Fxaa {
     }
 }
 
-/// A clamp-to-edge bilinear sampler (post passes read neighbours past the image border as the
-/// border pixel).
-pub fn bilinear_clamp_sampler(device: &wgpu::Device, label: &str) -> wgpu::Sampler {
-    device.create_sampler(&wgpu::SamplerDescriptor {
-        label: Some(label),
-        address_mode_u: wgpu::AddressMode::ClampToEdge,
-        address_mode_v: wgpu::AddressMode::ClampToEdge,
-        mag_filter: wgpu::FilterMode::Linear,
-        min_filter: wgpu::FilterMode::Linear,
-        ..Default::default()
-    })
-}
-
-/// A view of an RGBA8 sRGB texture that reads and writes the encoded values.
-pub fn encoded_view(texture: &wgpu::Texture) -> wgpu::TextureView {
-    texture.create_view(&wgpu::TextureViewDescriptor {
-        format: Some(COLOR_FORMAT_ENCODED_VIEW),
-        ..Default::default()
-    })
-}
-
 impl Technique for Fxaa {
     fn id(&self) -> &'static str {
-        "fxaa"
+        ID
     }
 
     fn label(&self) -> String {
-        super::registry::display_name(self.id())
+        crate::aa::registry::display_name(self.id())
     }
 
     fn color_only(&self) -> bool {
@@ -363,14 +256,13 @@ impl Technique for Fxaa {
     fn params(&self) -> Vec<Param> {
         let s = &self.settings;
         vec![
-            Param::choice(
+            Param::named(
                 "quality",
                 "Quality preset",
                 "FXAA 3.11 quality preset: how far and in what steps the pass searches along an edge \
                  for its ends. 10-15: few steps ending in a long jump (fast, some dither on long \
                  edges); 20-29: more, shorter steps; 39: twelve short steps (no dither, slowest). \
                  Lottes' default is 12.",
-                QUALITY_NAMES,
                 s.quality,
             ),
             Param::float(
@@ -401,14 +293,13 @@ impl Technique for Fxaa {
                 0.1,
                 s.edge_threshold_min,
             ),
-            Param::choice(
+            Param::named(
                 "luma",
                 "Luma",
                 "Luma used for every test: bt601 weighs the sRGB-encoded red, green and blue \
                  (0.299, 0.587, 0.114); green uses the green channel alone (cheaper, misses \
                  edges between colours of equal green).",
-                LumaSource::NAMES,
-                s.luma.name(),
+                s.luma,
             ),
         ]
     }
@@ -416,43 +307,27 @@ impl Technique for Fxaa {
     fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
         let s = &mut self.settings;
         match key {
-            "quality" => {
-                let name = as_choice(value);
-                s.quality = QUALITY_NAMES
-                    .iter()
-                    .copied()
-                    .find(|n| *n == name)
-                    .unwrap_or(s.quality);
-            }
+            "quality" => s.quality = as_named(value).unwrap_or(s.quality),
             "subpix" => s.subpix = as_f32(value),
             "edge_threshold" => s.edge_threshold = as_f32(value),
             "edge_threshold_min" => s.edge_threshold_min = as_f32(value),
-            "luma" => s.luma = LumaSource::from_name(as_choice(value)).unwrap_or(s.luma),
-            _ => return Err(ParamError::unknown_key("fxaa", key, &self.params())),
+            "luma" => s.luma = as_named(value).unwrap_or(s.luma),
+            _ => return Err(ParamError::unknown_key(ID, key, &self.params())),
         }
         Ok(())
     }
 
     fn presets(&self) -> &'static [&'static str] {
-        PRESET_NAMES
+        Preset::NAMES
     }
 
     fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
-        if name == "default" {
-            self.settings = FxaaSettings::default();
-            return Ok(());
-        }
-        let Some((_, threshold, threshold_min)) =
-            SENSITIVITY_PRESETS.iter().find(|(n, _, _)| *n == name)
-        else {
-            return Err(ParamError::UnknownPreset {
-                technique: "fxaa".to_owned(),
-                name: name.to_owned(),
-                known: PRESET_NAMES.join(", "),
-            });
-        };
-        self.settings.edge_threshold = *threshold;
-        self.settings.edge_threshold_min = *threshold_min;
+        let preset = Preset::from_name(name).ok_or_else(|| ParamError::UnknownPreset {
+            technique: ID.to_owned(),
+            name: name.to_owned(),
+            known: Preset::NAMES.join(", "),
+        })?;
+        self.settings.apply_preset(preset);
         Ok(())
     }
 
@@ -478,70 +353,9 @@ impl Technique for Fxaa {
         let s = &self.settings;
         Some(format!(
             "quality {} ({} search steps), {} luma on sRGB-encoded values, blend in linear light",
-            s.quality,
-            search_steps(s.quality).map_or(0, <[f32]>::len),
+            s.quality.name(),
+            s.quality.search_steps().len(),
             s.luma.name()
         ))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn every_quality_preset_has_a_step_list_within_the_shader_limit() {
-        assert_eq!(QUALITY_NAMES.len(), QUALITY_PRESETS.len());
-        for name in QUALITY_NAMES {
-            let steps = search_steps(name).expect("listed preset");
-            assert!((3..=MAX_STEPS).contains(&steps.len()), "{name}");
-            // Medium-dither presets end in a 12-pixel guess, the others in 8.
-            let last = *steps.last().expect("non-empty");
-            assert_eq!(
-                last,
-                if name.starts_with('1') { 12.0 } else { 8.0 },
-                "{name}"
-            );
-        }
-        assert_eq!(
-            search_steps("12").expect("preset 12"),
-            &[1.0, 1.5, 2.0, 4.0, 12.0]
-        );
-        assert_eq!(search_steps("39").expect("preset 39").len(), 12);
-        assert!(search_steps("16").is_none());
-        // Within each family a higher preset searches at least as far.
-        let reach = |n: &str| search_steps(n).expect("listed preset").iter().sum::<f32>();
-        for pair in QUALITY_NAMES.windows(2) {
-            if pair[0].as_bytes()[0] == pair[1].as_bytes()[0] {
-                assert!(reach(pair[1]) >= reach(pair[0]), "{pair:?}");
-            }
-        }
-    }
-
-    #[test]
-    fn constants_fill_every_step_slot() {
-        let settings = FxaaSettings {
-            quality: "20",
-            luma: LumaSource::Green,
-            ..FxaaSettings::default()
-        };
-        let constants = settings.constants();
-        assert_eq!(constants.len(), 2 + MAX_STEPS);
-        let get = |k: &str| constants.iter().find(|(n, _)| n == k).expect("constant").1;
-        assert_eq!(get("GREEN_AS_LUMA"), 1.0);
-        assert_eq!(get("STEP_COUNT"), 3.0);
-        assert_eq!(
-            (get("STEP_0"), get("STEP_1"), get("STEP_2")),
-            (1.5, 2.0, 8.0)
-        );
-        assert_eq!(get("STEP_11"), 0.0);
-    }
-
-    #[test]
-    fn sensitivity_presets_tighten_in_order() {
-        for pair in SENSITIVITY_PRESETS.windows(2) {
-            assert!(pair[1].1 < pair[0].1 && pair[1].2 < pair[0].2);
-        }
-        assert_eq!(PRESET_NAMES.len(), SENSITIVITY_PRESETS.len() + 1);
     }
 }

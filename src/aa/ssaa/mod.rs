@@ -8,7 +8,7 @@
 //! - `jittered`: N one-sample renders, each with the projection shifted to one position of a
 //!   pattern (regular grid, rotated grid, uniform random, Poisson disk, Halton(2,3)), gathered
 //!   into a float accumulator with a reconstruction filter (box, tent, Gaussian,
-//!   Blackman-Harris) whose weights come from `aa::sampling`. Textures get a mip bias of
+//!   Blackman-Harris) whose weights come from `aa::common::sampling`. Textures get a mip bias of
 //!   -log2(N)/2 so they are as sharp as a render N times larger would have them.
 //!
 //! [`Ssaa::encode_progressive`] spreads the jittered mode over frames for the viewer's
@@ -20,70 +20,44 @@
 use glam::{UVec2, Vec2};
 use wgpu::util::DeviceExt;
 
-use super::params::{Param, ParamError, ParamValue, as_choice, as_i64};
-use super::sampling::{FILTER_NAMES, Filter, PATTERN_NAMES, Pattern, accumulation_weights};
-use super::{FrameInfo, SceneInput, Technique};
+pub mod settings;
+
+pub use settings::{MAX_FACTOR, MAX_SAMPLES, Mode, SsaaSettings};
+
+use crate::aa::common::sampling::{Filter, Pattern, accumulation_weights};
+use crate::aa::params::{Named, Param, ParamError, ParamValue, as_i64, as_named};
+use crate::aa::registry::{TechniqueInfo, anywhere};
+use crate::aa::{FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
-use crate::gpu::{COLOR_FORMAT, Gpu, shader};
+use crate::gpu::shader::Shader;
+use crate::gpu::{COLOR_FORMAT, Gpu};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::camera::PixelRect;
 use crate::scene::renderer::{RasterOptions, SceneTargets, TargetDesc};
 
+/// Stable id, as on the command line.
+pub const ID: &str = "ssaa";
+
+/// The ordered-grid downsample and the jittered accumulation and resolve.
+const WGSL: Shader = crate::wgsl!("src/aa/ssaa/ssaa.wgsl");
+
+/// The registry entry.
+pub const INFO: TechniqueInfo = TechniqueInfo {
+    id: ID,
+    name: "SSAA",
+    summary: "Supersampling: every sample is fully shaded (k x k ordered grid, or N jittered samples \
+         with a chosen pattern and filter). It fixes every kind of aliasing - edges, textures, \
+         highlights, sub-pixel geometry - and is the reference the others are measured against, \
+         but it costs N times the shading, fill and memory bandwidth.",
+    availability: anywhere,
+    create: |gpu| Box::new(Ssaa::new(gpu)),
+    shaders: &[WGSL],
+};
+
 /// The largest tile side (in supersampled pixels) rendered at once.
 const MAX_TILE_SIDE: u32 = 4096;
-/// Largest ordered-grid factor (8 x 8 = 64 samples).
-pub const MAX_FACTOR: u32 = 8;
-/// Largest jittered sample count.
-pub const MAX_SAMPLES: u32 = 256;
 /// Bytes between per-sample uniform slots (dynamic offsets need 256-byte alignment).
 const SLOT: u64 = 256;
-
-/// Supersampling settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SsaaSettings {
-    /// Ordered grid (true) or jittered accumulation (false).
-    pub ordered: bool,
-    /// Ordered-grid factor k (k x k samples).
-    pub factor: u32,
-    /// Jittered sample count.
-    pub samples: u32,
-    /// Jittered pattern.
-    pub pattern: Pattern,
-    /// Jittered reconstruction filter.
-    pub filter: Filter,
-}
-
-impl Default for SsaaSettings {
-    fn default() -> Self {
-        Self {
-            ordered: true,
-            factor: 2,
-            samples: 16,
-            pattern: Pattern::RotatedGrid,
-            filter: Filter::Box,
-        }
-    }
-}
-
-impl SsaaSettings {
-    /// The ordered-grid reference: `factor` x `factor` samples, box filter.
-    pub fn reference(factor: u32) -> Self {
-        Self {
-            ordered: true,
-            factor,
-            ..Self::default()
-        }
-    }
-
-    /// Samples per pixel.
-    pub fn samples_per_pixel(&self) -> u32 {
-        if self.ordered {
-            self.factor * self.factor
-        } else {
-            self.pattern.effective_count(self.samples)
-        }
-    }
-}
 
 /// How an ordered-grid image is cut into tiles: output-pixel tiles of `tile` size.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -229,7 +203,7 @@ impl Ssaa {
             settings,
             device: gpu.device.clone(),
             max_tile_side: gpu.caps.max_texture_dimension_2d.min(MAX_TILE_SIDE),
-            module: shader::module(&gpu.device, "ssaa.wgsl"),
+            module: WGSL.module(&gpu.device),
             ordered: None,
             jittered: None,
         }
@@ -536,9 +510,9 @@ impl Ssaa {
         restart: bool,
         budget: u32,
     ) -> Progress {
-        if self.settings.ordered {
+        if self.settings.mode == Mode::Ordered {
             self.settings = SsaaSettings {
-                ordered: false,
+                mode: Mode::Jittered,
                 samples: self.settings.factor * self.settings.factor,
                 pattern: Pattern::Grid,
                 filter: Filter::Box,
@@ -650,7 +624,7 @@ fn dynamic_uniform_entry(
 
 impl Technique for Ssaa {
     fn id(&self) -> &'static str {
-        "ssaa"
+        ID
     }
 
     fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
@@ -663,7 +637,7 @@ impl Technique for Ssaa {
         _input: Option<&SceneTargets>,
         output: &wgpu::Texture,
     ) {
-        if self.settings.ordered {
+        if self.settings.mode == Mode::Ordered {
             self.encode_ordered(ctx, output);
         } else {
             self.encode_jittered(ctx, output);
@@ -694,14 +668,13 @@ impl Technique for Ssaa {
     fn params(&self) -> Vec<Param> {
         let s = &self.settings;
         vec![
-            Param::choice(
+            Param::named(
                 "mode",
                 "Mode",
                 "ordered: render k times larger and average k x k blocks (the classic SSAA and the \
                  reference); jittered: accumulate N one-sample renders at the positions of a pattern \
                  with a reconstruction filter.",
-                &["ordered", "jittered"],
-                if s.ordered { "ordered" } else { "jittered" },
+                s.mode,
             ),
             Param::int(
                 "factor",
@@ -719,24 +692,22 @@ impl Technique for Ssaa {
                 i64::from(MAX_SAMPLES),
                 i64::from(s.samples),
             ),
-            Param::choice(
+            Param::named(
                 "pattern",
                 "Pattern",
                 "Jittered mode: where the samples fall inside the pixel. grid: regular; rgss: rotated \
                  grid, every sample in its own row and column (better on near-horizontal and \
                  near-vertical edges); random: uniform; poisson: random but never clumped; halton: \
                  low-discrepancy Halton(2,3).",
-                PATTERN_NAMES,
-                s.pattern.name(),
+                s.pattern,
             ),
-            Param::choice(
+            Param::named(
                 "filter",
                 "Filter",
                 "Jittered mode: reconstruction filter. box averages the pixel's own samples; tent, \
                  gaussian and blackman-harris also weigh samples of neighbouring pixels (smoother, \
                  slightly softer).",
-                FILTER_NAMES,
-                s.filter.name(),
+                s.filter,
             ),
         ]
     }
@@ -744,19 +715,19 @@ impl Technique for Ssaa {
     fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
         let s = &mut self.settings;
         match key {
-            "mode" => s.ordered = as_choice(value) == "ordered",
+            "mode" => s.mode = as_named(value).unwrap_or(s.mode),
             "factor" => s.factor = as_i64(value).clamp(1, i64::from(MAX_FACTOR)) as u32,
             "samples" => s.samples = as_i64(value).clamp(1, i64::from(MAX_SAMPLES)) as u32,
-            "pattern" => s.pattern = Pattern::from_name(as_choice(value)).unwrap_or(s.pattern),
-            "filter" => s.filter = Filter::from_name(as_choice(value)).unwrap_or(s.filter),
-            _ => return Err(ParamError::unknown_key("ssaa", key, &self.params())),
+            "pattern" => s.pattern = as_named(value).unwrap_or(s.pattern),
+            "filter" => s.filter = as_named(value).unwrap_or(s.filter),
+            _ => return Err(ParamError::unknown_key(ID, key, &self.params())),
         }
         Ok(())
     }
 
     fn label(&self) -> String {
         let s = &self.settings;
-        if s.ordered {
+        if s.mode == Mode::Ordered {
             format!("SSAA {}x", s.samples_per_pixel())
         } else {
             format!("SSAA {}x {}", s.samples_per_pixel(), s.pattern.name())
@@ -765,7 +736,7 @@ impl Technique for Ssaa {
 
     fn path_note(&self) -> Option<String> {
         let s = &self.settings;
-        Some(if s.ordered {
+        Some(if s.mode == Mode::Ordered {
             format!(
                 "ordered grid {k}x{k} ({} samples), box filter",
                 s.factor * s.factor,

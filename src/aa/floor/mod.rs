@@ -43,7 +43,7 @@ impl Technique for CopyFloor {
     }
 
     fn label(&self) -> String {
-        super::registry::display_name(self.id())
+        crate::aa::registry::display_name(self.id())
     }
 
     fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {

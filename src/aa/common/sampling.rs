@@ -56,43 +56,23 @@ pub fn standard_msaa_positions(count: u32) -> Option<Vec<Vec2>> {
     )
 }
 
-/// A supersampling sample pattern.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum Pattern {
-    /// m x m regular grid (the count is rounded to a square).
-    Grid,
-    /// m x m grid rotated so that each sample has its own row and column (RGSS for 4).
-    RotatedGrid,
-    /// Uniform random positions.
-    Random,
-    /// Poisson-disk positions (no two samples closer than a minimum distance).
-    Poisson,
-    /// The Halton(2,3) sequence.
-    Halton,
+crate::named_enum! {
+    /// A supersampling sample pattern.
+    pub enum Pattern {
+        /// m x m regular grid (the count is rounded to a square).
+        Grid => "grid",
+        /// m x m grid rotated so that each sample has its own row and column (RGSS for 4).
+        RotatedGrid => "rgss",
+        /// Uniform random positions.
+        Random => "random",
+        /// Poisson-disk positions (no two samples closer than a minimum distance).
+        Poisson => "poisson",
+        /// The Halton(2,3) sequence.
+        Halton => "halton",
+    }
 }
 
-/// Names of the patterns, as the `pattern` parameter accepts them.
-pub const PATTERN_NAMES: &[&str] = &["grid", "rgss", "random", "poisson", "halton"];
-
 impl Pattern {
-    const ALL: [Self; 5] = [
-        Self::Grid,
-        Self::RotatedGrid,
-        Self::Random,
-        Self::Poisson,
-        Self::Halton,
-    ];
-
-    /// Parses a name from [`PATTERN_NAMES`].
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|p| p.name() == name)
-    }
-
-    /// The pattern's name in [`PATTERN_NAMES`].
-    pub fn name(self) -> &'static str {
-        PATTERN_NAMES[Self::ALL.iter().position(|p| *p == self).unwrap_or(0)]
-    }
-
     /// How many samples the pattern really uses when `requested` are asked for (grids need a
     /// square count).
     pub fn effective_count(self, requested: u32) -> u32 {
@@ -210,35 +190,21 @@ fn poisson_disk(n: u32) -> Vec<Vec2> {
     points
 }
 
-/// A reconstruction filter for resolves and accumulation.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum Filter {
-    /// Box over the pixel (radius 0.5): plain averaging.
-    Box,
-    /// Tent, radius 1.
-    Tent,
-    /// Gaussian with sigma 0.5, truncated at radius 1.5.
-    Gaussian,
-    /// Blackman-Harris window over radius 1.5.
-    BlackmanHarris,
+crate::named_enum! {
+    /// A reconstruction filter for resolves and accumulation.
+    pub enum Filter {
+        /// Box over the pixel (radius 0.5): plain averaging.
+        Box => "box",
+        /// Tent, radius 1.
+        Tent => "tent",
+        /// Gaussian with sigma 0.5, truncated at radius 1.5.
+        Gaussian => "gaussian",
+        /// Blackman-Harris window over radius 1.5.
+        BlackmanHarris => "blackman-harris",
+    }
 }
 
-/// Names of the filters, as the `filter` parameter accepts them.
-pub const FILTER_NAMES: &[&str] = &["box", "tent", "gaussian", "blackman-harris"];
-
 impl Filter {
-    const ALL: [Self; 4] = [Self::Box, Self::Tent, Self::Gaussian, Self::BlackmanHarris];
-
-    /// Parses a name from [`FILTER_NAMES`].
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|f| f.name() == name)
-    }
-
-    /// The filter's name in [`FILTER_NAMES`].
-    pub fn name(self) -> &'static str {
-        FILTER_NAMES[Self::ALL.iter().position(|f| *f == self).unwrap_or(0)]
-    }
-
     /// Support radius in pixels.
     pub fn radius(self) -> f32 {
         match self {

@@ -1,0 +1,88 @@
+//! What several techniques share, kept once: the colour maths the shaders mirror ([`color`]),
+//! sample patterns and reconstruction filters ([`sampling`]), and the GPU pieces of
+//! post-process passes: the bilinear sampler, encoded (`Rgba8Unorm`) views of the sRGB colour
+//! targets, debug-view textures and a cache of full-screen pipelines keyed by what they are
+//! specialised on ([`PipelineCache`]). The full-screen vertex stage and pipeline builder itself
+//! is `crate::gpu::fullscreen` (the frame graph hands it to every pass).
+
+pub mod color;
+pub mod sampling;
+
+use std::collections::HashMap;
+use std::hash::Hash;
+
+use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Texture2d, texture_2d};
+
+/// A clamp-to-edge bilinear sampler (post passes read neighbours past the image border as the
+/// border pixel).
+pub fn bilinear_clamp_sampler(device: &wgpu::Device, label: &str) -> wgpu::Sampler {
+    device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some(label),
+        address_mode_u: wgpu::AddressMode::ClampToEdge,
+        address_mode_v: wgpu::AddressMode::ClampToEdge,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        ..Default::default()
+    })
+}
+
+/// A view of a texture in another (compatible) format.
+pub fn view_as(texture: &wgpu::Texture, format: wgpu::TextureFormat) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        format: Some(format),
+        ..Default::default()
+    })
+}
+
+/// A view of an RGBA8 sRGB texture that reads and writes the encoded values.
+pub fn encoded_view(texture: &wgpu::Texture) -> wgpu::TextureView {
+    view_as(texture, COLOR_FORMAT_ENCODED_VIEW)
+}
+
+/// A debug-view texture: RGBA8 sRGB at the output size, readable back and viewable by egui,
+/// with an encoded view for passes that write encoded values.
+pub fn debug_texture(device: &wgpu::Device, label: &str, size: (u32, u32)) -> wgpu::Texture {
+    texture_2d(
+        device,
+        &Texture2d {
+            view_formats: &[COLOR_FORMAT_ENCODED_VIEW],
+            ..Texture2d::new(
+                label,
+                size,
+                COLOR_FORMAT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC,
+            )
+        },
+    )
+}
+
+/// Full-screen pipelines built on first use and kept by the key they are specialised on
+/// (a technique's structural settings: override constants, entry point, debug targets), so
+/// switching a setting back and forth builds each variant once.
+pub struct PipelineCache<K> {
+    pipelines: HashMap<K, wgpu::RenderPipeline>,
+}
+
+impl<K> Default for PipelineCache<K> {
+    fn default() -> Self {
+        Self {
+            pipelines: HashMap::new(),
+        }
+    }
+}
+
+impl<K: Eq + Hash> PipelineCache<K> {
+    /// The pipeline of `key`, built by `build` the first time it is asked for.
+    pub fn get_or_build(
+        &mut self,
+        key: K,
+        build: impl FnOnce(&K) -> wgpu::RenderPipeline,
+    ) -> wgpu::RenderPipeline {
+        self.pipelines
+            .entry(key)
+            .or_insert_with_key(|key| build(key))
+            .clone()
+    }
+}

@@ -1,0 +1,229 @@
+//! FXAA's settings: Lottes' quality presets (the edge-search step lists, which become override
+//! constants), the two contrast thresholds, the sub-pixel amount, the luma choice, and the
+//! named presets (Lottes' defaults and Bevy's sensitivity levels).
+
+use crate::aa::common::color::LumaSource;
+
+/// Most search steps a preset has (the shader has this many step constants).
+pub const MAX_STEPS: usize = 12;
+
+crate::named_enum! {
+    /// FXAA 3.11's quality presets (the `quality` parameter): 10-15 few steps ending in a long
+    /// jump (medium dither), 20-29 more, shorter steps (less dither), 39 twelve short steps (no
+    /// dither).
+    pub enum Quality {
+        /// Three steps, a 12-pixel last guess.
+        Q10 => "10",
+        /// Four steps, a 12-pixel last guess.
+        Q11 => "11",
+        /// Five steps, a 12-pixel last guess (Lottes' default).
+        Q12 => "12",
+        /// Six steps, a 12-pixel last guess.
+        Q13 => "13",
+        /// Seven steps, a 12-pixel last guess.
+        Q14 => "14",
+        /// Eight steps, a 12-pixel last guess.
+        Q15 => "15",
+        /// Three steps, an 8-pixel last guess.
+        Q20 => "20",
+        /// Four steps, an 8-pixel last guess.
+        Q21 => "21",
+        /// Five steps, an 8-pixel last guess.
+        Q22 => "22",
+        /// Six steps, an 8-pixel last guess.
+        Q23 => "23",
+        /// Seven steps, an 8-pixel last guess.
+        Q24 => "24",
+        /// Eight steps, an 8-pixel last guess.
+        Q25 => "25",
+        /// Nine steps, an 8-pixel last guess.
+        Q26 => "26",
+        /// Ten steps, an 8-pixel last guess.
+        Q27 => "27",
+        /// Eleven steps, an 8-pixel last guess.
+        Q28 => "28",
+        /// Twelve steps, an 8-pixel last guess.
+        Q29 => "29",
+        /// Twelve short steps, no dither.
+        Q39 => "39",
+    }
+}
+
+impl Quality {
+    /// The edge-search step lengths of the preset, in pixels.
+    pub fn search_steps(self) -> &'static [f32] {
+        match self {
+            Self::Q10 => &[1.5, 3.0, 12.0],
+            Self::Q11 => &[1.0, 1.5, 3.0, 12.0],
+            Self::Q12 => &[1.0, 1.5, 2.0, 4.0, 12.0],
+            Self::Q13 => &[1.0, 1.5, 2.0, 2.0, 4.0, 12.0],
+            Self::Q14 => &[1.0, 1.5, 2.0, 2.0, 2.0, 4.0, 12.0],
+            Self::Q15 => &[1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 4.0, 12.0],
+            Self::Q20 => &[1.5, 2.0, 8.0],
+            Self::Q21 => &[1.0, 1.5, 2.0, 8.0],
+            Self::Q22 => &[1.0, 1.5, 2.0, 2.0, 8.0],
+            Self::Q23 => &[1.0, 1.5, 2.0, 2.0, 2.0, 8.0],
+            Self::Q24 => &[1.0, 1.5, 2.0, 2.0, 2.0, 3.0, 8.0],
+            Self::Q25 => &[1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0],
+            Self::Q26 => &[1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0],
+            Self::Q27 => &[1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0],
+            Self::Q28 => &[1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0],
+            Self::Q29 => &[1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0],
+            Self::Q39 => &[1.0, 1.0, 1.0, 1.0, 1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0],
+        }
+    }
+}
+
+crate::named_enum! {
+    /// The named presets: Lottes' defaults, then Bevy's sensitivity levels, which set the two
+    /// contrast thresholds.
+    pub enum Preset {
+        /// Lottes' FXAA 3.11 defaults: quality 12, subpix 0.75, thresholds 0.166 / 0.0833.
+        Default => "default",
+        /// Thresholds 0.25 / 0.0833.
+        Low => "low",
+        /// Thresholds 0.166 / 0.0625.
+        Medium => "medium",
+        /// Thresholds 0.125 / 0.0312.
+        High => "high",
+        /// Thresholds 0.063 / 0.0156.
+        Ultra => "ultra",
+        /// Thresholds 0.031 / 0.0078.
+        Extreme => "extreme",
+    }
+}
+
+impl Preset {
+    /// Bevy's sensitivity: (edge_threshold, edge_threshold_min); `None` for Lottes' defaults.
+    pub fn thresholds(self) -> Option<(f32, f32)> {
+        match self {
+            Self::Default => None,
+            Self::Low => Some((0.250, 0.0833)),
+            Self::Medium => Some((0.166, 0.0625)),
+            Self::High => Some((0.125, 0.0312)),
+            Self::Ultra => Some((0.063, 0.0156)),
+            Self::Extreme => Some((0.031, 0.0078)),
+        }
+    }
+}
+
+/// FXAA settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FxaaSettings {
+    /// Quality preset.
+    pub quality: Quality,
+    /// Sub-pixel blending: 0 off, 0.75 default, 1 softest.
+    pub subpix: f32,
+    /// Contrast needed to process a pixel, relative to the brightest luma of its cross.
+    pub edge_threshold: f32,
+    /// Contrast below which dark pixels are skipped regardless.
+    pub edge_threshold_min: f32,
+    /// How luma is computed.
+    pub luma: LumaSource,
+}
+
+impl Default for FxaaSettings {
+    /// Lottes' FXAA 3.11 defaults.
+    fn default() -> Self {
+        Self {
+            quality: Quality::Q12,
+            subpix: 0.75,
+            edge_threshold: 0.166,
+            edge_threshold_min: 0.0833,
+            luma: LumaSource::Bt601,
+        }
+    }
+}
+
+impl FxaaSettings {
+    /// Applies a named preset.
+    pub fn apply_preset(&mut self, preset: Preset) {
+        match preset.thresholds() {
+            None => *self = Self::default(),
+            Some((threshold, threshold_min)) => {
+                self.edge_threshold = threshold;
+                self.edge_threshold_min = threshold_min;
+            }
+        }
+    }
+
+    /// The override constants of the quality preset and luma choice.
+    pub(super) fn constants(&self) -> Vec<(String, f64)> {
+        let steps = self.quality.search_steps();
+        let mut constants = vec![
+            (
+                "GREEN_AS_LUMA".to_owned(),
+                f64::from(u8::from(self.luma == LumaSource::Green)),
+            ),
+            ("STEP_COUNT".to_owned(), steps.len() as f64),
+        ];
+        constants.extend((0..MAX_STEPS).map(|i| {
+            (
+                format!("STEP_{i}"),
+                f64::from(steps.get(i).copied().unwrap_or(0.0)),
+            )
+        }));
+        constants
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::graph::params::Named;
+
+    #[test]
+    fn every_quality_preset_has_a_step_list_within_the_shader_limit() {
+        for quality in Quality::ALL {
+            let steps = quality.search_steps();
+            let name = quality.name();
+            assert!((3..=MAX_STEPS).contains(&steps.len()), "{name}");
+            // Medium-dither presets end in a 12-pixel guess, the others in 8.
+            let last = *steps.last().expect("non-empty");
+            assert_eq!(
+                last,
+                if name.starts_with('1') { 12.0 } else { 8.0 },
+                "{name}"
+            );
+        }
+        assert_eq!(Quality::Q12.search_steps(), &[1.0, 1.5, 2.0, 4.0, 12.0]);
+        assert_eq!(Quality::Q39.search_steps().len(), 12);
+        assert!(Quality::from_name("16").is_none());
+        // Within each family a higher preset searches at least as far.
+        let reach = |q: Quality| q.search_steps().iter().sum::<f32>();
+        for pair in Quality::ALL.windows(2) {
+            if pair[0].name().as_bytes()[0] == pair[1].name().as_bytes()[0] {
+                assert!(reach(pair[1]) >= reach(pair[0]), "{pair:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn constants_fill_every_step_slot() {
+        let settings = FxaaSettings {
+            quality: Quality::Q20,
+            luma: LumaSource::Green,
+            ..FxaaSettings::default()
+        };
+        let constants = settings.constants();
+        assert_eq!(constants.len(), 2 + MAX_STEPS);
+        let get = |k: &str| constants.iter().find(|(n, _)| n == k).expect("constant").1;
+        assert_eq!(get("GREEN_AS_LUMA"), 1.0);
+        assert_eq!(get("STEP_COUNT"), 3.0);
+        assert_eq!(
+            (get("STEP_0"), get("STEP_1"), get("STEP_2")),
+            (1.5, 2.0, 8.0)
+        );
+        assert_eq!(get("STEP_11"), 0.0);
+    }
+
+    #[test]
+    fn sensitivity_presets_tighten_in_order() {
+        let sensitivities: Vec<(f32, f32)> =
+            Preset::ALL.iter().filter_map(|p| p.thresholds()).collect();
+        assert_eq!(sensitivities.len(), Preset::ALL.len() - 1);
+        for pair in sensitivities.windows(2) {
+            assert!(pair[1].0 < pair[0].0 && pair[1].1 < pair[0].1);
+        }
+    }
+}
