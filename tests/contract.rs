@@ -124,8 +124,8 @@ fn every_parameter_round_trips_through_the_cli_and_the_record() {
                 assert_eq!(spec.settings.get(param.key), Some(&value), "{what}");
                 // The record/sidecar: JSON and back restores every setting exactly.
                 let json = serde_json::to_string(&spec).expect("serialises");
-                let back: TechniqueSpec = serde_json::from_str(&json)
-                    .unwrap_or_else(|e| panic!("{what}: {e} in {json}"));
+                let back: TechniqueSpec =
+                    serde_json::from_str(&json).unwrap_or_else(|e| panic!("{what}: {e} in {json}"));
                 assert_eq!(back, spec, "{what}: {json}");
                 let mut restored = common::technique(&gpu, info.id, &[]);
                 aa::apply_param_map(restored.as_mut(), &back.settings)
@@ -152,7 +152,12 @@ fn every_preset_applies_and_unknown_ones_are_refused() {
     for (info, mut technique) in available(&gpu) {
         let presets = technique.presets();
         let unique: BTreeSet<&str> = presets.iter().copied().collect();
-        assert_eq!(unique.len(), presets.len(), "{}: duplicate presets", info.id);
+        assert_eq!(
+            unique.len(),
+            presets.len(),
+            "{}: duplicate presets",
+            info.id
+        );
         for preset in presets {
             technique
                 .apply_preset(preset)
@@ -203,7 +208,10 @@ fn debug_views_have_the_output_size_and_only_when_asked_for() {
         }
         with_views += usize::from(!views.is_empty());
     }
-    assert!(with_views >= 3, "only {with_views} techniques showed debug views");
+    assert!(
+        with_views >= 3,
+        "only {with_views} techniques showed debug views"
+    );
     for slot in graph.slots_mut() {
         slot.technique.set_debug_views(false);
         assert!(

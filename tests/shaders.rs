@@ -60,7 +60,8 @@ fn listed() -> BTreeMap<&'static str, Shader> {
 fn every_shader_validates_with_naga() {
     let files = files_on_disk();
     assert!(
-        files.iter().any(|f| f.starts_with("shaders/")) && files.iter().any(|f| f.starts_with("src/aa/")),
+        files.iter().any(|f| f.starts_with("shaders/"))
+            && files.iter().any(|f| f.starts_with("src/aa/")),
         "shaders missing: {files:?}"
     );
     let mut failures = Vec::new();
@@ -117,7 +118,12 @@ fn shared_shaders_stay_in_shaders_and_technique_shaders_in_their_folders() {
     }
     for technique in aa_lab::aa::registry() {
         for shader in technique.shaders {
-            assert!(shader.path.starts_with("src/aa/"), "{}: {}", technique.id, shader.path);
+            assert!(
+                shader.path.starts_with("src/aa/"),
+                "{}: {}",
+                technique.id,
+                shader.path
+            );
         }
     }
     // Shared shaders are looked up by file name, so their names are unique.

@@ -243,7 +243,12 @@ fn t2x_is_deterministic_changes_edges_and_resets() {
     // A reset drops the history: frame 3 after a reset equals frame 3 rendered fresh.
     let mut graph = common::graph(&gpu, &scene, vec![common::technique(&gpu, "smaa-t2x", &[])]);
     render_frames(&mut graph, &scene, 0..=2);
-    common::render(&mut graph, common::camera(&scene, 3, SIZE), true, FrameScope::All);
+    common::render(
+        &mut graph,
+        common::camera(&scene, 3, SIZE),
+        true,
+        FrameScope::All,
+    );
     let after_reset = common::outputs(&mut graph);
     let fresh = {
         let mut graph = common::graph(&gpu, &scene, vec![common::technique(&gpu, "smaa-t2x", &[])]);
@@ -264,7 +269,12 @@ fn t2x_is_deterministic_changes_edges_and_resets() {
         aa::ParamValue::Float(0.05),
     )
     .expect("threshold");
-    common::render(&mut graph, common::camera(&scene, 3, SIZE), false, FrameScope::All);
+    common::render(
+        &mut graph,
+        common::camera(&scene, 3, SIZE),
+        false,
+        FrameScope::All,
+    );
     let changed_settings = common::outputs(&mut graph);
     let fresh = {
         let t2x = common::technique(&gpu, "smaa-t2x", &[("threshold", "0.05")]);

@@ -24,9 +24,7 @@ pub mod smaa;
 pub mod ssaa;
 pub mod taa;
 
-pub use crate::graph::params::{
-    self, Named, Param, ParamError, ParamKind, ParamMap, ParamValue,
-};
+pub use crate::graph::params::{self, Named, Param, ParamError, ParamKind, ParamMap, ParamValue};
 pub use crate::graph::technique::{DebugView, FrameInfo, SceneInput, Technique};
 pub use registry::{TechniqueInfo, registry};
 

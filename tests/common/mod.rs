@@ -174,7 +174,12 @@ pub fn render_frames(
 ) -> Vec<RgbaImage> {
     let first = *frames.start();
     for frame in frames {
-        render(graph, camera(scene, frame, size), frame == first, FrameScope::All);
+        render(
+            graph,
+            camera(scene, frame, size),
+            frame == first,
+            FrameScope::All,
+        );
     }
     outputs(graph)
 }

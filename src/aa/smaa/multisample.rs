@@ -16,10 +16,10 @@ use glam::Vec2;
 
 use super::passes::{Input, SmaaPasses};
 use super::pipeline::{self, Binding, PassDesc, Stencil, bind_group, cleared};
-use crate::aa::common::view_as;
 use super::settings::SmaaSettings;
 use crate::aa::SceneInput;
 use crate::aa::common::sampling::standard_msaa_positions;
+use crate::aa::common::view_as;
 use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Capabilities};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::{RasterOptions, SceneTargets, TargetDesc};

@@ -11,11 +11,9 @@
 
 use glam::Vec2;
 
-use super::pipeline::{
-    self, Binding, LutTextures, PassDesc, Stencil, Vertex, bind_group, cleared,
-};
-use crate::aa::common::{bilinear_clamp_sampler, view_as};
+use super::pipeline::{self, Binding, LutTextures, PassDesc, Stencil, Vertex, bind_group, cleared};
 use super::settings::{EdgeMode, PipelineKey, SmaaSettings};
+use crate::aa::common::{bilinear_clamp_sampler, view_as};
 use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu, MOTION_FORMAT};
 use crate::graph::{MemoryItem, PassContext};
 

@@ -3,9 +3,7 @@
 //! between settings that change pipelines ([`PipelineKey`], WGSL override constants) and
 //! those that only change a uniform.
 
-use crate::aa::params::{
-    Named, Param, ParamError, ParamValue, as_bool, as_f32, as_i64, as_named,
-};
+use crate::aa::params::{Named, Param, ParamError, ParamValue, as_bool, as_f32, as_i64, as_named};
 
 use super::lut::MAX_DIAG_DISTANCE;
 

@@ -93,10 +93,10 @@ use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
 use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu};
-use debug::TaaDebug;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::camera::FrameCamera;
 use crate::scene::renderer::SceneTargets;
+use debug::TaaDebug;
 
 /// Stable id, as on the command line.
 pub const ID: &str = "taa";
@@ -366,7 +366,6 @@ impl Taa {
             )
         })
     }
-
 }
 
 fn continues(last: &FrameCamera, next: &FrameCamera) -> bool {

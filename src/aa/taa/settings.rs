@@ -227,15 +227,9 @@ impl TaaSettings {
                 "HISTORY_FILTER",
                 f64::from(u8::from(self.history_filter == HistoryFilter::CatmullRom)),
             ),
-            (
-                "RECTIFY",
-                self.rectify.index() as f64,
-            ),
+            ("RECTIFY", self.rectify.index() as f64),
             ("LUMA_WEIGHT", f64::from(u8::from(self.luma_weight))),
-            (
-                "VELOCITY_TAPS",
-                self.velocity.index() as f64,
-            ),
+            ("VELOCITY_TAPS", self.velocity.index() as f64),
             (
                 "NEIGHBOURHOOD",
                 f64::from(u8::from(self.neighbourhood == Neighbourhood::Cross)),
