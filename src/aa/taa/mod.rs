@@ -445,9 +445,9 @@ impl Technique for Taa {
             ],
             trust: [
                 self.settings.velocity_tolerance,
-                f32::from(u8::from(self.settings.trust_own_speed)),
                 f32::from(u8::from(self.settings.resample_feedback)),
                 f32::from(u8::from(self.settings.trust_sharp_only)),
+                0.0,
             ],
             current_filter: current_filter_weights(
                 &self.settings,
@@ -833,7 +833,8 @@ mod tests {
                 ("RECTIFY", 1.0),
                 ("LUMA_WEIGHT", 0.0),
                 ("VELOCITY_TAPS", 0.0),
-                ("NEIGHBOURHOOD", 1.0)
+                ("NEIGHBOURHOOD", 1.0),
+                ("TRUST_OWN_SPEED", 0.0)
             ]
         );
     }

@@ -221,7 +221,7 @@ impl TaaSettings {
     }
 
     /// The override constants of the structural settings.
-    pub(super) fn constants(&self) -> [(&'static str, f64); 5] {
+    pub(super) fn constants(&self) -> [(&'static str, f64); 6] {
         [
             (
                 "HISTORY_FILTER",
@@ -234,6 +234,7 @@ impl TaaSettings {
                 "NEIGHBOURHOOD",
                 f64::from(u8::from(self.neighbourhood == Neighbourhood::Cross)),
             ),
+            ("TRUST_OWN_SPEED", f64::from(u8::from(self.trust_own_speed))),
         ]
     }
 }

@@ -39,10 +39,9 @@ struct TaaParams {
     // w: current frame weight at one pixel per frame of motion and faster.
     blend: vec4<f32>,
     // x: change of speed (pixels per frame) between the history and the current pixel at which
-    // rectification applies in full (0: always in full); y: 1 to compare the pixel's own speed
-    // (else the speed of the nearest surface it reprojects with); z: 1 to raise the current
-    // weight with the blur of resampling the history (else with the speed); w: 1 to ease the
-    // trust off as that blur grows.
+    // rectification applies in full (0: always in full); y: 1 to raise the current weight with
+    // the blur of resampling the history (else with the speed); z: 1 to ease the trust off as
+    // that blur grows; w: unused. (Whose speed the trust compares is TRUST_OWN_SPEED.)
     trust: vec4<f32>,
     // Weights of the current frame's filter for the 3x3 taps, row by row (index 3 (dy + 1) +
     // dx + 1), normalised over the taps of the colour neighbourhood: exp(-a d^2) of each
@@ -70,6 +69,10 @@ override LUMA_WEIGHT: bool = true;
 override VELOCITY_TAPS: u32 = 1u;
 // Colour box from 0: the 3x3 neighbourhood, 1: the pixel and its 4 direct neighbours.
 override NEIGHBOURHOOD: u32 = 0u;
+// The velocity trust compares the speed of the pixel's own surface (one more motion read)
+// instead of the nearest surface's. A constant, not a uniform, so that the read is skipped
+// when it is off.
+override TRUST_OWN_SPEED: bool = false;
 
 fn luminance(c: vec3<f32>) -> f32 {
     return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
@@ -220,9 +223,8 @@ fn resolve(position: vec2<f32>) -> Resolved {
     let speed = length(velocity * params.size.xy);
     // The speed the trust test compares (and the history keeps): the pixel's own surface's.
     var own_speed = speed;
-    if VELOCITY_TAPS > 0u {
-        let own = length(textureLoad(motion, pixel, 0).xy * params.size.xy);
-        own_speed = select(speed, own, params.trust.y > 0.5);
+    if VELOCITY_TAPS > 0u && TRUST_OWN_SPEED {
+        own_speed = length(textureLoad(motion, pixel, 0).xy * params.size.xy);
     }
     let previous = uv - velocity;
     let off_screen = any(previous < vec2<f32>(0.0)) || any(previous > vec2<f32>(1.0));
@@ -271,14 +273,14 @@ fn resolve(position: vec2<f32>) -> Resolved {
     );
     // A blurred history spreads a little into its neighbours every frame; trusted, that
     // spread is never rectified away.
-    trust *= select(1.0, 1.0 - blur, params.trust.w > 0.5);
+    trust *= select(1.0, 1.0 - blur, params.trust.z > 0.5);
     kept = mix(kept, reprojected, trust);
 
     // 4. Blend. Motion-adaptive feedback: the current frame's share rises from blend.x towards
     // blend.w with the speed, or with how much the read between texels blurs the history (a
     // still camera and whole-pixel motion keep the history sharp; half-pixel motion softens it
     // most).
-    let adapt = select(saturate(speed), blur, params.trust.z > 0.5);
+    let adapt = select(saturate(speed), blur, params.trust.y > 0.5);
     let alpha = mix(params.blend.x, max(params.blend.x, params.blend.w), adapt);
     // The current frame's estimate of the pixel: where the history stays sharp (still camera,
     // whole-pixel motion) the accumulated point samples converge to the pixel's box average and
