@@ -6,12 +6,13 @@
 //! - [`scene`]: scene data, procedural scenes, OBJ loading, camera, forward renderer;
 //! - [`graph`]: the technique trait and the frame graph that shares scene renders between
 //!   techniques, with timings and memory reports;
-//! - [`aa`]: the registry and one module per technique;
+//! - [`aa`]: the registry and one folder per technique, with what they share in `aa::common`;
 //! - [`spec`]: reproducible render descriptions and the headless runner;
 //! - [`metrics`]: SSIM, PSNR, MAE, FLIP (CPU and GPU), flicker, chart ground truth, timing
 //!   summaries;
 //! - [`export`]: PNG files with their render record;
 //! - [`files`]: bounded reads of user files, atomic writes and the overwrite policy;
+//! - [`srgb`]: the sRGB transfer function, once for the crate;
 //! - [`cli`]: the command-line subcommands;
 //! - [`app`]: the viewer (eframe/egui on the same frame graph);
 //! - `profile` (cargo feature `profile`): the CPU profile of the viewer's UI frame.
@@ -28,3 +29,4 @@ pub mod metrics;
 pub mod profile;
 pub mod scene;
 pub mod spec;
+pub mod srgb;

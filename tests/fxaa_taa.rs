@@ -614,15 +614,10 @@ fn ink(image: &RgbaImage) -> f64 {
 
 /// The linear intensity of a pixel (mean of its decoded RGB), 0..1.
 fn light(p: &image::Rgba<u8>) -> f64 {
-    let linear = |v: u8| {
-        let c = f64::from(v) / 255.0;
-        if c <= 0.04045 {
-            c / 12.92
-        } else {
-            ((c + 0.055) / 1.055).powf(2.4)
-        }
-    };
-    (0..3).map(|c| linear(p[c])).sum::<f64>() / 3.0
+    (0..3)
+        .map(|c| aa_lab::srgb::decode_byte_f64(p[c]))
+        .sum::<f64>()
+        / 3.0
 }
 
 /// The mean linear intensity inside `(x, y, width, height)`.

@@ -61,15 +61,6 @@ fn common_levels(image: &[u8]) -> BTreeSet<u8> {
         .collect()
 }
 
-fn srgb_byte(linear: f32) -> u8 {
-    let s = if linear <= 0.003_130_8 {
-        linear * 12.92
-    } else {
-        1.055 * linear.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0).round() as u8
-}
-
 // The flat chart's slanted edge runs through the middle rows, from about x = 150 to 170 at
 // 320x180; the alpha card occupies x 20..110, y 60..120.
 const EDGE_ROWS: std::ops::Range<u32> = 40..140;
@@ -89,7 +80,7 @@ fn msaa4_box_resolve_gives_exactly_the_coverage_levels() {
     );
     let allowed: Vec<u8> = [0.25f32, 0.5, 0.75]
         .iter()
-        .map(|c| srgb_byte(1.0 - c))
+        .map(|c| aa_lab::srgb::encode_byte(1.0 - c))
         .collect();
     let msaa = levels(&images[0], EDGE_ROWS, EDGE_COLUMNS);
     assert!(!msaa.is_empty(), "no edge pixels found");

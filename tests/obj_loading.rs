@@ -286,15 +286,7 @@ fn alpha_maps_merge_into_the_base_texture() {
 }
 
 fn srgb(c: Vec3) -> Vec3 {
-    c.to_array()
-        .map(|c| {
-            if c <= 0.04045 {
-                c / 12.92
-            } else {
-                ((c + 0.055) / 1.055).powf(2.4)
-            }
-        })
-        .into()
+    c.to_array().map(aa_lab::srgb::decode).into()
 }
 
 #[test]

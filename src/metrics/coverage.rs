@@ -137,13 +137,7 @@ pub fn accumulate_coverage(coverage: &mut Plane, points: &[DVec2]) {
 
 /// sRGB encoding of a linear value in 0..1, rounded to 8 bits.
 pub fn encode_srgb(linear: f64) -> u8 {
-    let c = linear.clamp(0.0, 1.0);
-    let s = if c <= 0.003_130_8 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0).round() as u8
+    crate::srgb::encode_byte_f64(linear)
 }
 
 /// The exact ground truth of the chart at an image size (see the module docs).

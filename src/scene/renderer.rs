@@ -25,6 +25,7 @@ use wgpu::util::DeviceExt;
 use super::camera::ViewParams;
 use super::{AlphaMode, Filter, Scene, TextureImage, TextureSampler, Vertex, Wrap};
 use crate::gpu::{self, COLOR_FORMAT, DEPTH_FORMAT, Gpu, MOTION_FORMAT};
+use crate::srgb;
 
 /// Where varyings are evaluated inside a multisampled pixel.
 #[derive(
@@ -258,25 +259,6 @@ pub fn mip_level_count(width: u32, height: u32) -> u32 {
     32 - width.max(height).max(1).leading_zeros()
 }
 
-fn srgb_to_linear(c: u8) -> f32 {
-    let c = f32::from(c) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-fn linear_to_srgb(c: f32) -> u8 {
-    let c = c.clamp(0.0, 1.0);
-    let s = if c <= 0.003_130_8 {
-        c * 12.92
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0 + 0.5) as u8
-}
-
 /// The next mip level of an sRGB-encoded RGBA8 image: a 2x2 box filter in linear light,
 /// colour weighted by alpha so that transparent texels do not bleed their colour.
 pub fn downsample_srgb(image: &image::RgbaImage) -> image::RgbaImage {
@@ -290,9 +272,9 @@ pub fn downsample_srgb(image: &image::RgbaImage) -> image::RgbaImage {
                 .0;
             let a = f32::from(p[3]) / 255.0;
             sum += Vec4::new(
-                srgb_to_linear(p[0]) * a,
-                srgb_to_linear(p[1]) * a,
-                srgb_to_linear(p[2]) * a,
+                srgb::decode_byte(p[0]) * a,
+                srgb::decode_byte(p[1]) * a,
+                srgb::decode_byte(p[2]) * a,
                 a,
             );
         }
@@ -303,9 +285,9 @@ pub fn downsample_srgb(image: &image::RgbaImage) -> image::RgbaImage {
             Vec3::ZERO
         };
         image::Rgba([
-            linear_to_srgb(rgb.x),
-            linear_to_srgb(rgb.y),
-            linear_to_srgb(rgb.z),
+            srgb::encode_byte(rgb.x),
+            srgb::encode_byte(rgb.y),
+            srgb::encode_byte(rgb.z),
             (alpha * 255.0 + 0.5) as u8,
         ])
     })

@@ -504,10 +504,8 @@ impl Technique for Taa {
         });
         history.latest = write;
         history.valid = true;
-        if debug {
-            if let Some(views) = &self.debug {
-                views.encode(ctx, &self.device, motion, self.settings.samples.count());
-            }
+        if let Some(views) = self.debug.as_ref().filter(|_| debug) {
+            views.encode(ctx, &self.device, motion, self.settings.samples.count());
         }
     }
 

@@ -181,8 +181,6 @@ impl TaaSettings {
         let default = Self::default();
         match preset {
             Preset::Default => default,
-            // The cheapest variant: bilinear history, RGB clamp to the 5-pixel cross, the
-            // pixel's own motion (7 reads per pixel).
             Preset::Fast => Self {
                 history_filter: HistoryFilter::Bilinear,
                 rectify: Rectify::Clamp,
@@ -190,8 +188,6 @@ impl TaaSettings {
                 neighbourhood: Neighbourhood::Cross,
                 ..default
             },
-            // The most reads: nearest surface and colour box of the 3x3 block, 16 jitter
-            // positions and a mip bias of -2 to match them.
             Preset::Quality => Self {
                 samples: JitterSamples::Sixteen,
                 velocity: VelocityTaps::Box,
@@ -199,20 +195,17 @@ impl TaaSettings {
                 mip_bias: -2.0,
                 ..default
             },
-            // Karis 2014: YCoCg clip, a small current weight with luminance weighting.
             Preset::Karis => Self {
                 rectify: Rectify::Clip,
                 current_weight: 0.04,
                 luma_weight: true,
                 ..default
             },
-            // Salvi 2016: variance clipping with gamma 1.
             Preset::Salvi => Self {
                 rectify: Rectify::Variance,
                 gamma: 1.0,
                 ..default
             },
-            // No rectification: shows the ghosting that rectification exists to remove.
             Preset::Unrectified => Self {
                 rectify: Rectify::None,
                 ..default

@@ -49,15 +49,7 @@ fn srgb_table() -> &'static [u8] {
     static TABLE: OnceLock<Vec<u8>> = OnceLock::new();
     TABLE.get_or_init(|| {
         (0..SRGB_STEPS)
-            .map(|i| {
-                let c = i as f32 / (SRGB_STEPS - 1) as f32;
-                let s = if c <= 0.003_130_8 {
-                    12.92 * c
-                } else {
-                    1.055 * c.powf(1.0 / 2.4) - 0.055
-                };
-                (s * 255.0).round() as u8
-            })
+            .map(|i| crate::srgb::encode_byte(i as f32 / (SRGB_STEPS - 1) as f32))
             .collect()
     })
 }

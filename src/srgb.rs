@@ -1,0 +1,70 @@
+//! The sRGB transfer function (IEC 61966-2-1), once for the whole crate: the scene's textures
+//! and mip chains, material colours read from files, the chart's ground truth and the tests
+//! encode and decode through these. The GPU does the same conversions in hardware when it
+//! reads or writes the `*Srgb` texture formats.
+//!
+//! Every function comes in `f32` and `f64` (suffix `_f64`) forms generated from one body, so
+//! each caller keeps its precision.
+
+/// Generates the four conversions for one float type.
+macro_rules! transfer {
+    ($float:ty, $encode:ident, $decode:ident, $encode_byte:ident, $decode_byte:ident) => {
+        /// sRGB encoding of a linear value; values outside 0..1 are clamped first.
+        pub fn $encode(linear: $float) -> $float {
+            let c = linear.clamp(0.0, 1.0);
+            if c <= 0.003_130_8 {
+                12.92 * c
+            } else {
+                1.055 * c.powf(1.0 / 2.4) - 0.055
+            }
+        }
+
+        /// The linear value of an sRGB-encoded value in 0..1.
+        pub fn $decode(encoded: $float) -> $float {
+            if encoded <= 0.04045 {
+                encoded / 12.92
+            } else {
+                ((encoded + 0.055) / 1.055).powf(2.4)
+            }
+        }
+
+        /// The sRGB-encoded byte of a linear value (clamped to 0..1, rounded; NaN gives 0).
+        pub fn $encode_byte(linear: $float) -> u8 {
+            ($encode(linear) * 255.0).round() as u8
+        }
+
+        /// The linear value of an sRGB-encoded byte.
+        pub fn $decode_byte(byte: u8) -> $float {
+            $decode(<$float>::from(byte) / 255.0)
+        }
+    };
+}
+
+transfer!(f32, encode, decode, encode_byte, decode_byte);
+transfer!(
+    f64,
+    encode_f64,
+    decode_f64,
+    encode_byte_f64,
+    decode_byte_f64
+);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn end_points_mid_grey_and_round_trips() {
+        assert_eq!(encode_byte(0.0), 0);
+        assert_eq!(encode_byte(1.0), 255);
+        assert_eq!(encode_byte(0.5), 188);
+        assert_eq!(encode_byte(-1.0), 0);
+        assert_eq!(encode_byte(f32::NAN), 0);
+        assert_eq!(encode_byte_f64(0.215_861), 128);
+        assert!((decode(0.5) - 0.214_041).abs() < 1e-5);
+        for byte in 0..=255u8 {
+            assert_eq!(encode_byte(decode_byte(byte)), byte);
+            assert_eq!(encode_byte_f64(decode_byte_f64(byte)), byte);
+        }
+    }
+}
