@@ -175,6 +175,19 @@ pub fn registry() -> Vec<TechniqueInfo> {
             create: |gpu| Box::new(super::smaa::Smaa::new(gpu, super::smaa::Mode::S2x)),
         },
         TechniqueInfo {
+            id: "cmaa2",
+            name: "CMAA 2",
+            summary: "Conservative Morphological Antialiasing 2.0 (Strugar and Lake, Intel, 2018): \
+                 compute passes find luma edges with local contrast adaptation, collect the pixels \
+                 where edges meet in corners, recognise Z-shaped steps and blend a ramp along the \
+                 two edge runs, and apply only the blended pixels. Deliberately conservative: it \
+                 leaves texture and text detail nearly untouched and costs about what FXAA does, \
+                 but it smooths less than SMAA (short steps and sub-pixel detail stay aliased) \
+                 and, like every post process, cannot recover geometry the single sample missed.",
+            availability: needs_encoded_views,
+            create: |gpu| Box::new(super::cmaa2::Cmaa2::new(gpu)),
+        },
+        TechniqueInfo {
             id: "taa",
             name: "TAA",
             summary: "Temporal antialiasing (after Karis 2014 and Salvi 2016): every frame renders one \

@@ -14,8 +14,9 @@
 //! a varying or the pixel position are not affected. `tests/long_runs.rs` renders hundreds of
 //! frames of every technique and fails on growth.
 
-/// Every WGSL file under `shaders/`, by file name. The naga test checks this list against the
-/// directory so that no shader escapes validation.
+/// Every WGSL file under `shaders/` and under a technique's folder in `src/aa/`, by file name.
+/// The naga test checks this list against those directories so that no shader escapes
+/// validation.
 pub const SHADERS: &[(&str, &str)] = &[
     (
         "fullscreen.wgsl",
@@ -58,6 +59,7 @@ pub const SHADERS: &[(&str, &str)] = &[
         "viewer_fill.wgsl",
         include_str!("../../shaders/viewer_fill.wgsl"),
     ),
+    ("cmaa2.wgsl", include_str!("../aa/cmaa2/cmaa2.wgsl")),
 ];
 
 /// The source of `shaders/<name>`.
