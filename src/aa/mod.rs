@@ -14,6 +14,7 @@
 //! [`floor`] is a technique outside the registry: the full-screen copy `bench` measures every
 //! post-process pass against (it lives here so that `metrics/` does not depend on `aa/`).
 
+pub mod cmaa2;
 pub mod common;
 pub mod floor;
 pub mod fxaa;

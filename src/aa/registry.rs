@@ -4,7 +4,7 @@
 //! run it, how to create it and its WGSL files); [`registry`] lists the entries, one line per
 //! technique. The availability checks several techniques share live here too.
 
-use super::{Technique, fxaa, msaa, none, smaa, ssaa, taa};
+use super::{Technique, cmaa2, fxaa, msaa, none, smaa, ssaa, taa};
 use crate::gpu::shader::Shader;
 use crate::gpu::{Capabilities, Gpu};
 
@@ -59,6 +59,7 @@ pub fn registry() -> Vec<TechniqueInfo> {
         &[fxaa::INFO],
         &smaa::INFOS,
         &[taa::INFO],
+        &[cmaa2::INFO],
     ]
     .concat()
 }

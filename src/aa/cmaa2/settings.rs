@@ -1,0 +1,224 @@
+//! CMAA 2 settings: Intel's four quality presets (they set the edge threshold), the extra
+//! sharpness switch (a second set of Intel's constants that keeps more text and shape detail),
+//! the edge-detection input, every parameter as data for the CLI, viewer and sidecars, and the
+//! uniform block the passes read. Nothing here selects a pipeline: every setting is a uniform
+//! value used in arithmetic or `select`, so changing one costs no pipeline build.
+
+use crate::aa::params::{Named, Param, ParamError, ParamValue, as_bool, as_named};
+
+crate::named_enum! {
+    /// Intel's quality presets, which differ only in the edge threshold.
+    pub enum Quality {
+        /// Threshold 0.15: only strong edges.
+        Low => "low",
+        /// Threshold 0.10.
+        Medium => "medium",
+        /// Threshold 0.07 (Intel's default).
+        High => "high",
+        /// Threshold 0.05: faint edges too.
+        Ultra => "ultra",
+    }
+}
+
+impl Default for Quality {
+    fn default() -> Self {
+        Self::High
+    }
+}
+
+impl Quality {
+    /// Smallest difference of sRGB-encoded luma (or colour) between two pixels that counts as
+    /// an edge.
+    pub fn edge_threshold(self) -> f32 {
+        match self {
+            Self::Low => 0.15,
+            Self::Medium => 0.10,
+            Self::High => 0.07,
+            Self::Ultra => 0.05,
+        }
+    }
+}
+
+crate::named_enum! {
+    /// What the edge detection compares between neighbours (both on sRGB-encoded values).
+    pub enum EdgeDetection {
+        /// The difference of BT.601 luma (Intel's default path).
+        Luma => "luma",
+        /// The luma-weighted sum of the three channel differences (also finds edges between
+        /// colours of equal luma).
+        Color => "color",
+    }
+}
+
+impl Default for EdgeDetection {
+    fn default() -> Self {
+        Self::Luma
+    }
+}
+
+/// Every CMAA 2 setting.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Cmaa2Settings {
+    /// Quality preset (the edge threshold).
+    pub quality: Quality,
+    /// Intel's `CMAA2_EXTRA_SHARPNESS`: stronger local contrast adaptation, gentler corner
+    /// blends, shorter blend ramps.
+    pub extra_sharpness: bool,
+    /// What edge detection compares.
+    pub edge_detection: EdgeDetection,
+}
+
+/// Intel's constants of one sharpness setting.
+struct Sharpness {
+    /// How much a stronger edge touching an edge's ends raises its threshold (times its
+    /// contrast).
+    local_contrast_adaptation: f32,
+    /// Strength of the corner (simple-shape) blend.
+    simple_shape_blur: f32,
+    /// Corner blends fade out as `base - edges around / divisor` (busy regions keep detail).
+    neighbour_damping: (f32, f32),
+    /// The edge trace stops when the longer run exceeds this times the shorter one.
+    run_ratio: f32,
+    /// Z-ramp strength per pixel of run length (short runs blend less).
+    z_damping: f32,
+    /// Shape quality rounded (true) or floored from the Z score.
+    round_shape_quality: bool,
+}
+
+const NORMAL: Sharpness = Sharpness {
+    local_contrast_adaptation: 0.10,
+    simple_shape_blur: 0.10,
+    neighbour_damping: (1.30, 10.0),
+    run_ratio: 1.3,
+    z_damping: 0.15,
+    round_shape_quality: false,
+};
+
+const SHARP: Sharpness = Sharpness {
+    local_contrast_adaptation: 0.15,
+    simple_shape_blur: 0.07,
+    neighbour_damping: (1.15, 8.0),
+    run_ratio: 1.25,
+    z_damping: 0.11,
+    round_shape_quality: true,
+};
+
+/// The uniform block of `cmaa2.wgsl` (`Params`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Cmaa2Uniform {
+    size: [u32; 4],
+    edges: [f32; 4],
+    shapes: [f32; 4],
+    lines: [f32; 4],
+}
+
+impl Cmaa2Settings {
+    /// The settings of a preset name (`low` .. `ultra`), sharpness and edge input at their
+    /// defaults.
+    pub fn preset(name: &str) -> Option<Self> {
+        Quality::from_name(name).map(|quality| Self {
+            quality,
+            ..Self::default()
+        })
+    }
+
+    /// The uniform block for an image of `size`.
+    pub fn uniform(&self, size: (u32, u32)) -> Cmaa2Uniform {
+        let s = if self.extra_sharpness { SHARP } else { NORMAL };
+        let flag = |on: bool| f32::from(u8::from(on));
+        Cmaa2Uniform {
+            size: [size.0, size.1, size.0 * size.1, 0],
+            edges: [
+                self.quality.edge_threshold(),
+                s.local_contrast_adaptation,
+                flag(self.edge_detection == EdgeDetection::Color),
+                0.0,
+            ],
+            shapes: [
+                s.simple_shape_blur,
+                s.neighbour_damping.0,
+                s.neighbour_damping.1,
+                flag(s.round_shape_quality),
+            ],
+            lines: [s.run_ratio, s.z_damping, 0.0, 0.0],
+        }
+    }
+
+    /// The parameters with their current values.
+    pub fn params(&self) -> Vec<Param> {
+        vec![
+            Param::named(
+                "quality",
+                "Quality preset",
+                "Intel's presets, which set the edge threshold on sRGB-encoded luma: low 0.15 \
+                 (strong edges only), medium 0.10, high 0.07 (default), ultra 0.05 (faint edges \
+                 too, a little more texture touched).",
+                self.quality,
+            ),
+            Param::bool(
+                "extra_sharpness",
+                "Extra sharpness",
+                "Intel's extra-sharpness constants: stronger local contrast adaptation, gentler \
+                 corner blends and shorter blend ramps keep more text and shape detail for a \
+                 little less antialiasing.",
+                self.extra_sharpness,
+            ),
+            Param::named(
+                "edge_detection",
+                "Edge detection",
+                "luma compares the BT.601 luma of neighbours (Intel's default); color sums their \
+                 luma-weighted channel differences and also finds edges between colours of equal \
+                 brightness.",
+                self.edge_detection,
+            ),
+        ]
+    }
+
+    /// Applies a value already validated against [`Cmaa2Settings::params`].
+    pub fn set(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
+        match key {
+            "quality" => {
+                self.quality = as_named(value).unwrap_or(self.quality);
+            }
+            "extra_sharpness" => self.extra_sharpness = as_bool(value),
+            "edge_detection" => {
+                self.edge_detection = as_named(value).unwrap_or(self.edge_detection);
+            }
+            _ => return Err(ParamError::unknown_key(super::ID, key, &self.params())),
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn presets_lower_the_threshold_in_order_and_keep_the_other_settings() {
+        let thresholds: Vec<f32> = Quality::ALL.iter().map(|q| q.edge_threshold()).collect();
+        assert_eq!(thresholds, [0.15, 0.10, 0.07, 0.05]);
+        for name in Quality::NAMES {
+            let settings = Cmaa2Settings::preset(name).expect("listed preset");
+            assert_eq!(settings.quality.name(), *name);
+            assert!(!settings.extra_sharpness);
+        }
+        assert!(Cmaa2Settings::preset("extreme").is_none());
+        assert_eq!(Cmaa2Settings::default().quality, Quality::High);
+    }
+
+    #[test]
+    fn the_uniform_carries_size_threshold_and_sharpness_constants() {
+        let mut settings = Cmaa2Settings::default();
+        let normal = settings.uniform((640, 360));
+        assert_eq!(normal.size, [640, 360, 640 * 360, 0]);
+        assert_eq!(normal.edges[0], 0.07);
+        settings.extra_sharpness = true;
+        settings.edge_detection = EdgeDetection::Color;
+        let sharp = settings.uniform((640, 360));
+        assert!(sharp.edges[1] > normal.edges[1], "stronger adaptation");
+        assert!(sharp.shapes[0] < normal.shapes[0], "gentler corners");
+        assert_eq!((sharp.edges[2], sharp.shapes[3]), (1.0, 1.0));
+    }
+}
