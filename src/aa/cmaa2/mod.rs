@@ -127,9 +127,11 @@ struct DebugTargets {
     blends: wgpu::Texture,
 }
 
-/// A pipeline with the bindings its entry points use.
+/// A pipeline with its bind group layout (derived from the shader) and the bindings its entry
+/// points use.
 struct Pass<P> {
     pipeline: P,
+    layout: wgpu::BindGroupLayout,
     bindings: &'static [Binding],
 }
 
@@ -150,21 +152,24 @@ pub struct Cmaa2 {
     debug: Option<DebugTargets>,
 }
 
+/// The compute pass of `cmaa2.wgsl`'s `entry_point`.
 fn compute_pass(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     entry_point: &str,
     bindings: &'static [Binding],
 ) -> Pass<wgpu::ComputePipeline> {
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(&format!("cmaa2 {entry_point}")),
+        layout: None,
+        module,
+        entry_point: Some(entry_point),
+        compilation_options: Default::default(),
+        cache: None,
+    });
     Pass {
-        pipeline: device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(&format!("cmaa2 {entry_point}")),
-            layout: None,
-            module,
-            entry_point: Some(entry_point),
-            compilation_options: Default::default(),
-            cache: None,
-        }),
+        layout: pipeline.get_bind_group_layout(0),
+        pipeline,
         bindings,
     }
 }
@@ -181,19 +186,21 @@ impl Cmaa2 {
         let device = &gpu.device;
         let module = crate::gpu::shader::module(device, SHADER);
         let fullscreen = crate::gpu::fullscreen::Fullscreen::new(device);
-        let debug_pass = |entry_point: &str, bindings: &'static [Binding]| Pass {
-            pipeline: fullscreen.pipeline(
-                device,
-                &crate::gpu::fullscreen::FragmentDesc {
-                    label: &format!("cmaa2 {entry_point}"),
-                    module: &module,
-                    entry_point,
-                    targets: &[COLOR_FORMAT_ENCODED_VIEW],
-                    constants: &[],
-                    layout: None,
-                },
-            ),
+        let render_pass = |pipeline: wgpu::RenderPipeline, bindings: &'static [Binding]| Pass {
+            layout: pipeline.get_bind_group_layout(0),
+            pipeline,
             bindings,
+        };
+        let debug_pass = |entry_point: &str, bindings: &'static [Binding]| {
+            let desc = crate::gpu::fullscreen::FragmentDesc {
+                label: &format!("cmaa2 {entry_point}"),
+                module: &module,
+                entry_point,
+                targets: &[COLOR_FORMAT_ENCODED_VIEW],
+                constants: &[],
+                layout: None,
+            };
+            render_pass(fullscreen.pipeline(device, &desc), bindings)
         };
         Self {
             settings,
@@ -227,10 +234,10 @@ impl Cmaa2 {
                 "cs_apply_args",
                 &[Params, Control, Indirect],
             ),
-            apply: Pass {
-                pipeline: apply_pipeline(device, &module),
-                bindings: &[Linear, Params, Sums, BlendedForApply],
-            },
+            apply: render_pass(
+                apply_pipeline(device, &module),
+                &[Linear, Params, Sums, BlendedForApply],
+            ),
             debug_edges: debug_pass("fs_debug_edges", &[Encoded, Params, Edges]),
             debug_blends: debug_pass("fs_debug_blends", &[Encoded, Linear, Params, Sums]),
             device: device.clone(),
@@ -245,15 +252,15 @@ impl Cmaa2 {
         self.settings
     }
 
-    /// The bind group of a pass over this frame's input views.
-    fn bind_group(
+    /// The bind group of a pass over this frame's input views (encoded, linear).
+    fn bind_group<P>(
         &self,
-        layout: &wgpu::BindGroupLayout,
-        bindings: &[Binding],
+        pass: &Pass<P>,
         input: (&wgpu::TextureView, &wgpu::TextureView),
         buffers: &Buffers,
     ) -> wgpu::BindGroup {
-        let entries: Vec<wgpu::BindGroupEntry<'_>> = bindings
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = pass
+            .bindings
             .iter()
             .map(|&binding| wgpu::BindGroupEntry {
                 binding: binding as u32,
@@ -274,7 +281,7 @@ impl Cmaa2 {
             .collect();
         self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("cmaa2"),
-            layout,
+            layout: &pass.layout,
             entries: &entries,
         })
     }
@@ -362,42 +369,25 @@ impl Technique for Cmaa2 {
         let encoded = encoded_view(input.color_1x());
         let linear = input.color_1x().create_view(&Default::default());
         let views = (&encoded, &linear);
-        let compute_group = |pass: &Pass<wgpu::ComputePipeline>| {
-            self.bind_group(
-                &pass.pipeline.get_bind_group_layout(0),
-                pass.bindings,
-                views,
-                buffers,
-            )
-        };
-        let render_group = |pass: &Pass<wgpu::RenderPipeline>| {
-            self.bind_group(
-                &pass.pipeline.get_bind_group_layout(0),
-                pass.bindings,
-                views,
-                buffers,
-            )
-        };
-
-        let group = compute_group(&self.edges);
+        let group = self.bind_group(&self.edges, views, buffers);
         ctx.compute_pass("edges", |pass| {
             pass.set_pipeline(&self.edges.pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(size.0.div_ceil(EDGE_GROUP), size.1.div_ceil(EDGE_GROUP), 1);
         });
-        let group = compute_group(&self.candidate_args);
+        let group = self.bind_group(&self.candidate_args, views, buffers);
         ctx.compute_pass("candidate args", |pass| {
             pass.set_pipeline(&self.candidate_args.pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(1, 1, 1);
         });
-        let group = compute_group(&self.process);
+        let group = self.bind_group(&self.process, views, buffers);
         ctx.compute_pass("process candidates", |pass| {
             pass.set_pipeline(&self.process.pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups_indirect(&buffers.indirect, 0);
         });
-        let group = compute_group(&self.apply_args);
+        let group = self.bind_group(&self.apply_args, views, buffers);
         ctx.compute_pass("apply args", |pass| {
             pass.set_pipeline(&self.apply_args.pipeline);
             pass.set_bind_group(0, &group, &[]);
@@ -408,12 +398,12 @@ impl Technique for Cmaa2 {
                 ("debug edges", &self.debug_edges, &debug.edges),
                 ("debug blends", &self.debug_blends, &debug.blends),
             ] {
-                let group = render_group(pass);
+                let group = self.bind_group(pass, views, buffers);
                 ctx.fullscreen_pass(name, &encoded_view(target), &pass.pipeline, &group);
             }
         }
         ctx.copy_texture("copy", input.color_1x(), output);
-        let group = render_group(&self.apply);
+        let group = self.bind_group(&self.apply, views, buffers);
         let target = output.create_view(&Default::default());
         let attachment = wgpu::RenderPassColorAttachment {
             view: &target,
