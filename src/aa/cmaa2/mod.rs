@@ -17,14 +17,14 @@
 //!    ramp along them; runs shorter than five pixels (after the shape's quality penalty) are
 //!    left alone. Blends are in linear light. Intel keeps a per-pixel linked list of blended
 //!    colours; here every blend is added to its pixel's fixed-point sums with integer atomics
-//!    (so the result does not depend on thread order: frames are reproducible) and the pixel
-//!    is listed on its first blend;
-//! 3. `apply args`, `copy` and `apply` (indirect draw sized by the listed-pixel counter): the
-//!    input is copied to the output and one point per listed pixel writes the weighted
-//!    average of its blends (a Z-ramp blend counts three times a corner blend, as Intel's 1.5
-//!    to 0.5) through the sRGB target, clearing the sums for the next frame. The output
-//!    texture cannot be a storage texture (sRGB), which is why the last pass draws points
-//!    rather than storing from compute.
+//!    (so the result does not depend on thread order: frames are reproducible);
+//! 3. `apply` (fullscreen): a pixel with blends gets their weighted average (a Z-ramp blend
+//!    counts three times a corner blend, as Intel's 1.5 to 0.5), encoded to sRGB, and its sums
+//!    are cleared for the next frame; every other pixel keeps its exact bytes. Intel applies
+//!    with an indirect dispatch over a list of the blended pixels into a storage view of the
+//!    output; here the output is sRGB, which cannot be a storage texture, and the first
+//!    version's stand-in, a copy plus one point per listed pixel, cost 2 to 13 times this
+//!    pass on lavapipe (a point per pixel on hairball, where most pixels are blended).
 //!
 //! Settings ([`settings`]): Intel's quality presets `low`/`medium`/`high`/`ultra` (edge
 //! threshold 0.15/0.10/0.07/0.05), extra sharpness, luma or colour edges. Debug views: `edges`
@@ -38,7 +38,7 @@ use super::fxaa::encoded_view;
 use super::msaa::debug_texture;
 use super::params::{Param, ParamError, ParamValue};
 use super::{DebugView, FrameInfo, SceneInput, Technique};
-use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu};
+use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
 
@@ -47,8 +47,6 @@ pub const SHADER: &str = "cmaa2.wgsl";
 
 /// Threads per workgroup side of the edge pass (`cs_edges`).
 const EDGE_GROUP: u32 = 8;
-/// Byte offset of the apply pass's draw arguments in the indirect buffer.
-const DRAW_ARGS_OFFSET: u64 = 16;
 
 /// The bindings of `cmaa2.wgsl`, by number.
 #[derive(Clone, Copy)]
@@ -60,28 +58,24 @@ enum Binding {
     Candidates = 4,
     Control = 5,
     Sums = 6,
-    Blended = 7,
-    Indirect = 8,
-    BlendedForApply = 9,
+    Indirect = 7,
 }
 
 const EDGES: &str = "cmaa2 edges";
 const CANDIDATES: &str = "cmaa2 shape candidates";
 const CONTROL: &str = "cmaa2 counters";
 const SUMS: &str = "cmaa2 blend sums";
-const BLENDED: &str = "cmaa2 blended pixels";
 const INDIRECT: &str = "cmaa2 indirect args";
 
-/// The working buffers of one image size: packed edges (4 bytes a pixel), the candidate and
-/// blended-pixel lists (4 bytes a pixel each, never full), the blend sums (16 bytes a pixel),
-/// the counters and the indirect arguments.
+/// The working buffers of one image size: packed edges (4 bytes a pixel), the candidate list (4
+/// bytes a pixel, never full), the blend sums (16 bytes a pixel), the counters and the
+/// indirect arguments.
 struct Buffers {
     size: (u32, u32),
     edges: wgpu::Buffer,
     candidates: wgpu::Buffer,
     control: wgpu::Buffer,
     sums: wgpu::Buffer,
-    blended: wgpu::Buffer,
     indirect: wgpu::Buffer,
 }
 
@@ -103,19 +97,17 @@ impl Buffers {
             candidates: storage(CANDIDATES, 4 * pixels, none),
             control: storage(CONTROL, 16, none),
             sums: storage(SUMS, 16 * pixels, none),
-            blended: storage(BLENDED, 4 * pixels, none),
-            indirect: storage(INDIRECT, 32, wgpu::BufferUsages::INDIRECT),
+            indirect: storage(INDIRECT, 16, wgpu::BufferUsages::INDIRECT),
         }
     }
 
     /// Every buffer with its label.
-    fn all(&self) -> [(&'static str, &wgpu::Buffer); 6] {
+    fn all(&self) -> [(&'static str, &wgpu::Buffer); 5] {
         [
             (EDGES, &self.edges),
             (CANDIDATES, &self.candidates),
             (CONTROL, &self.control),
             (SUMS, &self.sums),
-            (BLENDED, &self.blended),
             (INDIRECT, &self.indirect),
         ]
     }
@@ -143,7 +135,6 @@ pub struct Cmaa2 {
     edges: Pass<wgpu::ComputePipeline>,
     candidate_args: Pass<wgpu::ComputePipeline>,
     process: Pass<wgpu::ComputePipeline>,
-    apply_args: Pass<wgpu::ComputePipeline>,
     apply: Pass<wgpu::RenderPipeline>,
     debug_edges: Pass<wgpu::RenderPipeline>,
     debug_blends: Pass<wgpu::RenderPipeline>,
@@ -186,12 +177,7 @@ impl Cmaa2 {
         let device = &gpu.device;
         let module = crate::gpu::shader::module(device, SHADER);
         let fullscreen = crate::gpu::fullscreen::Fullscreen::new(device);
-        let render_pass = |pipeline: wgpu::RenderPipeline, bindings: &'static [Binding]| Pass {
-            layout: pipeline.get_bind_group_layout(0),
-            pipeline,
-            bindings,
-        };
-        let debug_pass = |entry_point: &str, bindings: &'static [Binding]| {
+        let fullscreen_pass = |entry_point: &str, bindings: &'static [Binding]| {
             let desc = crate::gpu::fullscreen::FragmentDesc {
                 label: &format!("cmaa2 {entry_point}"),
                 module: &module,
@@ -200,7 +186,12 @@ impl Cmaa2 {
                 constants: &[],
                 layout: None,
             };
-            render_pass(fullscreen.pipeline(device, &desc), bindings)
+            let pipeline = fullscreen.pipeline(device, &desc);
+            Pass {
+                layout: pipeline.get_bind_group_layout(0),
+                pipeline,
+                bindings,
+            }
         };
         Self {
             settings,
@@ -226,20 +217,11 @@ impl Cmaa2 {
                 device,
                 &module,
                 "cs_process",
-                &[Linear, Params, Edges, Candidates, Control, Sums, Blended],
+                &[Linear, Params, Edges, Candidates, Control, Sums],
             ),
-            apply_args: compute_pass(
-                device,
-                &module,
-                "cs_apply_args",
-                &[Params, Control, Indirect],
-            ),
-            apply: render_pass(
-                apply_pipeline(device, &module),
-                &[Linear, Params, Sums, BlendedForApply],
-            ),
-            debug_edges: debug_pass("fs_debug_edges", &[Encoded, Params, Edges]),
-            debug_blends: debug_pass("fs_debug_blends", &[Encoded, Linear, Params, Sums]),
+            apply: fullscreen_pass("fs_apply", &[Encoded, Params, Sums]),
+            debug_edges: fullscreen_pass("fs_debug_edges", &[Encoded, Params, Edges]),
+            debug_blends: fullscreen_pass("fs_debug_blends", &[Encoded, Linear, Params, Sums]),
             device: device.clone(),
             buffers: None,
             debug_enabled: false,
@@ -272,9 +254,6 @@ impl Cmaa2 {
                     Binding::Candidates => buffers.candidates.as_entire_binding(),
                     Binding::Control => buffers.control.as_entire_binding(),
                     Binding::Sums => buffers.sums.as_entire_binding(),
-                    Binding::Blended | Binding::BlendedForApply => {
-                        buffers.blended.as_entire_binding()
-                    }
                     Binding::Indirect => buffers.indirect.as_entire_binding(),
                 },
             })
@@ -285,38 +264,6 @@ impl Cmaa2 {
             entries: &entries,
         })
     }
-}
-
-/// The apply pass: one point per listed pixel, written through the sRGB view of the output.
-fn apply_pipeline(device: &wgpu::Device, module: &wgpu::ShaderModule) -> wgpu::RenderPipeline {
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("cmaa2 apply"),
-        layout: None,
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("vs_apply"),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
-        primitive: wgpu::PrimitiveState {
-            topology: wgpu::PrimitiveTopology::PointList,
-            ..Default::default()
-        },
-        depth_stencil: None,
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some("fs_apply"),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format: COLOR_FORMAT,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
 }
 
 impl Technique for Cmaa2 {
@@ -387,12 +334,6 @@ impl Technique for Cmaa2 {
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups_indirect(&buffers.indirect, 0);
         });
-        let group = self.bind_group(&self.apply_args, views, buffers);
-        ctx.compute_pass("apply args", |pass| {
-            pass.set_pipeline(&self.apply_args.pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            pass.dispatch_workgroups(1, 1, 1);
-        });
         if let (true, Some(debug)) = (self.debug_enabled, &self.debug) {
             for (name, pass, target) in [
                 ("debug edges", &self.debug_edges, &debug.edges),
@@ -402,23 +343,8 @@ impl Technique for Cmaa2 {
                 ctx.fullscreen_pass(name, &encoded_view(target), &pass.pipeline, &group);
             }
         }
-        ctx.copy_texture("copy", input.color_1x(), output);
         let group = self.bind_group(&self.apply, views, buffers);
-        let target = output.create_view(&Default::default());
-        let attachment = wgpu::RenderPassColorAttachment {
-            view: &target,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Load,
-                store: wgpu::StoreOp::Store,
-            },
-        };
-        ctx.render_pass("apply", &[Some(attachment)], None, |pass| {
-            pass.set_pipeline(&self.apply.pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            pass.draw_indirect(&buffers.indirect, DRAW_ARGS_OFFSET);
-        });
+        ctx.fullscreen_pass("apply", &encoded_view(output), &self.apply.pipeline, &group);
     }
 
     fn memory(&self) -> Vec<MemoryItem> {
@@ -490,7 +416,7 @@ impl Technique for Cmaa2 {
         let s = &self.settings;
         Some(format!(
             "{} preset (edge threshold {}), {} edges on sRGB-encoded values{}, blends in linear \
-             light; compute passes with indirect dispatch, apply as points over a copy",
+             light; compute passes, candidates processed by indirect dispatch",
             s.quality.name(),
             s.quality.edge_threshold(),
             s.edge_detection.name(),
