@@ -23,8 +23,9 @@
 //!    are cleared for the next frame; every other pixel keeps its exact bytes. Intel applies
 //!    with an indirect dispatch over a list of the blended pixels into a storage view of the
 //!    output; here the output is sRGB, which cannot be a storage texture, and the first
-//!    version's stand-in, a copy plus one point per listed pixel, cost 2 to 13 times this
-//!    pass on lavapipe (a point per pixel on hairball, where most pixels are blended).
+//!    version's stand-in, a copy plus an indirect draw of one point per blended pixel, cost
+//!    as much as this pass on the chart and 2.3 to 2.7 times as much on hairball and atrium
+//!    (lavapipe, 640x360), where most pixels get a blend.
 //!
 //! Settings ([`settings`]): Intel's quality presets `low`/`medium`/`high`/`ultra` (edge
 //! threshold 0.15/0.10/0.07/0.05), extra sharpness, luma or colour edges. Debug views: `edges`
