@@ -7,16 +7,15 @@
 // - cs_process: one thread per candidate: the simple-shape (corner) blend of the pixel itself,
 //   then Z-shape detection, tracing of the two edge runs and a blend ramp along them; every
 //   blended colour is added to its pixel's sums (fixed point, atomic, so the result does not
-//   depend on thread order) and the pixel is listed on its first blend;
-// - cs_apply_args: the indirect draw size from the listed pixel count (and the counter reset);
-// - vs_apply / fs_apply: one point per listed pixel over a copy of the input writes the
-//   weighted average of its blends and clears its sums for the next frame;
-// - fs_debug_edges / fs_debug_blends: the debug views (before the apply clears the sums).
+//   depend on thread order);
+// - fs_debug_edges / fs_debug_blends: the debug views (before the apply clears the sums);
+// - fs_apply: a fullscreen pass: a pixel with blends gets their weighted average and its sums
+//   cleared for the next frame, every other pixel passes through unchanged.
 // Edges are found on the sRGB-encoded values (binding 0), colours are blended in linear light
-// (binding 1, the sRGB view) and the apply pass's sRGB target encodes them again.
+// (binding 1, the sRGB view) and encoded again by the apply pass.
 
 struct Params {
-    // width, height, pixel count (the capacity of the candidate and pixel lists), unused
+    // width, height, pixel count (the capacity of the candidate list), unused
     size: vec4<u32>,
     // edge threshold, local contrast adaptation amount, colour edges (0 luma, 1 colour), unused
     edges: vec4<f32>,
@@ -33,18 +32,13 @@ struct Params {
 @group(0) @binding(3) var<storage, read_write> edges: array<u32>;
 // Candidate pixels, x << 16 | y.
 @group(0) @binding(4) var<storage, read_write> candidates: array<u32>;
-// 0 candidates found, 1 pixels listed, 2 candidates to process.
+// 0 candidates found (cleared once counted), 1 candidates to process.
 @group(0) @binding(5) var<storage, read_write> control: array<atomic<u32>>;
 // Per pixel: red, green, blue sums (linear, times COLOR_SCALE, times the weight) and the
 // weight sum in the low bits with the number of Z-shape blends from bit Z_SHIFT.
 @group(0) @binding(6) var<storage, read_write> sums: array<atomic<u32>>;
-// Pixels with at least one blend, x << 16 | y.
-@group(0) @binding(7) var<storage, read_write> blended: array<u32>;
-// Indirect arguments: dispatch (x, y, z) of cs_process, then draw (vertices, instances,
-// first vertex, first instance) of the apply pass.
-@group(0) @binding(8) var<storage, read_write> indirect: array<u32>;
-// The pixel list again, read-only for the vertex stage.
-@group(0) @binding(9) var<storage, read> blended_for_apply: array<u32>;
+// Indirect dispatch arguments (x, y, z) of cs_process.
+@group(0) @binding(7) var<storage, read_write> indirect: array<u32>;
 
 const LUMA_WEIGHTS = vec3<f32>(0.299, 0.587, 0.114);
 // Longest edge run the Z-shape trace follows per side (Intel's value).
@@ -176,7 +170,9 @@ fn cs_edges(@builtin(global_invocation_id) id: vec3<u32>) {
 @compute @workgroup_size(1)
 fn cs_candidate_args() {
     let count = min(atomicLoad(&control[0]), params.size.z);
-    atomicStore(&control[2], count);
+    atomicStore(&control[1], count);
+    // The edge pass of the next frame counts from zero.
+    atomicStore(&control[0], 0u);
     indirect[0] = (count + PROCESS_GROUP - 1u) / PROCESS_GROUP;
     indirect[1] = 1u;
     indirect[2] = 1u;
@@ -195,7 +191,7 @@ fn edges_at(p: vec2<i32>) -> vec4<f32> {
     return vec4<f32>(bits & vec4<u32>(1u));
 }
 
-// Adds one blended colour to a pixel's sums; lists the pixel on its first blend.
+// Adds one blended colour to a pixel's sums.
 fn add_blend(p: vec2<i32>, color: vec3<f32>, weight: u32) {
     if !inside(p) {
         return;
@@ -205,13 +201,7 @@ fn add_blend(p: vec2<i32>, color: vec3<f32>, weight: u32) {
     atomicAdd(&sums[base], fixed.x);
     atomicAdd(&sums[base + 1u], fixed.y);
     atomicAdd(&sums[base + 2u], fixed.z);
-    let before = atomicAdd(&sums[base + 3u], weight);
-    if before == 0u {
-        let slot = atomicAdd(&control[1], 1u);
-        if slot < params.size.z {
-            blended[slot] = pack_pixel(p);
-        }
-    }
+    atomicAdd(&sums[base + 3u], weight);
 }
 
 // The corner blend of a candidate: weights towards (left, top, right, bottom). A pixel blends
@@ -295,7 +285,7 @@ fn blend_z(p: vec2<i32>, step: vec2<i32>, across: vec2<i32>, lengths: vec2<f32>,
 
 @compute @workgroup_size(64)
 fn cs_process(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= atomicLoad(&control[2]) {
+    if id.x >= atomicLoad(&control[1]) {
         return;
     }
     let p = unpack_pixel(candidates[id.x]);
@@ -341,18 +331,6 @@ fn cs_process(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 }
 
-@compute @workgroup_size(1)
-fn cs_apply_args() {
-    let count = min(atomicLoad(&control[1]), params.size.z);
-    indirect[4] = count;
-    indirect[5] = 1u;
-    indirect[6] = 0u;
-    indirect[7] = 0u;
-    // The lists start empty next frame (the apply pass clears the sums it reads).
-    atomicStore(&control[0], 0u);
-    atomicStore(&control[1], 0u);
-}
-
 // ---------------------------------------------------------------------------------------------
 // Deferred apply and debug views
 
@@ -370,24 +348,29 @@ fn decode_sums(raw: vec4<u32>) -> Sums {
     return s;
 }
 
-@vertex
-fn vs_apply(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
-    let p = vec2<f32>(unpack_pixel(blended_for_apply[index])) + 0.5;
-    let size = vec2<f32>(params.size.xy);
-    return vec4<f32>(p.x / size.x * 2.0 - 1.0, 1.0 - p.y / size.y * 2.0, 0.0, 1.0);
+fn encode_srgb(linear: vec3<f32>) -> vec3<f32> {
+    let c = saturate(linear);
+    let low = c * 12.92;
+    let high = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(high, low, c <= vec3<f32>(0.0031308));
 }
 
+// Written through the output's encoded view: untouched pixels keep their exact bytes.
 @fragment
 fn fs_apply(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(position.xy);
+    let source = textureLoad(color_encoded, clamped(p), 0);
     let base = 4u * pixel_index(p);
+    if atomicLoad(&sums[base + 3u]) == 0u {
+        return source;
+    }
     let raw = vec4<u32>(
         atomicExchange(&sums[base], 0u),
         atomicExchange(&sums[base + 1u], 0u),
         atomicExchange(&sums[base + 2u], 0u),
         atomicExchange(&sums[base + 3u], 0u),
     );
-    return vec4<f32>(decode_sums(raw).color, textureLoad(color_linear, clamped(p), 0).a);
+    return vec4<f32>(encode_srgb(decode_sums(raw).color), source.a);
 }
 
 fn dimmed(p: vec2<i32>) -> vec3<f32> {

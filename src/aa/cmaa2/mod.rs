@@ -17,14 +17,15 @@
 //!    ramp along them; runs shorter than five pixels (after the shape's quality penalty) are
 //!    left alone. Blends are in linear light. Intel keeps a per-pixel linked list of blended
 //!    colours; here every blend is added to its pixel's fixed-point sums with integer atomics
-//!    (so the result does not depend on thread order: frames are reproducible) and the pixel
-//!    is listed on its first blend;
-//! 3. `apply args`, `copy` and `apply` (indirect draw sized by the listed-pixel counter): the
-//!    input is copied to the output and one point per listed pixel writes the weighted
-//!    average of its blends (a Z-ramp blend counts three times a corner blend, as Intel's 1.5
-//!    to 0.5) through the sRGB target, clearing the sums for the next frame. The output
-//!    texture cannot be a storage texture (sRGB), which is why the last pass draws points
-//!    rather than storing from compute.
+//!    (so the result does not depend on thread order: frames are reproducible);
+//! 3. `apply` (fullscreen): a pixel with blends gets their weighted average (a Z-ramp blend
+//!    counts three times a corner blend, as Intel's 1.5 to 0.5), encoded to sRGB, and its sums
+//!    are cleared for the next frame; every other pixel keeps its exact bytes. Intel applies
+//!    with an indirect dispatch over a list of the blended pixels into a storage view of the
+//!    output; here the output is sRGB, which cannot be a storage texture, and the first
+//!    version's stand-in, a copy plus an indirect draw of one point per blended pixel, cost
+//!    as much as this pass on the chart and 2.3 to 2.7 times as much on hairball and atrium
+//!    (lavapipe, 640x360), where most pixels get a blend.
 //!
 //! Settings ([`settings`]): Intel's quality presets `low`/`medium`/`high`/`ultra` (edge
 //! threshold 0.15/0.10/0.07/0.05), extra sharpness, luma or colour edges. Debug views: `edges`
@@ -39,7 +40,7 @@ use crate::aa::params::{Named, Param, ParamError, ParamValue};
 use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
-use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu};
+use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
 
@@ -67,8 +68,6 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
 
 /// Threads per workgroup side of the edge pass (`cs_edges`).
 const EDGE_GROUP: u32 = 8;
-/// Byte offset of the apply pass's draw arguments in the indirect buffer.
-const DRAW_ARGS_OFFSET: u64 = 16;
 
 /// The bindings of `cmaa2.wgsl`, by number.
 #[derive(Clone, Copy)]
@@ -80,28 +79,24 @@ enum Binding {
     Candidates = 4,
     Control = 5,
     Sums = 6,
-    Blended = 7,
-    Indirect = 8,
-    BlendedForApply = 9,
+    Indirect = 7,
 }
 
 const EDGES: &str = "cmaa2 edges";
 const CANDIDATES: &str = "cmaa2 shape candidates";
 const CONTROL: &str = "cmaa2 counters";
 const SUMS: &str = "cmaa2 blend sums";
-const BLENDED: &str = "cmaa2 blended pixels";
 const INDIRECT: &str = "cmaa2 indirect args";
 
-/// The working buffers of one image size: packed edges (4 bytes a pixel), the candidate and
-/// blended-pixel lists (4 bytes a pixel each, never full), the blend sums (16 bytes a pixel),
-/// the counters and the indirect arguments.
+/// The working buffers of one image size: packed edges (4 bytes a pixel), the candidate list (4
+/// bytes a pixel, never full), the blend sums (16 bytes a pixel), the counters and the
+/// indirect arguments.
 struct Buffers {
     size: (u32, u32),
     edges: wgpu::Buffer,
     candidates: wgpu::Buffer,
     control: wgpu::Buffer,
     sums: wgpu::Buffer,
-    blended: wgpu::Buffer,
     indirect: wgpu::Buffer,
 }
 
@@ -123,19 +118,17 @@ impl Buffers {
             candidates: storage(CANDIDATES, 4 * pixels, none),
             control: storage(CONTROL, 16, none),
             sums: storage(SUMS, 16 * pixels, none),
-            blended: storage(BLENDED, 4 * pixels, none),
-            indirect: storage(INDIRECT, 32, wgpu::BufferUsages::INDIRECT),
+            indirect: storage(INDIRECT, 16, wgpu::BufferUsages::INDIRECT),
         }
     }
 
     /// Every buffer with its label.
-    fn all(&self) -> [(&'static str, &wgpu::Buffer); 6] {
+    fn all(&self) -> [(&'static str, &wgpu::Buffer); 5] {
         [
             (EDGES, &self.edges),
             (CANDIDATES, &self.candidates),
             (CONTROL, &self.control),
             (SUMS, &self.sums),
-            (BLENDED, &self.blended),
             (INDIRECT, &self.indirect),
         ]
     }
@@ -147,9 +140,11 @@ struct DebugTargets {
     blends: wgpu::Texture,
 }
 
-/// A pipeline with the bindings its entry points use.
+/// A pipeline with its bind group layout (derived from the shader) and the bindings its entry
+/// points use.
 struct Pass<P> {
     pipeline: P,
+    layout: wgpu::BindGroupLayout,
     bindings: &'static [Binding],
 }
 
@@ -161,7 +156,6 @@ pub struct Cmaa2 {
     edges: Pass<wgpu::ComputePipeline>,
     candidate_args: Pass<wgpu::ComputePipeline>,
     process: Pass<wgpu::ComputePipeline>,
-    apply_args: Pass<wgpu::ComputePipeline>,
     apply: Pass<wgpu::RenderPipeline>,
     debug_edges: Pass<wgpu::RenderPipeline>,
     debug_blends: Pass<wgpu::RenderPipeline>,
@@ -170,21 +164,24 @@ pub struct Cmaa2 {
     debug: Option<DebugTargets>,
 }
 
+/// The compute pass of `cmaa2.wgsl`'s `entry_point`.
 fn compute_pass(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     entry_point: &str,
     bindings: &'static [Binding],
 ) -> Pass<wgpu::ComputePipeline> {
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(&format!("cmaa2 {entry_point}")),
+        layout: None,
+        module,
+        entry_point: Some(entry_point),
+        compilation_options: Default::default(),
+        cache: None,
+    });
     Pass {
-        pipeline: device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(&format!("cmaa2 {entry_point}")),
-            layout: None,
-            module,
-            entry_point: Some(entry_point),
-            compilation_options: Default::default(),
-            cache: None,
-        }),
+        layout: pipeline.get_bind_group_layout(0),
+        pipeline,
         bindings,
     }
 }
@@ -201,19 +198,21 @@ impl Cmaa2 {
         let device = &gpu.device;
         let module = WGSL.module(device);
         let fullscreen = crate::gpu::fullscreen::Fullscreen::new(device);
-        let debug_pass = |entry_point: &str, bindings: &'static [Binding]| Pass {
-            pipeline: fullscreen.pipeline(
-                device,
-                &crate::gpu::fullscreen::FragmentDesc {
-                    label: &format!("cmaa2 {entry_point}"),
-                    module: &module,
-                    entry_point,
-                    targets: &[COLOR_FORMAT_ENCODED_VIEW],
-                    constants: &[],
-                    layout: None,
-                },
-            ),
-            bindings,
+        let fullscreen_pass = |entry_point: &str, bindings: &'static [Binding]| {
+            let desc = crate::gpu::fullscreen::FragmentDesc {
+                label: &format!("cmaa2 {entry_point}"),
+                module: &module,
+                entry_point,
+                targets: &[COLOR_FORMAT_ENCODED_VIEW],
+                constants: &[],
+                layout: None,
+            };
+            let pipeline = fullscreen.pipeline(device, &desc);
+            Pass {
+                layout: pipeline.get_bind_group_layout(0),
+                pipeline,
+                bindings,
+            }
         };
         Self {
             settings,
@@ -239,20 +238,11 @@ impl Cmaa2 {
                 device,
                 &module,
                 "cs_process",
-                &[Linear, Params, Edges, Candidates, Control, Sums, Blended],
+                &[Linear, Params, Edges, Candidates, Control, Sums],
             ),
-            apply_args: compute_pass(
-                device,
-                &module,
-                "cs_apply_args",
-                &[Params, Control, Indirect],
-            ),
-            apply: Pass {
-                pipeline: apply_pipeline(device, &module),
-                bindings: &[Linear, Params, Sums, BlendedForApply],
-            },
-            debug_edges: debug_pass("fs_debug_edges", &[Encoded, Params, Edges]),
-            debug_blends: debug_pass("fs_debug_blends", &[Encoded, Linear, Params, Sums]),
+            apply: fullscreen_pass("fs_apply", &[Encoded, Params, Sums]),
+            debug_edges: fullscreen_pass("fs_debug_edges", &[Encoded, Params, Edges]),
+            debug_blends: fullscreen_pass("fs_debug_blends", &[Encoded, Linear, Params, Sums]),
             device: device.clone(),
             buffers: None,
             debug_enabled: false,
@@ -265,15 +255,15 @@ impl Cmaa2 {
         self.settings
     }
 
-    /// The bind group of a pass over this frame's input views.
-    fn bind_group(
+    /// The bind group of a pass over this frame's input views (encoded, linear).
+    fn bind_group<P>(
         &self,
-        layout: &wgpu::BindGroupLayout,
-        bindings: &[Binding],
+        pass: &Pass<P>,
         input: (&wgpu::TextureView, &wgpu::TextureView),
         buffers: &Buffers,
     ) -> wgpu::BindGroup {
-        let entries: Vec<wgpu::BindGroupEntry<'_>> = bindings
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = pass
+            .bindings
             .iter()
             .map(|&binding| wgpu::BindGroupEntry {
                 binding: binding as u32,
@@ -285,51 +275,16 @@ impl Cmaa2 {
                     Binding::Candidates => buffers.candidates.as_entire_binding(),
                     Binding::Control => buffers.control.as_entire_binding(),
                     Binding::Sums => buffers.sums.as_entire_binding(),
-                    Binding::Blended | Binding::BlendedForApply => {
-                        buffers.blended.as_entire_binding()
-                    }
                     Binding::Indirect => buffers.indirect.as_entire_binding(),
                 },
             })
             .collect();
         self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(ID),
-            layout,
+            layout: &pass.layout,
             entries: &entries,
         })
     }
-}
-
-/// The apply pass: one point per listed pixel, written through the sRGB view of the output.
-fn apply_pipeline(device: &wgpu::Device, module: &wgpu::ShaderModule) -> wgpu::RenderPipeline {
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("cmaa2 apply"),
-        layout: None,
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("vs_apply"),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
-        primitive: wgpu::PrimitiveState {
-            topology: wgpu::PrimitiveTopology::PointList,
-            ..Default::default()
-        },
-        depth_stencil: None,
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some("fs_apply"),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format: COLOR_FORMAT,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
 }
 
 impl Technique for Cmaa2 {
@@ -382,73 +337,35 @@ impl Technique for Cmaa2 {
         let encoded = encoded_view(input.color_1x());
         let linear = input.color_1x().create_view(&Default::default());
         let views = (&encoded, &linear);
-        let compute_group = |pass: &Pass<wgpu::ComputePipeline>| {
-            self.bind_group(
-                &pass.pipeline.get_bind_group_layout(0),
-                pass.bindings,
-                views,
-                buffers,
-            )
-        };
-        let render_group = |pass: &Pass<wgpu::RenderPipeline>| {
-            self.bind_group(
-                &pass.pipeline.get_bind_group_layout(0),
-                pass.bindings,
-                views,
-                buffers,
-            )
-        };
-
-        let group = compute_group(&self.edges);
+        let group = self.bind_group(&self.edges, views, buffers);
         ctx.compute_pass("edges", |pass| {
             pass.set_pipeline(&self.edges.pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(size.0.div_ceil(EDGE_GROUP), size.1.div_ceil(EDGE_GROUP), 1);
         });
-        let group = compute_group(&self.candidate_args);
+        let group = self.bind_group(&self.candidate_args, views, buffers);
         ctx.compute_pass("candidate args", |pass| {
             pass.set_pipeline(&self.candidate_args.pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(1, 1, 1);
         });
-        let group = compute_group(&self.process);
+        let group = self.bind_group(&self.process, views, buffers);
         ctx.compute_pass("process candidates", |pass| {
             pass.set_pipeline(&self.process.pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups_indirect(&buffers.indirect, 0);
-        });
-        let group = compute_group(&self.apply_args);
-        ctx.compute_pass("apply args", |pass| {
-            pass.set_pipeline(&self.apply_args.pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            pass.dispatch_workgroups(1, 1, 1);
         });
         if let (true, Some(debug)) = (self.debug_enabled, &self.debug) {
             for (name, pass, target) in [
                 ("debug edges", &self.debug_edges, &debug.edges),
                 ("debug blends", &self.debug_blends, &debug.blends),
             ] {
-                let group = render_group(pass);
+                let group = self.bind_group(pass, views, buffers);
                 ctx.fullscreen_pass(name, &encoded_view(target), &pass.pipeline, &group);
             }
         }
-        ctx.copy_texture("copy", input.color_1x(), output);
-        let group = render_group(&self.apply);
-        let target = output.create_view(&Default::default());
-        let attachment = wgpu::RenderPassColorAttachment {
-            view: &target,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Load,
-                store: wgpu::StoreOp::Store,
-            },
-        };
-        ctx.render_pass("apply", &[Some(attachment)], None, |pass| {
-            pass.set_pipeline(&self.apply.pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            pass.draw_indirect(&buffers.indirect, DRAW_ARGS_OFFSET);
-        });
+        let group = self.bind_group(&self.apply, views, buffers);
+        ctx.fullscreen_pass("apply", &encoded_view(output), &self.apply.pipeline, &group);
     }
 
     fn memory(&self) -> Vec<MemoryItem> {
@@ -520,7 +437,7 @@ impl Technique for Cmaa2 {
         let s = &self.settings;
         Some(format!(
             "{} preset (edge threshold {}), {} edges on sRGB-encoded values{}, blends in linear \
-             light; compute passes with indirect dispatch, apply as points over a copy",
+             light; compute passes, candidates processed by indirect dispatch",
             s.quality.name(),
             s.quality.edge_threshold(),
             s.edge_detection.name(),
