@@ -1,23 +1,39 @@
-//! Every WGSL file under `shaders/` parses and validates with naga (no GPU needed), with all
-//! capabilities this engine may use, and every file is listed in `gpu::shader::SHADERS` so that
-//! none escapes this test or the binary.
+//! Every WGSL file under `shaders/` and in the technique folders `src/aa/<name>/` parses and
+//! validates with naga (no GPU needed), with all capabilities this engine may use, and every
+//! file is listed in `gpu::shader::SHADERS` so that none escapes this test or the binary.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// Every `.wgsl` file of `shaders/` and of the folders under `src/aa/`, as (file name, path),
+/// sorted by name.
+fn wgsl_files() -> Vec<(String, PathBuf)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let technique_dirs = std::fs::read_dir(root.join("src/aa"))
+        .expect("src/aa exists")
+        .filter_map(|e| e.ok())
+        .map(|e| e.path())
+        .filter(|p| p.is_dir());
+    let mut files: Vec<(String, PathBuf)> = std::iter::once(root.join("shaders"))
+        .chain(technique_dirs)
+        .flat_map(|dir| {
+            std::fs::read_dir(&dir)
+                .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+                .filter_map(|e| e.ok())
+        })
+        .map(|e| (e.file_name().to_string_lossy().into_owned(), e.path()))
+        .filter(|(name, _)| name.ends_with(".wgsl"))
+        .collect();
+    files.sort();
+    files
+}
 
 #[test]
 fn every_shader_validates_with_naga() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
-    let mut files: Vec<String> = std::fs::read_dir(&dir)
-        .expect("shaders/ exists")
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|name| name.ends_with(".wgsl"))
-        .collect();
-    files.sort();
-    assert!(!files.is_empty(), "no shaders found in {}", dir.display());
+    let files = wgsl_files();
+    assert!(!files.is_empty(), "no shaders found");
     let mut failures = Vec::new();
-    for name in &files {
-        let source = std::fs::read_to_string(dir.join(name)).expect("readable shader");
+    for (name, path) in &files {
+        let source = std::fs::read_to_string(path).expect("readable shader");
         let module = match naga::front::wgsl::parse_str(&source) {
             Ok(module) => module,
             Err(err) => {
@@ -44,22 +60,23 @@ fn every_shader_validates_with_naga() {
 
 #[test]
 fn every_shader_file_is_compiled_into_the_binary() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
-    for entry in std::fs::read_dir(&dir)
-        .expect("shaders/ exists")
-        .filter_map(|e| e.ok())
-    {
-        let name = entry.file_name().to_string_lossy().into_owned();
-        if name.ends_with(".wgsl") {
-            let listed = aa_lab::gpu::shader::SHADERS
-                .iter()
-                .find(|(file, _)| *file == name);
-            let source = std::fs::read_to_string(entry.path()).expect("readable shader");
-            assert_eq!(
-                listed.map(|(_, s)| *s),
-                Some(source.as_str()),
-                "{name} is missing from gpu::shader::SHADERS"
-            );
-        }
+    let files = wgsl_files();
+    assert!(
+        files
+            .iter()
+            .any(|(_, p)| p.starts_with(Path::new(env!("CARGO_MANIFEST_DIR")).join("src"))),
+        "no shader found in the technique folders"
+    );
+    for (name, path) in files {
+        let listed = aa_lab::gpu::shader::SHADERS
+            .iter()
+            .find(|(file, _)| *file == name);
+        let source = std::fs::read_to_string(&path).expect("readable shader");
+        assert_eq!(
+            listed.map(|(_, s)| *s),
+            Some(source.as_str()),
+            "{} is missing from gpu::shader::SHADERS",
+            path.display()
+        );
     }
 }

@@ -8,6 +8,7 @@
 pub mod color;
 pub mod floor;
 pub mod fxaa;
+pub mod mlaa;
 pub mod msaa;
 pub mod none;
 pub mod registry;

@@ -142,6 +142,19 @@ pub fn registry() -> Vec<TechniqueInfo> {
             create: |gpu| Box::new(Fxaa::new(gpu)),
         },
         TechniqueInfo {
+            id: "mlaa",
+            name: "MLAA",
+            summary: "Morphological antialiasing (Reshetov 2009; the GPU form of Jimenez et al. 2011, the \
+                 ancestor of SMAA): edges of the finished image are found by luma, each edge is followed to \
+                 its ends two pixels per fetch, the staircase is read as L, Z or U shapes and every edge pixel \
+                 is blended with its neighbours by the area the rebuilt outline covers, from a precomputed \
+                 table. About the cost of SMAA 1x, but without SMAA's diagonal and corner patterns: \
+                 45-degree edges come out wavy, sharp corners are rounded, and like every post-process it \
+                 cannot recover sub-pixel geometry.",
+            availability: needs_encoded_views,
+            create: |gpu| Box::new(super::mlaa::Mlaa::new(gpu)),
+        },
+        TechniqueInfo {
             id: "smaa",
             name: "SMAA 1x",
             summary: "Morphological antialiasing of the finished image: edges are found by luma (or colour or \

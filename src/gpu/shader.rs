@@ -1,6 +1,6 @@
-//! Loading WGSL from `shaders/`. The sources are compiled into the binary with
-//! `include_str!`, so an installed `aa-lab` needs no files beside it; the naga validation test
-//! reads the same files from disk.
+//! Loading WGSL from `shaders/` and from the technique folders `src/aa/<name>/`. The sources
+//! are compiled into the binary with `include_str!`, so an installed `aa-lab` needs no files
+//! beside it; the naga validation test reads the same files from disk.
 //!
 //! **Uniforms never steer control flow on their own.** Mesa's lavapipe (22.x, the driver of
 //! CI and of machines without a GPU) specialises a shader on the uniforms that alone decide an
@@ -14,8 +14,8 @@
 //! a varying or the pixel position are not affected. `tests/long_runs.rs` renders hundreds of
 //! frames of every technique and fails on growth.
 
-/// Every WGSL file under `shaders/`, by file name. The naga test checks this list against the
-/// directory so that no shader escapes validation.
+/// Every WGSL file under `shaders/` and `src/aa/<name>/`, by file name. The naga test checks
+/// this list against the directories so that no shader escapes validation.
 pub const SHADERS: &[(&str, &str)] = &[
     (
         "fullscreen.wgsl",
@@ -42,6 +42,7 @@ pub const SHADERS: &[(&str, &str)] = &[
         "smaa_modes.wgsl",
         include_str!("../../shaders/smaa_modes.wgsl"),
     ),
+    ("mlaa.wgsl", include_str!("../aa/mlaa/mlaa.wgsl")),
     (
         "metrics_ssim.wgsl",
         include_str!("../../shaders/metrics_ssim.wgsl"),
@@ -60,7 +61,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ),
 ];
 
-/// The source of `shaders/<name>`.
+/// The source of the shader file `name`.
 ///
 /// # Panics
 /// Panics if `name` is not in [`SHADERS`]: shader names are compile-time constants of this
@@ -73,7 +74,7 @@ pub fn source(name: &str) -> &'static str {
         .unwrap_or_else(|| panic!("shader {name} is not listed in gpu::shader::SHADERS"))
 }
 
-/// Creates a shader module from `shaders/<name>`.
+/// Creates a shader module from the shader file `name`.
 pub fn module(device: &wgpu::Device, name: &str) -> wgpu::ShaderModule {
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(name),
