@@ -14,6 +14,7 @@ pub mod none;
 pub mod registry;
 pub mod sampling;
 pub mod smaa;
+pub mod smaa_4x;
 pub mod ssaa;
 pub mod taa;
 

@@ -47,7 +47,7 @@ fn needs_encoded_views(caps: &Capabilities) -> Result<(), String> {
     }
 }
 
-/// SMAA S2x reads depth with `textureLoad`, which wgpu cannot translate to GLSL.
+/// SMAA S2x and 4x read depth with `textureLoad`, which wgpu cannot translate to GLSL.
 fn smaa_s2x_availability(caps: &Capabilities) -> Result<(), String> {
     needs_encoded_views(caps)?;
     if caps.is_gl() {
@@ -186,6 +186,19 @@ pub fn registry() -> Vec<TechniqueInfo> {
                  twice at the two positions instead.",
             availability: smaa_s2x_availability,
             create: |gpu| Box::new(super::smaa::Smaa::new(gpu, super::smaa::Mode::S2x)),
+        },
+        TechniqueInfo {
+            id: "smaa-4x",
+            name: "SMAA 4x",
+            summary: "SMAA S2x and T2x combined, the top mode of the SMAA paper: every frame SMAA 1x runs on \
+                 each sample of a two-sample render, the two are averaged, and the result is mixed with the \
+                 previous frame's through motion vectors; the samples shift by an eighth of a pixel between \
+                 frames, so a still pixel sees four sample positions. The sharpest SMAA on thin geometry, at \
+                 the cost of a 2x render, two SMAA runs and T2x's temporal risks (ghosting where the \
+                 history cannot be matched). Without 2x MSAA on the adapter it renders the scene twice per \
+                 frame at the two positions instead, as S2x does.",
+            availability: smaa_s2x_availability,
+            create: |gpu| Box::new(super::smaa_4x::Smaa4x::new(gpu)),
         },
         TechniqueInfo {
             id: "taa",

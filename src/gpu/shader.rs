@@ -43,6 +43,7 @@ pub const SHADERS: &[(&str, &str)] = &[
         include_str!("../../shaders/smaa_modes.wgsl"),
     ),
     ("mlaa.wgsl", include_str!("../aa/mlaa/mlaa.wgsl")),
+    ("smaa_4x.wgsl", include_str!("../aa/smaa_4x/smaa_4x.wgsl")),
     (
         "metrics_ssim.wgsl",
         include_str!("../../shaders/metrics_ssim.wgsl"),
