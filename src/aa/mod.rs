@@ -18,10 +18,12 @@ pub mod cmaa2;
 pub mod common;
 pub mod floor;
 pub mod fxaa;
+pub mod mlaa;
 pub mod msaa;
 pub mod none;
 pub mod registry;
 pub mod smaa;
+pub mod smaa_4x;
 pub mod ssaa;
 pub mod taa;
 

@@ -4,7 +4,7 @@
 //! run it, how to create it and its WGSL files); [`registry`] lists the entries, one line per
 //! technique. The availability checks several techniques share live here too.
 
-use super::{Technique, cmaa2, fxaa, msaa, none, smaa, ssaa, taa};
+use super::{Technique, cmaa2, fxaa, mlaa, msaa, none, smaa, smaa_4x, ssaa, taa};
 use crate::gpu::shader::Shader;
 use crate::gpu::{Capabilities, Gpu};
 
@@ -57,7 +57,9 @@ pub fn registry() -> Vec<TechniqueInfo> {
         &[ssaa::INFO],
         &msaa::INFOS,
         &[fxaa::INFO],
+        &[mlaa::INFO],
         &smaa::INFOS,
+        &[smaa_4x::INFO],
         &[taa::INFO],
         &[cmaa2::INFO],
     ]

@@ -124,8 +124,9 @@ impl Crossing {
         }
     }
 
-    /// Height of the revectorised line at this end, for single-sided crossings.
-    fn height(self, offset: f32) -> Option<f32> {
+    /// Height of the revectorised line at this end, for single-sided crossings (MLAA's
+    /// table uses it too, with no offset).
+    pub(crate) fn height(self, offset: f32) -> Option<f32> {
         match self {
             Self::Current => Some(-0.5 + offset),
             Self::Opposite => Some(0.5 + offset),
@@ -177,8 +178,8 @@ impl DiagonalEnd {
 }
 
 /// Area between y = 0 and a polyline over `[x0, x1]`: (below, above). The polyline
-/// contributes nothing outside its own x range.
-fn polyline_area(points: &[(f32, f32)], x0: f32, x1: f32) -> [f32; 2] {
+/// contributes nothing outside its own x range. MLAA's table integrates its lines with it.
+pub(crate) fn polyline_area(points: &[(f32, f32)], x0: f32, x1: f32) -> [f32; 2] {
     let mut area = [0.0f32; 2];
     let mut add = |xa: f32, ya: f32, xb: f32, yb: f32| {
         let trapezoid = (xb - xa) * (ya + yb) * 0.5;

@@ -12,6 +12,8 @@
 //!   the previous frame through motion vectors ([`temporal`]);
 //! - `smaa-s2x`: per sample of a two-sample render, averaged ([`multisample`]).
 //!
+//! SMAA 4x, S2x and T2x combined, is `aa::smaa_4x`, built from these parts.
+//!
 //! The lookup tables are generated at first use from their rules ([`lut`]); the settings,
 //! presets and parameters live in [`settings`]; [`pipeline`] has the wgpu helpers; the WGSL
 //! is `smaa.wgsl` (the three SMAA passes, debug views) and `smaa_modes.wgsl` (T2x, S2x) here. Only edge
@@ -91,7 +93,7 @@ pub const INFOS: [TechniqueInfo; 3] = [
 ];
 
 /// SMAA S2x reads depth with `textureLoad`, which wgpu cannot translate to GLSL.
-fn s2x_availability(caps: &Capabilities) -> Result<(), String> {
+pub(crate) fn s2x_availability(caps: &Capabilities) -> Result<(), String> {
     needs_encoded_views(caps)?;
     if caps.is_gl() {
         Err(format!(
@@ -101,6 +103,19 @@ fn s2x_availability(caps: &Capabilities) -> Result<(), String> {
     } else {
         Ok(())
     }
+}
+
+/// The part of a path note every SMAA mode shares: the preset (or custom settings), the edge
+/// detection and the stencil early-out.
+pub(crate) fn settings_note(settings: &SmaaSettings) -> String {
+    let preset = settings.matching_preset().map_or_else(
+        || "custom settings".to_owned(),
+        |p| format!("{} preset", p.name()),
+    );
+    format!(
+        "{preset}, {} edges, stencil early-out for the weight pass",
+        settings.edge_mode.name()
+    )
 }
 
 /// Which SMAA mode a technique runs.
@@ -298,15 +313,7 @@ impl Technique for Smaa {
     }
 
     fn path_note(&self) -> Option<String> {
-        let s = &self.settings;
-        let preset = s.matching_preset().map_or_else(
-            || "custom settings".to_owned(),
-            |p| format!("{} preset", p.name()),
-        );
-        let mut note = format!(
-            "{preset}, {} edges, stencil early-out for the weight pass",
-            s.edge_mode.name()
-        );
+        let mut note = settings_note(&self.settings);
         if let State::S2x(multisample) = &self.state {
             note = format!("{}; {note}", multisample.path().describe());
         }

@@ -152,11 +152,13 @@ impl Multisample {
         }
     }
 
-    fn copy_sample(
+    /// Records the copy of one sample's colour and depth from the two-sample `input` into the
+    /// single-sample `destination` (SMAA 4x copies from its own jittered 2x render).
+    pub(crate) fn copy_sample(
         &self,
         ctx: &mut PassContext<'_>,
         input: &SceneTargets,
-        targets: &Targets,
+        destination: &SceneTargets,
         sample: usize,
     ) {
         let color = view_as(&input.color, COLOR_FORMAT_ENCODED_VIEW);
@@ -170,8 +172,8 @@ impl Multisample {
                 (6, wgpu::BindingResource::TextureView(&depth)),
             ],
         );
-        let color_target = view_as(&targets.sample.color, COLOR_FORMAT_ENCODED_VIEW);
-        let depth_target = targets.sample.depth.create_view(&Default::default());
+        let color_target = view_as(&destination.color, COLOR_FORMAT_ENCODED_VIEW);
+        let depth_target = destination.depth.create_view(&Default::default());
         let pipeline = &self.extract[sample];
         ctx.render_pass(
             &format!("sample {sample} extract"),
@@ -232,7 +234,9 @@ impl Multisample {
         let Some(targets) = &self.targets else { return };
         for (sample, offset) in sample_offsets().into_iter().enumerate() {
             match (self.path, input) {
-                (S2xPath::Msaa, Some(input)) => self.copy_sample(ctx, input, targets, sample),
+                (S2xPath::Msaa, Some(input)) => {
+                    self.copy_sample(ctx, input, &targets.sample, sample);
+                }
                 (S2xPath::Msaa, None) => return,
                 (S2xPath::Renders, _) => {
                     // The sample at `offset` from the centre: the image moves by -offset.
@@ -264,8 +268,19 @@ impl Multisample {
                 passes.encode_debug(ctx);
             }
         }
-        let views = targets
-            .results
+        let target = output.create_view(&Default::default());
+        self.average(ctx, &targets.results, &target);
+    }
+
+    /// Records the average of the two per-sample results into `target`, in linear light
+    /// (alpha too, so that SMAA 4x keeps the speed its resolve reads there).
+    pub(crate) fn average(
+        &self,
+        ctx: &mut PassContext<'_>,
+        results: &[wgpu::Texture; 2],
+        target: &wgpu::TextureView,
+    ) {
+        let views = results
             .each_ref()
             .map(|t| t.create_view(&Default::default()));
         let group = bind_group(
@@ -277,8 +292,7 @@ impl Multisample {
                 (8, wgpu::BindingResource::TextureView(&views[1])),
             ],
         );
-        let target = output.create_view(&Default::default());
-        ctx.fullscreen_pass("average", &target, &self.average, &group);
+        ctx.fullscreen_pass("average", target, &self.average, &group);
     }
 
     /// Memory of the per-sample targets.

@@ -4,7 +4,8 @@
 //   counts half, less where the pixel's speed changed (alpha of both holds sqrt(5 |motion|)).
 // - fs_extract_sample: SMAA S2x on a 2x MSAA render copies one sample of colour and depth into
 //   single-sample targets, so the SMAA 1x passes can run on it unchanged.
-// - fs_average: S2x's final average of the two per-sample results, in linear light.
+// - fs_average: the average of S2x's two per-sample results, in linear light; alpha is
+//   averaged too (1 for S2x; SMAA 4x keeps the pixel's speed there for its resolve).
 // - fs_debug_edges / fs_debug_weights: the edges and blending weights as viewable images.
 
 struct ResolveParams {
@@ -60,8 +61,7 @@ fn fs_extract_sample(@builtin(position) position: vec4<f32>) -> Extracted {
 @fragment
 fn fs_average(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(position.xy);
-    let mean = 0.5 * (textureLoad(first_tex, p, 0).rgb + textureLoad(second_tex, p, 0).rgb);
-    return vec4<f32>(mean, 1.0);
+    return 0.5 * (textureLoad(first_tex, p, 0) + textureLoad(second_tex, p, 0));
 }
 
 // Red: edge on the left side, green: on the top side (yellow: both), black: none.

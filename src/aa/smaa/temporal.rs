@@ -44,6 +44,16 @@ struct History {
     valid: bool,
 }
 
+/// What [`Temporal::resolve`] reads besides the two frames' results.
+pub(crate) struct ResolveFrame<'a> {
+    /// Image size.
+    pub size: (u32, u32),
+    /// This frame's motion vectors (one sample per pixel).
+    pub motion: &'a wgpu::Texture,
+    /// The bilinear sampler the previous frame is fetched with.
+    pub sampler: &'a wgpu::Sampler,
+}
+
 /// The T2x state: resolve pipeline and the two frames.
 pub struct Temporal {
     layout: wgpu::BindGroupLayout,
@@ -104,7 +114,37 @@ impl Temporal {
         let Some(motion) = input.motion.as_ref() else {
             return;
         };
-        let size = input.desc.size;
+        let sampler = passes.sampler.clone();
+        let position = -jitter(ctx.frame.camera.frame);
+        let current_frame = |ctx: &mut PassContext<'_>, current: &wgpu::TextureView| {
+            let input = Input {
+                color: &input.color,
+                depth: &input.depth,
+                motion: Some(motion),
+            };
+            passes.run(ctx, settings, &input, current, 0, position, "");
+        };
+        let frame = ResolveFrame {
+            size: input.desc.size,
+            motion,
+            sampler: &sampler,
+        };
+        self.resolve(ctx, settings, &frame, output, current_frame);
+    }
+
+    /// Records the temporal resolve of one frame: `current_frame` records this frame's SMAA
+    /// result, with the pixel's speed in alpha (`fs_blend_velocity`), into the view it is
+    /// given; the previous frame's result is then mixed in through `frame.motion` and the
+    /// result written to `output`. SMAA 4x resolves its two-sample frames with it.
+    pub(crate) fn resolve(
+        &mut self,
+        ctx: &mut PassContext<'_>,
+        settings: &SmaaSettings,
+        frame: &ResolveFrame<'_>,
+        output: &wgpu::Texture,
+        current_frame: impl FnOnce(&mut PassContext<'_>, &wgpu::TextureView),
+    ) {
+        let size = frame.size;
         let device = ctx.gpu.device.clone();
         let history = match self.history.take() {
             Some(h) if h.size == size => History {
@@ -121,19 +161,7 @@ impl Temporal {
             },
         };
         let current = history.current.create_view(&Default::default());
-        passes.run(
-            ctx,
-            settings,
-            &Input {
-                color: &input.color,
-                depth: &input.depth,
-                motion: Some(motion),
-            },
-            &current,
-            0,
-            -jitter(ctx.frame.camera.frame),
-            "",
-        );
+        current_frame(ctx, &current);
         let params = ResolveParams {
             history: f32::from(u8::from(history.valid)),
             weight_scale: settings.reprojection_weight_scale,
@@ -143,7 +171,7 @@ impl Temporal {
             .queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let previous = history.previous.create_view(&Default::default());
-        let motion = motion.create_view(&Default::default());
+        let motion = frame.motion.create_view(&Default::default());
         use wgpu::BindingResource::{Sampler, TextureView};
         let group = bind_group(
             &device,
@@ -154,7 +182,7 @@ impl Temporal {
                 (1, TextureView(&current)),
                 (2, TextureView(&previous)),
                 (3, TextureView(&motion)),
-                (4, Sampler(&passes.sampler)),
+                (4, Sampler(frame.sampler)),
             ],
         );
         let target = output.create_view(&Default::default());

@@ -1,0 +1,483 @@
+//! MLAA, morphological antialiasing: Alexander Reshetov, "Morphological Antialiasing" (High
+//! Performance Graphics 2009), in the GPU form of Jorge Jimenez, Belen Masia, Jose I.
+//! Echevarria, Fernando Navarro and Diego Gutierrez, "Practical Morphological
+//! Antialiasing" (GPU Pro 2, 2011). This is aa-lab's own implementation of their ideas and
+//! parameters; SMAA (`aa::smaa`) is the same authors' later refinement of it.
+//!
+//! Three fullscreen passes over the shared one-sample render (`mlaa.wgsl` in this folder):
+//! edge detection on sRGB-encoded luma or colour with a threshold; blending weights, where
+//! each edge pixel searches the two ends of its edge run with bilinear fetches that read two
+//! pixels at once (up to `max_search_steps` fetches each way), reads the crossing edges at the
+//! ends and looks up the area the revectorised outline (L, Z and U patterns) covers in an area
+//! table generated from that geometry ([`area`]); and neighbourhood blending, in linear light,
+//! where each pixel mixes with its four neighbours by those areas. Only edge pixels run the
+//! weight pass: the edge pass marks them in a stencil buffer that the weight pass tests.
+//!
+//! What separates it from SMAA: no diagonal patterns (45-degree staircases are read as chains
+//! of one-pixel Z shapes), no sharp-corner detection, no local contrast adaptation, a search
+//! that cannot tell which of the two last pixels ends the run, and a blend towards all four
+//! neighbours at once. Settings and presets: [`settings`]. Debug views: the edges and the
+//! blending weights.
+
+pub mod area;
+pub mod settings;
+
+use wgpu::util::DeviceExt;
+
+pub use settings::{EdgeMode, MlaaSettings, PipelineKey, Preset};
+
+use crate::aa::common::{debug_texture, view_as};
+use crate::aa::params::{Named, Param, ParamError, ParamValue};
+use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
+use crate::aa::smaa::pipeline::{self, Binding, PassDesc, Stencil, Vertex, bind_group, cleared};
+use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
+use crate::gpu::shader::Shader;
+use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu};
+use crate::graph::{MemoryItem, PassContext};
+use crate::scene::renderer::SceneTargets;
+
+/// Stable id, as on the command line.
+pub const ID: &str = "mlaa";
+
+/// The edge, blending-weight and blending passes and the debug views.
+const WGSL: Shader = crate::wgsl!("src/aa/mlaa/mlaa.wgsl");
+
+/// The registry entry.
+pub const INFO: TechniqueInfo = TechniqueInfo {
+    id: ID,
+    name: "MLAA",
+    summary: "Morphological antialiasing (Reshetov 2009; the GPU form of Jimenez et al. 2011, the \
+         ancestor of SMAA): edges of the finished image are found by luma, each edge is followed to \
+         its ends two pixels per fetch, the staircase is read as L, Z or U shapes and every edge pixel \
+         is blended with its neighbours by the area the rebuilt outline covers, from a precomputed \
+         table. About the cost of SMAA 1x, but without SMAA's diagonal and corner patterns: \
+         45-degree edges come out wavy, sharp corners are rounded, and like every post-process it \
+         cannot recover sub-pixel geometry.",
+    availability: needs_encoded_views,
+    create: |gpu| Box::new(Mlaa::new(gpu)),
+    shaders: &[WGSL],
+};
+
+/// The uniform block of `mlaa.wgsl` (`Params`).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    size: [f32; 2],
+    threshold: f32,
+    pad: f32,
+}
+
+struct Pipelines {
+    key: PipelineKey,
+    edges: wgpu::RenderPipeline,
+    weights: wgpu::RenderPipeline,
+    blend: wgpu::RenderPipeline,
+}
+
+struct Targets {
+    size: (u32, u32),
+    edges: wgpu::Texture,
+    stencil: wgpu::Texture,
+    weights: wgpu::Texture,
+}
+
+struct DebugViews {
+    edges: wgpu::Texture,
+    weights: wgpu::Texture,
+}
+
+/// The MLAA technique.
+pub struct Mlaa {
+    device: wgpu::Device,
+    settings: MlaaSettings,
+    vertex: Vertex,
+    module: wgpu::ShaderModule,
+    sampler: wgpu::Sampler,
+    edge_layout: wgpu::BindGroupLayout,
+    weight_layout: wgpu::BindGroupLayout,
+    blend_layout: wgpu::BindGroupLayout,
+    debug_layout: wgpu::BindGroupLayout,
+    debug_pipelines: [wgpu::RenderPipeline; 2],
+    area: wgpu::Texture,
+    uniform: wgpu::Buffer,
+    pipelines: Option<Pipelines>,
+    targets: Option<Targets>,
+    debug: Option<DebugViews>,
+    debug_enabled: bool,
+}
+
+impl Mlaa {
+    /// MLAA with the default (Medium) settings; uploads the area table (generated on first
+    /// use).
+    pub fn new(gpu: &Gpu) -> Self {
+        let device = &gpu.device;
+        let vertex = Vertex::new(device);
+        let module = WGSL.module(device);
+        let debug_layout = pipeline::layout(device, "mlaa debug", &[(7, Binding::Texture)]);
+        let debug_pipeline = |entry_point: &str| {
+            vertex.pipeline(
+                device,
+                &PassDesc {
+                    label: entry_point,
+                    module: &module,
+                    entry_point,
+                    layout: &debug_layout,
+                    format: COLOR_FORMAT_ENCODED_VIEW,
+                    constants: &[],
+                    stencil: Stencil::None,
+                },
+            )
+        };
+        let debug_pipelines = [
+            debug_pipeline("fs_debug_edges"),
+            debug_pipeline("fs_debug_weights"),
+        ];
+        let area = device.create_texture_with_data(
+            &gpu.queue,
+            &crate::gpu::Texture2d::new(
+                "mlaa area table",
+                area::AREA_SIZE,
+                wgpu::TextureFormat::Rg8Unorm,
+                wgpu::TextureUsages::TEXTURE_BINDING,
+            )
+            .descriptor(),
+            wgpu::util::TextureDataOrder::LayerMajor,
+            area::table(),
+        );
+        Self {
+            settings: MlaaSettings::default(),
+            sampler: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("mlaa bilinear"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            }),
+            edge_layout: pipeline::layout(
+                device,
+                "mlaa edges",
+                &[(0, Binding::Uniform), (1, Binding::Texture)],
+            ),
+            weight_layout: pipeline::layout(
+                device,
+                "mlaa weights",
+                &[
+                    (0, Binding::Uniform),
+                    (2, Binding::Texture),
+                    (3, Binding::Texture),
+                    (4, Binding::Sampler),
+                ],
+            ),
+            blend_layout: pipeline::layout(
+                device,
+                "mlaa blend",
+                &[
+                    (0, Binding::Uniform),
+                    (4, Binding::Sampler),
+                    (5, Binding::Texture),
+                    (6, Binding::Texture),
+                ],
+            ),
+            uniform: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("mlaa params"),
+                size: std::mem::size_of::<Params>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            debug_layout,
+            debug_pipelines,
+            area,
+            vertex,
+            module,
+            pipelines: None,
+            targets: None,
+            debug: None,
+            debug_enabled: false,
+            device: device.clone(),
+        }
+    }
+
+    /// The current settings.
+    pub fn settings(&self) -> &MlaaSettings {
+        &self.settings
+    }
+
+    fn ensure_pipelines(&mut self, key: PipelineKey) {
+        if self.pipelines.as_ref().is_some_and(|p| p.key == key) {
+            return;
+        }
+        let constants = [
+            (
+                "EDGE_MODE",
+                f64::from(u8::from(key.edge_mode == EdgeMode::Color)),
+            ),
+            ("MAX_SEARCH_STEPS", f64::from(key.max_search_steps)),
+        ];
+        let build = |label: &str, entry_point: &str, layout, format, stencil| {
+            self.vertex.pipeline(
+                &self.device,
+                &PassDesc {
+                    label,
+                    module: &self.module,
+                    entry_point,
+                    layout,
+                    format,
+                    constants: &constants,
+                    stencil,
+                },
+            )
+        };
+        self.pipelines = Some(Pipelines {
+            key,
+            edges: build(
+                "mlaa edges",
+                "fs_edges",
+                &self.edge_layout,
+                wgpu::TextureFormat::Rg8Unorm,
+                Stencil::Mark,
+            ),
+            weights: build(
+                "mlaa weights",
+                "fs_weights",
+                &self.weight_layout,
+                wgpu::TextureFormat::Rgba8Unorm,
+                Stencil::Test,
+            ),
+            blend: build(
+                "mlaa blend",
+                "fs_blend",
+                &self.blend_layout,
+                COLOR_FORMAT,
+                Stencil::None,
+            ),
+        });
+    }
+
+    fn ensure_targets(&mut self, size: (u32, u32)) {
+        if self.targets.as_ref().is_some_and(|t| t.size == size) {
+            return;
+        }
+        let target = |label, format| pipeline::target(&self.device, label, size, format, &[]);
+        self.targets = Some(Targets {
+            size,
+            edges: target("mlaa edges", wgpu::TextureFormat::Rg8Unorm),
+            stencil: target("mlaa edge stencil", pipeline::STENCIL_FORMAT),
+            weights: target("mlaa weights", wgpu::TextureFormat::Rgba8Unorm),
+        });
+        self.debug = None;
+    }
+
+    /// Records the two debug views of the last run.
+    fn encode_debug(&mut self, ctx: &mut PassContext<'_>) {
+        let Some(targets) = &self.targets else { return };
+        let debug = self.debug.get_or_insert_with(|| DebugViews {
+            edges: debug_texture(&self.device, "mlaa edges view", targets.size),
+            weights: debug_texture(&self.device, "mlaa weights view", targets.size),
+        });
+        let views = [
+            ("debug edges", &targets.edges, &debug.edges),
+            ("debug weights", &targets.weights, &debug.weights),
+        ];
+        for ((name, source, view), pipeline) in views.into_iter().zip(&self.debug_pipelines) {
+            let source = source.create_view(&Default::default());
+            let group = bind_group(
+                &self.device,
+                name,
+                &self.debug_layout,
+                &[(7, wgpu::BindingResource::TextureView(&source))],
+            );
+            let target = view_as(view, COLOR_FORMAT_ENCODED_VIEW);
+            ctx.fullscreen_pass(name, &target, pipeline, &group);
+        }
+    }
+}
+
+impl Technique for Mlaa {
+    fn id(&self) -> &'static str {
+        ID
+    }
+
+    fn label(&self) -> String {
+        crate::aa::registry::display_name(self.id())
+    }
+
+    fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
+        Some(SceneInput::Shared1x)
+    }
+
+    fn color_only(&self) -> bool {
+        true
+    }
+
+    fn encode(
+        &mut self,
+        ctx: &mut PassContext<'_>,
+        input: Option<&SceneTargets>,
+        output: &wgpu::Texture,
+    ) {
+        let Some(input) = input else { return };
+        let size = (input.color.width(), input.color.height());
+        self.ensure_pipelines(self.settings.pipeline_key());
+        self.ensure_targets(size);
+        let params = Params {
+            size: [size.0 as f32, size.1 as f32],
+            threshold: self.settings.threshold,
+            pad: 0.0,
+        };
+        ctx.gpu
+            .queue
+            .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&params));
+        let (Some(pipelines), Some(targets)) = (&self.pipelines, &self.targets) else {
+            return;
+        };
+        let device = &self.device;
+        let uniform = self.uniform.as_entire_binding();
+        let color_encoded = view_as(&input.color, COLOR_FORMAT_ENCODED_VIEW);
+        let color_linear = input.color.create_view(&Default::default());
+        let edges = targets.edges.create_view(&Default::default());
+        let stencil = targets.stencil.create_view(&Default::default());
+        let weights = targets.weights.create_view(&Default::default());
+        let area = self.area.create_view(&Default::default());
+        use wgpu::BindingResource::{Sampler, TextureView};
+        let stencil_attachment = |load| wgpu::RenderPassDepthStencilAttachment {
+            view: &stencil,
+            depth_ops: None,
+            stencil_ops: Some(wgpu::Operations {
+                load,
+                store: wgpu::StoreOp::Store,
+            }),
+        };
+
+        let edge_group = bind_group(
+            device,
+            "mlaa edges",
+            &self.edge_layout,
+            &[(0, uniform.clone()), (1, TextureView(&color_encoded))],
+        );
+        ctx.render_pass(
+            "edges",
+            &[Some(cleared(&edges))],
+            Some(stencil_attachment(wgpu::LoadOp::Clear(0))),
+            |pass| {
+                pass.set_pipeline(&pipelines.edges);
+                pass.set_bind_group(0, &edge_group, &[]);
+                pass.set_stencil_reference(1);
+                pass.draw(0..3, 0..1);
+            },
+        );
+
+        let weight_group = bind_group(
+            device,
+            "mlaa weights",
+            &self.weight_layout,
+            &[
+                (0, uniform.clone()),
+                (2, TextureView(&edges)),
+                (3, TextureView(&area)),
+                (4, Sampler(&self.sampler)),
+            ],
+        );
+        ctx.render_pass(
+            "weights",
+            &[Some(cleared(&weights))],
+            Some(stencil_attachment(wgpu::LoadOp::Load)),
+            |pass| {
+                pass.set_pipeline(&pipelines.weights);
+                pass.set_bind_group(0, &weight_group, &[]);
+                pass.set_stencil_reference(1);
+                pass.draw(0..3, 0..1);
+            },
+        );
+
+        let blend_group = bind_group(
+            device,
+            "mlaa blend",
+            &self.blend_layout,
+            &[
+                (0, uniform),
+                (4, Sampler(&self.sampler)),
+                (5, TextureView(&color_linear)),
+                (6, TextureView(&weights)),
+            ],
+        );
+        let target = output.create_view(&Default::default());
+        ctx.fullscreen_pass("blend", &target, &pipelines.blend, &blend_group);
+        if self.debug_enabled {
+            self.encode_debug(ctx);
+        }
+    }
+
+    fn memory(&self) -> Vec<MemoryItem> {
+        let mut items = vec![
+            MemoryItem::texture("mlaa area table", &self.area),
+            MemoryItem::buffer("mlaa params", &self.uniform),
+        ];
+        if let Some(t) = &self.targets {
+            items.push(MemoryItem::texture("mlaa edges", &t.edges));
+            items.push(MemoryItem::texture("mlaa edge stencil", &t.stencil));
+            items.push(MemoryItem::texture("mlaa weights", &t.weights));
+        }
+        if let Some(d) = &self.debug {
+            items.push(MemoryItem::texture("mlaa edges view", &d.edges));
+            items.push(MemoryItem::texture("mlaa weights view", &d.weights));
+        }
+        items
+    }
+
+    fn params(&self) -> Vec<Param> {
+        self.settings.params()
+    }
+
+    fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
+        if self.settings.set(key, value) {
+            Ok(())
+        } else {
+            Err(ParamError::unknown_key(self.id(), key, &self.params()))
+        }
+    }
+
+    fn presets(&self) -> &'static [&'static str] {
+        Preset::NAMES
+    }
+
+    fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
+        self.settings.apply_preset_named(self.id(), name)
+    }
+
+    fn set_debug_views(&mut self, enabled: bool) {
+        self.debug_enabled = enabled;
+    }
+
+    fn debug_views(&self) -> Vec<DebugView<'_>> {
+        let Some(debug) = self.debug.as_ref().filter(|_| self.debug_enabled) else {
+            return Vec::new();
+        };
+        vec![
+            DebugView {
+                name: "edges",
+                description: "Edges MLAA found: red on a pixel's left side, green on its top side, \
+                              yellow both.",
+                texture: &debug.edges,
+            },
+            DebugView {
+                name: "weights",
+                description: "Blending weights: red blends across the pixel's top edge, green across \
+                              its left edge, brighter is more (doubled).",
+                texture: &debug.weights,
+            },
+        ]
+    }
+
+    fn path_note(&self) -> Option<String> {
+        let s = &self.settings;
+        let preset = s.matching_preset().map_or_else(
+            || "custom settings".to_owned(),
+            |p| format!("{} preset", p.name()),
+        );
+        Some(format!(
+            "{preset}, {} edges, searches of {} pixels each way, orthogonal patterns only, stencil \
+             early-out for the weight pass, blend in linear light",
+            s.edge_mode.name(),
+            2 * s.max_search_steps
+        ))
+    }
+}
