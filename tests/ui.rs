@@ -664,6 +664,8 @@ fn a_blind_comparison_hides_names_shuffles_panes_and_records_every_answer() {
 
     // The end: the names and the usual order are back; the file stays.
     harness.get_by_label("End session").click();
+    // The panels come back in the frame after the click.
+    harness.step();
     harness.step();
     assert!(harness.state().blind_file().is_none());
     assert_eq!(harness.state().compared(), named);
