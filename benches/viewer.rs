@@ -16,9 +16,10 @@
 //!   from the key event to the end of the UI frame that shows the new layout;
 //! - **idle UI frame**: the same with the camera still and the engine idle.
 //! - **clip playback**: a 48-frame clip of the four techniques is recorded (camera panning,
-//!   no reference) and played at 30 frames per second for a few seconds: UI frames per second,
-//!   clip frames shown per second (every clip frame the UI showed, counted once per change) and
-//!   the UI frame's time while playing.
+//!   no reference) and played at 30 frames per second for a few seconds in the 2x2 grid (all
+//!   four on screen, and in the magnifier): UI frames per second, clip frames shown per second
+//!   (every clip frame the UI showed, counted once per change), clip frames skipped (a change
+//!   to another frame than the next) and the UI frame's time while playing.
 //!
 //! `cargo bench --bench viewer -- [--seconds S] [--scenes a,b] [--out file.json]`; with
 //! `--features profile` it also prints where the UI frame's time goes (puffin scopes).
@@ -74,6 +75,7 @@ struct SceneFigures {
     clip_record_seconds: f64,
     playback_ui_frames_per_second: f64,
     playback_clip_frames_per_second: f64,
+    playback_skipped_clip_frames: usize,
     playback_ui_frame_ms_median: f64,
     playback_ui_frame_ms_p95: f64,
 }
@@ -312,8 +314,12 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
         std::thread::sleep(Duration::from_millis(10));
     }
     let clip_record_seconds = recording.elapsed().as_secs_f64();
+    harness.state_mut().settings_mut().layout = Layout::Grid;
+    #[cfg(feature = "profile")]
+    let mut profile = aa_lab::profile::UiProfile::start();
     let mut playback = Vec::new();
     let mut shown_frames = 0usize;
+    let mut skipped = 0usize;
     let mut shown = harness.state().shown_clip_frame();
     let start = Instant::now();
     let mut last_frame = Instant::now();
@@ -325,6 +331,9 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
             let now_shown = harness.state().shown_clip_frame();
             if now_shown != shown {
                 shown_frames += 1;
+                if let (Some(before), Some(now)) = (shown, now_shown) {
+                    skipped += (now + CLIP_FRAMES as usize - before - 1) % CLIP_FRAMES as usize;
+                }
                 shown = now_shown;
             }
         } else {
@@ -332,6 +341,11 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
         }
     }
     let playing = start.elapsed().as_secs_f64();
+    #[cfg(feature = "profile")]
+    {
+        profile.collect();
+        eprintln!("{scene}, clip playing: {}", profile.report(30));
+    }
     let playback_ui_frames_per_second = playback.len() as f64 / playing;
     let (playback, _) = split(playback);
 
@@ -362,6 +376,7 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
         clip_record_seconds,
         playback_ui_frames_per_second,
         playback_clip_frames_per_second: shown_frames as f64 / playing,
+        playback_skipped_clip_frames: skipped,
         playback_ui_frame_ms_median: percentile(&playback, 0.5),
         playback_ui_frame_ms_p95: percentile(&playback, 0.95),
     }
@@ -375,7 +390,7 @@ fn main() {
         let figures = measure(scene, options.seconds);
         println!(
             "{:<10} {:>5.1} UI frames/s, median {:>6.1} ms  p95 {:>6.1} ms  max {:>7.1} ms | engine {:>5.2} frames/s ({:.2} with input) | \
-             layout change visible after median {:>6.1} ms, worst {:>6.1} ms ({} changes) | idle UI frame median {:>5.1} ms p95 {:>5.1} ms | update (before the paint) median {:>5.1} ms p95 {:>5.1} ms, idle {:>5.1} ms p95 {:>5.1} ms | clip of {} frames recorded in {:.0} s, plays at {:.1} UI frames/s showing {:.1} clip frames/s, UI frame median {:.1} ms p95 {:.1} ms",
+             layout change visible after median {:>6.1} ms, worst {:>6.1} ms ({} changes) | idle UI frame median {:>5.1} ms p95 {:>5.1} ms | update (before the paint) median {:>5.1} ms p95 {:>5.1} ms, idle {:>5.1} ms p95 {:>5.1} ms | clip of {} frames recorded in {:.0} s, plays at {:.1} UI frames/s showing {:.1} clip frames/s ({} skipped), UI frame median {:.1} ms p95 {:.1} ms",
             figures.scene,
             figures.ui_frames_per_second,
             figures.ui_frame_ms_median,
@@ -396,6 +411,7 @@ fn main() {
             figures.clip_record_seconds,
             figures.playback_ui_frames_per_second,
             figures.playback_clip_frames_per_second,
+            figures.playback_skipped_clip_frames,
             figures.playback_ui_frame_ms_median,
             figures.playback_ui_frame_ms_p95,
         );

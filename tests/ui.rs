@@ -497,6 +497,182 @@ fn a_recorded_clip_plays_every_pane_in_lockstep_and_exports_an_animation() {
     wait(&mut harness, "a live frame", AaLabApp::frame_ready);
 }
 
+/// The answers file once it holds `trials` answers.
+fn blind_answers(harness: &mut Harness<'_, AaLabApp>, trials: usize) -> serde_json::Value {
+    let path = harness
+        .state()
+        .blind_file()
+        .expect("a blind session")
+        .to_path_buf();
+    let start = Instant::now();
+    loop {
+        let file = std::fs::read(&path)
+            .ok()
+            .and_then(|bytes| serde_json::from_slice::<serde_json::Value>(&bytes).ok());
+        if let Some(file) = file.filter(|f| f["trials"].as_array().map(Vec::len) == Some(trials)) {
+            return file;
+        }
+        assert!(
+            start.elapsed() < TIMEOUT,
+            "{} never held {trials} answers",
+            path.display()
+        );
+        harness.step();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+#[test]
+fn a_blind_comparison_hides_names_shuffles_panes_and_records_every_answer() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // Someone's file of the session's default name: kept, the session takes the next name.
+    std::fs::write(dir.path().join("chart-blind.json"), "keep").expect("a file");
+    let mut harness = viewer("chart");
+    harness.state_mut().set_export_dir(dir.path().to_path_buf());
+    harness.state_mut().settings_mut().layout = Layout::Grid;
+    let named = harness.state().compared();
+    assert_eq!(named.len(), 4);
+    harness.get_by_label("View").click();
+    // The menu opens in the next frame.
+    harness.step();
+    harness.step();
+    harness.get_by_label("Blind comparison").click();
+    harness.step();
+    let path = harness
+        .state()
+        .blind_file()
+        .expect("a session")
+        .to_path_buf();
+    assert_eq!(name(&path), "chart-blind-2.json");
+    // The panels that name the techniques give way to the session's.
+    assert!(harness.query_by_label("SSAA").is_none());
+    assert!(harness.query_by_label("Which pane looks better?").is_some());
+    wait(&mut harness, "the panes", AaLabApp::frame_ready);
+
+    // Trial 1: key 2; trial 2: key 0 (no preference); trial 3: a click on the top-left pane.
+    let mut shown = Vec::new();
+    shown.push(harness.state().compared());
+    harness.key_press(egui::Key::Num2);
+    harness.step();
+    shown.push(harness.state().compared());
+    harness.key_press(egui::Key::Num0);
+    harness.step();
+    shown.push(harness.state().compared());
+    let pane_1 = harness
+        .state()
+        .image_rect()
+        .expect("pane 1 is drawn")
+        .center();
+    click_with(&mut harness, pane_1, Modifiers::NONE);
+    let file = blind_answers(&mut harness, 3);
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("chart-blind.json")).unwrap(),
+        "keep"
+    );
+    let seed = file["seed"].as_u64().expect("the seed");
+    let techniques: Vec<&str> = file["techniques"]
+        .as_array()
+        .expect("the techniques")
+        .iter()
+        .map(|t| t["id"].as_str().expect("an id"))
+        .collect();
+    assert_eq!(techniques, named, "the session compares what was compared");
+    for (k, panes) in shown.iter().enumerate() {
+        let trial = &file["trials"][k];
+        let expected: Vec<&str> = aa_lab::app::pane_order(seed, k, 4)
+            .into_iter()
+            .map(|i| techniques[i])
+            .collect();
+        assert_eq!(*panes, expected, "trial {k}'s panes follow from the seed");
+        assert_eq!(trial["panes"], serde_json::json!(panes));
+        assert_eq!(trial["scene"], "chart");
+        assert_eq!(trial["source"], "live");
+        assert_eq!(trial["layout"], "Grid");
+        assert_eq!(trial["settings"].as_object().map(|s| s.len()), Some(4));
+    }
+    assert_eq!(file["trials"][0]["pane"], 2);
+    assert_eq!(file["trials"][0]["answer"], shown[0][1]);
+    assert!(file["trials"][1]["answer"].is_null());
+    assert_eq!(file["trials"][2]["pane"], 1);
+    assert_eq!(file["trials"][2]["answer"], shown[2][0]);
+    assert_eq!(file["summary"]["trials"], 3);
+    assert_eq!(file["summary"]["ties"], 1);
+    let wins = |id: &str| {
+        file["summary"]["wins"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|w| w["id"] == id)
+            .map_or(0, |w| w["wins"].as_u64().unwrap())
+    };
+    for id in &techniques {
+        let expected = [shown[0][1], shown[2][0]]
+            .iter()
+            .filter(|w| *w == id)
+            .count();
+        assert_eq!(wins(id), expected as u64, "{id}");
+    }
+
+    // With the reveal, the mapping shows and the next trial waits for Enter.
+    harness
+        .get_by_label("Reveal the techniques after each answer")
+        .click();
+    harness.step();
+    let panes = harness.state().compared();
+    harness.key_press(egui::Key::Num4);
+    harness.step();
+    assert!(harness.query_by_label("Next trial (Enter)").is_some());
+    harness.key_press(egui::Key::Num1);
+    harness.step();
+    assert_eq!(
+        harness.state().compared(),
+        panes,
+        "no answer while revealed"
+    );
+    harness.key_press(egui::Key::Enter);
+    harness.step();
+    assert!(harness.query_by_label("Next trial (Enter)").is_none());
+    let file = blind_answers(&mut harness, 4);
+    assert_eq!(file["trials"][3]["answer"], panes[3]);
+    assert_eq!(file["trials"][3]["reveal"], true);
+    harness
+        .get_by_label("Reveal the techniques after each answer")
+        .click();
+
+    // A playing clip: the answer records the clip and the frame on screen.
+    {
+        let clip = &mut harness.state_mut().settings_mut().clip;
+        clip.frames = 3;
+        clip.warmup = 0;
+        clip.path = ClipPath::Motion(Motion::Pan);
+        clip.reference = false;
+    }
+    harness.get_by_label("Record").click();
+    harness.step();
+    wait(&mut harness, "the clip", |app| {
+        app.clip_progress() == Some((3, false))
+    });
+    harness.key_press(egui::Key::Num3);
+    harness.step();
+    let file = blind_answers(&mut harness, 5);
+    let trial = &file["trials"][4];
+    assert_eq!(trial["source"], "clip");
+    assert_eq!(trial["in_motion"], true);
+    assert_eq!(trial["frames"], 3);
+    assert_eq!(trial["recipe"]["frames"], 3);
+    assert!(trial["frame"].as_u64().is_some_and(|f| f < 3));
+
+    // The end: the names and the usual order are back; the file stays.
+    harness.get_by_label("End session").click();
+    // The panels come back in the frame after the click.
+    harness.step();
+    harness.step();
+    assert!(harness.state().blind_file().is_none());
+    assert_eq!(harness.state().compared(), named);
+    assert!(harness.query_by_label("SSAA").is_some());
+    assert!(path.is_file());
+}
+
 fn name(path: &Path) -> String {
     path.file_name()
         .map(|n| n.to_string_lossy().into_owned())

@@ -10,6 +10,7 @@ use std::path::PathBuf;
 use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
+use super::blind::BlindState;
 use super::camera::CameraController;
 use super::engine::{Display, DisplayPath, Engine};
 use super::export::ExportState;
@@ -117,6 +118,8 @@ pub struct AaLabApp {
     pub(super) export: ExportState,
     /// Images shown instead of the scene (image_set.rs).
     pub(super) images: ImageSetState,
+    /// The blind comparison (blind.rs).
+    pub(super) blind: BlindState,
     pub(super) help_open: bool,
     pub(super) panels_hidden: bool,
     /// The open file dialog (on its own thread): what its answer is for, and the answer (the
@@ -205,6 +208,7 @@ impl AaLabApp {
             quality: QualityTracker::default(),
             export: ExportState::default(),
             images: ImageSetState::new(super::blit::Uploader::new(state)),
+            blind: BlindState::default(),
             help_open: false,
             panels_hidden: false,
             file_dialog: None,
@@ -431,9 +435,13 @@ impl AaLabApp {
         }
     }
 
-    /// The ids compared as A, B, C, D: the images of the open set in order; else the marked
+    /// The ids compared as A, B, C, D: during a blind comparison its panes in their shuffled
+    /// order; else the images of the open set in order; else the marked
     /// techniques that are on, then other techniques that are on, in panel order.
     pub fn compared(&self) -> Vec<&'static str> {
+        if let Some(panes) = self.blind.panes() {
+            return panes;
+        }
         if let Some(set) = self.images.open() {
             return set.ids();
         }
@@ -821,6 +829,7 @@ impl eframe::App for AaLabApp {
             self.styled = true;
         }
         self.poll_background(&ctx);
+        self.blind_keys(&ctx);
         let flying = self.camera.mode == super::camera::CameraMode::Fly && !self.images.is_open();
         for action in shortcuts::pressed_actions(&ctx, flying) {
             self.handle_action(&ctx, action);
@@ -854,11 +863,16 @@ impl eframe::App for AaLabApp {
         if !self.images.is_open() {
             self.clip_panel(ui);
         }
+        // A blind comparison's panel replaces those that name the techniques.
+        let blind = self.blind.active();
         let show_side = !self.panels_hidden;
-        if show_side && self.settings.show_techniques {
+        if show_side && blind {
+            self.blind_panel(ui);
+        }
+        if show_side && !blind && self.settings.show_techniques {
             self.techniques_panel(ui);
         }
-        if show_side && self.settings.show_metrics {
+        if show_side && !blind && self.settings.show_metrics {
             self.metrics_panel(ui);
         }
         if self.settings.show_magnifier {

@@ -4,6 +4,14 @@
 //! scrub bar. Every layout and the magnifier read the same frame ([`ClipPlayer::frame`]), so
 //! all panes show the same instant.
 //!
+//! Playback never skips a frame: the position follows the clock, but one UI frame advances it
+//! by at most one clip frame, so a paint that comes late (a UI frame longer than the clip's
+//! period) shows the next frame rather than the one after it, and the frame after that is due
+//! at once, so the next paint catches up with the clock. Skipped frames would change what is being judged (a flicker between two
+//! frames can vanish when every other frame is dropped); when the window paints more slowly than
+//! the clip's rate all along, the clip plays every frame more slowly, and the clip bar says at
+//! what rate it is shown ([`ClipPlayer::shown_fps`]).
+//!
 //! Recording runs on the render thread ([`super::render_thread::ClipJob`]): temporal
 //! techniques render the warm-up frames first, so the clip shows them with a real history, and
 //! the thread scores the clip ([`crate::metrics::stability`]) as the frames come in. Playback
@@ -11,9 +19,10 @@
 //! no engine work: recorded clips play at display rate on a machine whose engine makes a few
 //! frames per second.
 
+use std::collections::VecDeque;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use egui::RichText;
 
@@ -31,6 +40,8 @@ pub const DEFAULT_FRAMES: u32 = 48;
 pub const MAX_FRAMES: u32 = 600;
 /// Playback rates from which the UI repaints continuously (below, once per clip frame).
 const REPAINT_EVERY_FRAME_FPS: f64 = 30.0;
+/// The window over which the shown rate is measured.
+const SHOWN_RATE_WINDOW: Duration = Duration::from_secs(1);
 /// Memory a clip may hold unless the user allows more, MiB (pixels on the CPU and the same on
 /// the display device).
 pub const DEFAULT_BUDGET_MIB: u32 = 2048;
@@ -352,6 +363,8 @@ pub struct ClipPlayer {
     /// Back and forth instead of wrapping around.
     pub ping_pong: bool,
     last_tick: Option<Instant>,
+    /// When the shown frame changed while playing, over the last [`SHOWN_RATE_WINDOW`].
+    changes: VecDeque<Instant>,
 }
 
 impl Default for ClipPlayer {
@@ -362,12 +375,14 @@ impl Default for ClipPlayer {
             rate: PlayRate::Fps30,
             ping_pong: false,
             last_tick: None,
+            changes: VecDeque::new(),
         }
     }
 }
 
 impl ClipPlayer {
-    /// Advances the position by the time since the last tick (`now`), over `frames` frames.
+    /// Advances the position by the time since the last tick (`now`), over `frames` frames,
+    /// by at most one frame (see the module docs: no frame is skipped).
     pub fn tick(&mut self, now: Instant, frames: usize) {
         let elapsed = self.last_tick.map_or(0.0, |last| {
             now.saturating_duration_since(last).as_secs_f64()
@@ -379,8 +394,31 @@ impl ClipPlayer {
             } else {
                 frames
             } as f64;
-            self.position = (self.position + elapsed * self.rate.fps()).rem_euclid(period);
+            let step = self.position.floor();
+            // Late: the next frame now, due again at once (the clock is caught up with).
+            let latest = step + 2.0 - 1e-9;
+            let advanced = (self.position + elapsed * self.rate.fps()).min(latest);
+            if advanced.floor() > step {
+                self.changes.push_back(now);
+            }
+            self.position = advanced.rem_euclid(period);
         }
+        while self
+            .changes
+            .front()
+            .is_some_and(|at| now.saturating_duration_since(*at) > SHOWN_RATE_WINDOW)
+        {
+            self.changes.pop_front();
+        }
+    }
+
+    /// Clip frames shown per second over the last second of playback (`None` before a second
+    /// has been played).
+    pub fn shown_fps(&self) -> Option<f64> {
+        let (first, last) = (self.changes.front()?, self.changes.back()?);
+        let span = last.saturating_duration_since(*first);
+        (self.playing && span >= SHOWN_RATE_WINDOW.mul_f64(0.9))
+            .then(|| (self.changes.len() - 1) as f64 / span.as_secs_f64())
     }
 
     /// Seconds until the frame shown changes, while playing.
@@ -391,6 +429,7 @@ impl ClipPlayer {
     /// Stops the clock between ticks (so a pause does not jump on resume).
     pub fn pause_clock(&mut self) {
         self.last_tick = None;
+        self.changes.clear();
     }
 
     /// The frame index shown, of `frames` frames.
@@ -568,6 +607,10 @@ pub fn clip_bar(
                     }
                 });
             ui.checkbox(&mut player.ping_pong, "ping-pong");
+            if let Some(shown) = player.shown_fps().filter(|fps| *fps < 0.95 * player.rate.fps()) {
+                ui.label(RichText::new(format!("shown at {shown:.0} fps")).small().color(style::WARN))
+                    .on_hover_text("The window paints fewer frames per second than the clip's rate: every frame is shown, more slowly");
+            }
             if ui.button("Live").on_hover_text("Back to the live view (the clip stays)").clicked() {
                 action = Some(ClipAction::ShowLive);
             }
@@ -805,23 +848,74 @@ mod tests {
         );
     }
 
+    /// Ticks `player` at `now + at_ms` for every entry of `at_ms`; the frames shown.
+    fn ticks(player: &mut ClipPlayer, now: Instant, at_ms: &[u64]) -> Vec<usize> {
+        at_ms
+            .iter()
+            .map(|ms| {
+                player.tick(now + Duration::from_millis(*ms), 48);
+                player.frame(48)
+            })
+            .collect()
+    }
+
     #[test]
     fn playback_advances_with_time_at_the_chosen_rate() {
         let mut player = ClipPlayer::default();
         let start = Instant::now();
-        player.tick(start, 48);
-        player.tick(start + std::time::Duration::from_millis(500), 48);
-        assert_eq!(player.frame(48), 15, "30 fps for half a second");
+        // UI frames every 10 ms for half a second: 30 fps.
+        let at: Vec<u64> = (0..=50).map(|i| i * 10).collect();
+        assert_eq!(*ticks(&mut player, start, &at).last().unwrap(), 15);
         assert!(
             (player.until_next_frame() - 1.0 / 30.0).abs() < 1e-6,
             "at a frame boundary"
         );
         player.rate = PlayRate::Slow;
-        player.tick(start + std::time::Duration::from_millis(1500), 48);
-        assert_eq!(player.frame(48), 22, "then 7.5 fps for a second");
+        let at: Vec<u64> = (51..=150).map(|i| i * 10).collect();
+        assert_eq!(
+            *ticks(&mut player, start, &at).last().unwrap(),
+            22,
+            "then 7.5 fps for a second"
+        );
         player.playing = false;
-        player.tick(start + std::time::Duration::from_secs(10), 48);
-        assert_eq!(player.frame(48), 22, "paused");
+        assert_eq!(ticks(&mut player, start, &[10_000]), [22], "paused");
+    }
+
+    #[test]
+    fn late_paints_show_the_next_frame_and_catch_up_without_skipping() {
+        let mut player = ClipPlayer::default();
+        let start = Instant::now();
+        // A 30 fps clip painted at 0, 40 and 60 ms, then after a stall of half a second (15
+        // frames late): the next frame, and from there on the clock's pace.
+        let shown = ticks(&mut player, start, &[0, 40, 60, 560, 570, 580, 590, 600]);
+        assert_eq!(shown, [0, 1, 1, 2, 3, 3, 3, 4]);
+        // Every frame of a long run at 25 UI frames per second is shown once, in order.
+        let mut player = ClipPlayer::default();
+        let at: Vec<u64> = (0..=100).map(|i| i * 40).collect();
+        let shown = ticks(&mut player, start, &at);
+        assert!(
+            shown.windows(2).all(|w| w[1] == (w[0] + 1) % 48),
+            "{shown:?}"
+        );
+        let fps = player.shown_fps().expect("a second of playback");
+        assert!((fps - 25.0).abs() < 0.01, "{fps}");
+        // Paints jittering around the clip's period (28-38 ms, 30.3 fps on average) skip
+        // nothing and keep the clip's rate.
+        let mut player = ClipPlayer::default();
+        let mut t = 0;
+        let at: Vec<u64> = (0..300)
+            .map(|i| {
+                t += [28, 38, 29, 37, 33][i % 5];
+                t
+            })
+            .collect();
+        let shown = ticks(&mut player, start, &at);
+        assert!(
+            shown.windows(2).all(|w| (w[1] + 48 - w[0]) % 48 <= 1),
+            "{shown:?}"
+        );
+        let fps = player.shown_fps().expect("a second of playback");
+        assert!(fps > 29.0, "{fps}");
     }
 
     #[test]

@@ -16,7 +16,7 @@ use super::blit;
 use super::difference::{self, HeatInput, HeatJob, HeatKey, HeatResult, heat_color};
 use super::engine::{Published, ReferenceState};
 use super::settings::{DiffMetric, MagnifierSettings};
-use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, SLOT_LETTERS};
+use super::style::{self, REFERENCE_COLOR, SLOT_COLORS};
 use super::worker::Worker;
 use crate::gpu::readback::Region;
 
@@ -382,12 +382,16 @@ impl AaLabApp {
             (lens.height * zoom) as f32 / ppp,
         );
         let mut hover = None;
+        let mut clicked = None;
         let mut pane_rects = Vec::new();
         ui.horizontal_top(|ui| {
             ui.spacing_mut().item_spacing.x = PANE_GAP;
             for source in &sources {
                 ui.vertical(|ui| {
-                    let (rect, response) = ui.allocate_exact_size(pane_points, Sense::hover());
+                    let (rect, response) = ui.allocate_exact_size(pane_points, Sense::click());
+                    if let (true, Source::Technique(slot, _)) = (response.clicked(), *source) {
+                        clicked = Some(slot);
+                    }
                     let rect = Rect::from_min_size(
                         pos2(
                             (rect.min.x * ppp).round() / ppp,
@@ -411,6 +415,9 @@ impl AaLabApp {
             }
         });
         self.magnifier.hover = hover;
+        if let Some(slot) = clicked {
+            self.blind_click(slot);
+        }
         let marked = hover.or(self.viewport.hover_pixel.filter(|(x, y)| {
             *x >= lens.x && *y >= lens.y && *x < lens.x + lens.width && *y < lens.y + lens.height
         }));
@@ -553,9 +560,11 @@ impl AaLabApp {
     /// Letter, colour and name of a pane.
     pub(super) fn source_label(&self, source: Source) -> (&'static str, Color32, String) {
         match source {
-            Source::Technique(slot, id) => {
-                (SLOT_LETTERS[slot], SLOT_COLORS[slot], self.shown_label(id))
-            }
+            Source::Technique(slot, id) => (
+                self.blind.letter(slot),
+                SLOT_COLORS[slot],
+                self.shown_label(id),
+            ),
             Source::Reference => ("R", REFERENCE_COLOR, self.reference_title()),
         }
     }
@@ -570,6 +579,8 @@ impl AaLabApp {
                 Some(ReferenceState::Ready(p)) => format!("accumulating {}/{}", p.samples, p.total),
                 _ => "waiting for a still camera".to_owned(),
             },
+            // Figures would tell the techniques apart.
+            Source::Technique(..) if self.blind.active() => String::new(),
             Source::Technique(_, id) => {
                 let mut parts = Vec::new();
                 let lens = self.lens();

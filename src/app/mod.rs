@@ -5,7 +5,8 @@
 //! - [`AaLabApp`] (app.rs) is the `eframe::App`. Each UI frame it picks up what finished in the
 //!   background, handles shortcuts, hands the engine the next frame to render when it is free,
 //!   then lays out the menu, the technique panel (panels.rs), the magnifier (magnifier.rs), the
-//!   metrics panel (metrics_panel.rs), the status bar and the viewport tiles (viewport.rs).
+//!   metrics panel (metrics_panel.rs), the status bar and the viewport tiles (viewport.rs);
+//!   a blind comparison (blind.rs) numbers and shuffles the panes and records answers.
 //! - The engine never runs on the UI thread: the render thread (render_thread.rs) owns the
 //!   render device, the frame graph and every technique, and does all slow engine work
 //!   (pipeline creation, scene uploads, target resizes, rendering, readback through the one
@@ -23,6 +24,7 @@
 // `app.rs` holds the `eframe::App`, as the module layout of the design names it.
 #[allow(clippy::module_inception)]
 mod app;
+mod blind;
 mod blit;
 mod camera;
 mod clip;
@@ -49,6 +51,7 @@ mod worker;
 use std::sync::Arc;
 
 pub use app::{AaLabApp, LaunchOptions};
+pub use blind::pane_order;
 pub use camera::CameraController;
 pub use clip::{ClipPath, ClipSettings};
 pub use engine::DisplayPath;

@@ -133,6 +133,14 @@ impl AaLabApp {
         }
         ui.separator();
         ui.menu_button("Resolution", |ui| self.resolution_choices(ui));
+        ui.separator();
+        if ui
+            .add_enabled(!self.blind.active(), Button::new("Blind comparison"))
+            .on_hover_text("Number and shuffle the compared techniques' panes, ask which looks better and record every answer (a JSON file in the export folder)")
+            .clicked()
+        {
+            self.start_blind(ui.ctx());
+        }
     }
 
     fn resolution_choices(&mut self, ui: &mut egui::Ui) {
@@ -416,8 +424,9 @@ impl AaLabApp {
         }
         for (slot, id) in compared.iter().enumerate() {
             let name = self.shown_label(id);
-            ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]))
-                .on_hover_text(format!("Compared technique {}: {name}", SLOT_LETTERS[slot]));
+            let letter = self.blind.letter(slot);
+            ui.label(style::badge(letter, SLOT_COLORS[slot]))
+                .on_hover_text(format!("Compared technique {letter}: {name}"));
             ui.label(name);
         }
         if self.images.is_open() {

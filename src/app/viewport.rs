@@ -15,7 +15,7 @@ use super::blit;
 use super::engine::Published;
 use super::magnifier::lens_region;
 use super::settings::{Layout, Resolution};
-use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, SLOT_LETTERS, VIEWPORT_BG};
+use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, VIEWPORT_BG};
 
 /// Gap between grid tiles, in points.
 const GRID_GAP: f32 = 2.0;
@@ -321,6 +321,9 @@ impl AaLabApp {
 
     /// The label text of what a tile shows.
     pub(super) fn shown_label(&self, id: &str) -> String {
+        if let Some(label) = self.blind.label(id) {
+            return label;
+        }
         if let Some(label) = self.image_label(id) {
             return label;
         }
@@ -338,7 +341,7 @@ impl AaLabApp {
             Shown::Technique(slot, id) => style::chip(
                 painter,
                 at,
-                SLOT_LETTERS[slot],
+                self.blind.letter(slot),
                 SLOT_COLORS[slot],
                 &self.shown_label(id),
             ),
@@ -619,6 +622,21 @@ impl AaLabApp {
             let scroll = ctx.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
                 self.camera.zoom(scroll);
+            }
+        }
+        // During a blind comparison a plain click answers with the pane under the pointer.
+        if response.clicked()
+            && !ctx.input(|i| i.modifiers.command)
+            && let Some(p) = pointer
+        {
+            let slot = match self.settings.layout {
+                Layout::Grid => tiles.iter().position(|t| t.rect.contains(p)),
+                Layout::Wipe => Some(usize::from(divider_x.is_some_and(|x| p.x >= x))),
+                Layout::Flip => Some(usize::from(ctx.input(|i| i.key_down(egui::Key::B)))),
+                Layout::Single => Some(0),
+            };
+            if let Some(slot) = slot {
+                self.blind_click(slot);
             }
         }
         self.nudge_lens(&ctx);

@@ -214,6 +214,23 @@ mod tests {
         assert_eq!(u32::from_be_bytes(actl[0..4].try_into().unwrap()), 4);
         assert_eq!(u32::from_be_bytes(actl[4..8].try_into().unwrap()), 0);
         assert_eq!(chunks.iter().filter(|(k, _)| k == b"fcTL").count(), 4);
+        // The first frame is the default image (its fcTL comes before IDAT); every fcTL and
+        // fdAT carries the next sequence number in file order; every frame lasts 1/30 s.
+        let position = |kind: &[u8; 4]| chunks.iter().position(|(k, _)| k == kind).unwrap();
+        assert!(position(b"acTL") < position(b"fcTL"));
+        assert!(position(b"fcTL") < position(b"IDAT"));
+        let be16 = |b: &[u8]| u16::from_be_bytes(b.try_into().unwrap());
+        let mut sequence = 0;
+        for (kind, data) in &chunks {
+            if kind == b"fcTL" || kind == b"fdAT" {
+                assert_eq!(u32::from_be_bytes(data[0..4].try_into().unwrap()), sequence);
+                sequence += 1;
+            }
+            if kind == b"fcTL" {
+                assert_eq!((be16(&data[20..22]), be16(&data[22..24])), (1, 30));
+            }
+        }
+        assert!(sequence > 4, "frames after the first are fdAT chunks");
         // Decodes back to the same frames.
         let decoder = image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes)).unwrap();
         let decoded: Vec<_> = image::AnimationDecoder::into_frames(decoder.apng().unwrap())

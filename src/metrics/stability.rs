@@ -322,6 +322,25 @@ mod tests {
     }
 
     #[test]
+    fn a_static_technique_scores_zero_and_a_flickering_one_its_known_ratio() {
+        // The reference brightens every pixel by 3 levels per frame (C_R = 3). A technique
+        // that never changes scores 0; one whose every pixel alternates between 0 and 255
+        // changes by 255 per frame: 85 times the reference.
+        let mut metrics = ClipMetrics::new(2);
+        for t in 0..5u8 {
+            let reference = grey(4, 3, |_, _| 100 + 3 * t);
+            let still = grey(4, 3, |_, _| 100);
+            let flicker = grey(4, 3, |_, _| if t % 2 == 0 { 0 } else { 255 });
+            metrics.push(&reference, &[&still, &flicker]).unwrap();
+        }
+        let scores = metrics.scores();
+        assert!(close(scores[0].mean_change, 0.0));
+        assert!(close(scores[0].temporal_instability, 0.0));
+        assert!(close(scores[1].mean_change, 255.0));
+        assert!(close(scores[1].temporal_instability, 85.0));
+    }
+
+    #[test]
     fn instability_divides_by_the_reference() {
         // Reference: every pixel up by 2 levels per frame (C_R = 2). Technique: up by 2 then
         // down by 6 (C_T = 4): twice as unsteady.
