@@ -924,7 +924,7 @@ fn a_user_technique_runs_shows_its_errors_and_reloads_when_its_file_changes() {
     });
     assert!(
         harness
-            .query_by_label_contains("mine.wgsl:2:12: error")
+            .query_by_label_contains("mine.wgsl:2:12: no definition")
             .is_some(),
         "the error is not in the technique's panel"
     );

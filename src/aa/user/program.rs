@@ -50,11 +50,11 @@ impl fmt::Display for LoadError {
         match self.location {
             Some((line, column)) => write!(
                 f,
-                "{}:{line}:{column}: error: {}",
+                "{}:{line}:{column}: {}",
                 self.path.display(),
                 self.message
             )?,
-            None => write!(f, "{}: error: {}", self.path.display(), self.message)?,
+            None => write!(f, "{}: {}", self.path.display(), self.message)?,
         }
         if let Some(excerpt) = &self.excerpt {
             write!(f, "\n{excerpt}")?;
@@ -331,7 +331,7 @@ fn overrides(module: &naga::Module, layout: &Layout<'_>) -> Result<Vec<OverrideP
             .nth(line as usize - 1)
             .unwrap_or_default();
         let comment = text.split_once("//").map_or("", |(_, c)| c.trim());
-        let (range, help) = parse_range(comment)
+        let Annotation { range, help } = parse_range(comment)
             .map_err(|reason| layout.at(line, column, format!("override `{name}`: {reason}")))?;
         let kind = param_kind(ty, default, range);
         let default_value = match ty {
@@ -376,18 +376,30 @@ fn overrides(module: &naga::Module, layout: &Layout<'_>) -> Result<Vec<OverrideP
     Ok(params)
 }
 
+/// What a declaration's trailing comment says: an optional `[MIN, MAX]` range, then help.
+struct Annotation<'a> {
+    range: Option<(f64, f64)>,
+    help: &'a str,
+}
+
 /// Splits a declaration's trailing comment into an optional `[MIN, MAX]` range and the help
 /// text after it.
-fn parse_range(comment: &str) -> Result<(Option<(f64, f64)>, &str), String> {
+fn parse_range(comment: &str) -> Result<Annotation<'_>, String> {
     let Some(rest) = comment.strip_prefix('[') else {
-        return Ok((None, comment));
+        return Ok(Annotation {
+            range: None,
+            help: comment,
+        });
     };
     let malformed = || format!("`{comment}` does not start with a range `[MIN, MAX]`");
     let (inside, help) = rest.split_once(']').ok_or_else(malformed)?;
     let (min, max) = inside.split_once(',').ok_or_else(malformed)?;
     let parse = |s: &str| s.trim().parse::<f64>().ok().filter(|x| x.is_finite());
     match (parse(min), parse(max)) {
-        (Some(min), Some(max)) if min < max => Ok((Some((min, max)), help.trim())),
+        (Some(min), Some(max)) if min < max => Ok(Annotation {
+            range: Some((min, max)),
+            help: help.trim(),
+        }),
         _ => Err(malformed()),
     }
 }
@@ -444,7 +456,7 @@ mod tests {
         .expect_err("undefined name");
         assert_eq!(err.location, Some((4, 12)), "{err}");
         let text = err.to_string();
-        assert!(text.starts_with("mine.wgsl:4:12: error:"), "{text}");
+        assert!(text.starts_with("mine.wgsl:4:12: no definition"), "{text}");
         assert!(text.contains("return nope;"), "{text}");
     }
 
