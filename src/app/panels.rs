@@ -665,7 +665,7 @@ impl AaLabApp {
             if let Some(reason) = &reason
                 && crate::aa::user::is_user_id(id)
             {
-                file_error(ui, reason);
+                file_error(ui, &format!("The file does not build: {reason}"));
             } else if let Some(reason) = &reason {
                 ui.label(
                     RichText::new("not available on this adapter")
@@ -675,7 +675,10 @@ impl AaLabApp {
                 .on_hover_text(reason);
             } else {
                 if let Some(problem) = &problem {
-                    file_error(ui, problem);
+                    file_error(
+                        ui,
+                        &format!("The last change does not build; the previous build still runs: {problem}"),
+                    );
                 }
                 if enabled {
                     self.technique_settings(ui, id);
