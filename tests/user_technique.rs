@@ -106,16 +106,14 @@ fn a_pass_through_reproduces_no_aa_bit_for_bit() {
 fn a_broken_file_is_reported_with_its_line_and_column() {
     let dir = tempfile::tempdir().expect("temp dir");
     let out = dir.path().join("out");
-    let out = out.to_str().expect("utf-8");
-    let broken = dir.path().join("broken.wgsl");
-    std::fs::write(
-        &broken,
-        "// a typo on line 4\n\nfn aa_main(pixel: vec2<u32>, uv: vec2<f32>) -> vec4<f32> {\n    return aa_lod(vec2<i32>(pixel));\n}\n",
-    )
-    .expect("write");
-    let technique = user_arg(&broken);
-    let text = fails_with(
-        &[
+    // Writes `name` with `bytes` (when given) and checks that rendering it fails with `needles`.
+    let fails = |name: &str, bytes: Option<&[u8]>, needles: &[&str]| {
+        let file = dir.path().join(name);
+        if let Some(bytes) = bytes {
+            std::fs::write(&file, bytes).expect("write");
+        }
+        let technique = user_arg(&file);
+        let args = [
             "render",
             "--scene",
             "chart",
@@ -124,68 +122,27 @@ fn a_broken_file_is_reported_with_its_line_and_column() {
             "--technique",
             &technique,
             "--out",
-            out,
-        ],
+            out.to_str().expect("utf-8"),
+        ];
+        fails_with(&args, needles)
+    };
+    let text = fails(
+        "broken.wgsl",
+        Some(b"// a typo on line 4\n\nfn aa_main(pixel: vec2<u32>, uv: vec2<f32>) -> vec4<f32> {\n    return aa_lod(vec2<i32>(pixel));\n}\n"),
         &["broken.wgsl:4:12: ", "aa_lod"],
     );
     assert!(text.contains("return aa_lod"), "{text}");
-
-    let wrong = dir.path().join("wrong.wgsl");
-    std::fs::write(
-        &wrong,
-        "fn aa_main(pixel: vec2<i32>) -> vec4<f32> {\n    return aa_load(pixel);\n}\n",
-    )
-    .expect("write");
-    let technique = user_arg(&wrong);
-    fails_with(
-        &[
-            "render",
-            "--scene",
-            "chart",
-            "--size",
-            "32x18",
-            "--technique",
-            &technique,
-            "--out",
-            out,
-        ],
+    fails(
+        "wrong.wgsl",
+        Some(b"fn aa_main(pixel: vec2<i32>) -> vec4<f32> {\n    return aa_load(pixel);\n}\n"),
         &["wrong.wgsl:1:1: ", program::CONTRACT],
     );
-
-    let binary = dir.path().join("binary.wgsl");
-    std::fs::write(&binary, b"fn aa_main\xff\xfe").expect("write");
-    let technique = user_arg(&binary);
-    fails_with(
-        &[
-            "render",
-            "--scene",
-            "chart",
-            "--size",
-            "32x18",
-            "--technique",
-            &technique,
-            "--out",
-            out,
-        ],
+    fails(
+        "binary.wgsl",
+        Some(b"fn aa_main\xff\xfe"),
         &["binary.wgsl:1:11: ", "not UTF-8"],
     );
-
-    let missing = dir.path().join("missing.wgsl");
-    let technique = user_arg(&missing);
-    fails_with(
-        &[
-            "render",
-            "--scene",
-            "chart",
-            "--size",
-            "32x18",
-            "--technique",
-            &technique,
-            "--out",
-            out,
-        ],
-        &["missing.wgsl", "cannot read"],
-    );
+    fails("missing.wgsl", None, &["missing.wgsl", "cannot read"]);
 }
 
 #[test]
