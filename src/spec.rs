@@ -21,6 +21,20 @@ pub struct TechniqueSpec {
     /// Every parameter's value (missing keys keep their defaults).
     #[serde(default)]
     pub settings: ParamMap,
+    /// A user technique's content hash (see `aa::user`): the file must still hash to it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source_hash: Option<String>,
+}
+
+impl TechniqueSpec {
+    /// The record of a technique as it is set up now.
+    pub fn of(technique: &dyn aa::Technique) -> Self {
+        Self {
+            id: technique.id().to_owned(),
+            settings: aa::param_map(technique),
+            source_hash: technique.source_hash(),
+        }
+    }
 }
 
 /// Everything that determines a render.
@@ -171,9 +185,7 @@ pub fn build_graph(gpu: &Gpu, scene: &Scene, spec: &RenderSpec) -> Result<FrameG
     }
     let mut graph = FrameGraph::new(gpu.clone(), scene);
     for t in &spec.techniques {
-        let mut technique = aa::create(gpu, &t.id)?;
-        aa::apply_param_map(technique.as_mut(), &t.settings).map_err(TechniqueError::from)?;
-        graph.add(technique);
+        graph.add(aa::create_recorded(gpu, t)?);
     }
     Ok(graph)
 }

@@ -324,6 +324,7 @@ fn sample_spec() -> RenderSpec {
         techniques: vec![TechniqueSpec {
             id: "msaa4".to_owned(),
             settings: Default::default(),
+            source_hash: None,
         }],
         adapter: Some("fuzz".to_owned()),
         build: None,

@@ -7,6 +7,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use aa_lab::aa::user::program;
 use aa_lab::gpu::shader::{SHADERS, Shader};
 
 /// Every `.wgsl` file under `dir`, recursively, as a path relative to the repository root
@@ -50,10 +51,27 @@ fn listed() -> BTreeMap<&'static str, Shader> {
     let all = SHADERS
         .iter()
         .chain(techniques.iter().flat_map(|t| t.shaders.iter()));
-    for shader in all {
+    for shader in all.chain(USER_FRAGMENTS) {
         listed.insert(shader.path, *shader);
     }
     listed
+}
+
+/// The prelude and epilogue of user techniques: not shaders on their own, but validated around
+/// every example user technique by
+/// `every_example_user_technique_compiles_between_the_prelude_and_epilogue`.
+const USER_FRAGMENTS: [&Shader; 2] = [&program::PRELUDE, &program::EPILOGUE];
+
+/// The example user techniques under `assets/user_techniques/`.
+fn example_user_techniques() -> Vec<PathBuf> {
+    let dir = root().join("assets/user_techniques");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "wgsl"))
+        .collect();
+    files.sort();
+    files
 }
 
 #[test]
@@ -65,7 +83,8 @@ fn every_shader_validates_with_naga() {
         "shaders missing: {files:?}"
     );
     let mut failures = Vec::new();
-    for name in &files {
+    let fragments: Vec<&str> = USER_FRAGMENTS.iter().map(|s| s.path).collect();
+    for name in files.iter().filter(|f| !fragments.contains(&f.as_str())) {
         let source = std::fs::read_to_string(root().join(name)).expect("readable shader");
         let module = match naga::front::wgsl::parse_str(&source) {
             Ok(module) => module,
@@ -131,4 +150,16 @@ fn shared_shaders_stay_in_shaders_and_technique_shaders_in_their_folders() {
     names.sort_unstable();
     names.dedup();
     assert_eq!(names.len(), SHADERS.len());
+}
+
+#[test]
+fn every_example_user_technique_compiles_between_the_prelude_and_epilogue() {
+    let examples = example_user_techniques();
+    assert!(!examples.is_empty(), "no example in assets/user_techniques");
+    for path in examples {
+        let bytes = std::fs::read(&path).expect("readable example");
+        if let Err(err) = program::compile(&path, &bytes) {
+            panic!("{err}");
+        }
+    }
 }

@@ -1059,3 +1059,65 @@ fn images_open_as_panes_and_are_measured_against_the_chosen_reference() {
     });
     wait(&mut harness, "a frame of the model", AaLabApp::frame_ready);
 }
+
+/// A user technique added from a WGSL file (File > Add technique from file) runs beside the
+/// built-ins: a pass-through shows No AA's pixels; an edit that does not compile shows its
+/// error with the file, line and column in the technique's panel while the last good build
+/// keeps running; fixing the file rebuilds it.
+#[test]
+fn a_user_technique_runs_shows_its_errors_and_reloads_when_its_file_changes() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("mine.wgsl");
+    let main = |body: &str| {
+        format!("fn aa_main(pixel: vec2<u32>, uv: vec2<f32>) -> vec4<f32> {{\n    {body}\n}}\n")
+    };
+    std::fs::write(&file, main("return aa_load(vec2<i32>(pixel));")).expect("write");
+    let mut harness = viewer("chart");
+    // FXAA off, so that the new technique is among the four compared (and read back).
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::CheckBox, "FXAA")
+        .click();
+    harness.step();
+    harness.state_mut().add_user_technique(file.clone());
+    let id = format!(
+        "user:{}",
+        std::fs::canonicalize(&file).expect("canonical").display()
+    );
+    wait(&mut harness, "the user technique's output", |app| {
+        app.frame_ready() && app.output_pixels(&id).is_some()
+    });
+    assert!(harness.state().compared().contains(&id.as_str()));
+    let none = harness
+        .state()
+        .output_pixels("none")
+        .expect("No AA's output");
+    let user = harness.state().output_pixels(&id).expect("the output");
+    assert!(*none == *user, "the pass-through differs from No AA");
+
+    std::fs::write(&file, main("return aa_lod(vec2<i32>(pixel));")).expect("edit");
+    wait(&mut harness, "the compile error", |app| {
+        app.notices()
+            .iter()
+            .any(|n| n.text.contains("mine.wgsl:2:12"))
+    });
+    let in_panel = "the previous build still runs: ";
+    let shown = harness
+        .query_by_label_contains(in_panel)
+        .map(|node| format!("{node:?}"));
+    assert!(
+        shown
+            .as_ref()
+            .is_some_and(|text| text.contains("mine.wgsl:2:12: no definition")),
+        "the error is not in the technique's panel: {shown:?}"
+    );
+    assert!(harness.state().output_pixels(&id).is_some());
+
+    std::fs::write(&file, main("return vec4<f32>(1.0, 0.0, 0.0, 1.0);")).expect("fix");
+    wait(&mut harness, "the rebuilt technique's frame", |app| {
+        app.frame_ready()
+            && app
+                .output_pixels(&id)
+                .is_some_and(|p| p.get_pixel(0, 0).0 == [255, 0, 0, 255])
+    });
+    assert!(harness.query_by_label_contains(in_panel).is_none());
+}

@@ -26,6 +26,7 @@ pub mod smaa;
 pub mod smaa_4x;
 pub mod ssaa;
 pub mod taa;
+pub mod user;
 
 pub use crate::graph::params::{self, Named, Param, ParamError, ParamKind, ParamMap, ParamValue};
 pub use crate::graph::technique::{DebugView, FrameInfo, SceneInput, Technique};
@@ -50,6 +51,22 @@ pub enum TechniqueError {
     /// A setting was rejected.
     #[error(transparent)]
     Param(#[from] ParamError),
+    /// A user technique's file could not be read, compiled or built (see [`user`]).
+    #[error(transparent)]
+    User(#[from] user::LoadError),
+    /// A record's user technique file no longer has the contents the record was made with.
+    #[error(
+        "{path} has changed since the record was made (content hash {recorded}, now {current}); \
+         restore the file, or render it again without the record"
+    )]
+    SourceChanged {
+        /// The file.
+        path: String,
+        /// The hash in the record.
+        recorded: String,
+        /// The file's hash now.
+        current: String,
+    },
 }
 
 /// Why a technique cannot run on a finished image (image mode), or `None` when it can: only
@@ -96,14 +113,39 @@ pub fn param_map(technique: &dyn Technique) -> ParamMap {
         .collect()
 }
 
+/// Creates the technique of a record's entry with its settings, refusing a user technique
+/// whose file changed since the record was made.
+pub fn create_recorded(
+    gpu: &Gpu,
+    spec: &crate::spec::TechniqueSpec,
+) -> Result<Box<dyn Technique>, TechniqueError> {
+    let mut technique = create(gpu, &spec.id)?;
+    if let (Some(recorded), Some(current)) = (&spec.source_hash, technique.source_hash())
+        && *recorded != current
+    {
+        return Err(TechniqueError::SourceChanged {
+            path: user::path_of(&spec.id)
+                .map_or_else(|| spec.id.clone(), |p| p.display().to_string()),
+            recorded: recorded.clone(),
+            current,
+        });
+    }
+    apply_param_map(technique.as_mut(), &spec.settings)?;
+    Ok(technique)
+}
+
 /// Restores settings from a map (sidecar form); every key must be known and valid.
 pub fn apply_param_map(technique: &mut dyn Technique, map: &ParamMap) -> Result<(), ParamError> {
     map.iter()
         .try_for_each(|(key, value)| set_param(technique, key, value.clone()))
 }
 
-/// Creates a technique ready to use.
+/// Creates a technique ready to use: a registered one by id, or a user technique
+/// (`user:PATH`, see [`user`]); this is the one place that resolves user ids.
 pub fn create(gpu: &Gpu, id: &str) -> Result<Box<dyn Technique>, TechniqueError> {
+    if user::is_user_id(id) {
+        return Ok(user::create(gpu, id)?);
+    }
     let all = registry();
     let info = all.iter().find(|t| t.id == id).ok_or_else(|| {
         TechniqueError::Unknown(

@@ -71,8 +71,12 @@ pub fn info(id: &str) -> Option<TechniqueInfo> {
     registry().into_iter().find(|t| t.id == id)
 }
 
-/// The display name of a registered technique (its id when it is not registered): the label
-/// of techniques whose settings do not change what they are.
+/// The display name of a registered technique or a user technique (`user:PATH`; any other
+/// id as it is): the label of techniques whose settings do not change what they are.
 pub fn display_name(id: &str) -> String {
-    info(id).map_or_else(|| id.to_owned(), |info| info.name.to_owned())
+    match info(id) {
+        Some(info) => info.name.to_owned(),
+        None if super::user::is_user_id(id) => super::user::display_name(id),
+        None => id.to_owned(),
+    }
 }

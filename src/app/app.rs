@@ -86,6 +86,8 @@ pub(super) enum DialogPurpose {
     ExportFolder,
     /// Open the picked images as panes.
     OpenImages,
+    /// Add the picked WGSL file as a user technique.
+    AddTechnique,
 }
 
 /// Facts about the loaded scene.
@@ -379,6 +381,29 @@ impl AaLabApp {
         });
     }
 
+    /// Adds the user technique in the WGSL file at `path` (see `aa::user`; File > Add
+    /// technique from file): the render thread builds it, and it appears in the techniques
+    /// panel, switched on, or with its file's error.
+    pub fn add_user_technique(&mut self, path: PathBuf) {
+        match &mut self.engine {
+            Some(engine) => engine.add_user_technique(path),
+            None => self.notify(
+                Level::Warning,
+                "techniques can be added once the scene has loaded".to_owned(),
+            ),
+        }
+    }
+
+    /// Asks the OS for a WGSL file to add as a user technique (see `aa::user`).
+    pub(super) fn add_technique_dialog(&mut self, ctx: &egui::Context) {
+        self.ask_for_path(ctx, DialogPurpose::AddTechnique, || {
+            rfd::FileDialog::new()
+                .set_title("Add a technique written in WGSL")
+                .add_filter("WGSL shaders", &["wgsl", "WGSL"])
+                .pick_file()
+        });
+    }
+
     /// Runs a file dialog on a helper thread (a dialog never blocks frames); its answer is
     /// handled by [`AaLabApp::dialog_answered`]. One dialog at a time.
     pub(super) fn ask_for_path(
@@ -432,6 +457,7 @@ impl AaLabApp {
             DialogPurpose::ExportBookmarks(marks) => self.write_bookmarks(&path, &marks),
             DialogPurpose::ImportBookmarks(scene) => self.read_bookmarks(&path, &scene),
             DialogPurpose::ExportFolder => self.use_export_dir(path),
+            DialogPurpose::AddTechnique => self.add_user_technique(path),
         }
     }
 

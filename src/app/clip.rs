@@ -751,6 +751,7 @@ impl super::app::AaLabApp {
                 .map(|id| crate::spec::TechniqueSpec {
                     id: (*id).to_owned(),
                     settings: engine.param_map(id),
+                    source_hash: engine.source_hash(id),
                 })
                 .collect(),
             reference_samples: settings.reference.then_some(settings.reference_samples),

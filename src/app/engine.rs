@@ -172,6 +172,8 @@ pub struct TechniqueEntry {
     pub enabled: bool,
     /// The debug view shown instead of the output (by name), if any.
     pub debug_view: Option<String>,
+    /// A user technique's file no longer builds (the last good build still runs): the error.
+    pub problem: Option<String>,
     /// Its settings as the render thread last reported them (`None` until it is ready).
     settings: Option<TechniqueSettings>,
     rendered: Option<Stamp>,
@@ -308,6 +310,7 @@ impl Engine {
                 availability: (info.availability)(&caps),
                 enabled: false,
                 debug_view: None,
+                problem: None,
                 settings: None,
                 rendered: None,
                 dirty: false,
@@ -581,6 +584,13 @@ impl Engine {
             .and_then(|s| s.path_note.clone())
     }
 
+    /// The content hash of a user technique's file, as the render thread built it.
+    pub fn source_hash(&self, id: &str) -> Option<String> {
+        self.entry(id)
+            .and_then(|e| e.settings.as_ref())
+            .and_then(|s| s.source_hash.clone())
+    }
+
     /// The settings of a technique as a map (sidecar form).
     pub fn param_map(&self, id: &str) -> aa::ParamMap {
         self.params(id)
@@ -821,6 +831,13 @@ impl Engine {
                     self.in_flight = None;
                     self.stopped = Some(format!(": {err}"));
                 }
+                Event::UserTechnique {
+                    index,
+                    id,
+                    name,
+                    result,
+                } => self.user_technique(index, id, &name, result, &mut publication),
+                Event::UserRefused(reason) => publication.problems.push(reason),
             }
         }
         if let Some(reason) = &self.stopped {
@@ -829,6 +846,70 @@ impl Engine {
                 .push(EngineError::Stopped(reason.clone()).to_string());
         }
         publication
+    }
+
+    /// Adds the user technique in `path` (see `aa::user`), or rebuilds it if it is there:
+    /// the render thread reads and builds it, and it appears in [`Engine::entries`], switched
+    /// on, when it answers (with its error when the file does not build).
+    pub fn add_user_technique(&mut self, path: std::path::PathBuf) {
+        self.send(Command::AddUser(path));
+    }
+
+    /// A user technique's (re)build from the render thread: a new entry at the next index, or
+    /// new settings and a re-render, or the error of its file.
+    fn user_technique(
+        &mut self,
+        index: usize,
+        id: &'static str,
+        name: &str,
+        result: Result<TechniqueSettings, String>,
+        publication: &mut Publication,
+    ) {
+        let added = index == self.entries.len();
+        if added {
+            let path = aa::user::path_of(id).map_or_else(String::new, |p| p.display().to_string());
+            self.entries.push(TechniqueEntry {
+                id,
+                name: aa::user::intern(name),
+                summary: aa::user::intern(&format!(
+                    "Your technique from {path}: a post-process pass over the scene render, \
+                     reloaded when the file changes."
+                )),
+                availability: Ok(()),
+                enabled: false,
+                debug_view: None,
+                problem: None,
+                settings: None,
+                rendered: None,
+                dirty: false,
+                revision: 0,
+                output: None,
+                debug_images: Vec::new(),
+            });
+        }
+        let Some(entry) = self.entries.get_mut(index) else {
+            return;
+        };
+        match result {
+            Ok(settings) => {
+                // The first build that works switches it on.
+                entry.enabled |= entry.settings.is_none();
+                entry.availability = Ok(());
+                entry.settings = Some(settings);
+                entry.problem = None;
+                entry.dirty = true;
+                entry.revision += 1;
+            }
+            Err(error) => {
+                publication.problems.push(error.clone());
+                if entry.settings.is_some() {
+                    entry.problem = Some(error);
+                } else {
+                    entry.availability = Err(error);
+                    entry.enabled = false;
+                }
+            }
+        }
     }
 
     fn ready_techniques(&mut self, techniques: Vec<Result<TechniqueSettings, String>>) {

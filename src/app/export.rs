@@ -233,6 +233,7 @@ impl AaLabApp {
             .map(|e| TechniqueSpec {
                 id: e.id.to_owned(),
                 settings: engine.param_map(e.id),
+                source_hash: engine.source_hash(e.id),
             })
             .collect();
         Some(RenderSpec {
@@ -361,13 +362,14 @@ impl AaLabApp {
             let Some(output) = engine.output(entry.id).and_then(|o| o.pixels.as_ref()) else {
                 continue;
             };
-            images.push((entry.id.to_owned(), Arc::clone(output)));
+            let name = crate::aa::user::file_name_part(entry.id);
+            images.push((name.to_string(), Arc::clone(output)));
             if let (Some(view), Some(image)) = (
                 &entry.debug_view,
                 engine.image(entry.id).and_then(|i| i.pixels.as_ref()),
             ) && !Arc::ptr_eq(image, output)
             {
-                images.push((format!("{}-{view}", entry.id), Arc::clone(image)));
+                images.push((format!("{name}-{view}"), Arc::clone(image)));
             }
         }
         let scene = self.scene.as_ref().map_or("scene", |s| s.name.as_str());

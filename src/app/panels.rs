@@ -60,6 +60,13 @@ impl AaLabApp {
         {
             self.open_images_dialog(ctx);
         }
+        if ui
+            .button("Add technique from file…")
+            .on_hover_text(USER_TECHNIQUE_HINT)
+            .clicked()
+        {
+            self.add_technique_dialog(ctx);
+        }
         if self.images.is_open()
             && ui
                 .button("Close images")
@@ -565,6 +572,13 @@ impl AaLabApp {
                     }
                     if self.engine.is_none() {
                         ui.weak("The techniques appear once the scene is loaded.");
+                    } else if ui
+                        .small_button("Add technique from file…")
+                        .on_hover_text(USER_TECHNIQUE_HINT)
+                        .clicked()
+                    {
+                        let ctx = ui.ctx().clone();
+                        self.add_technique_dialog(&ctx);
                     }
                 });
             });
@@ -575,12 +589,13 @@ impl AaLabApp {
         let Some(entry) = engine.entry(id) else {
             return;
         };
-        let (name, summary, available, reason, enabled) = (
+        let (name, summary, available, reason, enabled, problem) = (
             entry.name,
             entry.summary,
             entry.available(),
             entry.availability.clone().err(),
             entry.enabled,
+            entry.problem.clone(),
         );
         let key = if available {
             *number += 1;
@@ -656,15 +671,27 @@ impl AaLabApp {
                     }
                 });
             });
-            if let Some(reason) = &reason {
+            if let Some(reason) = &reason
+                && crate::aa::user::is_user_id(id)
+            {
+                file_error(ui, &format!("The file does not build: {reason}"));
+            } else if let Some(reason) = &reason {
                 ui.label(
                     RichText::new("not available on this adapter")
                         .small()
                         .weak(),
                 )
                 .on_hover_text(reason);
-            } else if enabled {
-                self.technique_settings(ui, id);
+            } else {
+                if let Some(problem) = &problem {
+                    file_error(
+                        ui,
+                        &format!("The last change does not build; the previous build still runs: {problem}"),
+                    );
+                }
+                if enabled {
+                    self.technique_settings(ui, id);
+                }
             }
         });
         if let Some(on) = toggled {
@@ -777,6 +804,24 @@ impl AaLabApp {
             self.notify(Level::Error, err);
         }
     }
+}
+
+/// What "Add technique from file" does, for its tooltips.
+const USER_TECHNIQUE_HINT: &str = "Run your own post-process pass, written in WGSL, beside the \
+     built-in techniques, with the same metrics and exports (README: \"Your own technique in \
+     WGSL\"); it is rebuilt whenever the file changes";
+
+/// A user technique file's error (compiler message with file, line and column), in its row.
+fn file_error(ui: &mut egui::Ui, text: &str) {
+    ui.add(
+        egui::Label::new(
+            RichText::new(text)
+                .small()
+                .monospace()
+                .color(Color32::from_rgb(255, 130, 110)),
+        )
+        .wrap(),
+    );
 }
 
 /// The widget of one parameter of technique `id`; the new value when the user changed it

@@ -10,7 +10,10 @@
 //! state only when the previous frame is back, so a request never waits behind an outdated one
 //! and the thread never renders a frame nobody asked for. Techniques are addressed by their
 //! registry index (the UI's entry index); a technique whose pipelines cannot be created here
-//! is reported unavailable in [`Event::Ready`] and ignored afterwards.
+//! is reported unavailable in [`Event::Ready`] and ignored afterwards. User techniques
+//! ([`Command::AddUser`], `aa::user`) take the next indices after the registry's, in the order
+//! added; their files are looked at about once a second and rebuilt when they change
+//! ([`Event::UserTechnique`]), the last good build running on while a change does not compile.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, mpsc};
@@ -40,6 +43,8 @@ pub struct TechniqueSettings {
     pub path_note: Option<String>,
     /// Whether it keeps state across frames.
     pub temporal: bool,
+    /// The content hash of a user technique's file (see `aa::user`).
+    pub source_hash: Option<String>,
 }
 
 impl TechniqueSettings {
@@ -49,6 +54,7 @@ impl TechniqueSettings {
             presets: technique.presets(),
             path_note: technique.path_note(),
             temporal: technique.temporal(),
+            source_hash: technique.source_hash(),
         }
     }
 }
@@ -189,6 +195,8 @@ pub enum Command {
     Render(FramePlan),
     /// Record a clip.
     Clip(ClipJob),
+    /// Add the user technique in this file (`aa::user`), or rebuild it if it is there.
+    AddUser(std::path::PathBuf),
 }
 
 /// Answers to the UI.
@@ -220,6 +228,21 @@ pub enum Event {
     ClipEnd(Result<ClipSummary, RenderError>),
     /// The thread could not start; it has ended.
     Failed(RenderError),
+    /// A user technique was added (`index` is the next one) or its file was rebuilt: its
+    /// settings, or the error that stops it (a rebuild's error leaves the last good build
+    /// running).
+    UserTechnique {
+        /// Registry index.
+        index: usize,
+        /// Its id (`user:PATH`).
+        id: &'static str,
+        /// Its display name.
+        name: String,
+        /// Its settings, or what is wrong with its file.
+        result: Result<TechniqueSettings, String>,
+    },
+    /// A file given to [`Command::AddUser`] could not even be named (it does not exist).
+    UserRefused(String),
 }
 
 /// The device the thread renders on.
@@ -270,8 +293,13 @@ impl RenderThread {
                             return;
                         }
                     };
-                while let Ok(command) = command_receiver.recv() {
-                    state.handle(command, &send);
+                loop {
+                    match command_receiver.recv_timeout(aa::user::watch::INTERVAL) {
+                        Ok(command) => state.handle(command, &send),
+                        Err(mpsc::RecvTimeoutError::Timeout) => {}
+                        Err(mpsc::RecvTimeoutError::Disconnected) => break,
+                    }
+                    state.reload_user_techniques(&send);
                 }
             })?;
         Ok(Self { commands, events })
@@ -312,6 +340,10 @@ struct RenderState {
     /// Every image of a frame goes back through one staging buffer, mapped once.
     belt: ReadbackBelt,
     uploader: Uploader,
+    /// User technique files, by registry index.
+    watcher: aa::user::watch::Watcher,
+    /// Registry index and id of every user technique.
+    user_ids: Vec<(usize, &'static str)>,
 }
 
 impl RenderState {
@@ -361,6 +393,8 @@ impl RenderState {
             reference_samples,
             timings_serial: 0,
             uploader,
+            watcher: aa::user::watch::Watcher::default(),
+            user_ids: Vec::new(),
         };
         Ok((state, ready))
     }
@@ -382,6 +416,68 @@ impl RenderState {
             Command::Clip(job) => {
                 let end = self.record_clip(&job, send);
                 send(Event::ClipEnd(end));
+            }
+            Command::AddUser(path) => self.add_user(&path, send),
+        }
+    }
+
+    /// Adds the user technique of `path` at the next registry index (with its error, when it
+    /// does not build), or rebuilds it when it was added before.
+    fn add_user(&mut self, path: &std::path::Path, send: &dyn Fn(Event)) {
+        let id = match aa::user::interned_id(path) {
+            Ok(id) => id,
+            Err(err) => return send(Event::UserRefused(err.to_string())),
+        };
+        let index = match self.user_ids.iter().find(|(_, known)| *known == id) {
+            Some(&(index, _)) => index,
+            None => {
+                let index = self.slots.len();
+                self.slots.push(None);
+                self.user_ids.push((index, id));
+                self.watcher
+                    .watch(index, aa::user::path_of(id).unwrap_or(path));
+                index
+            }
+        };
+        send(self.build_user(index, id));
+    }
+
+    /// Builds the user technique at `index` from its file, keeping the settings of the build
+    /// it replaces where they still apply.
+    fn build_user(&mut self, index: usize, id: &'static str) -> Event {
+        let result = aa::create(&self.gpu, id).map_err(|e| e.to_string());
+        let result = result.map(|mut technique| {
+            if let Some(slot) = self.slots[index] {
+                let previous = aa::param_map(self.graph.slots()[slot].technique.as_ref());
+                for (key, value) in previous {
+                    // A setting the new file no longer has (or ranges differently) is dropped.
+                    let _ = aa::set_param(technique.as_mut(), &key, value);
+                }
+            }
+            let settings = TechniqueSettings::of(technique.as_ref());
+            match self.slots[index] {
+                Some(slot) => self.graph.slots_mut()[slot].technique = technique,
+                None => {
+                    let slot = self.graph.add(technique);
+                    self.graph.slots_mut()[slot].enabled = false;
+                    self.slots[index] = Some(slot);
+                }
+            }
+            settings
+        });
+        Event::UserTechnique {
+            index,
+            id,
+            name: aa::user::display_name(id),
+            result,
+        }
+    }
+
+    /// Rebuilds the user techniques whose files changed (looked at about once a second).
+    fn reload_user_techniques(&mut self, send: &dyn Fn(Event)) {
+        for index in self.watcher.changed(std::time::Instant::now()) {
+            if let Some(&(_, id)) = self.user_ids.iter().find(|(i, _)| *i == index) {
+                send(self.build_user(index, id));
             }
         }
     }

@@ -186,10 +186,7 @@ fn technique_specs(gpu: &Gpu, ids: &[String]) -> anyhow::Result<Vec<TechniqueSpe
     ids.iter()
         .map(|id| {
             let technique = aa::create(gpu, id)?;
-            Ok(TechniqueSpec {
-                id: id.clone(),
-                settings: aa::param_map(technique.as_ref()),
-            })
+            Ok(TechniqueSpec::of(technique.as_ref()))
         })
         .collect()
 }
@@ -207,10 +204,7 @@ pub(super) fn reference_spec(gpu: &Gpu) -> anyhow::Result<TechniqueSpec> {
         "factor",
         ParamValue::Int(i64::from(REFERENCE_FACTOR)),
     )?;
-    Ok(TechniqueSpec {
-        id: aa::ssaa::ID.to_owned(),
-        settings: aa::param_map(ssaa.as_ref()),
-    })
+    Ok(TechniqueSpec::of(ssaa.as_ref()))
 }
 
 /// Per-frame samples of one technique.
@@ -640,7 +634,7 @@ impl Bench<'_> {
                 let ghosting = index.and_then(|i| ghosts[i].ghosting());
                 TechniqueReport {
                     id: id.clone(),
-                    name: aa::registry::info(id).map_or_else(|| id.clone(), |i| i.name.to_owned()),
+                    name: aa::registry::display_name(id),
                     input: input_label,
                     post_process,
                     settings: technique_spec.settings.clone(),
@@ -763,7 +757,10 @@ impl Bench<'_> {
             if self.args.images {
                 let record = serde_json::to_string_pretty(spec)?;
                 write_png(
-                    &self.args.out.join(format!("{key}-{}.png", image.id)),
+                    &self
+                        .args
+                        .out
+                        .join(format!("{key}-{}.png", aa::user::file_name_part(&image.id))),
                     &image.image,
                     Some(&record),
                     &self.policy,
@@ -774,7 +771,10 @@ impl Bench<'_> {
                     "reference": reference_spec,
                 });
                 write_heatmap(
-                    &self.args.out.join(format!("{key}-{}-flip.png", image.id)),
+                    &self.args.out.join(format!(
+                        "{key}-{}-flip.png",
+                        aa::user::file_name_part(&image.id)
+                    )),
                     &maps.error_map(Metric::Flip),
                     &HeatmapStyle {
                         legend: Metric::Flip.legend(),

@@ -351,9 +351,12 @@ fn shorthand_settings(
         let (target, value) = item
             .split_once('=')
             .with_context(|| format!("--set {item}: expected TECHNIQUE.KEY=VALUE"))?;
+        // Keys have no dots, ids may (`user:edge.wgsl`): the key is after the last one.
         let (id, key) = target
-            .split_once('.')
+            .rsplit_once('.')
             .with_context(|| format!("--set {item}: expected TECHNIQUE.KEY=VALUE"))?;
+        let id =
+            aa::user::resolve_alias(id, ids).map_err(|e| anyhow::anyhow!("--set {item}: {e}"))?;
         if !ids.iter().any(|i| i == id) {
             bail!(
                 "--set {item}: {id} is not among --technique {}",
@@ -386,10 +389,7 @@ pub fn technique_specs(gpu: &Gpu, args: &TechniqueArgs) -> anyhow::Result<Vec<Te
                 aa::set_param(technique.as_mut(), key, value.clone())?;
             }
         }
-        techniques.push(TechniqueSpec {
-            id: id.clone(),
-            settings: aa::param_map(technique.as_ref()),
-        });
+        techniques.push(TechniqueSpec::of(technique.as_ref()));
     }
     for preset in &args.preset {
         if let Some((target, _)) = preset.split_once('=')
@@ -540,8 +540,8 @@ fn output_paths(
         .iter()
         .map(|i| {
             let name = match i.view {
-                None => format!("{scene}-{}.png", i.id),
-                Some(view) => format!("{scene}-{}-{view}.png", i.id),
+                None => format!("{scene}-{}.png", aa::user::file_name_part(&i.id)),
+                Some(view) => format!("{scene}-{}-{view}.png", aa::user::file_name_part(&i.id)),
             };
             out.join(name)
         })

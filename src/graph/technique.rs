@@ -213,4 +213,10 @@ pub trait Technique: Send {
 
     /// Short name for labels, including the settings that change what it is (`SSAA 16x`).
     fn label(&self) -> String;
+
+    /// A hash of the source file the technique runs, for techniques read from the user's
+    /// files (see `aa::user`): records keep it, and replaying a record refuses a changed file.
+    fn source_hash(&self) -> Option<String> {
+        None
+    }
 }
