@@ -20,12 +20,6 @@ crate::named_enum! {
     }
 }
 
-impl Default for Quality {
-    fn default() -> Self {
-        Self::High
-    }
-}
-
 impl Quality {
     /// Smallest difference of sRGB-encoded luma (or colour) between two pixels that counts as
     /// an edge.
@@ -50,14 +44,8 @@ crate::named_enum! {
     }
 }
 
-impl Default for EdgeDetection {
-    fn default() -> Self {
-        Self::Luma
-    }
-}
-
 /// Every CMAA 2 setting.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Cmaa2Settings {
     /// Quality preset (the edge threshold).
     pub quality: Quality,
@@ -66,6 +54,17 @@ pub struct Cmaa2Settings {
     pub extra_sharpness: bool,
     /// What edge detection compares.
     pub edge_detection: EdgeDetection,
+}
+
+impl Default for Cmaa2Settings {
+    /// Intel's defaults: quality high, normal sharpness, luma edges.
+    fn default() -> Self {
+        Self {
+            quality: Quality::High,
+            extra_sharpness: false,
+            edge_detection: EdgeDetection::Luma,
+        }
+    }
 }
 
 /// Intel's constants of one sharpness setting.

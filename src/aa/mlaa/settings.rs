@@ -19,12 +19,6 @@ crate::named_enum! {
     }
 }
 
-impl Default for Preset {
-    fn default() -> Self {
-        Self::Medium
-    }
-}
-
 crate::named_enum! {
     /// What the edge-detection pass compares between a pixel and its left and top neighbours.
     pub enum EdgeMode {
@@ -32,12 +26,6 @@ crate::named_enum! {
         Luma => "luma",
         /// The largest step of the three sRGB-encoded channels.
         Color => "color",
-    }
-}
-
-impl Default for EdgeMode {
-    fn default() -> Self {
-        Self::Luma
     }
 }
 
@@ -157,7 +145,7 @@ impl MlaaSettings {
 
 impl Default for MlaaSettings {
     fn default() -> Self {
-        Self::preset(Preset::default())
+        Self::preset(Preset::Medium)
     }
 }
 
