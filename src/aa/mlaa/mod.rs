@@ -29,7 +29,9 @@ pub use settings::{EdgeMode, MlaaSettings, PipelineKey, Preset};
 use crate::aa::common::{debug_texture, view_as};
 use crate::aa::params::{Named, Param, ParamError, ParamValue};
 use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
-use crate::aa::smaa::pipeline::{self, Binding, PassDesc, Stencil, Vertex, bind_group, cleared};
+use crate::aa::smaa::pipeline::{
+    self, Binding, PassDesc, Stencil, Vertex, bind_group, stencil_pass,
+};
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
 use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu};
@@ -338,14 +340,6 @@ impl Technique for Mlaa {
         let weights = targets.weights.create_view(&Default::default());
         let area = self.area.create_view(&Default::default());
         use wgpu::BindingResource::{Sampler, TextureView};
-        let stencil_attachment = |load| wgpu::RenderPassDepthStencilAttachment {
-            view: &stencil,
-            depth_ops: None,
-            stencil_ops: Some(wgpu::Operations {
-                load,
-                store: wgpu::StoreOp::Store,
-            }),
-        };
 
         let edge_group = bind_group(
             device,
@@ -353,16 +347,13 @@ impl Technique for Mlaa {
             &self.edge_layout,
             &[(0, uniform.clone()), (1, TextureView(&color_encoded))],
         );
-        ctx.render_pass(
+        stencil_pass(
+            ctx,
             "edges",
-            &[Some(cleared(&edges))],
-            Some(stencil_attachment(wgpu::LoadOp::Clear(0))),
-            |pass| {
-                pass.set_pipeline(&pipelines.edges);
-                pass.set_bind_group(0, &edge_group, &[]);
-                pass.set_stencil_reference(1);
-                pass.draw(0..3, 0..1);
-            },
+            &edges,
+            &stencil,
+            wgpu::LoadOp::Clear(0),
+            (&pipelines.edges, &edge_group),
         );
 
         let weight_group = bind_group(
@@ -376,16 +367,13 @@ impl Technique for Mlaa {
                 (4, Sampler(&self.sampler)),
             ],
         );
-        ctx.render_pass(
+        stencil_pass(
+            ctx,
             "weights",
-            &[Some(cleared(&weights))],
-            Some(stencil_attachment(wgpu::LoadOp::Load)),
-            |pass| {
-                pass.set_pipeline(&pipelines.weights);
-                pass.set_bind_group(0, &weight_group, &[]);
-                pass.set_stencil_reference(1);
-                pass.draw(0..3, 0..1);
-            },
+            &weights,
+            &stencil,
+            wgpu::LoadOp::Load,
+            (&pipelines.weights, &weight_group),
         );
 
         let blend_group = bind_group(

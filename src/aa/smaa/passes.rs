@@ -11,7 +11,9 @@
 
 use glam::Vec2;
 
-use super::pipeline::{self, Binding, LutTextures, PassDesc, Stencil, Vertex, bind_group, cleared};
+use super::pipeline::{
+    self, Binding, LutTextures, PassDesc, Stencil, Vertex, bind_group, stencil_pass,
+};
 use super::settings::{EdgeMode, PipelineKey, SmaaSettings};
 use crate::aa::common::{bilinear_clamp_sampler, view_as};
 use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu, MOTION_FORMAT};
@@ -319,24 +321,13 @@ impl SmaaPasses {
                 (2, TextureView(&depth)),
             ],
         );
-        let stencil_attachment = |load| wgpu::RenderPassDepthStencilAttachment {
-            view: &stencil,
-            depth_ops: None,
-            stencil_ops: Some(wgpu::Operations {
-                load,
-                store: wgpu::StoreOp::Store,
-            }),
-        };
-        ctx.render_pass(
+        stencil_pass(
+            ctx,
             &format!("{prefix}edges"),
-            &[Some(cleared(&edges))],
-            Some(stencil_attachment(wgpu::LoadOp::Clear(0))),
-            |pass| {
-                pass.set_pipeline(&pipelines.edges);
-                pass.set_bind_group(0, &edge_group, &[]);
-                pass.set_stencil_reference(1);
-                pass.draw(0..3, 0..1);
-            },
+            &edges,
+            &stencil,
+            wgpu::LoadOp::Clear(0),
+            (&pipelines.edges, &edge_group),
         );
 
         let weight_group = bind_group(
@@ -351,16 +342,13 @@ impl SmaaPasses {
                 (6, Sampler(&self.sampler)),
             ],
         );
-        ctx.render_pass(
+        stencil_pass(
+            ctx,
             &format!("{prefix}weights"),
-            &[Some(cleared(&weights))],
-            Some(stencil_attachment(wgpu::LoadOp::Load)),
-            |pass| {
-                pass.set_pipeline(&pipelines.weights);
-                pass.set_bind_group(0, &weight_group, &[]);
-                pass.set_stencil_reference(1);
-                pass.draw(0..3, 0..1);
-            },
+            &weights,
+            &stencil,
+            wgpu::LoadOp::Load,
+            (&pipelines.weights, &weight_group),
         );
 
         let blend_group = bind_group(

@@ -5,6 +5,7 @@
 //! textures.
 
 use crate::gpu::fullscreen::{FragmentDesc, Fullscreen};
+use crate::graph::PassContext;
 
 use super::lut;
 
@@ -221,6 +222,39 @@ pub fn cleared(view: &wgpu::TextureView) -> wgpu::RenderPassColorAttachment<'_> 
             store: wgpu::StoreOp::Store,
         },
     }
+}
+
+/// One full-screen draw of a morphological pass into `target` (cleared first) with the edge
+/// stencil `stencil` bound at reference 1: the edge pass clears the stencil
+/// (`wgpu::LoadOp::Clear(0)`) and its pipeline marks the edge pixels, the weight pass loads it
+/// (`wgpu::LoadOp::Load`) and its pipeline runs only on the marked pixels.
+pub fn stencil_pass(
+    ctx: &mut PassContext<'_>,
+    pass: &str,
+    target: &wgpu::TextureView,
+    stencil: &wgpu::TextureView,
+    stencil_load: wgpu::LoadOp<u32>,
+    (pipeline, group): (&wgpu::RenderPipeline, &wgpu::BindGroup),
+) {
+    let stencil_attachment = wgpu::RenderPassDepthStencilAttachment {
+        view: stencil,
+        depth_ops: None,
+        stencil_ops: Some(wgpu::Operations {
+            load: stencil_load,
+            store: wgpu::StoreOp::Store,
+        }),
+    };
+    ctx.render_pass(
+        pass,
+        &[Some(cleared(target))],
+        Some(stencil_attachment),
+        |pass| {
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, group, &[]);
+            pass.set_stencil_reference(1);
+            pass.draw(0..3, 0..1);
+        },
+    );
 }
 
 /// The lookup tables on the GPU.
