@@ -402,6 +402,16 @@ pub fn as_named<E: Named>(value: &ParamValue) -> Option<E> {
     E::from_name(as_choice(value))
 }
 
+/// A technique's preset of a [`Named`] preset enum by name, or the error that names the
+/// technique and lists its presets.
+pub fn preset_named<E: Named>(technique: &str, name: &str) -> Result<E, ParamError> {
+    E::from_name(name).ok_or_else(|| ParamError::UnknownPreset {
+        technique: technique.to_owned(),
+        name: name.to_owned(),
+        known: E::NAMES.join(", "),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -36,7 +36,7 @@ pub use settings::{FxaaSettings, MAX_STEPS, Preset, Quality};
 
 use crate::aa::common::color::LumaSource;
 use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, debug_texture, encoded_view};
-use crate::aa::params::{Named, Param, ParamError, ParamValue, as_f32, as_named};
+use crate::aa::params::{Named, Param, ParamError, ParamValue, as_f32, as_named, preset_named};
 use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
@@ -322,11 +322,7 @@ impl Technique for Fxaa {
     }
 
     fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
-        let preset = Preset::from_name(name).ok_or_else(|| ParamError::UnknownPreset {
-            technique: ID.to_owned(),
-            name: name.to_owned(),
-            known: Preset::NAMES.join(", "),
-        })?;
+        let preset: Preset = preset_named(ID, name)?;
         self.settings.apply_preset(preset);
         Ok(())
     }

@@ -2,7 +2,9 @@
 //! ([`MlaaSettings::params`], [`MlaaSettings::set`]), and the part compiled into pipelines
 //! ([`PipelineKey`]).
 
-use crate::aa::params::{Named, Param, ParamError, ParamValue, as_f32, as_i64, as_named};
+use crate::aa::params::{
+    Named, Param, ParamError, ParamValue, as_f32, as_i64, as_named, preset_named,
+};
 
 use super::area::MAX_DISTANCE;
 
@@ -68,11 +70,7 @@ impl MlaaSettings {
 
     /// Applies a preset by name.
     pub fn apply_preset_named(&mut self, technique: &str, name: &str) -> Result<(), ParamError> {
-        let preset = Preset::from_name(name).ok_or_else(|| ParamError::UnknownPreset {
-            technique: technique.to_owned(),
-            name: name.to_owned(),
-            known: Preset::NAMES.join(", "),
-        })?;
+        let preset: Preset = preset_named(technique, name)?;
         self.apply_preset(preset);
         Ok(())
     }

@@ -3,7 +3,9 @@
 //! between settings that change pipelines ([`PipelineKey`], WGSL override constants) and
 //! those that only change a uniform.
 
-use crate::aa::params::{Named, Param, ParamError, ParamValue, as_bool, as_f32, as_i64, as_named};
+use crate::aa::params::{
+    Named, Param, ParamError, ParamValue, as_bool, as_f32, as_i64, as_named, preset_named,
+};
 
 use super::lut::MAX_DIAG_DISTANCE;
 
@@ -307,11 +309,7 @@ impl SmaaSettings {
 
     /// Applies a preset by name.
     pub fn apply_preset_named(&mut self, technique: &str, name: &str) -> Result<(), ParamError> {
-        let preset = Preset::from_name(name).ok_or_else(|| ParamError::UnknownPreset {
-            technique: technique.to_owned(),
-            name: name.to_owned(),
-            known: Preset::NAMES.join(", "),
-        })?;
+        let preset: Preset = preset_named(technique, name)?;
         self.apply_preset(preset);
         Ok(())
     }

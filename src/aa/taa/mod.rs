@@ -87,7 +87,9 @@ use glam::Vec2;
 
 use crate::aa::common::sampling::halton;
 use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, encoded_view};
-use crate::aa::params::{Named, Param, ParamError, ParamValue, as_bool, as_f32, as_named};
+use crate::aa::params::{
+    Named, Param, ParamError, ParamValue, as_bool, as_f32, as_named, preset_named,
+};
 use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
@@ -697,11 +699,7 @@ impl Technique for Taa {
     }
 
     fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
-        let preset = Preset::from_name(name).ok_or_else(|| ParamError::UnknownPreset {
-            technique: ID.to_owned(),
-            name: name.to_owned(),
-            known: Preset::NAMES.join(", "),
-        })?;
+        let preset: Preset = preset_named(ID, name)?;
         self.set_settings(TaaSettings::preset(preset));
         Ok(())
     }
