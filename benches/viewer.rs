@@ -4,9 +4,9 @@
 //! - **UI frame** (median, p95, worst): the wall time of one UI frame while the camera orbits
 //!   and the engine renders continuously: the app's update, its panels, the upload of newly
 //!   published images (egui-wgpu's texture updates) and painting the window on eframe's
-//!   device, which the harness then reads back (it has no swapchain; that copy slightly
-//!   overstates the paint). Painting on the GPU is what waits when the engine shares eframe's
-//!   queue, so it must be in the figure. Frames run as eframe runs them: when the app asked
+//!   device until the GPU has finished it ([`WindowPainter`]: a window-sized texture stands in
+//!   for the swapchain, and nothing is read back, as in the app). Painting on the GPU is what
+//!   waits when the engine shares eframe's queue, so it must be in the figure. Frames run as eframe runs them: when the app asked
 //!   for a repaint (its own requests, the render thread's wake-ups) or input arrives, at most
 //!   60 per second like a display.
 //! - **engine frames per second** (frames whose outputs were published) over the first half of
@@ -53,6 +53,8 @@ const LAYOUT_KEYS: [(egui::Key, Layout); 4] = [
 #[derive(serde::Serialize)]
 struct SceneFigures {
     scene: String,
+    /// The adapter eframe's device runs on (the engine's too).
+    adapter: String,
     seconds: f64,
     ui_frames: usize,
     ui_frames_per_second: f64,
@@ -151,6 +153,128 @@ fn step_timed(harness: &mut Harness<'_, AaLabApp>) -> (f64, f64) {
     (start.elapsed().as_secs_f64() * 1000.0, update)
 }
 
+/// Paints the UI as eframe does on a window, with a window-sized texture in place of the
+/// swapchain: tessellation, egui-wgpu's buffer updates and render pass, one submit, then a wait
+/// until the GPU has finished (the frame is on screen). Unlike egui_kittest's own wgpu renderer
+/// it reads nothing back: that copy to the CPU, which the app never makes, cost about 8 ms of a
+/// UI frame on lavapipe and 20-25 ms on an H100 (mapped readback memory of a virtual machine).
+/// Texture uploads and the app's render state come from egui_kittest's renderer on the same
+/// device.
+struct WindowPainter {
+    uploads: egui_kittest::wgpu::WgpuTestRenderer,
+    state: egui_wgpu::RenderState,
+    window: Option<wgpu::Texture>,
+}
+
+impl WindowPainter {
+    fn new() -> Self {
+        let state = egui_kittest::wgpu::create_render_state(
+            aa_lab::app::wgpu_setup(),
+            egui_wgpu::RendererOptions::PREDICTABLE,
+        );
+        Self {
+            uploads: egui_kittest::wgpu::WgpuTestRenderer::from_render_state(state.clone()),
+            state,
+            window: None,
+        }
+    }
+
+    fn adapter(&self) -> String {
+        let info = self.state.adapter.get_info();
+        format!("{} ({:?}, {})", info.name, info.backend, info.driver_info)
+    }
+
+    /// The window-sized target, recreated when the window's size changes.
+    fn window(&mut self, size: [u32; 2]) -> wgpu::TextureView {
+        let fits = self
+            .window
+            .as_ref()
+            .is_some_and(|t| [t.width(), t.height()] == size);
+        if !fits {
+            self.window = Some(self.state.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("benchmark window"),
+                size: wgpu::Extent3d {
+                    width: size[0],
+                    height: size[1],
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: self.state.target_format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                view_formats: &[],
+            }));
+        }
+        self.window
+            .as_ref()
+            .expect("the window target exists")
+            .create_view(&wgpu::TextureViewDescriptor::default())
+    }
+}
+
+impl egui_kittest::TestRenderer for WindowPainter {
+    fn setup_eframe(&self, cc: &mut eframe::CreationContext<'_>, frame: &mut eframe::Frame) {
+        self.uploads.setup_eframe(cc, frame);
+    }
+
+    fn handle_delta(&mut self, delta: &mut egui::TexturesDelta) {
+        self.uploads.handle_delta(delta);
+    }
+
+    /// Paints the frame and waits for the GPU; returns no pixels (an empty image).
+    fn render(
+        &mut self,
+        ctx: &egui::Context,
+        output: &egui::FullOutput,
+    ) -> Result<image::RgbaImage, String> {
+        let pixels_per_point = ctx.pixels_per_point();
+        let size = ctx.content_rect().size() * pixels_per_point;
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [size.x.round() as u32, size.y.round() as u32],
+            pixels_per_point,
+        };
+        let view = self.window(screen.size_in_pixels);
+        let triangles = ctx.tessellate(output.shapes.clone(), pixels_per_point);
+        let (device, queue) = (&self.state.device, &self.state.queue);
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("benchmark window paint"),
+        });
+        let mut renderer = self.state.renderer.write();
+        let callbacks = renderer.update_buffers(device, queue, &mut encoder, &triangles, &screen);
+        {
+            let mut pass = encoder
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("benchmark window paint"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &view,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                            store: wgpu::StoreOp::Store,
+                        },
+                        depth_slice: None,
+                    })],
+                    ..Default::default()
+                })
+                .forget_lifetime();
+            renderer.render(&mut pass, &triangles, &screen);
+        }
+        queue.submit(
+            callbacks
+                .into_iter()
+                .chain(std::iter::once(encoder.finish())),
+        );
+        device
+            .poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: Some(Duration::from_secs(60)),
+            })
+            .map_err(|err| format!("the paint did not finish: {err}"))?;
+        Ok(image::RgbaImage::new(0, 0))
+    }
+}
+
 /// When the app wants its next frame, as eframe learns it: every repaint request (from the
 /// UI thread or the render thread's wake-ups) moves the due time earlier.
 struct RepaintClock {
@@ -196,9 +320,11 @@ fn pace(next: &mut Instant) {
 
 fn measure(scene: &str, seconds: f64) -> SceneFigures {
     let owned = scene.to_owned();
+    let painter = WindowPainter::new();
+    let adapter = painter.adapter();
     let mut harness = Harness::builder()
         .with_size(WINDOW)
-        .wgpu_setup(aa_lab::app::wgpu_setup())
+        .renderer(painter)
         .build_eframe(move |cc| {
             AaLabApp::new(
                 cc,
@@ -354,6 +480,7 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
     let latencies = sorted(latencies);
     SceneFigures {
         scene: scene.to_owned(),
+        adapter,
         seconds: elapsed,
         ui_frames: frames.len(),
         ui_frames_per_second: frames.len() as f64 / elapsed,
@@ -388,6 +515,7 @@ fn main() {
     for scene in &options.scenes {
         eprintln!("viewer benchmark: {scene}, {} s…", options.seconds);
         let figures = measure(scene, options.seconds);
+        eprintln!("on {}", figures.adapter);
         println!(
             "{:<10} {:>5.1} UI frames/s, median {:>6.1} ms  p95 {:>6.1} ms  max {:>7.1} ms | engine {:>5.2} frames/s ({:.2} with input) | \
              layout change visible after median {:>6.1} ms, worst {:>6.1} ms ({} changes) | idle UI frame median {:>5.1} ms p95 {:>5.1} ms | update (before the paint) median {:>5.1} ms p95 {:>5.1} ms, idle {:>5.1} ms p95 {:>5.1} ms | clip of {} frames recorded in {:.0} s, plays at {:.1} UI frames/s showing {:.1} clip frames/s ({} skipped), UI frame median {:.1} ms p95 {:.1} ms",

@@ -254,11 +254,21 @@ pub enum RenderDevice {
 }
 
 /// The UI's handle: send commands, receive events. Dropping it ends the thread after the
-/// command it is handling.
+/// command it is handling and waits for that, at most [`EXIT_WAIT`].
 pub struct RenderThread {
     commands: mpsc::Sender<Command>,
     events: mpsc::Receiver<Event>,
+    /// Disconnects when the thread has released its GPU objects and ended.
+    finished: mpsc::Receiver<()>,
 }
+
+/// How long dropping a [`RenderThread`] waits for the thread to end. It drops the handle only
+/// when the app closes (the engine lives as long as the app; a new scene goes to the same
+/// thread), and it must wait: NVIDIA's Vulkan driver crashed the process (a segfault or
+/// `free(): invalid pointer`) when it exited while the thread was still releasing its device
+/// objects (seen on an H100 at the end of every viewer benchmark). A thread stuck in a frame
+/// (a lost device) is left behind after this long rather than hanging the exit.
+const EXIT_WAIT: Duration = Duration::from_secs(10);
 
 impl RenderThread {
     /// Starts the thread: it opens `device`, creates the graph for `scene` and every registry
@@ -274,9 +284,13 @@ impl RenderThread {
     ) -> std::io::Result<Self> {
         let (commands, command_receiver) = mpsc::channel();
         let (event_sender, events) = mpsc::channel();
+        let (finishing, finished) = mpsc::channel::<()>();
         std::thread::Builder::new()
             .name("aa-lab render".to_owned())
             .spawn(move || {
+                // Dropped last, after `state`: the channel disconnects once the GPU objects
+                // are released.
+                let _finishing = finishing;
                 let send = |event| {
                     let _ = event_sender.send(event);
                     wake();
@@ -302,7 +316,11 @@ impl RenderThread {
                     state.reload_user_techniques(&send);
                 }
             })?;
-        Ok(Self { commands, events })
+        Ok(Self {
+            commands,
+            events,
+            finished,
+        })
     }
 
     /// Sends a command; `false` when the thread has ended.
@@ -313,6 +331,19 @@ impl RenderThread {
     /// The events that arrived since the last call, oldest first.
     pub fn poll(&self) -> Vec<Event> {
         self.events.try_iter().collect()
+    }
+}
+
+impl Drop for RenderThread {
+    fn drop(&mut self) {
+        // Replacing the sender drops the thread's only one: its loop ends at the next receive.
+        self.commands = mpsc::channel().0;
+        if let Err(mpsc::RecvTimeoutError::Timeout) = self.finished.recv_timeout(EXIT_WAIT) {
+            log::warn!(
+                "the render thread did not end within {} s; leaving it behind",
+                EXIT_WAIT.as_secs()
+            );
+        }
     }
 }
 
