@@ -291,6 +291,7 @@ impl RenderThread {
                 // Dropped last, after `state`: the channel disconnects once the GPU objects
                 // are released.
                 let _finishing = finishing;
+                super::worker::lower_priority();
                 let send = |event| {
                     let _ = event_sender.send(event);
                     wake();

@@ -44,6 +44,7 @@ impl SceneLoader {
         let worker = thread::Builder::new()
             .name("aa-lab scene loader".to_owned())
             .spawn(move || {
+                super::worker::lower_priority();
                 let result = source::load(&owned, &SceneOptions::default()).map_err(Into::into);
                 let _ = sender.send(Loaded {
                     spec: owned,

@@ -4,6 +4,9 @@
 //! results never queue up behind outdated work ("latest wins"). A job streams its results
 //! back as they are ready and the worker wakes the UI for each; when the job ends the worker
 //! reports how long it took, which the caller uses to pace the next one.
+//!
+//! Every background thread of the viewer (these workers, the render thread, the scene loader)
+//! runs at the lowest CPU priority ([`lower_priority`]): the window's paint comes first.
 
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
@@ -24,6 +27,22 @@ impl<R> Reporter<R> {
     pub fn send(&self, result: R) {
         let _ = self.sender.send(Message::Result(result));
         super::request_one_frame(&self.ctx);
+    }
+}
+
+/// Gives the calling background thread the lowest CPU priority (nice 19 on Linux). On a machine
+/// with few cores the engine's frames, the quality figures and the window's paint compete for
+/// every core; at equal priority the UI thread's paint waited behind them. The render thread
+/// calls it before it opens its device, so the threads a driver starts for that device (a
+/// software rasteriser's queue thread) inherit it; lavapipe's rasteriser threads themselves are
+/// shared by every device of the process and keep their priority. On a GPU the threads mostly
+/// wait and this changes nothing measurable. Where the system refuses, the thread keeps its
+/// priority.
+pub fn lower_priority() {
+    if let Err(err) =
+        thread_priority::set_current_thread_priority(thread_priority::ThreadPriority::Min)
+    {
+        log::info!("a background thread keeps its priority: {err:?}");
     }
 }
 
@@ -52,6 +71,7 @@ impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
         std::thread::Builder::new()
             .name(name.to_owned())
             .spawn(move || {
+                lower_priority();
                 while let Ok(job) = job_receiver.recv() {
                     let start = Instant::now();
                     run(job, &reporter);
