@@ -39,8 +39,22 @@ fn viewer_with(
     frame_delay: Duration,
     display: DisplayPath,
 ) -> Harness<'static, AaLabApp> {
+    let mut harness = launch(scene, frame_delay, display);
+    harness.state_mut().camera_mut().playing = false;
+    if !frame_delay.is_zero() {
+        let settings = harness.state_mut().settings_mut();
+        settings.quality = false;
+        settings.show_magnifier = false;
+    }
+    wait(&mut harness, "the first frame", AaLabApp::frame_ready);
+    harness
+}
+
+/// The viewer on `scene` with fresh settings, before its first UI frame (the scene loads in
+/// the background).
+fn launch(scene: &str, frame_delay: Duration, display: DisplayPath) -> Harness<'static, AaLabApp> {
     let scene = scene.to_owned();
-    let mut harness = Harness::builder()
+    Harness::builder()
         .with_size(WINDOW)
         .wgpu_setup(aa_lab::app::wgpu_setup())
         .build_eframe(move |cc| {
@@ -55,15 +69,7 @@ fn viewer_with(
                 },
             )
             .expect("the viewer starts")
-        });
-    harness.state_mut().camera_mut().playing = false;
-    if !frame_delay.is_zero() {
-        let settings = harness.state_mut().settings_mut();
-        settings.quality = false;
-        settings.show_magnifier = false;
-    }
-    wait(&mut harness, "the first frame", AaLabApp::frame_ready);
-    harness
+        })
 }
 
 /// Steps the UI until `done` holds.
@@ -1120,4 +1126,71 @@ fn a_user_technique_runs_shows_its_errors_and_reloads_when_its_file_changes() {
                 .is_some_and(|p| p.get_pixel(0, 0).0 == [255, 0, 0, 255])
     });
     assert!(harness.query_by_label_contains(in_panel).is_none());
+}
+
+/// A user technique added once comes back at the next start (the settings remember its file,
+/// and its saved parameters apply to the new build); removing it takes it out of the techniques
+/// panel, the comparison and the settings, and leaves its file alone.
+#[test]
+fn a_user_technique_is_remembered_across_starts_and_can_be_removed() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("kept.wgsl");
+    std::fs::write(
+        &file,
+        "override gain: f32 = 1.0;\n\
+         fn aa_main(pixel: vec2<u32>, uv: vec2<f32>) -> vec4<f32> {\n\
+         \x20   return vec4<f32>(aa_load(vec2<i32>(pixel)).rgb * gain, 1.0);\n}\n",
+    )
+    .expect("write");
+    let path = std::fs::canonicalize(&file).expect("canonical");
+    let id = format!("user:{}", path.display());
+    let mut first = viewer("chart");
+    // FXAA off, so that the new technique is among the four compared.
+    first
+        .get_by_role_and_label(egui::accesskit::Role::CheckBox, "FXAA")
+        .click();
+    first.step();
+    first.state_mut().add_user_technique(file.clone());
+    wait(&mut first, "the user technique", |app| {
+        app.compared().contains(&id.as_str())
+    });
+    let mut remembered = first.state().settings().clone();
+    assert_eq!(remembered.user_techniques, [path.display().to_string()]);
+    drop(first);
+
+    // The next start, with those settings and a saved parameter.
+    let mut gain = aa_lab::aa::ParamMap::new();
+    gain.insert("gain".to_owned(), aa_lab::aa::ParamValue::Float(0.5));
+    remembered.technique_settings.insert(id.clone(), gain);
+    let mut second = launch("chart", Duration::ZERO, DisplayPath::Auto);
+    *second.state_mut().settings_mut() = remembered;
+    wait(&mut second, "the remembered technique's frame", |app| {
+        app.frame_ready() && app.output_pixels(&id).is_some()
+    });
+    let params = second.state().technique_params(&id);
+    assert!(
+        params
+            .iter()
+            .any(|p| p.key == "gain" && p.value == aa_lab::aa::ParamValue::Float(0.5)),
+        "the saved parameter was not applied: {params:?}"
+    );
+    let label = "kept (user)";
+    assert!(
+        second
+            .query_by_role_and_label(egui::accesskit::Role::CheckBox, label)
+            .is_some()
+    );
+
+    second.state_mut().remove_user_technique(&id);
+    second.step();
+    second.step();
+    assert!(!second.state().compared().contains(&id.as_str()));
+    assert!(second.state().settings().user_techniques.is_empty());
+    assert!(
+        second
+            .query_by_role_and_label(egui::accesskit::Role::CheckBox, label)
+            .is_none(),
+        "a removed technique is still listed"
+    );
+    assert!(file.is_file(), "removing a technique deleted its file");
 }

@@ -295,6 +295,15 @@ impl AaLabApp {
         self.image_for(id).is_some()
     }
 
+    /// The parameters of technique `id` as the render thread last reported them (none until it
+    /// is built).
+    pub fn technique_params(&self, id: &str) -> Vec<crate::aa::Param> {
+        self.engine
+            .as_ref()
+            .map(|engine| engine.params(id))
+            .unwrap_or_default()
+    }
+
     /// The published output of a technique or image of the open set (the bytes on screen),
     /// when its pixels were read back.
     pub fn output_pixels(&self, id: &str) -> Option<std::sync::Arc<image::RgbaImage>> {
@@ -384,13 +393,59 @@ impl AaLabApp {
     /// Adds the user technique in the WGSL file at `path` (see `aa::user`; File > Add
     /// technique from file): the render thread builds it, and it appears in the techniques
     /// panel, switched on, or with its file's error.
+    /// The file is remembered in the settings and added again at the next start.
     pub fn add_user_technique(&mut self, path: PathBuf) {
-        match &mut self.engine {
-            Some(engine) => engine.add_user_technique(path),
-            None => self.notify(
+        let Some(engine) = &mut self.engine else {
+            return self.notify(
                 Level::Warning,
                 "techniques can be added once the scene has loaded".to_owned(),
-            ),
+            );
+        };
+        let path = std::fs::canonicalize(&path).unwrap_or(path);
+        let remembered = path.display().to_string();
+        engine.add_user_technique(path);
+        if !self.settings.user_techniques.contains(&remembered) {
+            self.settings.user_techniques.push(remembered);
+        }
+    }
+
+    /// Removes the user technique `id`: off, out of the comparison and the techniques panel,
+    /// forgotten by the settings (its file is left alone; adding it again brings it back).
+    pub fn remove_user_technique(&mut self, id: &str) {
+        let Some(engine) = &mut self.engine else {
+            return;
+        };
+        engine.remove_user_technique(id);
+        if let Some(path) = crate::aa::user::path_of(id) {
+            let path = path.display().to_string();
+            self.settings.user_techniques.retain(|p| *p != path);
+        }
+        self.settings.enabled.retain(|e| e != id);
+        self.settings.compare.retain(|c| c != id);
+        self.settings.technique_settings.remove(id);
+        self.settings.debug_views.remove(id);
+    }
+
+    /// Adds the user techniques the settings remember (at start, once the engine exists); a
+    /// file that is gone is forgotten, with a notice.
+    fn restore_user_techniques(&mut self) {
+        let Some(engine) = &mut self.engine else {
+            return;
+        };
+        let mut gone = Vec::new();
+        for path in &self.settings.user_techniques {
+            if std::path::Path::new(path).is_file() {
+                engine.add_user_technique(PathBuf::from(path));
+            } else {
+                gone.push(path.clone());
+            }
+        }
+        self.settings.user_techniques.retain(|p| !gone.contains(p));
+        for path in gone {
+            self.notify(
+                Level::Warning,
+                format!("user technique {path} no longer exists; removed from the techniques"),
+            );
         }
     }
 
@@ -607,6 +662,7 @@ impl AaLabApp {
                 for p in problems {
                     self.notify(Level::Warning, p);
                 }
+                self.restore_user_techniques();
             }
         }
         if is_file {
@@ -792,6 +848,14 @@ impl AaLabApp {
         };
         let publication = engine.poll();
         let mut errors = publication.problems;
+        // A user technique restored at start, or added again: its saved parameters.
+        for id in publication.added_users {
+            if let Some(map) = self.settings.technique_settings.get(id)
+                && let Err(err) = engine.apply_param_map(id, map)
+            {
+                errors.push(format!("saved settings of {id} not applied: {err}"));
+            }
+        }
         if size.0 > 0 && size.1 > 0 && !engine.busy() && !engine.live_paused() && !idle {
             let (camera, cut) = self.camera.next_frame(size);
             if let Err(err) = engine.submit(camera, cut, want_reference, want_pixels) {

@@ -174,6 +174,8 @@ pub struct TechniqueEntry {
     pub debug_view: Option<String>,
     /// A user technique's file no longer builds (the last good build still runs): the error.
     pub problem: Option<String>,
+    /// A user technique the user removed: off, not listed, its file no longer watched.
+    pub removed: bool,
     /// Its settings as the render thread last reported them (`None` until it is ready).
     settings: Option<TechniqueSettings>,
     rendered: Option<Stamp>,
@@ -216,6 +218,9 @@ pub enum ReferenceState {
 pub struct Publication {
     /// Technique outputs changed.
     pub outputs: bool,
+    /// User techniques whose first working build arrived (their saved parameters can now be
+    /// applied).
+    pub added_users: Vec<&'static str>,
     /// The reference gained samples.
     pub reference: bool,
     /// What went wrong meanwhile (refused settings, failed frames), for the user.
@@ -311,6 +316,7 @@ impl Engine {
                 enabled: false,
                 debug_view: None,
                 problem: None,
+                removed: false,
                 settings: None,
                 rendered: None,
                 dirty: false,
@@ -855,6 +861,18 @@ impl Engine {
         self.send(Command::AddUser(path));
     }
 
+    /// Removes the user technique `id` from the comparison: it is switched off and no longer
+    /// listed or watched; adding its file again brings it back (rebuilt).
+    pub fn remove_user_technique(&mut self, id: &str) {
+        let Some(index) = self.index(id).filter(|_| aa::user::is_user_id(id)) else {
+            return;
+        };
+        let entry = &mut self.entries[index];
+        entry.removed = true;
+        entry.enabled = false;
+        self.send(Command::RemoveUser(index));
+    }
+
     /// A user technique's (re)build from the render thread: a new entry at the next index, or
     /// new settings and a re-render, or the error of its file.
     fn user_technique(
@@ -879,6 +897,7 @@ impl Engine {
                 enabled: false,
                 debug_view: None,
                 problem: None,
+                removed: false,
                 settings: None,
                 rendered: None,
                 dirty: false,
@@ -893,7 +912,11 @@ impl Engine {
         match result {
             Ok(settings) => {
                 // The first build that works switches it on.
-                entry.enabled |= entry.settings.is_none();
+                if entry.settings.is_none() {
+                    entry.enabled = true;
+                    publication.added_users.push(id);
+                }
+                entry.removed = false;
                 entry.availability = Ok(());
                 entry.settings = Some(settings);
                 entry.problem = None;
@@ -902,6 +925,7 @@ impl Engine {
             }
             Err(error) => {
                 publication.problems.push(error.clone());
+                entry.removed = false;
                 if entry.settings.is_some() {
                     entry.problem = Some(error);
                 } else {

@@ -564,7 +564,13 @@ impl AaLabApp {
                     let ids: Vec<&'static str> = self
                         .engine
                         .as_ref()
-                        .map(|e| e.entries().iter().map(|t| t.id).collect())
+                        .map(|e| {
+                            e.entries()
+                                .iter()
+                                .filter(|t| !t.removed)
+                                .map(|t| t.id)
+                                .collect()
+                        })
                         .unwrap_or_default();
                     let mut number = 0;
                     for id in ids {
@@ -607,6 +613,8 @@ impl AaLabApp {
         let slot = compared.iter().position(|c| *c == id);
         let mut toggled = None;
         let mut compare_clicked = false;
+        let mut remove_clicked = false;
+        let user = crate::aa::user::is_user_id(id);
         let frame = egui::Frame::new()
             .inner_margin(egui::Margin::symmetric(4, 3))
             .corner_radius(4)
@@ -638,6 +646,17 @@ impl AaLabApp {
                     toggled = Some(on);
                 }
                 ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                    if user
+                        && ui
+                            .small_button("×")
+                            .on_hover_text(
+                                "Remove this technique (its file stays on disk; add it again \
+                                 to bring it back)",
+                            )
+                            .clicked()
+                    {
+                        remove_clicked = true;
+                    }
                     if available {
                         let (text, fill) = match slot {
                             Some(s) => (SLOT_LETTERS[s], SLOT_COLORS[s]),
@@ -672,7 +691,7 @@ impl AaLabApp {
                 });
             });
             if let Some(reason) = &reason
-                && crate::aa::user::is_user_id(id)
+                && user
             {
                 file_error(ui, &format!("The file does not build: {reason}"));
             } else if let Some(reason) = &reason {
@@ -699,6 +718,9 @@ impl AaLabApp {
         }
         if compare_clicked {
             self.toggle_compare(id);
+        }
+        if remove_clicked {
+            self.remove_user_technique(id);
         }
     }
 

@@ -197,6 +197,10 @@ pub enum Command {
     Clip(ClipJob),
     /// Add the user technique in this file (`aa::user`), or rebuild it if it is there.
     AddUser(std::path::PathBuf),
+    /// Stop watching the file of the user technique at this index (the user removed it; its
+    /// slot stays, switched off, so that indices keep their meaning, and adding the file again
+    /// rebuilds it there).
+    RemoveUser(usize),
 }
 
 /// Answers to the UI.
@@ -450,6 +454,7 @@ impl RenderState {
                 send(Event::ClipEnd(end));
             }
             Command::AddUser(path) => self.add_user(&path, send),
+            Command::RemoveUser(index) => self.watcher.unwatch(index),
         }
     }
 
@@ -466,11 +471,12 @@ impl RenderState {
                 let index = self.slots.len();
                 self.slots.push(None);
                 self.user_ids.push((index, id));
-                self.watcher
-                    .watch(index, aa::user::path_of(id).unwrap_or(path));
                 index
             }
         };
+        // (Again after a removal.)
+        self.watcher
+            .watch(index, aa::user::path_of(id).unwrap_or(path));
         send(self.build_user(index, id));
     }
 

@@ -290,6 +290,9 @@ pub struct Settings {
     pub scene: String,
     /// Recently opened OBJ files, newest first.
     pub recent: Vec<String>,
+    /// The WGSL files of the user techniques added, in the order added (absolute paths): the
+    /// viewer adds them again at the next start.
+    pub user_techniques: Vec<String>,
     /// Camera bookmarks.
     pub bookmarks: Vec<Bookmark>,
     /// Folder exports go to.
@@ -325,6 +328,7 @@ impl Default for Settings {
             auto_rotate: false,
             scene: crate::scene::source::DEFAULT_SCENE.to_owned(),
             recent: Vec::new(),
+            user_techniques: Vec::new(),
             bookmarks: Vec::new(),
             export_dir: PathBuf::from("screenshots"),
             reference_samples: 64,

@@ -24,7 +24,7 @@ use std::time::Instant;
 use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::render::{parse_size, technique_ids};
+use super::render::{configured_specs, parse_size, set_flags, technique_ids};
 use crate::aa::floor::{COPY_FLOOR_ID, CopyFloor};
 use crate::aa::{self, FrameInfo, Named, ParamValue, SceneInput};
 use crate::export::heatmap::{HeatmapStyle, write_heatmap};
@@ -73,6 +73,12 @@ pub struct BenchArgs {
     /// Comma-separated technique ids, or `all` (every technique this adapter can run).
     #[arg(long, short, default_value = "all")]
     pub technique: String,
+    /// Apply a preset: TECHNIQUE=PRESET (repeatable), e.g. taa=fast.
+    #[arg(long, value_name = "TECHNIQUE=PRESET")]
+    pub preset: Vec<String>,
+    /// Set any parameter: TECHNIQUE.KEY=VALUE (repeatable), e.g. taa.velocity=own.
+    #[arg(long = "set", value_name = "TECHNIQUE.KEY=VALUE")]
+    pub set: Vec<String>,
     /// Comma-separated image sizes, WIDTHxHEIGHT.
     #[arg(long, default_value = "1280x720")]
     pub size: String,
@@ -179,16 +185,6 @@ fn plan(args: &BenchArgs) -> anyhow::Result<Vec<RunPlan>> {
         }
     }
     Ok(runs)
-}
-
-/// Settings of every technique, validated by creating it once.
-fn technique_specs(gpu: &Gpu, ids: &[String]) -> anyhow::Result<Vec<TechniqueSpec>> {
-    ids.iter()
-        .map(|id| {
-            let technique = aa::create(gpu, id)?;
-            Ok(TechniqueSpec::of(technique.as_ref()))
-        })
-        .collect()
 }
 
 /// The reference: SSAA, ordered grid, 8 x 8 (`bench` and `clip`).
@@ -836,7 +832,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         gpu: &gpu,
         args,
         policy: policy.clone(),
-        techniques: technique_specs(&gpu, &ids)?,
+        techniques: configured_specs(&gpu, &ids, &args.preset, &set_flags(&args.set, &ids)?)?,
         reference: reference_spec(&gpu)?,
         quality,
         bar: progress_bar(runs.len() as u64 * run_steps(args, quality)),

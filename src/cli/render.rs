@@ -347,7 +347,17 @@ fn shorthand_settings(
             ));
         }
     }
-    for item in &args.set {
+    out.extend(set_flags(&args.set, ids)?);
+    Ok(out)
+}
+
+/// The `--set TECHNIQUE.KEY=VALUE` flags as parameter settings, each naming one of `ids`.
+pub(super) fn set_flags(
+    sets: &[String],
+    ids: &[String],
+) -> anyhow::Result<Vec<(String, String, ParamValue)>> {
+    let mut out = Vec::new();
+    for item in sets {
         let (target, value) = item
             .split_once('=')
             .with_context(|| format!("--set {item}: expected TECHNIQUE.KEY=VALUE"))?;
@@ -373,10 +383,21 @@ fn shorthand_settings(
 pub fn technique_specs(gpu: &Gpu, args: &TechniqueArgs) -> anyhow::Result<Vec<TechniqueSpec>> {
     let ids = technique_ids(gpu, &args.technique)?;
     let settings = shorthand_settings(args, &ids)?;
+    configured_specs(gpu, &ids, &args.preset, &settings)
+}
+
+/// The techniques `ids` with the `--preset TECHNIQUE=PRESET` flags `presets` applied, then
+/// `settings`; every preset must name one of `ids`.
+pub(super) fn configured_specs(
+    gpu: &Gpu,
+    ids: &[String],
+    presets: &[String],
+    settings: &[(String, String, ParamValue)],
+) -> anyhow::Result<Vec<TechniqueSpec>> {
     let mut techniques = Vec::new();
-    for id in &ids {
+    for id in ids {
         let mut technique = aa::create(gpu, id)?;
-        for preset in &args.preset {
+        for preset in presets {
             let (target, name) = preset
                 .split_once('=')
                 .with_context(|| format!("--preset {preset}: expected TECHNIQUE=PRESET"))?;
@@ -384,14 +405,14 @@ pub fn technique_specs(gpu: &Gpu, args: &TechniqueArgs) -> anyhow::Result<Vec<Te
                 technique.apply_preset(name)?;
             }
         }
-        for (target, key, value) in &settings {
+        for (target, key, value) in settings {
             if target == id {
                 aa::set_param(technique.as_mut(), key, value.clone())?;
             }
         }
         techniques.push(TechniqueSpec::of(technique.as_ref()));
     }
-    for preset in &args.preset {
+    for preset in presets {
         if let Some((target, _)) = preset.split_once('=')
             && !ids.iter().any(|i| i == target)
         {

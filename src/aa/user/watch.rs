@@ -37,6 +37,11 @@ impl Watcher {
         self.files.push((key, path.to_owned(), stamp(path)));
     }
 
+    /// Stops watching the file under `key`.
+    pub fn unwatch(&mut self, key: usize) {
+        self.files.retain(|(k, _, _)| *k != key);
+    }
+
     /// The keys of the files that changed since they were watched or last reported, when
     /// [`INTERVAL`] has passed since the last look at `now` (else none). A file that
     /// disappears is reported when it comes back.
