@@ -5,7 +5,7 @@
 use std::collections::{BTreeMap, VecDeque};
 use std::time::{Duration, Instant};
 
-use crate::graph::{FrameTimings, median_of_sorted};
+use crate::graph::{FrameTimings, median_of_sorted, split_pass_label};
 
 /// Frames kept per pass for the GPU medians.
 const GPU_WINDOW: usize = 30;
@@ -142,10 +142,11 @@ impl GpuStats {
     pub fn technique_passes(&self, id: &str) -> Vec<(String, f64)> {
         self.order
             .iter()
-            .filter(|label| label.split_once('/').is_some_and(|(t, _)| t == id))
             .filter_map(|label| {
-                self.pass_ms(label)
-                    .map(|ms| (label.split_once('/').map_or("", |(_, p)| p).to_owned(), ms))
+                let (technique, pass) = split_pass_label(label)?;
+                (technique == id)
+                    .then(|| self.pass_ms(label).map(|ms| (pass.to_owned(), ms)))
+                    .flatten()
             })
             .collect()
     }
@@ -160,7 +161,7 @@ impl GpuStats {
     pub fn scene_renders(&self) -> Vec<(String, f64)> {
         self.order
             .iter()
-            .filter(|label| !label.contains('/'))
+            .filter(|label| split_pass_label(label).is_none())
             .filter_map(|label| self.pass_ms(label).map(|ms| (label.clone(), ms)))
             .collect()
     }
@@ -209,6 +210,23 @@ mod tests {
         );
         assert_eq!(stats.scene_renders(), vec![("scene 1x".to_owned(), 11.0)]);
         assert_eq!(stats.total_points().len(), 4);
+    }
+
+    #[test]
+    fn user_technique_ids_with_slashes_get_their_passes() {
+        let mut stats = GpuStats::default();
+        let id = "user:/home/me/aa/edge.wgsl";
+        stats.add(&frame(&[
+            ("scene 1x", 10.0),
+            (&format!("{id}/user pass"), 1.5),
+        ]));
+        assert_eq!(stats.technique_ms(id), Some(1.5));
+        assert_eq!(
+            stats.technique_passes(id),
+            vec![("user pass".to_owned(), 1.5)]
+        );
+        assert_eq!(stats.technique_ms("user:"), None);
+        assert_eq!(stats.scene_renders(), vec![("scene 1x".to_owned(), 10.0)]);
     }
 
     #[test]

@@ -16,7 +16,7 @@ mod timing;
 pub use memory::{MemoryItem, MemoryReport, TechniqueMemory};
 pub use statistics::{FrameStatistics, PassInvocations};
 pub use technique::{DebugView, FrameInfo, SceneInput, Technique};
-pub use timing::{FrameTimings, PassTiming, median_of_sorted};
+pub use timing::{FrameTimings, PassTiming, median_of_sorted, split_pass_label};
 
 use std::collections::HashMap;
 
@@ -96,6 +96,7 @@ pub struct PassContext<'a> {
 
 impl PassContext<'_> {
     fn label(&self, pass: &str) -> String {
+        debug_assert!(!pass.contains('/'), "pass names have no '/': {pass}");
         format!("{}/{pass}", self.technique_id)
     }
 

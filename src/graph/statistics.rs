@@ -24,7 +24,7 @@ pub struct PassInvocations {
 impl PassInvocations {
     /// The technique id of a technique pass, `None` for a shared scene render.
     pub fn technique(&self) -> Option<&str> {
-        self.label.split_once('/').map(|(t, _)| t)
+        super::timing::split_pass_label(&self.label).map(|(t, _)| t)
     }
 }
 

@@ -5,7 +5,7 @@
 /// GPU time of one pass.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PassTiming {
-    /// `technique/pass` or the scene input's label.
+    /// `technique/pass` or the scene input's label (see [`split_pass_label`]).
     pub label: String,
     /// Milliseconds between the pass's begin and end timestamps.
     pub ms: f64,
@@ -14,8 +14,15 @@ pub struct PassTiming {
 impl PassTiming {
     /// The technique id of a technique pass, `None` for a shared scene render.
     pub fn technique(&self) -> Option<&str> {
-        self.label.split_once('/').map(|(t, _)| t)
+        split_pass_label(&self.label).map(|(t, _)| t)
     }
+}
+
+/// A technique pass's label `technique/pass` split into the technique id and the pass name;
+/// `None` for a shared scene render's label. The split is at the last `/`: pass names have
+/// none, but ids may (a user technique's id holds its file's path, `user:/home/me/aa.wgsl`).
+pub fn split_pass_label(label: &str) -> Option<(&str, &str)> {
+    label.rsplit_once('/')
 }
 
 /// All pass times of one frame, in recording order.
