@@ -862,7 +862,9 @@ impl AaLabApp {
                 errors.push(err.to_string());
             }
         }
-        let more = engine.reference_incomplete() && !idle;
+        // (While a clip records or is shown the live view waits, its reference too: asking
+        // for UI frames for it would only repaint in a loop, taking CPU from the recording.)
+        let more = engine.reference_incomplete() && !idle && !engine.live_paused();
         self.clock.tick(publication.outputs);
         self.engine_frames += u64::from(publication.outputs);
         for err in errors {
