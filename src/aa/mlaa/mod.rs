@@ -26,7 +26,7 @@ use wgpu::util::DeviceExt;
 
 pub use settings::{EdgeMode, MlaaSettings, PipelineKey, Preset};
 
-use crate::aa::common::{debug_texture, view_as};
+use crate::aa::common::{bilinear_clamp_sampler, debug_texture, view_as};
 use crate::aa::params::{Named, Param, ParamError, ParamValue};
 use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::smaa::pipeline::{
@@ -148,12 +148,7 @@ impl Mlaa {
         );
         Self {
             settings: MlaaSettings::default(),
-            sampler: device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("mlaa bilinear"),
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                ..Default::default()
-            }),
+            sampler: bilinear_clamp_sampler(device, "mlaa bilinear"),
             edge_layout: pipeline::layout(
                 device,
                 "mlaa edges",
