@@ -263,7 +263,8 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
 /// can run, and the unavailable ones are reported on stderr.
 pub(super) fn technique_ids(gpu: &Gpu, list: &str) -> anyhow::Result<Vec<String>> {
     let mut ids = Vec::new();
-    for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+    for item in technique_list(list) {
+        let item = item.as_str();
         if item == "all" {
             for info in aa::registry() {
                 match (info.availability)(&gpu.caps) {
@@ -278,7 +279,7 @@ pub(super) fn technique_ids(gpu: &Gpu, list: &str) -> anyhow::Result<Vec<String>
     // Each technique once, in first-mention order (`none,fxaa,none` renders none once).
     let mut seen = std::collections::HashSet::new();
     ids.retain(|id| seen.insert(id.clone()));
-    if ids.is_empty() && list.split(',').any(|item| item.trim() == "all") {
+    if ids.is_empty() && technique_list(list).iter().any(|item| item == "all") {
         bail!(
             "no technique can run on {} ({}); the reasons are above",
             gpu.caps.adapter_name,
@@ -289,6 +290,40 @@ pub(super) fn technique_ids(gpu: &Gpu, list: &str) -> anyhow::Result<Vec<String>
         bail!("no technique given; use --technique with ids from `aa-lab techniques`, or `all`");
     }
     Ok(ids)
+}
+
+/// The items of a comma-separated `--technique` list. A user technique's path may hold commas:
+/// when `user:PATH` names no file, the shortest run of the following items that, joined back
+/// with their commas, names one is taken as its path (`user:a,b.wgsl,fxaa` is `user:a,b.wgsl`
+/// and `fxaa` when `a,b.wgsl` exists).
+fn technique_list(list: &str) -> Vec<String> {
+    let parts: Vec<&str> = list.split(',').collect();
+    let mut items = Vec::new();
+    let mut next = 0;
+    while next < parts.len() {
+        let item = parts[next].trim();
+        next += 1;
+        if item.is_empty() {
+            continue;
+        }
+        let mut taken = item.to_owned();
+        if let Some(path) = item.strip_prefix(aa::user::PREFIX)
+            && !std::path::Path::new(path).is_file()
+        {
+            let mut joined = path.to_owned();
+            for (offset, part) in parts[next..].iter().enumerate() {
+                joined.push(',');
+                joined.push_str(part);
+                if std::path::Path::new(joined.trim_end()).is_file() {
+                    taken = format!("{}{}", aa::user::PREFIX, joined.trim_end());
+                    next += offset + 1;
+                    break;
+                }
+            }
+        }
+        items.push(taken);
+    }
+    items
 }
 
 /// The `--ssaa-*` and `--msaa-resolve` flags as parameter settings per technique id.
@@ -717,6 +752,24 @@ mod tests {
             let err = parse_size(bad).unwrap_err();
             assert!(err.contains("WIDTHxHEIGHT"), "{err}");
         }
+    }
+
+    #[test]
+    fn user_technique_paths_may_hold_commas() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let odd = dir.path().join("a, b.wgsl");
+        std::fs::write(&odd, "").expect("write");
+        let odd = odd.display().to_string();
+        assert_eq!(
+            technique_list(&format!("none, user:{odd},fxaa")),
+            ["none".to_owned(), format!("user:{odd}"), "fxaa".to_owned()]
+        );
+        // A path that names no file, with or without commas, stays one item per comma.
+        assert_eq!(
+            technique_list("user:missing.wgsl,fxaa,,"),
+            ["user:missing.wgsl", "fxaa"]
+        );
+        assert_eq!(technique_list(" all "), ["all"]);
     }
 
     #[test]
