@@ -6,9 +6,9 @@
 //!   published images (egui-wgpu's texture updates) and painting the window on eframe's
 //!   device until the GPU has finished it ([`WindowPainter`]: a window-sized texture stands in
 //!   for the swapchain, and nothing is read back, as in the app). Painting on the GPU is what
-//!   waits when the engine shares eframe's queue, so it must be in the figure. Frames run as eframe runs them: when the app asked
-//!   for a repaint (its own requests, the render thread's wake-ups) or input arrives, at most
-//!   60 per second like a display.
+//!   waits when the engine shares eframe's queue, so it must be in the figure. Frames run as
+//!   eframe runs them: when the app asked for a repaint (its own requests, the render thread's
+//!   wake-ups) or input arrives, at most 60 per second like a display.
 //! - **engine frames per second** (frames whose outputs were published) over the first half of
 //!   the run, when nothing but the camera moves, and over the second half, with the key presses;
 //! - **input-to-visible latency** of a pure UI change (a layout key every 1.5 s in the second
@@ -17,9 +17,10 @@
 //! - **idle UI frame**: the same with the camera still and the engine idle.
 //! - **clip playback**: a 48-frame clip of the four techniques is recorded (camera panning,
 //!   no reference) and played at 30 frames per second in the 2x2 grid (all four on screen,
-//!   and in the magnifier) for a second, then measured over eight seconds: UI frames per second, clip frames shown per second
-//!   (every clip frame the UI showed, counted once per change), clip frames skipped (a change
-//!   to another frame than the next) and the UI frame's time while playing.
+//!   and in the magnifier) for a second, then measured over eight seconds: UI frames per
+//!   second, clip frames shown per second (every clip frame the UI showed, counted once per
+//!   change), clip frames skipped (a change to another frame than the next) and the UI frame's
+//!   time while playing.
 //!
 //! `cargo bench --bench viewer -- [--seconds S] [--scenes a,b] [--out file.json]`; with
 //! `--features profile` it also prints where the UI frame's time goes (puffin scopes).

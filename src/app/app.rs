@@ -392,8 +392,8 @@ impl AaLabApp {
 
     /// Adds the user technique in the WGSL file at `path` (see `aa::user`; File > Add
     /// technique from file): the render thread builds it, and it appears in the techniques
-    /// panel, switched on, or with its file's error.
-    /// The file is remembered in the settings and added again at the next start.
+    /// panel, switched on, or with its file's error. The file is remembered in the settings and
+    /// added again at the next start.
     pub fn add_user_technique(&mut self, path: PathBuf) {
         let Some(engine) = &mut self.engine else {
             return self.notify(
@@ -432,15 +432,14 @@ impl AaLabApp {
         let Some(engine) = &mut self.engine else {
             return;
         };
-        let mut gone = Vec::new();
-        for path in &self.settings.user_techniques {
-            if std::path::Path::new(path).is_file() {
-                engine.add_user_technique(PathBuf::from(path));
-            } else {
-                gone.push(path.clone());
-            }
+        let (present, gone): (Vec<String>, Vec<String>) =
+            std::mem::take(&mut self.settings.user_techniques)
+                .into_iter()
+                .partition(|path| std::path::Path::new(path).is_file());
+        for path in &present {
+            engine.add_user_technique(PathBuf::from(path));
         }
-        self.settings.user_techniques.retain(|p| !gone.contains(p));
+        self.settings.user_techniques = present;
         for path in gone {
             self.notify(
                 Level::Warning,

@@ -8,11 +8,12 @@
 //! by at most one clip frame, so a paint that comes late (a UI frame longer than the clip's
 //! period) shows the next frame rather than the one after it. The time it fell behind is kept,
 //! up to [`MAX_LAG_FRAMES`], and the following paints catch up with the clock: when UI frames
-//! jitter around the clip's period (on a software rasteriser, 25-40 ms for a 33 ms clip period),
-//! a short paint makes up for a long one and the clip keeps its rate. Skipped frames would change what is being judged (a flicker between two
-//! frames can vanish when every other frame is dropped); when the window paints more slowly than
-//! the clip's rate all along, the clip plays every frame more slowly, and the clip bar says at
-//! what rate it is shown ([`ClipPlayer::shown_fps`]).
+//! jitter around the clip's period (on a software rasteriser, 25-40 ms for a 33 ms clip
+//! period), a short paint makes up for a long one and the clip keeps its rate. Skipped frames
+//! would change what is being judged (a flicker between two frames can vanish when every other
+//! frame is dropped); when the window paints more slowly than the clip's rate all along, the
+//! clip plays every frame more slowly, and the clip bar says at what rate it is shown
+//! ([`ClipPlayer::shown_fps`]).
 //!
 //! Recording runs on the render thread ([`super::render_thread::ClipJob`]): temporal
 //! techniques render the warm-up frames first, so the clip shows them with a real history, and

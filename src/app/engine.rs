@@ -909,6 +909,8 @@ impl Engine {
         let Some(entry) = self.entries.get_mut(index) else {
             return;
         };
+        // A build (after the file was added again) lists it again.
+        entry.removed = false;
         match result {
             Ok(settings) => {
                 // The first build that works switches it on.
@@ -916,7 +918,6 @@ impl Engine {
                     entry.enabled = true;
                     publication.added_users.push(id);
                 }
-                entry.removed = false;
                 entry.availability = Ok(());
                 entry.settings = Some(settings);
                 entry.problem = None;
@@ -925,7 +926,6 @@ impl Engine {
             }
             Err(error) => {
                 publication.problems.push(error.clone());
-                entry.removed = false;
                 if entry.settings.is_some() {
                     entry.problem = Some(error);
                 } else {

@@ -143,10 +143,9 @@ impl GpuStats {
         self.order
             .iter()
             .filter_map(|label| {
-                let (technique, pass) = split_pass_label(label)?;
-                (technique == id)
-                    .then(|| self.pass_ms(label).map(|ms| (pass.to_owned(), ms)))
-                    .flatten()
+                let (_, pass) =
+                    split_pass_label(label).filter(|(technique, _)| *technique == id)?;
+                self.pass_ms(label).map(|ms| (pass.to_owned(), ms))
             })
             .collect()
     }

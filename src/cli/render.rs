@@ -262,9 +262,9 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
 /// The technique ids of a `--technique` list; `all` expands to every technique this adapter
 /// can run, and the unavailable ones are reported on stderr.
 pub(super) fn technique_ids(gpu: &Gpu, list: &str) -> anyhow::Result<Vec<String>> {
+    let items = technique_list(list);
     let mut ids = Vec::new();
-    for item in technique_list(list) {
-        let item = item.as_str();
+    for item in &items {
         if item == "all" {
             for info in aa::registry() {
                 match (info.availability)(&gpu.caps) {
@@ -273,13 +273,13 @@ pub(super) fn technique_ids(gpu: &Gpu, list: &str) -> anyhow::Result<Vec<String>
                 }
             }
         } else {
-            ids.push(item.to_owned());
+            ids.push(item.clone());
         }
     }
     // Each technique once, in first-mention order (`none,fxaa,none` renders none once).
     let mut seen = std::collections::HashSet::new();
     ids.retain(|id| seen.insert(id.clone()));
-    if ids.is_empty() && technique_list(list).iter().any(|item| item == "all") {
+    if ids.is_empty() && items.iter().any(|item| item == "all") {
         bail!(
             "no technique can run on {} ({}); the reasons are above",
             gpu.caps.adapter_name,
