@@ -9,23 +9,30 @@
 //! default: -1/2 log2 of the 8 samples the history averages, so textures come out as sharp as
 //! in a supersampled image). The resolve (`taa.wgsl` in this folder, one fullscreen pass with two
 //! targets) reprojects the history with the renderer's motion vectors (camera and object
-//! motion, without jitter; taken from the nearest surface among the pixel and its diagonal
+//! motion, without jitter; taken from the nearest surface among the pixel and its
 //! neighbours), rectifies it against the current neighbourhood's colours (clamp, YCoCg clip or
 //! variance clip) and blends it with the current sample, writing the output and the next
 //! history (ping-pong Rgba16Float textures, linear colour).
 //!
 //! What each read earns (SSIM against the 64-sample reference at 640x360, orbit frames 16 and
 //! 40, measured when the defaults were chosen): the nearest-surface velocity is worth .02 on
-//! hairball (thin strands smear with their own motion), so it stays, but from the 4 diagonal
-//! neighbours instead of all 8; the 5-pixel cross bounds the history as well as the 3x3 block
-//! (within .0003) with 4 fewer reads; the 4 texel loads that kept the Catmull-Rom result
-//! within its bilinear footprint, and a separate bilinear read of the history's speed, are
-//! dropped (the rectification removes the overshoot). The default resolve reads 16 texels per
-//! pixel (5 colours, 5 depths, 1 motion, 5 history taps) where it read 29. A bilinear history
-//! (`fast` preset, 12 reads) was .002-.003 better on hairball, but where the velocity
-//! tolerance trusts it, its blur spreads a slow object into its background a little every
-//! frame and leaves a faint ghost (13/255 in `tests/fxaa_taa.rs`), and atrium's textures come
-//! out .02 softer. Under motion the current frame's share rises with how much the read between
+//! hairball (thin strands smear with their own motion), so it stays, searched over the two
+//! 2x2 blocks that share the pixel along its main diagonal (the pixel, its 4 direct neighbours
+//! and 2 diagonal ones), read with two depth gathers instead of the pixel and its 4 diagonal
+//! neighbours' five loads: the same cost on lavapipe, and .0013 / .0008 better on hairball
+//! (.8544 / .8510) and .0004 on atrium; the 5-pixel cross bounds the history as well as the
+//! 3x3 block (within .0003) with 4 fewer reads; the 4 texel loads that kept the Catmull-Rom
+//! result within its bilinear footprint, and a separate bilinear read of the history's speed,
+//! are dropped (the rectification removes the overshoot). The default resolve makes 13 reads
+//! per pixel (5 colours, 2 depth gathers, 1 motion, 5 history taps) where it made 29. The
+//! Catmull-Rom filter's 4 extra bilinear taps are a quarter of its cost on lavapipe (14x a
+//! full-screen copy at 1920x1080, 10.3x with a bilinear history), where each tap filters in
+//! software; the same filter from its 12 texels by loads costs more still. A bilinear history
+//! (`lean` preset, 9 reads) is as good on hairball, but where the velocity tolerance trusts
+//! it, its blur spreads a slow object into its background a little every frame and leaves a
+//! faint ghost (13/255 on the spinning object of `tests/fxaa_taa.rs`; a smaller tolerance does
+//! not remove it, none loses hairball's thin strands), and atrium's textures come out .02
+//! softer (FLIP .053 against .036). Under motion the current frame's share rises with how much the read between
 //! texels blurs the history (`resample_feedback`), none on whole-pixel motion.
 //!
 //! Under motion the current frame's share is not only the pixel's point sample but
@@ -618,7 +625,9 @@ impl Technique for Taa {
                 "Velocity source",
                 "Which motion vector reprojects the pixel: own (the pixel's, no depth reads); \
                  diagonals (the nearest surface among the pixel and its four diagonal neighbours, \
-                 five depth reads); 3x3 (the nearest of the whole block, nine). The nearest \
+                 five depth reads); 3x3 (the nearest of the whole block, nine); quads (the \
+                 nearest of the two 2x2 blocks that share the pixel along its main diagonal: \
+                 seven pixels from two depth gathers, the default). The nearest \
                  surface makes antialiased silhouettes move with the foreground object; without it \
                  thin geometry smears.",
                 s.velocity,

@@ -59,6 +59,10 @@ crate::named_enum! {
         Diagonals => "diagonals",
         /// The nearest of the 3x3 neighbourhood (nine depth reads).
         Box => "3x3",
+        /// The nearest of the two 2x2 quads that share the pixel along its main diagonal: the
+        /// pixel, its four direct neighbours and two diagonal ones (seven depths from two
+        /// gathers).
+        Quads => "quads",
     }
 }
 
@@ -148,7 +152,7 @@ impl Default for TaaSettings {
             trust_sharp_only: false,
             luma_weight: false,
             current_filter: CurrentFilter::Gaussian,
-            velocity: VelocityTaps::Diagonals,
+            velocity: VelocityTaps::Quads,
             neighbourhood: Neighbourhood::Cross,
             mip_bias: -1.5,
         }
@@ -160,10 +164,11 @@ crate::named_enum! {
     pub enum Preset {
         /// The defaults.
         Default => "default",
-        /// The defaults with one bilinear history read instead of five (12 reads per pixel
-        /// instead of 16): about 10-11x a full-screen copy at 1920x1080 on lavapipe against the
+        /// The defaults with one bilinear history read instead of five (9 reads per pixel
+        /// instead of 13): about 10x a full-screen copy at 1920x1080 on lavapipe against the
         /// defaults' 14x, SSIM still at MSAA 4x's on hairball and above it on atrium, but
-        /// textures come out softer in motion (atrium FLIP 0.053 against the defaults' 0.037).
+        /// textures come out softer in motion (atrium FLIP 0.053 against the defaults' 0.036)
+        /// and a slowly spinning object leaves a faint trail (13/255).
         Lean => "lean",
         /// The cheapest variant: bilinear history, RGB clamp to the 5-pixel cross, the pixel's
         /// own motion (7 reads per pixel).

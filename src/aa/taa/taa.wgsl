@@ -5,8 +5,9 @@
 // pass blends that one-sample image into an accumulated history:
 //  1. Neighbourhood: the current colours around the pixel (3x3, or the 5-pixel cross) give the
 //     colour box (min/max, mean and variance), and the nearest surface among the pixel and its
-//     neighbours (reverse-Z: largest depth; the 4 diagonal ones or all 8) gives the motion
-//     vector, so silhouettes carry the foreground's motion.
+//     neighbours (reverse-Z: largest depth; the two 2x2 quads that share the pixel, read by two
+//     gathers, the 4 diagonal ones or all 8) gives the motion vector, so silhouettes carry the
+//     foreground's motion.
 //     The current frame's contribution is either the pixel's own sample or (Gaussian
 //     filter) the neighbourhood's samples weighed by exp(-a d^2) of their distance d from the
 //     pixel centre (a sample sits at its pixel's centre minus the jitter; a = 6 gives the
@@ -65,8 +66,9 @@ override RECTIFY: u32 = 3u;
 // Karis' 1 / (1 + luminance) weighting of the blend.
 override LUMA_WEIGHT: bool = true;
 // Motion of the nearest surface among: 0 the pixel alone, 1 the pixel and its 4 diagonal
-// neighbours, 2 the 3x3 neighbourhood.
-override VELOCITY_TAPS: u32 = 1u;
+// neighbours, 2 the 3x3 neighbourhood, 3 the two 2x2 quads that share the pixel along its main
+// diagonal (two gathers).
+override VELOCITY_TAPS: u32 = 3u;
 // Colour box from 0: the 3x3 neighbourhood, 1: the pixel and its 4 direct neighbours.
 override NEIGHBOURHOOD: u32 = 0u;
 // The velocity trust compares the speed of the pixel's own surface (one more motion read)
@@ -161,6 +163,38 @@ fn history_at(uv: vec2<f32>) -> vec4<f32> {
     return vec4<f32>(max(sum / total, vec3<f32>(0.0)), speed);
 }
 
+struct Nearest {
+    pixel: vec2<i32>,
+    depth: f32,
+}
+
+// The nearest surface (reverse-Z: largest depth) of the 2x2 quad above-left of the pixel and
+// the one below-right, each read with one gather at the quad's centre (a corner of the pixel)
+// instead of four loads; the clamp-to-edge sampler repeats the border pixels, as the loads'
+// clamped coordinates do.
+fn nearest_in_quads(pixel: vec2<i32>, last: vec2<i32>) -> Nearest {
+    let corner = vec2<f32>(pixel) * params.size.zw;
+    // A gather's components: (x0, y1), (x1, y1), (x1, y0), (x0, y0).
+    let above = textureGather(depth, bilinear, corner);
+    let below = textureGather(depth, bilinear, corner + params.size.zw);
+    let depths = array<f32, 6>(above.x, above.z, above.w, below.x, below.y, below.z);
+    let offsets = array<vec2<i32>, 6>(
+        vec2<i32>(-1, 0),
+        vec2<i32>(0, -1),
+        vec2<i32>(-1, -1),
+        vec2<i32>(0, 1),
+        vec2<i32>(1, 1),
+        vec2<i32>(1, 0),
+    );
+    var nearest = Nearest(pixel, above.y);
+    for (var i = 0u; i < 6u; i++) {
+        if depths[i] > nearest.depth {
+            nearest = Nearest(clamp(pixel + offsets[i], vec2<i32>(0), last), depths[i]);
+        }
+    }
+    return nearest;
+}
+
 struct Resolved {
     colour: vec3<f32>,
     // Speed of the pixel's content in pixels per frame (kept in the history's alpha).
@@ -185,8 +219,12 @@ fn resolve(position: vec2<f32>) -> Resolved {
     var filtered = vec3<f32>(0.0);
     var nearest = pixel;
     var nearest_depth = 0.0;
-    if VELOCITY_TAPS > 0u {
+    if VELOCITY_TAPS == 1u || VELOCITY_TAPS == 2u {
         nearest_depth = textureLoad(depth, pixel, 0);
+    } else if VELOCITY_TAPS == 3u {
+        let nearest_quads = nearest_in_quads(pixel, last);
+        nearest = nearest_quads.pixel;
+        nearest_depth = nearest_quads.depth;
     }
     for (var dy = -1; dy <= 1; dy++) {
         for (var dx = -1; dx <= 1; dx++) {
