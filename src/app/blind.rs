@@ -28,10 +28,10 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
 use egui::{Button, Key, Modifiers, RichText};
 
-use super::app::{AaLabApp, Level};
 use super::clip::ClipRecipe;
 use super::settings::Layout;
 use super::style::{self, SLOT_COLORS, SLOT_LETTERS};
+use super::workspace::{Level, Workspace};
 use crate::aa::ParamMap;
 use crate::files::{self, Overwrite};
 use crate::scene::camera::OrbitPose;
@@ -619,7 +619,7 @@ impl BlindState {
     }
 }
 
-impl AaLabApp {
+impl Workspace {
     /// Starts a blind session over the compared techniques (two to four), writing its answers
     /// into the export folder.
     pub(super) fn start_blind(&mut self, ctx: &egui::Context) {
@@ -638,7 +638,7 @@ impl AaLabApp {
         let scene = if self.images.is_open() {
             "images"
         } else {
-            self.scene_name().unwrap_or("scene")
+            self.scene.as_ref().map_or("scene", |s| s.name.as_str())
         };
         let dir = self.settings.export_dir.clone();
         let stem = super::export::free_stem(&dir, &format!("{scene}-blind"), &[".json".to_owned()]);
@@ -772,11 +772,6 @@ impl AaLabApp {
             region,
             render_size: self.viewport.render_size,
         }
-    }
-
-    /// The answers file of the running blind session (tests read it).
-    pub fn blind_file(&self) -> Option<&Path> {
-        self.blind.file()
     }
 }
 

@@ -29,9 +29,9 @@ use std::time::{Duration, Instant};
 
 use egui::RichText;
 
-use super::app::Level;
 use super::engine::Published;
 use super::style;
+use super::workspace::{Level, Workspace};
 use crate::metrics::stability::TemporalScores;
 use crate::scene::CameraRig;
 use crate::scene::camera::{FrameCamera, OrbitPose};
@@ -661,7 +661,7 @@ fn mib(bytes: u64) -> String {
     format!("{:.0} MiB", bytes as f64 / (1024.0 * 1024.0))
 }
 
-impl super::app::AaLabApp {
+impl Workspace {
     /// The clip bar (a bottom panel above the status bar) and what its buttons ask for.
     pub(super) fn clip_panel(&mut self, ui: &mut egui::Ui) {
         let images = self.compared().len() + usize::from(self.settings.clip.reference);
@@ -790,13 +790,13 @@ impl super::app::AaLabApp {
 
     /// The clip's progress: frames recorded, and whether it is still recording (`None`: no
     /// clip).
-    pub fn clip_progress(&self) -> Option<(usize, bool)> {
+    pub(super) fn clip_progress(&self) -> Option<(usize, bool)> {
         let clip = self.engine.as_ref()?.clip()?;
         Some((clip.frames.len(), clip.recording_now()))
     }
 
     /// The clip's temporal figures per technique, once recorded with the reference.
-    pub fn clip_scores(&self) -> Option<Vec<TemporalScores>> {
+    pub(super) fn clip_scores(&self) -> Option<Vec<TemporalScores>> {
         self.engine.as_ref()?.clip()?.scores.clone()
     }
 
@@ -809,7 +809,7 @@ impl super::app::AaLabApp {
     }
 
     /// The index of the clip frame on screen (`None` when the live view is).
-    pub fn shown_clip_frame(&self) -> Option<usize> {
+    pub(super) fn shown_clip_frame(&self) -> Option<usize> {
         let engine = self.engine.as_ref()?;
         let clip = engine.clip().filter(|_| engine.clip_shown())?;
         Some(clip.player.frame(clip.frames.len()))

@@ -11,10 +11,10 @@
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, mpsc};
 
-use super::app::{AaLabApp, DialogPurpose, Level};
 use super::clip::ClipRecipe;
 use super::difference::lens_heatmap;
 use super::magnifier::{Source, crop};
+use super::workspace::{DialogPurpose, Level, Workspace};
 use crate::export::sheet::{self, Cell, Row};
 use crate::export::write_png;
 use crate::files::{self, Overwrite};
@@ -220,9 +220,9 @@ fn write_clip(
     Ok(vec![animation, sidecar])
 }
 
-impl AaLabApp {
+impl Workspace {
     /// The render record of the displayed frame: `aa-lab render --from` reproduces it.
-    pub fn current_spec(&self) -> Option<RenderSpec> {
+    pub(super) fn current_spec(&self) -> Option<RenderSpec> {
         let engine = self.engine.as_ref()?;
         let camera = engine.displayed()?;
         let scene = self.scene.as_ref()?;
@@ -558,16 +558,6 @@ impl AaLabApp {
     pub(super) fn use_export_dir(&mut self, dir: PathBuf) {
         self.notify(Level::Info, format!("Exports go to {}", dir.display()));
         self.settings.export_dir = dir;
-    }
-
-    /// Points exports at a folder (tests use a temporary one).
-    pub fn set_export_dir(&mut self, dir: PathBuf) {
-        self.settings.export_dir = dir;
-    }
-
-    /// Files written by the last finished export.
-    pub fn last_export(&self) -> &[PathBuf] {
-        &self.export.last
     }
 }
 

@@ -5,16 +5,16 @@
 
 use egui::RichText;
 
-use super::app::AaLabApp;
 use super::image_set::IMAGE_IDS;
 use super::metrics_panel::{number, number_weak};
 use super::quality;
 use super::style::{self, SLOT_COLORS, SLOT_LETTERS};
+use super::workspace::Workspace;
 
 /// What the reference of an image set is, for tooltips.
 const REFERENCE_HELP: &str = "The image every other one is measured against (SSIM, PSNR, MAE, FLIP, the magnifier's heatmaps; hold R in the A/B flip layout to see it). By default the first file whose name has the word \"reference\" or \"ref\", else the first file.";
 
-impl AaLabApp {
+impl Workspace {
     /// The reference combo box; `salt` tells its instances apart.
     fn reference_choice(&mut self, ui: &mut egui::Ui, salt: &str) {
         let Some((names, reference)) = self.image_names() else {

@@ -11,13 +11,13 @@
 
 use egui::{Color32, Rect, Sense, Stroke, StrokeKind, TextureHandle, pos2, vec2};
 
-use super::app::{AaLabApp, Level};
 use super::blit;
 use super::difference::{self, HeatInput, HeatJob, HeatKey, HeatResult, heat_color};
 use super::engine::{Published, ReferenceState};
 use super::settings::{DiffMetric, MagnifierSettings};
 use super::style::{self, REFERENCE_COLOR, SLOT_COLORS};
 use super::worker::Worker;
+use super::workspace::{Level, Workspace};
 use crate::gpu::readback::Region;
 
 /// The zoom factors offered.
@@ -111,7 +111,7 @@ pub fn crop(image: &image::RgbaImage, region: Region) -> image::RgbaImage {
     image::imageops::crop_imm(image, region.x, region.y, region.width, region.height).to_image()
 }
 
-impl AaLabApp {
+impl Workspace {
     /// The panes' sources: the compared techniques, then the reference when shown.
     pub(super) fn magnifier_sources(&self) -> Vec<Source> {
         let mut sources: Vec<Source> = self
@@ -247,7 +247,7 @@ impl AaLabApp {
     /// In difference mode, once every technique pane shows the heatmap of the current lens,
     /// images and metric: the lens means of the panes' maps, in pane order (SSIM itself for
     /// the SSIM map).
-    pub fn difference_means(&self) -> Option<Vec<f64>> {
+    pub(super) fn difference_means(&self) -> Option<Vec<f64>> {
         let job = self.heat_job()?;
         job.key
             .sources
@@ -264,11 +264,6 @@ impl AaLabApp {
                 }
             })
             .collect()
-    }
-
-    /// The lens in frame pixels: x, y, width, height.
-    pub fn lens_region(&self) -> Option<(u32, u32, u32, u32)> {
-        self.lens().map(|r| (r.x, r.y, r.width, r.height))
     }
 
     /// The heatmap of a pane when it shows the displayed view with the selected metric.

@@ -9,11 +9,11 @@ use std::time::Duration;
 use egui::RichText;
 use egui_plot::{Legend, Line, Plot};
 
-use super::app::AaLabApp;
 use super::engine::ReferenceState;
 use super::quality;
 use super::reference::REFERENCE_ID;
 use super::style::{self, ACCENT, SLOT_COLORS, SLOT_LETTERS};
+use super::workspace::Workspace;
 
 /// A right-aligned monospace number cell with a tooltip.
 pub(super) fn number(ui: &mut egui::Ui, text: String, tip: &str) {
@@ -30,7 +30,7 @@ pub(super) fn number_weak(ui: &mut egui::Ui, text: &str, tip: &str) {
     });
 }
 
-impl AaLabApp {
+impl Workspace {
     /// The panel. See the module docs.
     pub(super) fn metrics_panel(&mut self, ui: &mut egui::Ui) {
         profiling::function_scope!();

@@ -47,6 +47,7 @@ mod stats;
 mod style;
 mod viewport;
 mod worker;
+mod workspace;
 
 use std::sync::Arc;
 

@@ -6,11 +6,11 @@
 
 use egui::{Button, Color32, RichText};
 
-use super::app::{AaLabApp, DialogPurpose, Level};
 use super::magnifier::shortcut_hint;
 use super::settings::{Bookmark, Layout, MAX_COMPARE, Resolution};
 use super::shortcuts::{self, Action};
 use super::style::{self, SLOT_COLORS, SLOT_LETTERS};
+use super::workspace::{DialogPurpose, Level, Workspace};
 use crate::aa::{Param, ParamKind, ParamValue};
 use crate::scene::procedural::BUILTIN_SCENES;
 
@@ -25,7 +25,7 @@ fn menu_item(ui: &mut egui::Ui, text: &str, action: Option<Action>) -> bool {
     ui.add(Button::new(text).shortcut_text(shortcut)).clicked()
 }
 
-impl AaLabApp {
+impl Workspace {
     /// File, View, Camera and Help menus.
     pub(super) fn menu_bar(&mut self, ui: &mut egui::Ui) {
         let ctx = ui.ctx().clone();

@@ -10,12 +10,12 @@
 
 use egui::{Color32, CursorIcon, Pos2, Rect, Sense, Stroke, StrokeKind, Vec2, pos2, vec2};
 
-use super::app::AaLabApp;
 use super::blit;
 use super::engine::Published;
 use super::magnifier::lens_region;
 use super::settings::{Layout, Resolution};
 use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, VIEWPORT_BG};
+use super::workspace::Workspace;
 
 /// Gap between grid tiles, in points.
 const GRID_GAP: f32 = 2.0;
@@ -176,7 +176,7 @@ fn shown_size(size: (u32, u32), rendering: (u32, u32), tile: &Rect, ppp: f32) ->
     native * (tile.width() / native.x).min(tile.height() / native.y)
 }
 
-impl AaLabApp {
+impl Workspace {
     /// The central panel. See the module docs.
     pub(super) fn viewport_panel(&mut self, ui: &mut egui::Ui) {
         profiling::function_scope!();
