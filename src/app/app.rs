@@ -18,6 +18,7 @@ use super::quality::Figures;
 use super::settings::{Layout, STORAGE_KEY, Settings};
 use super::shortcuts::{self, Action};
 use super::style;
+use super::viewport::ViewportPanel;
 use super::workspace::{Level, NOTICE_SECONDS, Notice, Workspace};
 use crate::gpu::Gpu;
 use crate::spec::RenderSpec;
@@ -48,6 +49,7 @@ pub enum AppError {
 /// The viewer application.
 pub struct AaLabApp {
     ws: Workspace,
+    viewport: ViewportPanel,
     /// Engine frames published so far.
     engine_frames: u64,
     #[cfg(feature = "profile")]
@@ -120,6 +122,7 @@ impl AaLabApp {
         }
         Ok(Self {
             ws,
+            viewport: ViewportPanel::default(),
             engine_frames: 0,
             #[cfg(feature = "profile")]
             profile: ProfileLog {
@@ -167,7 +170,7 @@ impl AaLabApp {
 
     /// The size the techniques render at (zero until the viewport has been laid out).
     pub fn render_size(&self) -> (u32, u32) {
-        self.ws.viewport.render_size
+        self.ws.render_size
     }
 
     /// Whether every compared technique shows an image rendered at the current size and no
@@ -179,7 +182,7 @@ impl AaLabApp {
         let Some(engine) = &self.ws.engine else {
             return false;
         };
-        let size = self.ws.viewport.render_size;
+        let size = self.ws.render_size;
         let compared = self.ws.compared();
         !engine.busy()
             && !compared.is_empty()
@@ -211,7 +214,7 @@ impl AaLabApp {
 
     /// Where technique A's image was drawn in the last frame (points).
     pub fn image_rect(&self) -> Option<egui::Rect> {
-        self.ws.viewport.image_rect
+        self.viewport.image_rect()
     }
 
     /// The published reference of the displayed view, or the reference image of the open set
@@ -416,7 +419,7 @@ impl AaLabApp {
     /// Returns whether more frames are wanted.
     fn engine_frame(&mut self) -> bool {
         profiling::function_scope!();
-        let size = self.ws.viewport.render_size;
+        let size = self.ws.render_size;
         let want_reference = self.reference_wanted();
         let want_pixels = self.pixels_wanted();
         // The engine stays idle while images are shown.
@@ -524,7 +527,7 @@ impl eframe::App for AaLabApp {
         );
         self.ws.menu_bar(ui);
         self.ws.toolbar(ui);
-        self.ws.status_bar(ui);
+        self.ws.status_bar(ui, self.viewport.hover_pixel());
         // Clips record the scene; images have none.
         if !self.ws.images.is_open() {
             self.ws.clip_panel(ui);
@@ -542,9 +545,9 @@ impl eframe::App for AaLabApp {
             self.ws.metrics_panel(ui);
         }
         if self.ws.settings.show_magnifier {
-            self.ws.magnifier_panel(ui);
+            self.ws.magnifier_panel(ui, self.viewport.hover_pixel());
         }
-        self.ws.viewport_panel(ui);
+        self.viewport.ui(ui, &mut self.ws);
         shortcuts::help_overlay(&ctx, &mut self.ws.help_open);
 
         // (An open file dialog wakes the UI itself when answered.)
@@ -555,7 +558,7 @@ impl eframe::App for AaLabApp {
             // The render thread wakes the UI when the frame is back; until then a repaint
             // would show nothing new (the camera advances with each engine frame), and on a
             // software rasteriser each paint takes CPU from the engine.
-        } else if more || self.time_changes_image() || self.ws.viewport.resized {
+        } else if more || self.time_changes_image() || self.viewport.resized() {
             super::request_one_frame(&ctx);
         } else if pending_jobs {
             ctx.request_repaint_after(Duration::from_millis(30));

@@ -770,7 +770,7 @@ impl Workspace {
             shown,
             layout: self.settings.layout,
             region,
-            render_size: self.viewport.render_size,
+            render_size: self.render_size,
         }
     }
 }

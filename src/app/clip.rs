@@ -665,7 +665,7 @@ impl Workspace {
     /// The clip bar (a bottom panel above the status bar) and what its buttons ask for.
     pub(super) fn clip_panel(&mut self, ui: &mut egui::Ui) {
         let images = self.compared().len() + usize::from(self.settings.clip.reference);
-        let estimate = self.settings.clip.bytes(images, self.viewport.render_size);
+        let estimate = self.settings.clip.bytes(images, self.render_size);
         let Some(engine) = &mut self.engine else {
             return;
         };
@@ -708,7 +708,7 @@ impl Workspace {
     /// Records a clip of the compared techniques along the chosen path from the current view.
     pub(super) fn record_clip(&mut self) {
         let ids = self.compared();
-        let size = self.viewport.render_size;
+        let size = self.render_size;
         let settings = self.settings.clip;
         if ids.is_empty() {
             self.notify(

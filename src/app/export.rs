@@ -301,7 +301,7 @@ impl Workspace {
             .as_ref()
             .and_then(|e| e.displayed())
             .map_or(0, |c| c.frame);
-        let (w, h) = self.viewport.render_size;
+        let (w, h) = self.render_size;
         let mode = if self.settings.magnifier.difference {
             format!(", {} against the reference", metric.label().to_lowercase())
         } else {

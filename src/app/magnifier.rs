@@ -139,7 +139,7 @@ impl Workspace {
         lens_region(
             &self.settings.magnifier,
             self.magnifier.lens_side,
-            self.viewport.render_size,
+            self.render_size,
         )
     }
 
@@ -277,7 +277,11 @@ impl Workspace {
     }
 
     /// The magnifier panel (bottom of the window).
-    pub(super) fn magnifier_panel(&mut self, ui: &mut egui::Ui) {
+    pub(super) fn magnifier_panel(
+        &mut self,
+        ui: &mut egui::Ui,
+        viewport_hover: Option<(u32, u32)>,
+    ) {
         profiling::function_scope!();
         egui::Panel::bottom("magnifier")
             .resizable(true)
@@ -292,7 +296,7 @@ impl Workspace {
                 ui.set_min_height(ui.available_height());
                 self.magnifier_header(ui);
                 ui.add_space(4.0);
-                self.magnifier_panes(ui);
+                self.magnifier_panes(ui, viewport_hover);
             });
     }
 
@@ -355,7 +359,7 @@ impl Workspace {
         });
     }
 
-    fn magnifier_panes(&mut self, ui: &mut egui::Ui) {
+    fn magnifier_panes(&mut self, ui: &mut egui::Ui, viewport_hover: Option<(u32, u32)>) {
         let ppp = ui.ctx().pixels_per_point();
         let sources = self.magnifier_sources();
         let zoom = self.settings.magnifier.zoom.max(1);
@@ -371,7 +375,7 @@ impl Workspace {
             ui.weak("The lens appears once the first frame is rendered.");
             return;
         };
-        let size = self.viewport.render_size;
+        let size = self.render_size;
         let pane_points = vec2(
             (lens.width * zoom) as f32 / ppp,
             (lens.height * zoom) as f32 / ppp,
@@ -413,7 +417,7 @@ impl Workspace {
         if let Some(slot) = clicked {
             self.blind_click(slot);
         }
-        let marked = hover.or(self.viewport.hover_pixel.filter(|(x, y)| {
+        let marked = hover.or(viewport_hover.filter(|(x, y)| {
             *x >= lens.x && *y >= lens.y && *x < lens.x + lens.width && *y < lens.y + lens.height
         }));
         if let Some((x, y)) = marked {

@@ -458,7 +458,7 @@ impl Workspace {
     }
 
     /// Adapter, software rendering, resolution, scene, frame, FPS and the latest notice.
-    pub(super) fn status_bar(&mut self, ui: &mut egui::Ui) {
+    pub(super) fn status_bar(&mut self, ui: &mut egui::Ui, viewport_hover: Option<(u32, u32)>) {
         egui::Panel::bottom("status bar")
             .frame(egui::Frame::side_top_panel(ui.style()).inner_margin(egui::Margin::symmetric(8, 3)))
             .show(ui, |ui| {
@@ -478,7 +478,7 @@ impl Workspace {
                         .on_hover_text("This adapter rasterises on the CPU: frame times are far longer than on a GPU, and relative costs differ too.");
                     }
                     ui.separator();
-                    let (w, h) = self.viewport.render_size;
+                    let (w, h) = self.render_size;
                     ui.label(RichText::new(format!("{w} × {h}")).small().monospace())
                         .on_hover_text("Render resolution of every technique (1:1 on screen)");
                     if let Some(set) = self.images.open() {
@@ -507,7 +507,7 @@ impl Workspace {
                     );
                     ui.label(RichText::new(frame).small().monospace())
                         .on_hover_text("The animation clock and temporal jitter index; it advances once per rendered frame while playing.");
-                    if let Some((x, y)) = self.viewport.hover_pixel.or(self.magnifier.hover) {
+                    if let Some((x, y)) = viewport_hover.or(self.magnifier.hover) {
                         ui.separator();
                         ui.label(RichText::new(format!("pixel ({x}, {y})")).small().monospace());
                     }

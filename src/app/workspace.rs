@@ -24,7 +24,6 @@ use super::quality::QualityTracker;
 use super::scene_loader::SceneLoader;
 use super::settings::{Bookmark, MAX_COMPARE, Settings};
 use super::stats::FrameClock;
-use super::viewport::ViewportState;
 use crate::gpu::Gpu;
 use crate::scene::{CameraRig, Scene};
 
@@ -93,7 +92,9 @@ pub(super) struct Workspace {
     pub(super) camera: CameraController,
     pub(super) clock: FrameClock,
     pub(super) notices: Vec<Notice>,
-    pub(super) viewport: ViewportState,
+    /// The size the techniques render at, as the viewport last laid out its tiles (zero
+    /// until then).
+    pub(super) render_size: (u32, u32),
     pub(super) magnifier: MagnifierState,
     pub(super) quality: QualityTracker,
     pub(super) export: ExportState,
@@ -133,7 +134,7 @@ impl Workspace {
             camera,
             clock: FrameClock::default(),
             notices,
-            viewport: ViewportState::default(),
+            render_size: (0, 0),
             magnifier: MagnifierState::default(),
             quality: QualityTracker::default(),
             export: ExportState::default(),
@@ -368,6 +369,23 @@ impl Workspace {
         }
         ids.truncate(MAX_COMPARE);
         ids
+    }
+
+    /// The label text of what a tile shows.
+    pub(super) fn shown_label(&self, id: &str) -> String {
+        if let Some(label) = self.blind.label(id) {
+            return label;
+        }
+        if let Some(label) = self.image_label(id) {
+            return label;
+        }
+        let Some(entry) = self.engine.as_ref().and_then(|e| e.entry(id)) else {
+            return id.to_owned();
+        };
+        match &entry.debug_view {
+            Some(view) => format!("{} · {view}", entry.name),
+            None => entry.name.to_owned(),
+        }
     }
 
     /// Switches a technique on or off and keeps the saved list in step.
