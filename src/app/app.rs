@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 
 use super::camera::CameraController;
 use super::engine::DisplayPath;
+use super::magnifier::MagnifierPanel;
 use super::quality::Figures;
 use super::settings::{Layout, STORAGE_KEY, Settings};
 use super::shortcuts::{self, Action};
@@ -50,6 +51,7 @@ pub enum AppError {
 pub struct AaLabApp {
     ws: Workspace,
     viewport: ViewportPanel,
+    magnifier: MagnifierPanel,
     /// Engine frames published so far.
     engine_frames: u64,
     #[cfg(feature = "profile")]
@@ -123,6 +125,7 @@ impl AaLabApp {
         Ok(Self {
             ws,
             viewport: ViewportPanel::default(),
+            magnifier: MagnifierPanel::default(),
             engine_frames: 0,
             #[cfg(feature = "profile")]
             profile: ProfileLog {
@@ -527,7 +530,8 @@ impl eframe::App for AaLabApp {
         );
         self.ws.menu_bar(ui);
         self.ws.toolbar(ui);
-        self.ws.status_bar(ui, self.viewport.hover_pixel());
+        self.ws
+            .status_bar(ui, self.viewport.hover_pixel().or(self.magnifier.hover()));
         // Clips record the scene; images have none.
         if !self.ws.images.is_open() {
             self.ws.clip_panel(ui);
@@ -545,7 +549,8 @@ impl eframe::App for AaLabApp {
             self.ws.metrics_panel(ui);
         }
         if self.ws.settings.show_magnifier {
-            self.ws.magnifier_panel(ui, self.viewport.hover_pixel());
+            self.magnifier
+                .ui(ui, &mut self.ws, self.viewport.hover_pixel());
         }
         self.viewport.ui(ui, &mut self.ws);
         shortcuts::help_overlay(&ctx, &mut self.ws.help_open);

@@ -6,9 +6,8 @@
 
 use egui::{Button, Color32, RichText};
 
-use super::magnifier::shortcut_hint;
 use super::settings::{Bookmark, Layout, MAX_COMPARE, Resolution};
-use super::shortcuts::{self, Action};
+use super::shortcuts::{self, Action, shortcut_hint};
 use super::style::{self, SLOT_COLORS, SLOT_LETTERS};
 use super::workspace::{DialogPurpose, Level, Workspace};
 use crate::aa::{Param, ParamKind, ParamValue};
@@ -458,7 +457,7 @@ impl Workspace {
     }
 
     /// Adapter, software rendering, resolution, scene, frame, FPS and the latest notice.
-    pub(super) fn status_bar(&mut self, ui: &mut egui::Ui, viewport_hover: Option<(u32, u32)>) {
+    pub(super) fn status_bar(&mut self, ui: &mut egui::Ui, hover: Option<(u32, u32)>) {
         egui::Panel::bottom("status bar")
             .frame(egui::Frame::side_top_panel(ui.style()).inner_margin(egui::Margin::symmetric(8, 3)))
             .show(ui, |ui| {
@@ -507,7 +506,7 @@ impl Workspace {
                     );
                     ui.label(RichText::new(frame).small().monospace())
                         .on_hover_text("The animation clock and temporal jitter index; it advances once per rendered frame while playing.");
-                    if let Some((x, y)) = viewport_hover.or(self.magnifier.hover) {
+                    if let Some((x, y)) = hover {
                         ui.separator();
                         ui.label(RichText::new(format!("pixel ({x}, {y})")).small().monospace());
                     }
