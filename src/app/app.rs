@@ -15,10 +15,12 @@ use std::time::{Duration, Instant};
 use super::camera::CameraController;
 use super::engine::DisplayPath;
 use super::magnifier::MagnifierPanel;
+use super::panels;
 use super::quality::Figures;
 use super::settings::{Layout, STORAGE_KEY, Settings};
 use super::shortcuts::{self, Action};
 use super::style;
+use super::techniques_panel;
 use super::viewport::ViewportPanel;
 use super::workspace::{Level, NOTICE_SECONDS, Notice, Workspace};
 use crate::gpu::Gpu;
@@ -52,6 +54,8 @@ pub struct AaLabApp {
     ws: Workspace,
     viewport: ViewportPanel,
     magnifier: MagnifierPanel,
+    help_open: bool,
+    panels_hidden: bool,
     /// Engine frames published so far.
     engine_frames: u64,
     #[cfg(feature = "profile")]
@@ -126,6 +130,8 @@ impl AaLabApp {
             ws,
             viewport: ViewportPanel::default(),
             magnifier: MagnifierPanel::default(),
+            help_open: false,
+            panels_hidden: false,
             engine_frames: 0,
             #[cfg(feature = "profile")]
             profile: ProfileLog {
@@ -386,8 +392,8 @@ impl AaLabApp {
             Action::Export => self.ws.start_export(ctx),
             Action::CopySheet => self.ws.copy_sheet(ctx),
             Action::Open => self.ws.open_file_dialog(ctx),
-            Action::TogglePanels => self.ws.panels_hidden = !self.ws.panels_hidden,
-            Action::Help => self.ws.help_open = !self.ws.help_open,
+            Action::TogglePanels => self.panels_hidden = !self.panels_hidden,
+            Action::Help => self.help_open = !self.help_open,
         }
     }
 
@@ -514,7 +520,7 @@ impl eframe::App for AaLabApp {
             }
         }
         if ctx.input(|i| i.key_pressed(egui::Key::Escape)) {
-            self.ws.help_open = false;
+            self.help_open = false;
         }
         let more = self.engine_frame();
         self.ws.tick_clip(&ctx);
@@ -528,22 +534,27 @@ impl eframe::App for AaLabApp {
             ctx.content_rect(),
             style::PANEL_FILL,
         );
-        self.ws.menu_bar(ui);
-        self.ws.toolbar(ui);
-        self.ws
-            .status_bar(ui, self.viewport.hover_pixel().or(self.magnifier.hover()));
+        panels::menu_bar(
+            ui,
+            &mut self.ws,
+            &mut self.help_open,
+            &mut self.panels_hidden,
+        );
+        panels::toolbar(ui, &mut self.ws, &mut self.help_open);
+        let hover = self.viewport.hover_pixel().or(self.magnifier.hover());
+        panels::status_bar(ui, &self.ws, hover);
         // Clips record the scene; images have none.
         if !self.ws.images.is_open() {
             self.ws.clip_panel(ui);
         }
         // A blind comparison's panel replaces those that name the techniques.
         let blind = self.ws.blind.active();
-        let show_side = !self.ws.panels_hidden;
+        let show_side = !self.panels_hidden;
         if show_side && blind {
             self.ws.blind_panel(ui);
         }
         if show_side && !blind && self.ws.settings.show_techniques {
-            self.ws.techniques_panel(ui);
+            techniques_panel::ui(ui, &mut self.ws);
         }
         if show_side && !blind && self.ws.settings.show_metrics {
             self.ws.metrics_panel(ui);
@@ -553,7 +564,7 @@ impl eframe::App for AaLabApp {
                 .ui(ui, &mut self.ws, self.viewport.hover_pixel());
         }
         self.viewport.ui(ui, &mut self.ws);
-        shortcuts::help_overlay(&ctx, &mut self.ws.help_open);
+        shortcuts::help_overlay(&ctx, &mut self.help_open);
 
         // (An open file dialog wakes the UI itself when answered.)
         let pending_jobs = self.loading() || self.ws.export.running() || self.ws.images.loading();

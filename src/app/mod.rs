@@ -45,6 +45,7 @@ mod settings;
 mod shortcuts;
 mod stats;
 mod style;
+mod techniques_panel;
 mod viewport;
 mod worker;
 mod workspace;

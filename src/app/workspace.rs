@@ -27,6 +27,9 @@ use super::stats::FrameClock;
 use crate::gpu::Gpu;
 use crate::scene::{CameraRig, Scene};
 
+/// Largest bookmarks file read (thousands of bookmarks; anything larger is not ours).
+const BOOKMARKS_LIMIT: u64 = 4 << 20;
+
 /// How long a notice stays in the status bar.
 pub(super) const NOTICE_SECONDS: f64 = 12.0;
 
@@ -102,8 +105,6 @@ pub(super) struct Workspace {
     pub(super) images: ImageSetState,
     /// The blind comparison (blind.rs).
     pub(super) blind: BlindState,
-    pub(super) help_open: bool,
-    pub(super) panels_hidden: bool,
     /// The open file dialog (on its own thread): what its answer is for, and the answer (the
     /// files picked).
     pub(super) file_dialog: Option<(DialogPurpose, mpsc::Receiver<Option<Vec<PathBuf>>>)>,
@@ -140,8 +141,6 @@ impl Workspace {
             export: ExportState::default(),
             images: ImageSetState::new(super::blit::Uploader::new(state)),
             blind: BlindState::default(),
-            help_open: false,
-            panels_hidden: false,
             file_dialog: None,
             engine_frame_delay: options.engine_frame_delay,
             display: Display::choose(state, options.display),
@@ -584,6 +583,70 @@ impl Workspace {
             format!("Saved camera bookmark \"{}\"", bookmark.name),
         );
         self.settings.bookmarks.push(bookmark);
+    }
+
+    /// Asks where to write the loaded scene's bookmarks (JSON).
+    pub(super) fn export_bookmarks(&mut self, ctx: &egui::Context) {
+        let marks: Vec<_> = self.scene_bookmarks().into_iter().cloned().collect();
+        let name = self.scene.as_ref().map_or("scene", |s| s.name.as_str());
+        let file_name = format!("{name}-bookmarks.json");
+        self.ask_for_path(ctx, DialogPurpose::ExportBookmarks(marks), move || {
+            rfd::FileDialog::new()
+                .set_title("Export camera bookmarks")
+                .set_file_name(file_name)
+                .add_filter("JSON", &["json"])
+                .save_file()
+        });
+    }
+
+    /// Writes bookmarks to `path` (atomically).
+    pub(super) fn write_bookmarks(&mut self, path: &std::path::Path, marks: &[Bookmark]) {
+        let json = super::settings::bookmarks_to_json(marks);
+        match super::settings::write_atomically(path, &json) {
+            Ok(()) => self.notify(
+                Level::Info,
+                format!("Wrote {} bookmark(s) to {}", marks.len(), path.display()),
+            ),
+            Err(e) => self.notify(
+                Level::Error,
+                format!("cannot write {}: {e}", path.display()),
+            ),
+        }
+    }
+
+    /// Asks for a JSON file of bookmarks to add to the loaded scene.
+    pub(super) fn import_bookmarks(&mut self, ctx: &egui::Context) {
+        let Some(scene) = self.scene.as_ref().map(|s| s.spec.clone()) else {
+            return;
+        };
+        self.ask_for_path(ctx, DialogPurpose::ImportBookmarks(scene), || {
+            rfd::FileDialog::new()
+                .set_title("Import camera bookmarks")
+                .add_filter("JSON", &["json"])
+                .pick_file()
+        });
+    }
+
+    /// Adds the bookmarks of the file at `path` to `scene`.
+    pub(super) fn read_bookmarks(&mut self, path: &std::path::Path, scene: &str) {
+        let loaded = crate::files::read_bounded(path, BOOKMARKS_LIMIT, "bookmarks file")
+            .map_err(|e| e.to_string())
+            .and_then(|bytes| String::from_utf8(bytes).map_err(|e| e.to_string()))
+            .and_then(|text| super::settings::bookmarks_from_json(&text, scene));
+        match loaded {
+            Ok(marks) => {
+                self.notify(
+                    Level::Info,
+                    format!(
+                        "Imported {} bookmark(s) from {}",
+                        marks.len(),
+                        path.display()
+                    ),
+                );
+                self.settings.bookmarks.extend(marks);
+            }
+            Err(e) => self.notify(Level::Error, format!("{}: {e}", path.display())),
+        }
     }
 
     /// Play or pause: the shown clip's playback, else time (animation, temporal jitter).
