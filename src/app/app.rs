@@ -15,6 +15,7 @@ use std::time::{Duration, Instant};
 use super::camera::CameraController;
 use super::engine::DisplayPath;
 use super::magnifier::MagnifierPanel;
+use super::metrics_panel;
 use super::panels;
 use super::quality::Figures;
 use super::settings::{Layout, STORAGE_KEY, Settings};
@@ -557,7 +558,7 @@ impl eframe::App for AaLabApp {
             techniques_panel::ui(ui, &mut self.ws);
         }
         if show_side && !blind && self.ws.settings.show_metrics {
-            self.ws.metrics_panel(ui);
+            metrics_panel::ui(ui, &mut self.ws);
         }
         if self.ws.settings.show_magnifier {
             self.magnifier

@@ -7,6 +7,7 @@
 
 use egui::{Button, Color32, RichText};
 
+use super::image_panel;
 use super::settings::{Layout, Resolution};
 use super::shortcuts::{self, Action, shortcut_hint};
 use super::style::{self, SLOT_COLORS};
@@ -378,7 +379,7 @@ fn compare_strip(ui: &mut egui::Ui, ws: &mut Workspace) {
         ui.label(name);
     }
     if ws.images.is_open() {
-        ws.image_strip(ui);
+        image_panel::strip(ui, ws);
     }
     if compared.len() >= 2
         && ui

@@ -6,6 +6,7 @@
 
 use egui::{Button, Color32, RichText};
 
+use super::image_panel;
 use super::settings::MAX_COMPARE;
 use super::style::{SLOT_COLORS, SLOT_LETTERS};
 use super::workspace::{Level, Workspace};
@@ -15,7 +16,7 @@ use crate::aa::{Param, ParamKind, ParamValue};
 pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
     profiling::function_scope!();
     if ws.images.is_open() {
-        ws.images_panel(ui);
+        image_panel::ui(ui, ws);
         return;
     }
     egui::Panel::left("techniques")
