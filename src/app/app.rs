@@ -12,7 +12,9 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use super::blind;
 use super::camera::CameraController;
+use super::clip;
 use super::engine::DisplayPath;
 use super::magnifier::MagnifierPanel;
 use super::metrics_panel;
@@ -546,13 +548,13 @@ impl eframe::App for AaLabApp {
         panels::status_bar(ui, &self.ws, hover);
         // Clips record the scene; images have none.
         if !self.ws.images.is_open() {
-            self.ws.clip_panel(ui);
+            clip::panel(ui, &mut self.ws);
         }
         // A blind comparison's panel replaces those that name the techniques.
         let blind = self.ws.blind.active();
         let show_side = !self.panels_hidden;
         if show_side && blind {
-            self.ws.blind_panel(ui);
+            blind::panel(ui, &mut self.ws);
         }
         if show_side && !blind && self.ws.settings.show_techniques {
             techniques_panel::ui(ui, &mut self.ws);

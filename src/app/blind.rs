@@ -656,23 +656,6 @@ impl Workspace {
         }
     }
 
-    /// The session's panel, in place of the techniques and metrics panels.
-    pub(super) fn blind_panel(&mut self, ui: &mut egui::Ui) {
-        let action = egui::Panel::right("blind comparison")
-            .resizable(true)
-            .default_size(280.0)
-            .size_range(220.0..=480.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical()
-                    .show(ui, |ui| self.blind.ui(ui))
-                    .inner
-            })
-            .inner;
-        if let Some(action) = action {
-            self.blind_act(action);
-        }
-    }
-
     /// The session's keys (before the shortcuts, which they take precedence over).
     pub(super) fn blind_keys(&mut self, ctx: &egui::Context) {
         if let Some(action) = self.blind.keys(ctx) {
@@ -772,6 +755,23 @@ impl Workspace {
             region,
             render_size: self.render_size,
         }
+    }
+}
+
+/// The session's panel, in place of the techniques and metrics panels.
+pub(super) fn panel(ui: &mut egui::Ui, ws: &mut Workspace) {
+    let action = egui::Panel::right("blind comparison")
+        .resizable(true)
+        .default_size(280.0)
+        .size_range(220.0..=480.0)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical()
+                .show(ui, |ui| ws.blind.ui(ui))
+                .inner
+        })
+        .inner;
+    if let Some(action) = action {
+        ws.blind_act(action);
     }
 }
 

@@ -662,42 +662,6 @@ fn mib(bytes: u64) -> String {
 }
 
 impl Workspace {
-    /// The clip bar (a bottom panel above the status bar) and what its buttons ask for.
-    pub(super) fn clip_panel(&mut self, ui: &mut egui::Ui) {
-        let images = self.compared().len() + usize::from(self.settings.clip.reference);
-        let estimate = self.settings.clip.bytes(images, self.render_size);
-        let Some(engine) = &mut self.engine else {
-            return;
-        };
-        let shown = engine.clip_shown();
-        let settings = &mut self.settings.clip;
-        let action = egui::Panel::bottom("clip bar")
-            .frame(
-                egui::Frame::side_top_panel(ui.style()).inner_margin(egui::Margin::symmetric(8, 4)),
-            )
-            .show(ui, |ui| {
-                clip_bar(ui, settings, engine.clip_mut(), shown, Some(estimate))
-            })
-            .inner;
-        match action {
-            Some(ClipAction::Record) => self.record_clip(),
-            Some(ClipAction::Cancel) => {
-                if let Some(clip) = engine.clip() {
-                    clip.cancel();
-                }
-            }
-            Some(ClipAction::ShowLive) => self.show_clip(false),
-            Some(ClipAction::ShowClip) => self.show_clip(true),
-            Some(ClipAction::Discard) => {
-                if let Some(engine) = &mut self.engine {
-                    engine.discard_clip();
-                }
-            }
-            Some(ClipAction::Export) => self.export_clip(),
-            None => {}
-        }
-    }
-
     /// Shows the clip or the live view.
     pub(super) fn show_clip(&mut self, shown: bool) {
         if let Some(engine) = &mut self.engine {
@@ -847,6 +811,40 @@ impl Workspace {
                 ctx.request_repaint_after(due);
             }
         }
+    }
+}
+
+/// The clip bar (a bottom panel above the status bar) and what its buttons ask for.
+pub(super) fn panel(ui: &mut egui::Ui, ws: &mut Workspace) {
+    let images = ws.compared().len() + usize::from(ws.settings.clip.reference);
+    let estimate = ws.settings.clip.bytes(images, ws.render_size);
+    let Some(engine) = &mut ws.engine else {
+        return;
+    };
+    let shown = engine.clip_shown();
+    let settings = &mut ws.settings.clip;
+    let action = egui::Panel::bottom("clip bar")
+        .frame(egui::Frame::side_top_panel(ui.style()).inner_margin(egui::Margin::symmetric(8, 4)))
+        .show(ui, |ui| {
+            clip_bar(ui, settings, engine.clip_mut(), shown, Some(estimate))
+        })
+        .inner;
+    match action {
+        Some(ClipAction::Record) => ws.record_clip(),
+        Some(ClipAction::Cancel) => {
+            if let Some(clip) = engine.clip() {
+                clip.cancel();
+            }
+        }
+        Some(ClipAction::ShowLive) => ws.show_clip(false),
+        Some(ClipAction::ShowClip) => ws.show_clip(true),
+        Some(ClipAction::Discard) => {
+            if let Some(engine) = &mut ws.engine {
+                engine.discard_clip();
+            }
+        }
+        Some(ClipAction::Export) => ws.export_clip(),
+        None => {}
     }
 }
 
