@@ -54,10 +54,14 @@ pub enum AppError {
 
 /// The viewer application.
 pub struct AaLabApp {
+    /// The state the panels share.
     ws: Workspace,
+    /// The panels that keep state of their own (the others are functions).
     viewport: ViewportPanel,
     magnifier: MagnifierPanel,
+    /// The help overlay is open.
     help_open: bool,
+    /// The side panels are hidden.
     panels_hidden: bool,
     /// Engine frames published so far.
     engine_frames: u64,

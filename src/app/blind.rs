@@ -20,6 +20,10 @@
 //!   no existing file is ever replaced), created when the session starts and rewritten
 //!   atomically after every answer by a writer thread of the session, so the UI thread never
 //!   waits on the disk.
+//!
+//! The session ([`BlindState`]) is the workspace's, since the labels of every panel follow it;
+//! the workspace's session commands (start, answer, keys) are here, and the session's panel
+//! ([`panel`]) is a stateless function of the [`Workspace`].
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -21,6 +21,10 @@
 //! draws textures uploaded once while recording, so it costs one blit per pane per UI frame and
 //! no engine work: recorded clips play at display rate on a machine whose engine makes a few
 //! frames per second.
+//!
+//! The clip itself is the engine's; the clip settings are part of the workspace's settings.
+//! The workspace's clip commands (record, show, tick the player) are here, and the clip bar
+//! ([`panel`], drawing [`clip_bar`]) is a stateless function of the [`Workspace`].
 
 use std::collections::VecDeque;
 use std::sync::Arc;

@@ -7,6 +7,11 @@
 //!
 //! The frames are the engine's published CPU copies (the bytes on screen); a worker thread
 //! encodes and writes the files, so the window keeps running while a large export is written.
+//!
+//! Exports are workspace commands ([`Workspace::start_export`], [`Workspace::export_clip`],
+//! [`Workspace::copy_sheet`], ...): the menu bar, the toolbar, the clip bar, the magnifier and
+//! the shortcuts start them, so the running job and the last files written ([`ExportState`])
+//! are the workspace's too; export has no panel of its own.
 
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, mpsc};

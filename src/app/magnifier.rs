@@ -8,6 +8,13 @@
 //! images on the CPU. Heatmaps (difference.rs) are recomputed in the background when the lens,
 //! the images or the metric change, from the lens region plus a margin so that windowed
 //! metrics see the pixels' neighbourhood.
+//!
+//! What this module owns:
+//! - [`MagnifierState`], the workspace's: the lens size and the heatmaps, with the workspace's
+//!   magnifier queries (the panes' sources, labels and figures, the lens, the heatmap jobs),
+//!   which the viewport, exports, blind answers and the test API use as well.
+//! - [`MagnifierPanel`], the panel: it sizes the lens to its panes and owns the pane pixel under
+//!   the pointer; the viewport's hovered pixel is passed in for the crosshair.
 
 use egui::{Color32, Rect, Sense, Stroke, StrokeKind, TextureHandle, pos2, vec2};
 

@@ -3,6 +3,9 @@
 //! and in total, and quality against the reference with how many reference samples it rests
 //! on. Every figure has a tooltip saying exactly what it measures; figures that no longer
 //! describe the displayed frame say so instead of showing a number.
+//!
+//! A stateless function of the [`Workspace`] ([`ui`]); while an image set is open its quality
+//! section comes from image_panel.rs.
 
 use std::time::Duration;
 

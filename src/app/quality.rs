@@ -20,6 +20,10 @@
 //! is shown only while the view it was measured at is still the view being rendered and the
 //! technique's settings are unchanged; otherwise the panel says that the figures are stale
 //! (the camera moved, the settings changed) or being measured, never an old number.
+//!
+//! The figures ([`QualityTracker`]) are the workspace's: the metrics panel, the magnifier's
+//! captions, export sheets and the test API read them; [`Workspace::update_quality`] runs
+//! once per UI frame, before the panels.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;

@@ -7,6 +7,10 @@
 //! size, so each image fills its tile exactly; with a fixed resolution the image is centred
 //! and cropped. The render size decided here is used by the next frame's render; while it
 //! differs from the displayed image (a resize in progress) frames keep coming.
+//!
+//! [`ViewportPanel`] owns what only the viewport uses between frames (the drag in progress,
+//! the pixel under the pointer, where image A was drawn); the render size it decides is the
+//! workspace's ([`Workspace::render_size`]), and so is the lens it draws and moves.
 
 use egui::{Color32, CursorIcon, Pos2, Rect, Sense, Stroke, StrokeKind, Vec2, pos2, vec2};
 

@@ -86,20 +86,29 @@ pub struct SceneInfo {
 
 /// The shared state of the viewer (see the module docs).
 pub(super) struct Workspace {
+    /// Everything persisted: layout, comparison, magnifier, techniques' settings, folders.
     pub(super) settings: Settings,
     /// eframe's device (the window); the engine renders on its own device.
     pub(super) gpu: Gpu,
+    /// The UI's side of the render thread (none until the first scene has loaded).
     pub(super) engine: Option<Engine>,
+    /// The loaded scene.
     pub(super) scene: Option<SceneInfo>,
+    /// The scene being loaded.
     pub(super) loader: SceneLoader,
     pub(super) camera: CameraController,
+    /// Rendered frames per second.
     pub(super) clock: FrameClock,
+    /// Notices shown in the status bar, oldest first.
     pub(super) notices: Vec<Notice>,
     /// The size the techniques render at, as the viewport last laid out its tiles (zero
     /// until then).
     pub(super) render_size: (u32, u32),
+    /// The lens size and the magnifier's heatmaps (magnifier.rs).
     pub(super) magnifier: MagnifierState,
+    /// The quality figures (quality.rs).
     pub(super) quality: QualityTracker,
+    /// The running export and the files of the last one (export.rs).
     pub(super) export: ExportState,
     /// Images shown instead of the scene (image_set.rs).
     pub(super) images: ImageSetState,
@@ -600,7 +609,7 @@ impl Workspace {
     }
 
     /// Writes bookmarks to `path` (atomically).
-    pub(super) fn write_bookmarks(&mut self, path: &std::path::Path, marks: &[Bookmark]) {
+    fn write_bookmarks(&mut self, path: &std::path::Path, marks: &[Bookmark]) {
         let json = super::settings::bookmarks_to_json(marks);
         match super::settings::write_atomically(path, &json) {
             Ok(()) => self.notify(
@@ -628,7 +637,7 @@ impl Workspace {
     }
 
     /// Adds the bookmarks of the file at `path` to `scene`.
-    pub(super) fn read_bookmarks(&mut self, path: &std::path::Path, scene: &str) {
+    fn read_bookmarks(&mut self, path: &std::path::Path, scene: &str) {
         let loaded = crate::files::read_bounded(path, BOOKMARKS_LIMIT, "bookmarks file")
             .map_err(|e| e.to_string())
             .and_then(|bytes| String::from_utf8(bytes).map_err(|e| e.to_string()))
