@@ -229,16 +229,16 @@ impl ViewportPanel {
                 );
                 if ws.engine.is_none() && !ws.images.is_open() {
                     paint_background(ui.painter(), rect, &[]);
-                    empty_state(ws, ui, rect, true);
+                    empty_state(ui, ws, rect, true);
                     return;
                 }
                 let compared = ws.compared();
                 if compared.is_empty() {
                     paint_background(ui.painter(), rect, &[]);
-                    empty_state(ws, ui, rect, false);
+                    empty_state(ui, ws, rect, false);
                     return;
                 }
-                let shown = shown(ws, &compared, ui.ctx());
+                let shown = shown_by_layout(ws, &compared, ui.ctx());
                 // Where each tile's image goes.
                 let placed: Vec<(Option<Shown>, Option<&Published>, Tile, Vec2)> = tiles_rects
                     .iter()
@@ -274,7 +274,7 @@ impl ViewportPanel {
                     let tile_rect = tile.rect;
                     let painter = ui.painter().with_clip_rect(tile_rect);
                     if ws.settings.layout == Layout::Wipe && shown.len() == 2 {
-                        paint_wipe(ws, &painter, &tile, size_points, &shown, ppp);
+                        paint_wipe(&painter, ws, &tile, size_points, &shown, ppp);
                     } else if let (Some(what), Some(image)) = (what, image) {
                         blit::paint(
                             &painter,
@@ -282,7 +282,7 @@ impl ViewportPanel {
                             Rect::from_min_size(tile.origin, size_points),
                             Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
                         );
-                        tile_label(ws, &painter, tile_rect.min + vec2(8.0, 8.0), what);
+                        tile_label(&painter, ws, tile_rect.min + vec2(8.0, 8.0), what);
                     } else {
                         painter.text(
                             tile_rect.center(),
@@ -293,7 +293,7 @@ impl ViewportPanel {
                         );
                     }
                     if ws.settings.show_magnifier {
-                        paint_lens(ws, &painter, &tile, ppp);
+                        paint_lens(&painter, ws, &tile, ppp);
                     }
                     if i == 0 && image.is_some() {
                         first_image = Some(tile.image_rect(size_points));
@@ -453,7 +453,7 @@ impl ViewportPanel {
 }
 
 /// What the single, wipe and flip layouts show (first entry) and the wipe's right side.
-fn shown(ws: &Workspace, compared: &[&'static str], ctx: &egui::Context) -> Vec<Shown> {
+fn shown_by_layout(ws: &Workspace, compared: &[&'static str], ctx: &egui::Context) -> Vec<Shown> {
     let a = Shown::Technique(0, compared[0]);
     let b = compared.get(1).map(|id| Shown::Technique(1, id));
     match ws.settings.layout {
@@ -481,7 +481,7 @@ fn shown_image(ws: &Workspace, shown: Shown) -> Option<&Published> {
     }
 }
 
-fn tile_label(ws: &Workspace, painter: &egui::Painter, at: Pos2, shown: Shown) -> Rect {
+fn tile_label(painter: &egui::Painter, ws: &Workspace, at: Pos2, shown: Shown) -> Rect {
     match shown {
         Shown::Technique(slot, id) => style::chip(
             painter,
@@ -495,8 +495,8 @@ fn tile_label(ws: &Workspace, painter: &egui::Painter, at: Pos2, shown: Shown) -
 }
 
 fn paint_wipe(
-    ws: &Workspace,
     painter: &egui::Painter,
+    ws: &Workspace,
     tile: &Tile,
     size_points: Vec2,
     shown: &[Shown],
@@ -548,7 +548,7 @@ fn paint_wipe(
             Stroke::NONE,
         ));
     }
-    tile_label(ws, painter, tile.rect.min + vec2(8.0, 8.0), shown[0]);
+    tile_label(painter, ws, tile.rect.min + vec2(8.0, 8.0), shown[0]);
     let label_width = 8.0
         + painter
             .layout_no_wrap(
@@ -563,15 +563,15 @@ fn paint_wipe(
             .x
         + 40.0;
     tile_label(
-        ws,
         painter,
+        ws,
         pos2(tile.rect.max.x - label_width, tile.rect.min.y + 8.0),
         shown[1],
     );
 }
 
 /// The lens outline over a tile.
-fn paint_lens(ws: &Workspace, painter: &egui::Painter, tile: &Tile, ppp: f32) {
+fn paint_lens(painter: &egui::Painter, ws: &Workspace, tile: &Tile, ppp: f32) {
     let Some(region) = ws.lens() else {
         return;
     };
@@ -605,7 +605,7 @@ fn paint_lens(ws: &Workspace, painter: &egui::Painter, tile: &Tile, ppp: f32) {
     );
 }
 
-fn empty_state(ws: &Workspace, ui: &egui::Ui, rect: Rect, loading: bool) {
+fn empty_state(ui: &egui::Ui, ws: &Workspace, rect: Rect, loading: bool) {
     let text = if loading {
         match ws.loader.loading() {
             Some(spec) => format!("Loading {spec}…"),
