@@ -1,33 +1,33 @@
-//! [`AaLabApp`], the `eframe::App`: owns the settings, the engine, the camera and the
-//! background jobs, and runs one UI frame in a fixed order: finished background work first
-//! (scene loads, file dialogs, dropped files, readbacks, exports), then shortcuts, then one
-//! engine frame at the size the viewport had in the previous frame, then the panels around the
+//! [`AaLabApp`], the `eframe::App`: owns the [`Workspace`] (the state the panels share) and
+//! the panels, and runs one UI frame in a fixed order: finished background work first (scene
+//! loads, file dialogs, dropped files, readbacks, exports), then shortcuts, then one engine
+//! frame at the size the viewport had in the previous frame, then the panels around the
 //! viewport and the viewport itself. It asks for another frame only while something is in
 //! motion (time playing with something that changes, the reference accumulating, a job
 //! running), so an idle viewer costs nothing.
+//!
+//! Its public methods are the viewer's test API (tests/ui.rs, benches/viewer.rs): they read or
+//! drive the workspace and the panels.
 
-use std::path::PathBuf;
-use std::sync::{Arc, mpsc};
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use super::blind::BlindState;
+use super::blind;
 use super::camera::CameraController;
-use super::engine::{Display, DisplayPath, Engine};
-use super::export::ExportState;
-use super::image_set::ImageSetState;
-use super::magnifier::MagnifierState;
-use super::quality::QualityTracker;
-use super::scene_loader::SceneLoader;
-use super::settings::{Bookmark, Layout, MAX_COMPARE, STORAGE_KEY, Settings};
+use super::clip;
+use super::engine::DisplayPath;
+use super::magnifier::MagnifierPanel;
+use super::metrics_panel;
+use super::panels;
+use super::quality::Figures;
+use super::settings::{Layout, STORAGE_KEY, Settings};
 use super::shortcuts::{self, Action};
-use super::stats::FrameClock;
 use super::style;
-use super::viewport::ViewportState;
+use super::techniques_panel;
+use super::viewport::ViewportPanel;
+use super::workspace::{Level, NOTICE_SECONDS, Notice, Workspace};
 use crate::gpu::Gpu;
-use crate::scene::{CameraRig, Scene};
-
-/// How long a notice stays in the status bar.
-const NOTICE_SECONDS: f64 = 12.0;
+use crate::spec::RenderSpec;
 
 /// What the viewer opens with.
 #[derive(Clone, Debug, Default)]
@@ -52,84 +52,17 @@ pub enum AppError {
     NoWgpu,
 }
 
-/// Severity of a notice.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Level {
-    /// Something finished.
-    Info,
-    /// Something is off but work continues.
-    Warning,
-    /// Something failed.
-    Error,
-}
-
-/// A message for the user in the status bar (and the notices list).
-#[derive(Clone, Debug)]
-pub struct Notice {
-    /// Severity.
-    pub level: Level,
-    /// Text.
-    pub text: String,
-    /// When it was raised.
-    pub at: Instant,
-}
-
-/// What a file dialog's answer is for.
-pub(super) enum DialogPurpose {
-    /// Open a model.
-    OpenModel,
-    /// Write these bookmarks to the picked file.
-    ExportBookmarks(Vec<Bookmark>),
-    /// Add the bookmarks of the picked file to this scene (its spec).
-    ImportBookmarks(String),
-    /// Send exports to the picked folder.
-    ExportFolder,
-    /// Open the picked images as panes.
-    OpenImages,
-    /// Add the picked WGSL file as a user technique.
-    AddTechnique,
-}
-
-/// Facts about the loaded scene.
-#[derive(Clone, Debug)]
-pub struct SceneInfo {
-    /// What was loaded (built-in name or path).
-    pub spec: String,
-    /// The scene's name.
-    pub name: String,
-    /// Triangles.
-    pub triangles: usize,
-    /// Cameras the scene file defines (glTF), offered as views.
-    pub views: Vec<crate::scene::SceneView>,
-}
-
 /// The viewer application.
 pub struct AaLabApp {
-    pub(super) settings: Settings,
-    /// eframe's device (the window); the engine renders on its own device.
-    pub(super) gpu: Gpu,
-    pub(super) engine: Option<Engine>,
-    pub(super) scene: Option<SceneInfo>,
-    pub(super) loader: SceneLoader,
-    pub(super) camera: CameraController,
-    pub(super) clock: FrameClock,
-    pub(super) notices: Vec<Notice>,
-    pub(super) viewport: ViewportState,
-    pub(super) magnifier: MagnifierState,
-    pub(super) quality: QualityTracker,
-    pub(super) export: ExportState,
-    /// Images shown instead of the scene (image_set.rs).
-    pub(super) images: ImageSetState,
-    /// The blind comparison (blind.rs).
-    pub(super) blind: BlindState,
-    pub(super) help_open: bool,
-    pub(super) panels_hidden: bool,
-    /// The open file dialog (on its own thread): what its answer is for, and the answer (the
-    /// files picked).
-    pub(super) file_dialog: Option<(DialogPurpose, mpsc::Receiver<Option<Vec<PathBuf>>>)>,
-    engine_frame_delay: Duration,
-    /// How the engine's images reach the screen.
-    display: Display,
+    /// The state the panels share.
+    ws: Workspace,
+    /// The panels that keep state of their own (the others are functions).
+    viewport: ViewportPanel,
+    magnifier: MagnifierPanel,
+    /// The help overlay is open.
+    help_open: bool,
+    /// The side panels are hidden.
+    panels_hidden: bool,
     /// Engine frames published so far.
     engine_frames: u64,
     #[cfg(feature = "profile")]
@@ -191,31 +124,21 @@ impl AaLabApp {
                 at: Instant::now(),
             });
         }
-        if let Some(scene) = options.scene {
-            settings.scene = scene;
+        if let Some(scene) = &options.scene {
+            settings.scene = scene.clone();
         }
-        let mut camera = CameraController::new(CameraRig::default());
-        camera.auto_rotate = settings.auto_rotate;
-        let mut app = Self {
-            settings,
-            gpu,
-            engine: None,
-            scene: None,
-            loader: SceneLoader::default(),
-            camera,
-            clock: FrameClock::default(),
-            notices,
-            viewport: ViewportState::default(),
-            magnifier: MagnifierState::default(),
-            quality: QualityTracker::default(),
-            export: ExportState::default(),
-            images: ImageSetState::new(super::blit::Uploader::new(state)),
-            blind: BlindState::default(),
+        let mut ws = Workspace::new(gpu, settings, notices, state, &options);
+        let scene = ws.settings.scene.clone();
+        ws.load_scene(&cc.egui_ctx, &scene);
+        if !options.images.is_empty() {
+            ws.open_images(&cc.egui_ctx, options.images);
+        }
+        Ok(Self {
+            ws,
+            viewport: ViewportPanel::default(),
+            magnifier: MagnifierPanel::default(),
             help_open: false,
             panels_hidden: false,
-            file_dialog: None,
-            engine_frame_delay: options.engine_frame_delay,
-            display: Display::choose(state, options.display),
             engine_frames: 0,
             #[cfg(feature = "profile")]
             profile: ProfileLog {
@@ -223,66 +146,60 @@ impl AaLabApp {
                 last: Instant::now(),
             },
             styled: false,
-        };
-        let scene = app.settings.scene.clone();
-        app.load_scene(&cc.egui_ctx, &scene);
-        if !options.images.is_empty() {
-            app.open_images(&cc.egui_ctx, options.images);
-        }
-        Ok(app)
+        })
     }
 
     /// The settings (tests inspect them).
     pub fn settings(&self) -> &Settings {
-        &self.settings
+        &self.ws.settings
     }
 
     /// Mutable settings (tests drive them).
     pub fn settings_mut(&mut self) -> &mut Settings {
-        &mut self.settings
+        &mut self.ws.settings
     }
 
     /// Whether a scene is being loaded.
     pub fn loading(&self) -> bool {
-        self.loader.loading().is_some()
+        self.ws.loader.loading().is_some()
     }
 
     /// Whether an export is running.
     pub fn exporting(&self) -> bool {
-        self.export.running()
+        self.ws.export.running()
     }
 
     /// The loaded scene's name.
     pub fn scene_name(&self) -> Option<&str> {
-        self.scene.as_ref().map(|s| s.name.as_str())
+        self.ws.scene.as_ref().map(|s| s.name.as_str())
     }
 
     /// Current notices, oldest first.
     pub fn notices(&self) -> &[Notice] {
-        &self.notices
+        &self.ws.notices
     }
 
     /// The camera (tests pause it).
     pub fn camera_mut(&mut self) -> &mut CameraController {
-        &mut self.camera
+        &mut self.ws.camera
     }
 
     /// The size the techniques render at (zero until the viewport has been laid out).
     pub fn render_size(&self) -> (u32, u32) {
-        self.viewport.render_size
+        self.ws.render_size
     }
 
     /// Whether every compared technique shows an image rendered at the current size and no
     /// frame is in flight, or an image set is shown (tests wait for this).
     pub fn frame_ready(&self) -> bool {
-        if self.images.is_open() {
+        if self.ws.images.is_open() {
             return true;
         }
-        let Some(engine) = &self.engine else {
+        let Some(engine) = &self.ws.engine else {
             return false;
         };
-        let size = self.viewport.render_size;
-        let compared = self.compared();
+        let size = self.ws.render_size;
+        let compared = self.ws.compared();
         !engine.busy()
             && !compared.is_empty()
             && compared
@@ -292,13 +209,14 @@ impl AaLabApp {
 
     /// Whether a technique (or an image of the open set) has an image to show (of any size).
     pub fn has_image(&self, id: &str) -> bool {
-        self.image_for(id).is_some()
+        self.ws.image_for(id).is_some()
     }
 
     /// The parameters of technique `id` as the render thread last reported them (none until it
     /// is built).
     pub fn technique_params(&self, id: &str) -> Vec<crate::aa::Param> {
-        self.engine
+        self.ws
+            .engine
             .as_ref()
             .map(|engine| engine.params(id))
             .unwrap_or_default()
@@ -307,425 +225,135 @@ impl AaLabApp {
     /// The published output of a technique or image of the open set (the bytes on screen),
     /// when its pixels were read back.
     pub fn output_pixels(&self, id: &str) -> Option<std::sync::Arc<image::RgbaImage>> {
-        self.output_for(id).and_then(|p| p.pixels.clone())
+        self.ws.output_for(id).and_then(|p| p.pixels.clone())
     }
 
     /// Where technique A's image was drawn in the last frame (points).
     pub fn image_rect(&self) -> Option<egui::Rect> {
-        self.viewport.image_rect
+        self.viewport.image_rect()
     }
 
     /// The published reference of the displayed view, or the reference image of the open set
     /// (the bytes the figures compare against).
     pub fn reference_pixels(&self) -> Option<std::sync::Arc<image::RgbaImage>> {
-        self.reference_for().and_then(|(p, _)| p.pixels.clone())
+        self.ws.reference_for().and_then(|(p, _)| p.pixels.clone())
     }
 
     /// Samples the displayed reference rests on (0 when there is none; 1 for an image).
     pub fn reference_samples_done(&self) -> u32 {
-        self.reference_for().map_or(0, |(_, p)| p.samples)
+        self.ws.reference_for().map_or(0, |(_, p)| p.samples)
     }
 
-    /// Raises a notice.
-    pub(super) fn notify(&mut self, level: Level, text: impl Into<String>) {
-        let text = text.into();
-        if let Some(last) = self.notices.last_mut()
-            && last.text == text
-        {
-            last.at = Instant::now();
-            return;
-        }
-        log::log!(
-            match level {
-                Level::Info => log::Level::Info,
-                Level::Warning => log::Level::Warn,
-                Level::Error => log::Level::Error,
-            },
-            "{text}"
-        );
-        self.notices.push(Notice {
-            level,
-            text,
-            at: Instant::now(),
-        });
-    }
-
-    /// Starts loading a scene (built-in name or OBJ/glTF/GLB path) on the worker thread.
-    pub(super) fn load_scene(&mut self, ctx: &egui::Context, spec: &str) {
-        let ctx = ctx.clone();
-        self.loader
-            .load(spec, move || super::request_one_frame(&ctx));
-    }
-
-    /// Loads a scene the user asked for: an open image set gives way to it once it has
-    /// loaded.
-    pub(super) fn open_scene(&mut self, ctx: &egui::Context, spec: &str) {
-        self.images.leave_for_scene();
-        self.load_scene(ctx, spec);
-    }
-
-    /// Asks the OS for up to four images (PNG, JPEG) to open as panes.
-    pub(super) fn open_images_dialog(&mut self, ctx: &egui::Context) {
-        self.ask_for_paths(ctx, DialogPurpose::OpenImages, || {
-            rfd::FileDialog::new()
-                .set_title("Open up to four images of one size")
-                .add_filter(
-                    "Images (PNG, JPEG)",
-                    &["png", "PNG", "jpg", "JPG", "jpeg", "JPEG"],
-                )
-                .pick_files()
-        });
-    }
-
-    /// Asks the OS for a model file (OBJ, glTF, GLB) to open.
-    pub(super) fn open_file_dialog(&mut self, ctx: &egui::Context) {
-        self.ask_for_path(ctx, DialogPurpose::OpenModel, || {
-            rfd::FileDialog::new()
-                .set_title("Open a model")
-                .add_filter(
-                    "Models (OBJ, glTF, GLB)",
-                    &["obj", "OBJ", "gltf", "GLTF", "glb", "GLB"],
-                )
-                .pick_file()
-        });
-    }
-
-    /// Adds the user technique in the WGSL file at `path` (see `aa::user`; File > Add
-    /// technique from file): the render thread builds it, and it appears in the techniques
-    /// panel, switched on, or with its file's error. The file is remembered in the settings and
-    /// added again at the next start.
-    pub fn add_user_technique(&mut self, path: PathBuf) {
-        let Some(engine) = &mut self.engine else {
-            return self.notify(
-                Level::Warning,
-                "techniques can be added once the scene has loaded".to_owned(),
-            );
-        };
-        let path = std::fs::canonicalize(&path).unwrap_or(path);
-        let remembered = path.display().to_string();
-        engine.add_user_technique(path);
-        if !self.settings.user_techniques.contains(&remembered) {
-            self.settings.user_techniques.push(remembered);
-        }
-    }
-
-    /// Removes the user technique `id`: off, out of the comparison and the techniques panel,
-    /// forgotten by the settings (its file is left alone; adding it again brings it back).
-    pub fn remove_user_technique(&mut self, id: &str) {
-        let Some(engine) = &mut self.engine else {
-            return;
-        };
-        engine.remove_user_technique(id);
-        if let Some(path) = crate::aa::user::path_of(id) {
-            let path = path.display().to_string();
-            self.settings.user_techniques.retain(|p| *p != path);
-        }
-        self.settings.enabled.retain(|e| e != id);
-        self.settings.compare.retain(|c| c != id);
-        self.settings.technique_settings.remove(id);
-        self.settings.debug_views.remove(id);
-    }
-
-    /// Adds the user techniques the settings remember (at start, once the engine exists); a
-    /// file that is gone is forgotten, with a notice.
-    fn restore_user_techniques(&mut self) {
-        let Some(engine) = &mut self.engine else {
-            return;
-        };
-        let (present, gone): (Vec<String>, Vec<String>) =
-            std::mem::take(&mut self.settings.user_techniques)
-                .into_iter()
-                .partition(|path| std::path::Path::new(path).is_file());
-        for path in &present {
-            engine.add_user_technique(PathBuf::from(path));
-        }
-        self.settings.user_techniques = present;
-        for path in gone {
-            self.notify(
-                Level::Warning,
-                format!("user technique {path} no longer exists; removed from the techniques"),
-            );
-        }
-    }
-
-    /// Asks the OS for a WGSL file to add as a user technique (see `aa::user`).
-    pub(super) fn add_technique_dialog(&mut self, ctx: &egui::Context) {
-        self.ask_for_path(ctx, DialogPurpose::AddTechnique, || {
-            rfd::FileDialog::new()
-                .set_title("Add a technique written in WGSL")
-                .add_filter("WGSL shaders", &["wgsl", "WGSL"])
-                .pick_file()
-        });
-    }
-
-    /// Runs a file dialog on a helper thread (a dialog never blocks frames); its answer is
-    /// handled by [`AaLabApp::dialog_answered`]. One dialog at a time.
-    pub(super) fn ask_for_path(
-        &mut self,
-        ctx: &egui::Context,
-        purpose: DialogPurpose,
-        dialog: impl FnOnce() -> Option<PathBuf> + Send + 'static,
-    ) {
-        self.ask_for_paths(ctx, purpose, move || dialog().map(|path| vec![path]));
-    }
-
-    /// [`AaLabApp::ask_for_path`] for a dialog that picks several files.
-    pub(super) fn ask_for_paths(
-        &mut self,
-        ctx: &egui::Context,
-        purpose: DialogPurpose,
-        dialog: impl FnOnce() -> Option<Vec<PathBuf>> + Send + 'static,
-    ) {
-        if self.file_dialog.is_some() {
-            return;
-        }
-        let (sender, receiver) = mpsc::channel();
-        let ctx = ctx.clone();
-        let spawned = std::thread::Builder::new()
-            .name("aa-lab file dialog".to_owned())
-            .spawn(move || {
-                let _ = sender.send(dialog());
-                super::request_one_frame(&ctx);
-            });
-        match spawned {
-            Ok(_) => self.file_dialog = Some((purpose, receiver)),
-            Err(err) => self.notify(Level::Error, format!("cannot open a file dialog: {err}")),
-        }
-    }
-
-    /// Acts on the paths a file dialog gave.
-    fn dialog_answered(
-        &mut self,
-        ctx: &egui::Context,
-        purpose: DialogPurpose,
-        mut paths: Vec<PathBuf>,
-    ) {
-        if let DialogPurpose::OpenImages = purpose {
-            self.open_images(ctx, paths);
-            return;
-        }
-        let Some(path) = paths.pop() else { return };
-        match purpose {
-            DialogPurpose::OpenImages => {}
-            DialogPurpose::OpenModel => self.open_scene(ctx, &path.display().to_string()),
-            DialogPurpose::ExportBookmarks(marks) => self.write_bookmarks(&path, &marks),
-            DialogPurpose::ImportBookmarks(scene) => self.read_bookmarks(&path, &scene),
-            DialogPurpose::ExportFolder => self.use_export_dir(path),
-            DialogPurpose::AddTechnique => self.add_user_technique(path),
-        }
-    }
-
-    /// The ids compared as A, B, C, D: during a blind comparison its panes in their shuffled
-    /// order; else the images of the open set in order; else the marked
-    /// techniques that are on, then other techniques that are on, in panel order.
+    /// The ids compared as A, B, C, D (see [`Workspace::compared`]).
     pub fn compared(&self) -> Vec<&'static str> {
-        if let Some(panes) = self.blind.panes() {
-            return panes;
-        }
-        if let Some(set) = self.images.open() {
-            return set.ids();
-        }
-        let Some(engine) = &self.engine else {
-            return Vec::new();
-        };
-        let on = |id: &str| engine.entry(id).is_some_and(|e| e.enabled && e.available());
-        let mut ids: Vec<&'static str> = self
-            .settings
-            .compare
-            .iter()
-            .filter_map(|id| engine.entry(id))
-            .filter(|e| on(e.id))
-            .map(|e| e.id)
-            .collect();
-        for entry in engine.entries() {
-            if ids.len() >= MAX_COMPARE {
-                break;
-            }
-            if on(entry.id) && !ids.contains(&entry.id) {
-                ids.push(entry.id);
-            }
-        }
-        ids.truncate(MAX_COMPARE);
-        ids
+        self.ws.compared()
     }
 
-    /// Switches a technique on or off and keeps the saved list in step.
-    pub(super) fn set_technique_enabled(&mut self, id: &str, on: bool) {
-        let Some(engine) = &mut self.engine else {
-            return;
-        };
-        engine.set_enabled(id, on);
-        let enabled = engine.entry(id).is_some_and(|e| e.enabled);
-        self.settings.enabled.retain(|e| e != id);
-        if enabled {
-            self.settings.enabled.push(id.to_owned());
-        }
+    /// Adds the user technique in the WGSL file at `path` (see
+    /// [`Workspace::add_user_technique`]).
+    pub fn add_user_technique(&mut self, path: PathBuf) {
+        self.ws.add_user_technique(path);
     }
 
-    /// Marks or unmarks a technique for comparison (at most four; the oldest mark makes room).
-    pub(super) fn toggle_compare(&mut self, id: &str) {
-        if self.settings.compare.iter().any(|c| c == id) {
-            self.settings.compare.retain(|c| c != id);
-        } else {
-            if self.settings.compare.len() >= MAX_COMPARE {
-                self.settings.compare.remove(MAX_COMPARE - 1);
-            }
-            self.settings.compare.push(id.to_owned());
-            self.set_technique_enabled(id, true);
-        }
+    /// Removes the user technique `id` (see [`Workspace::remove_user_technique`]).
+    pub fn remove_user_technique(&mut self, id: &str) {
+        self.ws.remove_user_technique(id);
     }
 
-    /// Saves the technique's parameters into the settings.
-    pub(super) fn remember_params(&mut self, id: &str) {
-        if let Some(engine) = &self.engine {
-            self.settings
-                .technique_settings
-                .insert(id.to_owned(), engine.param_map(id));
-        }
+    /// Opens up to four images of one size as panes (see [`Workspace::open_images`]).
+    pub fn open_images(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
+        self.ws.open_images(ctx, paths);
     }
 
-    fn finish_load(&mut self, ctx: &egui::Context) {
-        let Some(loaded) = self.loader.poll() else {
-            return;
-        };
-        match loaded.result {
-            Ok(scene) => self.install_scene(ctx, &loaded.spec, scene),
-            Err(err) => {
-                self.images.stay();
-                let kept = match &self.scene {
-                    Some(s) => format!("; {} stays loaded", s.name),
-                    None => String::new(),
-                };
-                self.notify(Level::Error, format!("{err}{kept}"));
-                if self.scene.is_none() && loaded.spec != crate::scene::source::DEFAULT_SCENE {
-                    // Nothing to show yet: fall back to the default scene.
-                    self.load_scene(ctx, crate::scene::source::DEFAULT_SCENE);
-                }
-            }
-        }
+    /// Closes the image set: the scene shows again.
+    pub fn close_images(&mut self) {
+        self.ws.close_images();
     }
 
-    fn install_scene(&mut self, ctx: &egui::Context, spec: &str, scene: Scene) {
-        for note in &scene.notes {
-            self.notify(Level::Info, format!("{}: {note}", scene.name));
-        }
-        for warning in &scene.warnings {
-            self.notify(Level::Warning, format!("{}: {warning}", scene.name));
-        }
-        let is_file = std::path::Path::new(spec).is_file();
-        let spec = if is_file {
-            std::fs::canonicalize(spec)
-                .map_or_else(|_| spec.to_owned(), |p| p.display().to_string())
-        } else {
-            spec.to_owned()
-        };
-        let camera = scene.camera;
-        let interior = scene.interior;
-        let info = SceneInfo {
-            spec: spec.clone(),
-            name: scene.name.clone(),
-            triangles: scene.triangle_count(),
-            views: scene.views.clone(),
-        };
-        let scene = Arc::new(scene);
-        match &mut self.engine {
-            Some(engine) => engine.set_scene(scene),
-            None => {
-                let mut engine = match Engine::new(
-                    self.display.clone(),
-                    self.gpu.caps.clone(),
-                    ctx,
-                    scene,
-                    self.settings.reference_samples,
-                    self.engine_frame_delay,
-                ) {
-                    Ok(engine) => engine,
-                    Err(err) => {
-                        self.notify(Level::Error, err.to_string());
-                        return;
-                    }
-                };
-                let mut problems = Vec::new();
-                for (id, map) in &self.settings.technique_settings {
-                    if let Err(err) = engine.apply_param_map(id, map) {
-                        problems.push(format!("saved settings of {id} not applied: {err}"));
-                    }
-                }
-                for id in &self.settings.enabled {
-                    engine.set_enabled(id, true);
-                }
-                for (id, view) in &self.settings.debug_views {
-                    engine.set_debug_view(id, Some(view.clone()));
-                }
-                self.engine = Some(engine);
-                for p in problems {
-                    self.notify(Level::Warning, p);
-                }
-                self.restore_user_techniques();
-            }
-        }
-        if is_file {
-            self.settings.remember_recent(&spec);
-        }
-        self.settings.scene = spec;
-        if self.images.take_leave() {
-            self.close_images();
-        }
-        self.camera.set_rig(camera);
-        self.camera.set_mode(if interior {
-            super::camera::CameraMode::Fly
-        } else {
-            super::camera::CameraMode::Orbit
-        });
-        self.scene = Some(info);
-        self.quality.clear();
-        self.magnifier.clear();
-        ctx.request_repaint();
+    /// Whether an image set is shown instead of the scene.
+    pub fn image_set_open(&self) -> bool {
+        self.ws.images.is_open()
     }
 
-    fn poll_background(&mut self, ctx: &egui::Context) {
-        profiling::function_scope!();
-        self.finish_load(ctx);
-        self.finish_image_load();
-        let answer = match &self.file_dialog {
-            Some((_, receiver)) => match receiver.try_recv() {
-                Ok(picked) => Some(picked),
-                Err(mpsc::TryRecvError::Disconnected) => Some(None),
-                Err(mpsc::TryRecvError::Empty) => None,
-            },
-            None => None,
-        };
-        if let Some(picked) = answer
-            && let Some((purpose, _)) = self.file_dialog.take()
-            && let Some(paths) = picked
-        {
-            self.dialog_answered(ctx, purpose, paths);
-        }
-        let dropped: Vec<PathBuf> = ctx.input(|i| {
-            i.raw
-                .dropped_files
-                .iter()
-                .map(|f| f.path().to_path_buf())
-                .collect()
-        });
-        if !dropped.is_empty() {
-            self.open_dropped(ctx, dropped);
-        }
-        let finished = self.export.poll();
-        for (level, text) in finished {
-            self.notify(level, text);
-        }
-        let now = Instant::now();
-        self.notices
-            .retain(|n| now.duration_since(n.at).as_secs_f64() < NOTICE_SECONDS);
+    /// Whether images are being decoded.
+    pub fn images_loading(&self) -> bool {
+        self.ws.images.loading()
+    }
+
+    /// The file names of the open set, in pane order, and the index of the reference.
+    pub fn image_names(&self) -> Option<(Vec<String>, usize)> {
+        self.ws.image_names()
+    }
+
+    /// Makes image `index` of the open set the reference.
+    pub fn set_image_reference(&mut self, index: usize) {
+        self.ws.set_image_reference(index);
+    }
+
+    /// The quality figures of a technique that describe what is on screen now (`None` while
+    /// they are stale or being measured).
+    pub fn quality_figures(&self, id: &str) -> Option<Figures> {
+        self.ws.quality_figures(id)
+    }
+
+    /// In difference mode, the lens means of the magnifier panes' heatmaps (see
+    /// [`Workspace::difference_means`]).
+    pub fn difference_means(&self) -> Option<Vec<f64>> {
+        self.ws.difference_means()
+    }
+
+    /// The lens in frame pixels: x, y, width, height.
+    pub fn lens_region(&self) -> Option<(u32, u32, u32, u32)> {
+        self.ws.lens().map(|r| (r.x, r.y, r.width, r.height))
+    }
+
+    /// The render record of the displayed frame: `aa-lab render --from` reproduces it.
+    pub fn current_spec(&self) -> Option<RenderSpec> {
+        self.ws.current_spec()
+    }
+
+    /// Points exports at a folder (tests use a temporary one).
+    pub fn set_export_dir(&mut self, dir: PathBuf) {
+        self.ws.settings.export_dir = dir;
+    }
+
+    /// Files written by the last finished export.
+    pub fn last_export(&self) -> &[PathBuf] {
+        &self.ws.export.last
+    }
+
+    /// The clip's progress: frames recorded, and whether it is still recording (`None`: no
+    /// clip).
+    pub fn clip_progress(&self) -> Option<(usize, bool)> {
+        self.ws.clip_progress()
+    }
+
+    /// The clip's temporal figures per technique, once recorded with the reference.
+    pub fn clip_scores(&self) -> Option<Vec<crate::metrics::stability::TemporalScores>> {
+        self.ws.clip_scores()
+    }
+
+    /// The index of the clip frame on screen (`None` when the live view is).
+    pub fn shown_clip_frame(&self) -> Option<usize> {
+        self.ws.shown_clip_frame()
+    }
+
+    /// The answers file of the running blind session (tests read it).
+    pub fn blind_file(&self) -> Option<&Path> {
+        self.ws.blind.file()
+    }
+
+    /// Whether the engine has a frame in flight.
+    pub fn rendering(&self) -> bool {
+        self.ws.rendering()
     }
 
     fn handle_action(&mut self, ctx: &egui::Context, action: Action) {
         match action {
             // The techniques are not shown while images are.
-            Action::ToggleTechnique(_) if self.images.is_open() => {}
+            Action::ToggleTechnique(_) if self.ws.images.is_open() => {}
             Action::ToggleTechnique(n) => {
-                let id = self.engine.as_ref().and_then(|e| {
+                let id = self.ws.engine.as_ref().and_then(|e| {
                     e.entries()
                         .iter()
                         .filter(|t| t.available())
@@ -733,130 +361,100 @@ impl AaLabApp {
                         .map(|t| (t.id, t.enabled))
                 });
                 if let Some((id, on)) = id {
-                    self.set_technique_enabled(id, !on);
+                    self.ws.set_technique_enabled(id, !on);
                 }
             }
-            Action::PlayPause => self.toggle_play(),
+            Action::PlayPause => self.ws.toggle_play(),
             Action::Step => {
-                self.camera.playing = false;
-                self.camera.step();
+                self.ws.camera.playing = false;
+                self.ws.camera.step();
             }
             Action::AutoRotate => {
-                self.camera.auto_rotate = !self.camera.auto_rotate;
-                self.settings.auto_rotate = self.camera.auto_rotate;
+                self.ws.camera.auto_rotate = !self.ws.camera.auto_rotate;
+                self.ws.settings.auto_rotate = self.ws.camera.auto_rotate;
             }
-            Action::ResetView => self.camera.reset(),
-            Action::FlyMode => self.camera.toggle_mode(),
-            Action::AddBookmark => self.add_bookmark(),
+            Action::ResetView => self.ws.camera.reset(),
+            Action::FlyMode => self.ws.camera.toggle_mode(),
+            Action::AddBookmark => self.ws.add_bookmark(),
             Action::GoToBookmark(n) => {
-                if let Some(pose) = self.scene_bookmarks().get(n).map(|b| b.pose) {
-                    self.camera.jump_to(pose);
+                if let Some(pose) = self.ws.scene_bookmarks().get(n).map(|b| b.pose) {
+                    self.ws.camera.jump_to(pose);
                 }
             }
-            Action::Layout(layout) => self.settings.layout = layout,
-            Action::ZoomIn => self.magnifier.zoom_by(&mut self.settings.magnifier, 1),
-            Action::ZoomOut => self.magnifier.zoom_by(&mut self.settings.magnifier, -1),
+            Action::Layout(layout) => self.ws.settings.layout = layout,
+            Action::ZoomIn => self
+                .ws
+                .magnifier
+                .zoom_by(&mut self.ws.settings.magnifier, 1),
+            Action::ZoomOut => self
+                .ws
+                .magnifier
+                .zoom_by(&mut self.ws.settings.magnifier, -1),
             Action::PixelGrid => {
-                self.settings.magnifier.pixel_grid = !self.settings.magnifier.pixel_grid;
+                self.ws.settings.magnifier.pixel_grid = !self.ws.settings.magnifier.pixel_grid;
             }
             Action::Difference => {
-                self.settings.magnifier.difference = !self.settings.magnifier.difference;
+                self.ws.settings.magnifier.difference = !self.ws.settings.magnifier.difference;
             }
-            Action::Export => self.start_export(ctx),
-            Action::CopySheet => self.copy_sheet(ctx),
-            Action::Open => self.open_file_dialog(ctx),
+            Action::Export => self.ws.start_export(ctx),
+            Action::CopySheet => self.ws.copy_sheet(ctx),
+            Action::Open => self.ws.open_file_dialog(ctx),
             Action::TogglePanels => self.panels_hidden = !self.panels_hidden,
             Action::Help => self.help_open = !self.help_open,
         }
     }
 
-    /// The bookmarks of the loaded scene.
-    pub(super) fn scene_bookmarks(&self) -> Vec<&Bookmark> {
-        let scene = self.scene.as_ref().map(|s| s.spec.as_str()).unwrap_or("");
-        self.settings
-            .bookmarks
-            .iter()
-            .filter(|b| b.scene == scene)
-            .collect()
-    }
-
-    pub(super) fn add_bookmark(&mut self) {
-        let Some(scene) = &self.scene else { return };
-        let n = self.scene_bookmarks().len() + 1;
-        let bookmark = Bookmark {
-            scene: scene.spec.clone(),
-            name: format!("View {n}"),
-            pose: self.camera.pose(),
-        };
-        self.notify(
-            Level::Info,
-            format!("Saved camera bookmark \"{}\"", bookmark.name),
-        );
-        self.settings.bookmarks.push(bookmark);
-    }
-
     /// Whether anything would show or measure the reference.
     fn reference_wanted(&self) -> bool {
-        self.settings.quality
-            || (self.settings.show_magnifier
-                && (self.settings.magnifier.show_reference || self.settings.magnifier.difference))
-            || self.settings.layout == Layout::Flip
+        self.ws.settings.quality
+            || (self.ws.settings.show_magnifier
+                && (self.ws.settings.magnifier.show_reference
+                    || self.ws.settings.magnifier.difference))
+            || self.ws.settings.layout == Layout::Flip
     }
 
     /// Whether anything reads the outputs' pixels on the CPU: the quality figures, the
     /// magnifier (pixel values, error maps) or an export.
     fn pixels_wanted(&self) -> bool {
-        self.settings.quality || self.settings.show_magnifier || self.export.running()
+        self.ws.settings.quality || self.ws.settings.show_magnifier || self.ws.export.running()
     }
 
     /// Whether time changes the image (so frames must keep coming while playing).
     fn time_changes_image(&self) -> bool {
-        let Some(engine) = &self.engine else {
+        let Some(engine) = &self.ws.engine else {
             return false;
         };
-        if engine.live_paused() || self.images.is_open() {
+        if engine.live_paused() || self.ws.images.is_open() {
             return false;
         }
-        self.camera.moving_by_itself()
-            || (self.camera.playing && (engine.animated() || engine.temporal_enabled()))
-    }
-
-    /// Play or pause: the shown clip's playback, else time (animation, temporal jitter).
-    pub(super) fn toggle_play(&mut self) {
-        match self
-            .engine
-            .as_mut()
-            .and_then(|e| if e.clip_shown() { e.clip_mut() } else { None })
-        {
-            Some(clip) => clip.player.playing = !clip.player.playing,
-            None => self.camera.playing = !self.camera.playing,
-        }
+        self.ws.camera.moving_by_itself()
+            || (self.ws.camera.playing && (engine.animated() || engine.temporal_enabled()))
     }
 
     /// Publishes a finished engine frame and starts the next one when the engine is free.
     /// Returns whether more frames are wanted.
     fn engine_frame(&mut self) -> bool {
         profiling::function_scope!();
-        let size = self.viewport.render_size;
+        let size = self.ws.render_size;
         let want_reference = self.reference_wanted();
         let want_pixels = self.pixels_wanted();
         // The engine stays idle while images are shown.
-        let idle = self.images.is_open();
-        let Some(engine) = &mut self.engine else {
+        let idle = self.ws.images.is_open();
+        let Some(engine) = &mut self.ws.engine else {
             return false;
         };
         let publication = engine.poll();
         let mut errors = publication.problems;
         // A user technique restored at start, or added again: its saved parameters.
         for id in publication.added_users {
-            if let Some(map) = self.settings.technique_settings.get(id)
+            if let Some(map) = self.ws.settings.technique_settings.get(id)
                 && let Err(err) = engine.apply_param_map(id, map)
             {
                 errors.push(format!("saved settings of {id} not applied: {err}"));
             }
         }
         if size.0 > 0 && size.1 > 0 && !engine.busy() && !engine.live_paused() && !idle {
-            let (camera, cut) = self.camera.next_frame(size);
+            let (camera, cut) = self.ws.camera.next_frame(size);
             if let Err(err) = engine.submit(camera, cut, want_reference, want_pixels) {
                 errors.push(err.to_string());
             }
@@ -864,10 +462,10 @@ impl AaLabApp {
         // (While a clip records or is shown the live view waits, its reference too: asking
         // for UI frames for it would only repaint in a loop, taking CPU from the recording.)
         let more = engine.reference_incomplete() && !idle && !engine.live_paused();
-        self.clock.tick(publication.outputs);
+        self.ws.clock.tick(publication.outputs);
         self.engine_frames += u64::from(publication.outputs);
         for err in errors {
-            self.notify(Level::Error, err);
+            self.ws.notify(Level::Error, err);
         }
         more
     }
@@ -876,11 +474,6 @@ impl AaLabApp {
     /// them).
     pub fn engine_frames(&self) -> u64 {
         self.engine_frames
-    }
-
-    /// Whether the engine has a frame in flight.
-    pub fn rendering(&self) -> bool {
-        self.engine.as_ref().is_some_and(Engine::busy)
     }
 }
 
@@ -919,16 +512,17 @@ impl eframe::App for AaLabApp {
             style::apply(&ctx);
             self.styled = true;
         }
-        self.poll_background(&ctx);
-        self.blind_keys(&ctx);
-        let flying = self.camera.mode == super::camera::CameraMode::Fly && !self.images.is_open();
+        self.ws.poll_background(&ctx);
+        self.ws.blind_keys(&ctx);
+        let flying =
+            self.ws.camera.mode == super::camera::CameraMode::Fly && !self.ws.images.is_open();
         for action in shortcuts::pressed_actions(&ctx, flying) {
             self.handle_action(&ctx, action);
         }
         if flying {
             let input = shortcuts::fly_input(&ctx);
             if input.moving() {
-                self.camera.fly(input, ctx.input(|i| i.stable_dt));
+                self.ws.camera.fly(input, ctx.input(|i| i.stable_dt));
                 ctx.request_repaint();
             }
         }
@@ -936,9 +530,9 @@ impl eframe::App for AaLabApp {
             self.help_open = false;
         }
         let more = self.engine_frame();
-        self.tick_clip(&ctx);
-        self.update_quality(&ctx);
-        self.update_magnifier(&ctx);
+        self.ws.tick_clip(&ctx);
+        self.ws.update_quality(&ctx);
+        self.ws.update_magnifier(&ctx);
 
         profiling::scope!("panels");
         // The panels' background, under everything (the panels are transparent).
@@ -947,57 +541,64 @@ impl eframe::App for AaLabApp {
             ctx.content_rect(),
             style::PANEL_FILL,
         );
-        self.menu_bar(ui);
-        self.toolbar(ui);
-        self.status_bar(ui);
+        panels::menu_bar(
+            ui,
+            &mut self.ws,
+            &mut self.help_open,
+            &mut self.panels_hidden,
+        );
+        panels::toolbar(ui, &mut self.ws, &mut self.help_open);
+        let hover = self.viewport.hover_pixel().or(self.magnifier.hover());
+        panels::status_bar(ui, &self.ws, hover);
         // Clips record the scene; images have none.
-        if !self.images.is_open() {
-            self.clip_panel(ui);
+        if !self.ws.images.is_open() {
+            clip::panel(ui, &mut self.ws);
         }
         // A blind comparison's panel replaces those that name the techniques.
-        let blind = self.blind.active();
+        let blind = self.ws.blind.active();
         let show_side = !self.panels_hidden;
         if show_side && blind {
-            self.blind_panel(ui);
+            blind::panel(ui, &mut self.ws);
         }
-        if show_side && !blind && self.settings.show_techniques {
-            self.techniques_panel(ui);
+        if show_side && !blind && self.ws.settings.show_techniques {
+            techniques_panel::ui(ui, &mut self.ws);
         }
-        if show_side && !blind && self.settings.show_metrics {
-            self.metrics_panel(ui);
+        if show_side && !blind && self.ws.settings.show_metrics {
+            metrics_panel::ui(ui, &mut self.ws);
         }
-        if self.settings.show_magnifier {
-            self.magnifier_panel(ui);
+        if self.ws.settings.show_magnifier {
+            self.magnifier
+                .ui(ui, &mut self.ws, self.viewport.hover_pixel());
         }
-        self.viewport_panel(ui);
+        self.viewport.ui(ui, &mut self.ws);
         shortcuts::help_overlay(&ctx, &mut self.help_open);
 
         // (An open file dialog wakes the UI itself when answered.)
-        let pending_jobs = self.loading() || self.export.running() || self.images.loading();
+        let pending_jobs = self.loading() || self.ws.export.running() || self.ws.images.loading();
         // Measurements wake the UI when they finish; this catches paced ones that wait.
-        let measuring = self.quality.waiting() || self.magnifier.computing();
-        if self.rendering() {
+        let measuring = self.ws.quality.waiting() || self.ws.magnifier.computing();
+        if self.ws.rendering() {
             // The render thread wakes the UI when the frame is back; until then a repaint
             // would show nothing new (the camera advances with each engine frame), and on a
             // software rasteriser each paint takes CPU from the engine.
-        } else if more || self.time_changes_image() || self.viewport.resized {
+        } else if more || self.time_changes_image() || self.viewport.resized() {
             super::request_one_frame(&ctx);
         } else if pending_jobs {
             ctx.request_repaint_after(Duration::from_millis(30));
         } else if measuring {
             ctx.request_repaint_after(Duration::from_millis(200));
         } else {
-            self.clock.idle();
+            self.ws.clock.idle();
         }
         // The status bar changes when the oldest notice expires; nothing else about notices
         // needs a repaint.
-        if let Some(oldest) = self.notices.iter().map(|n| n.at).min() {
+        if let Some(oldest) = self.ws.notices.iter().map(|n| n.at).min() {
             let left = NOTICE_SECONDS - oldest.elapsed().as_secs_f64();
             ctx.request_repaint_after(Duration::from_secs_f64(left.max(0.0)));
         }
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
-        storage.set_string(STORAGE_KEY, self.settings.to_stored());
+        storage.set_string(STORAGE_KEY, self.ws.settings.to_stored());
     }
 }

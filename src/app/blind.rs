@@ -20,6 +20,10 @@
 //!   no existing file is ever replaced), created when the session starts and rewritten
 //!   atomically after every answer by a writer thread of the session, so the UI thread never
 //!   waits on the disk.
+//!
+//! The session ([`BlindState`]) is the workspace's, since the labels of every panel follow it;
+//! the workspace's session commands (start, answer, keys) are here, and the session's panel
+//! ([`panel`]) is a stateless function of the [`Workspace`].
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -28,10 +32,10 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
 use egui::{Button, Key, Modifiers, RichText};
 
-use super::app::{AaLabApp, Level};
 use super::clip::ClipRecipe;
 use super::settings::Layout;
 use super::style::{self, SLOT_COLORS, SLOT_LETTERS};
+use super::workspace::{Level, Workspace};
 use crate::aa::ParamMap;
 use crate::files::{self, Overwrite};
 use crate::scene::camera::OrbitPose;
@@ -619,7 +623,7 @@ impl BlindState {
     }
 }
 
-impl AaLabApp {
+impl Workspace {
     /// Starts a blind session over the compared techniques (two to four), writing its answers
     /// into the export folder.
     pub(super) fn start_blind(&mut self, ctx: &egui::Context) {
@@ -638,7 +642,7 @@ impl AaLabApp {
         let scene = if self.images.is_open() {
             "images"
         } else {
-            self.scene_name().unwrap_or("scene")
+            self.scene.as_ref().map_or("scene", |s| s.name.as_str())
         };
         let dir = self.settings.export_dir.clone();
         let stem = super::export::free_stem(&dir, &format!("{scene}-blind"), &[".json".to_owned()]);
@@ -653,23 +657,6 @@ impl AaLabApp {
                 Level::Error,
                 format!("cannot start the blind comparison: {err}"),
             ),
-        }
-    }
-
-    /// The session's panel, in place of the techniques and metrics panels.
-    pub(super) fn blind_panel(&mut self, ui: &mut egui::Ui) {
-        let action = egui::Panel::right("blind comparison")
-            .resizable(true)
-            .default_size(280.0)
-            .size_range(220.0..=480.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical()
-                    .show(ui, |ui| self.blind.ui(ui))
-                    .inner
-            })
-            .inner;
-        if let Some(action) = action {
-            self.blind_act(action);
         }
     }
 
@@ -770,13 +757,25 @@ impl AaLabApp {
             shown,
             layout: self.settings.layout,
             region,
-            render_size: self.viewport.render_size,
+            render_size: self.render_size,
         }
     }
+}
 
-    /// The answers file of the running blind session (tests read it).
-    pub fn blind_file(&self) -> Option<&Path> {
-        self.blind.file()
+/// The session's panel, in place of the techniques and metrics panels.
+pub(super) fn panel(ui: &mut egui::Ui, ws: &mut Workspace) {
+    let action = egui::Panel::right("blind comparison")
+        .resizable(true)
+        .default_size(280.0)
+        .size_range(220.0..=480.0)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical()
+                .show(ui, |ui| ws.blind.ui(ui))
+                .inner
+        })
+        .inner;
+    if let Some(action) = action {
+        ws.blind_act(action);
     }
 }
 

@@ -21,6 +21,10 @@
 //! draws textures uploaded once while recording, so it costs one blit per pane per UI frame and
 //! no engine work: recorded clips play at display rate on a machine whose engine makes a few
 //! frames per second.
+//!
+//! The clip itself is the engine's; the clip settings are part of the workspace's settings.
+//! The workspace's clip commands (record, show, tick the player) are here, and the clip bar
+//! ([`panel`], drawing [`clip_bar`]) is a stateless function of the [`Workspace`].
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -29,9 +33,9 @@ use std::time::{Duration, Instant};
 
 use egui::RichText;
 
-use super::app::Level;
 use super::engine::Published;
 use super::style;
+use super::workspace::{Level, Workspace};
 use crate::metrics::stability::TemporalScores;
 use crate::scene::CameraRig;
 use crate::scene::camera::{FrameCamera, OrbitPose};
@@ -661,43 +665,7 @@ fn mib(bytes: u64) -> String {
     format!("{:.0} MiB", bytes as f64 / (1024.0 * 1024.0))
 }
 
-impl super::app::AaLabApp {
-    /// The clip bar (a bottom panel above the status bar) and what its buttons ask for.
-    pub(super) fn clip_panel(&mut self, ui: &mut egui::Ui) {
-        let images = self.compared().len() + usize::from(self.settings.clip.reference);
-        let estimate = self.settings.clip.bytes(images, self.viewport.render_size);
-        let Some(engine) = &mut self.engine else {
-            return;
-        };
-        let shown = engine.clip_shown();
-        let settings = &mut self.settings.clip;
-        let action = egui::Panel::bottom("clip bar")
-            .frame(
-                egui::Frame::side_top_panel(ui.style()).inner_margin(egui::Margin::symmetric(8, 4)),
-            )
-            .show(ui, |ui| {
-                clip_bar(ui, settings, engine.clip_mut(), shown, Some(estimate))
-            })
-            .inner;
-        match action {
-            Some(ClipAction::Record) => self.record_clip(),
-            Some(ClipAction::Cancel) => {
-                if let Some(clip) = engine.clip() {
-                    clip.cancel();
-                }
-            }
-            Some(ClipAction::ShowLive) => self.show_clip(false),
-            Some(ClipAction::ShowClip) => self.show_clip(true),
-            Some(ClipAction::Discard) => {
-                if let Some(engine) = &mut self.engine {
-                    engine.discard_clip();
-                }
-            }
-            Some(ClipAction::Export) => self.export_clip(),
-            None => {}
-        }
-    }
-
+impl Workspace {
     /// Shows the clip or the live view.
     pub(super) fn show_clip(&mut self, shown: bool) {
         if let Some(engine) = &mut self.engine {
@@ -708,7 +676,7 @@ impl super::app::AaLabApp {
     /// Records a clip of the compared techniques along the chosen path from the current view.
     pub(super) fn record_clip(&mut self) {
         let ids = self.compared();
-        let size = self.viewport.render_size;
+        let size = self.render_size;
         let settings = self.settings.clip;
         if ids.is_empty() {
             self.notify(
@@ -790,13 +758,13 @@ impl super::app::AaLabApp {
 
     /// The clip's progress: frames recorded, and whether it is still recording (`None`: no
     /// clip).
-    pub fn clip_progress(&self) -> Option<(usize, bool)> {
+    pub(super) fn clip_progress(&self) -> Option<(usize, bool)> {
         let clip = self.engine.as_ref()?.clip()?;
         Some((clip.frames.len(), clip.recording_now()))
     }
 
     /// The clip's temporal figures per technique, once recorded with the reference.
-    pub fn clip_scores(&self) -> Option<Vec<TemporalScores>> {
+    pub(super) fn clip_scores(&self) -> Option<Vec<TemporalScores>> {
         self.engine.as_ref()?.clip()?.scores.clone()
     }
 
@@ -809,7 +777,7 @@ impl super::app::AaLabApp {
     }
 
     /// The index of the clip frame on screen (`None` when the live view is).
-    pub fn shown_clip_frame(&self) -> Option<usize> {
+    pub(super) fn shown_clip_frame(&self) -> Option<usize> {
         let engine = self.engine.as_ref()?;
         let clip = engine.clip().filter(|_| engine.clip_shown())?;
         Some(clip.player.frame(clip.frames.len()))
@@ -847,6 +815,40 @@ impl super::app::AaLabApp {
                 ctx.request_repaint_after(due);
             }
         }
+    }
+}
+
+/// The clip bar (a bottom panel above the status bar) and what its buttons ask for.
+pub(super) fn panel(ui: &mut egui::Ui, ws: &mut Workspace) {
+    let images = ws.compared().len() + usize::from(ws.settings.clip.reference);
+    let estimate = ws.settings.clip.bytes(images, ws.render_size);
+    let Some(engine) = &mut ws.engine else {
+        return;
+    };
+    let shown = engine.clip_shown();
+    let settings = &mut ws.settings.clip;
+    let action = egui::Panel::bottom("clip bar")
+        .frame(egui::Frame::side_top_panel(ui.style()).inner_margin(egui::Margin::symmetric(8, 4)))
+        .show(ui, |ui| {
+            clip_bar(ui, settings, engine.clip_mut(), shown, Some(estimate))
+        })
+        .inner;
+    match action {
+        Some(ClipAction::Record) => ws.record_clip(),
+        Some(ClipAction::Cancel) => {
+            if let Some(clip) = engine.clip() {
+                clip.cancel();
+            }
+        }
+        Some(ClipAction::ShowLive) => ws.show_clip(false),
+        Some(ClipAction::ShowClip) => ws.show_clip(true),
+        Some(ClipAction::Discard) => {
+            if let Some(engine) = &mut ws.engine {
+                engine.discard_clip();
+            }
+        }
+        Some(ClipAction::Export) => ws.export_clip(),
+        None => {}
     }
 }
 

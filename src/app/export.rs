@@ -7,14 +7,19 @@
 //!
 //! The frames are the engine's published CPU copies (the bytes on screen); a worker thread
 //! encodes and writes the files, so the window keeps running while a large export is written.
+//!
+//! Exports are workspace commands ([`Workspace::start_export`], [`Workspace::export_clip`],
+//! [`Workspace::copy_sheet`], ...): the menu bar, the toolbar, the clip bar, the magnifier and
+//! the shortcuts start them, so the running job and the last files written ([`ExportState`])
+//! are the workspace's too; export has no panel of its own.
 
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, mpsc};
 
-use super::app::{AaLabApp, DialogPurpose, Level};
 use super::clip::ClipRecipe;
 use super::difference::lens_heatmap;
 use super::magnifier::{Source, crop};
+use super::workspace::{DialogPurpose, Level, Workspace};
 use crate::export::sheet::{self, Cell, Row};
 use crate::export::write_png;
 use crate::files::{self, Overwrite};
@@ -220,9 +225,9 @@ fn write_clip(
     Ok(vec![animation, sidecar])
 }
 
-impl AaLabApp {
+impl Workspace {
     /// The render record of the displayed frame: `aa-lab render --from` reproduces it.
-    pub fn current_spec(&self) -> Option<RenderSpec> {
+    pub(super) fn current_spec(&self) -> Option<RenderSpec> {
         let engine = self.engine.as_ref()?;
         let camera = engine.displayed()?;
         let scene = self.scene.as_ref()?;
@@ -301,7 +306,7 @@ impl AaLabApp {
             .as_ref()
             .and_then(|e| e.displayed())
             .map_or(0, |c| c.frame);
-        let (w, h) = self.viewport.render_size;
+        let (w, h) = self.render_size;
         let mode = if self.settings.magnifier.difference {
             format!(", {} against the reference", metric.label().to_lowercase())
         } else {
@@ -558,16 +563,6 @@ impl AaLabApp {
     pub(super) fn use_export_dir(&mut self, dir: PathBuf) {
         self.notify(Level::Info, format!("Exports go to {}", dir.display()));
         self.settings.export_dir = dir;
-    }
-
-    /// Points exports at a folder (tests use a temporary one).
-    pub fn set_export_dir(&mut self, dir: PathBuf) {
-        self.settings.export_dir = dir;
-    }
-
-    /// Files written by the last finished export.
-    pub fn last_export(&self) -> &[PathBuf] {
-        &self.export.last
     }
 }
 

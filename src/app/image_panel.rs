@@ -1,187 +1,209 @@
 //! The panels of an open image set (image_set.rs): the left panel that replaces the
 //! techniques while images are shown (the files in pane order, the reference, the way back
 //! to the scene), the reference choice in the toolbar, and the quality table of the metrics
-//! panel (every image against the chosen reference).
+//! panel (every image against the chosen reference): stateless functions of the
+//! [`Workspace`] ([`ui`], [`strip`], [`quality_section`]).
 
 use egui::RichText;
 
-use super::app::AaLabApp;
 use super::image_set::IMAGE_IDS;
 use super::metrics_panel::{number, number_weak};
 use super::quality;
 use super::style::{self, SLOT_COLORS, SLOT_LETTERS};
+use super::workspace::Workspace;
 
 /// What the reference of an image set is, for tooltips.
 const REFERENCE_HELP: &str = "The image every other one is measured against (SSIM, PSNR, MAE, FLIP, the magnifier's heatmaps; hold R in the A/B flip layout to see it). By default the first file whose name has the word \"reference\" or \"ref\", else the first file.";
 
-impl AaLabApp {
-    /// The reference combo box; `salt` tells its instances apart.
-    fn reference_choice(&mut self, ui: &mut egui::Ui, salt: &str) {
-        let Some((names, reference)) = self.image_names() else {
-            return;
-        };
-        let mut chosen = reference;
-        egui::ComboBox::from_id_salt(("image reference", salt))
-            .selected_text(&names[reference])
-            .show_ui(ui, |ui| {
-                for (i, name) in names.iter().enumerate() {
-                    ui.selectable_value(&mut chosen, i, name);
-                }
-            })
-            .response
-            .on_hover_text(REFERENCE_HELP);
-        if chosen != reference {
-            self.set_image_reference(chosen);
-        }
+/// The reference combo box; `salt` tells its instances apart.
+fn reference_choice(ui: &mut egui::Ui, ws: &mut Workspace, salt: &str) {
+    let Some((names, reference)) = ws.image_names() else {
+        return;
+    };
+    let mut chosen = reference;
+    egui::ComboBox::from_id_salt(("image reference", salt))
+        .selected_text(&names[reference])
+        .show_ui(ui, |ui| {
+            for (i, name) in names.iter().enumerate() {
+                ui.selectable_value(&mut chosen, i, name);
+            }
+        })
+        .response
+        .on_hover_text(REFERENCE_HELP);
+    if chosen != reference {
+        ws.set_image_reference(chosen);
     }
+}
 
-    /// The reference choice in the toolbar, after the compared images.
-    pub(super) fn image_strip(&mut self, ui: &mut egui::Ui) {
-        ui.separator();
-        ui.label(style::badge("R", style::REFERENCE_COLOR))
-            .on_hover_text(REFERENCE_HELP);
-        self.reference_choice(ui, "toolbar");
-    }
+/// The reference choice in the toolbar, after the compared images.
+pub(super) fn strip(ui: &mut egui::Ui, ws: &mut Workspace) {
+    ui.separator();
+    ui.label(style::badge("R", style::REFERENCE_COLOR))
+        .on_hover_text(REFERENCE_HELP);
+    reference_choice(ui, ws, "toolbar");
+}
 
-    /// The left panel while images are shown.
-    pub(super) fn images_panel(&mut self, ui: &mut egui::Ui) {
-        let ctx = ui.ctx().clone();
-        egui::Panel::left("images")
-            .resizable(true)
-            .default_size(300.0)
-            .size_range(240.0..=480.0)
-            .show(ui, |ui| {
-                ui.add_space(4.0);
-                ui.heading("Images");
-                ui.separator();
-                let Some(set) = self.images.open() else {
-                    return;
-                };
-                let (w, h) = set.size();
-                ui.label(format!("{} image(s), {w} × {h} pixels", set.images().len()));
-                ui.add_space(4.0);
-                let rows: Vec<(String, String)> = set
-                    .images()
-                    .iter()
-                    .map(|i| (i.name.clone(), i.path.display().to_string()))
-                    .collect();
-                for (slot, (name, path)) in rows.iter().enumerate() {
-                    ui.horizontal(|ui| {
-                        ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
-                        ui.label(
-                            self.image_label(IMAGE_IDS[slot])
-                                .unwrap_or_else(|| name.clone()),
-                        )
-                        .on_hover_text(path);
-                    });
-                }
-                ui.add_space(6.0);
+/// The left panel while images are shown.
+pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
+    let ctx = ui.ctx().clone();
+    egui::Panel::left("images")
+        .resizable(true)
+        .default_size(300.0)
+        .size_range(240.0..=480.0)
+        .show(ui, |ui| {
+            ui.add_space(4.0);
+            ui.heading("Images");
+            ui.separator();
+            let Some(set) = ws.images.open() else {
+                return;
+            };
+            let (w, h) = set.size();
+            ui.label(format!("{} image(s), {w} × {h} pixels", set.images().len()));
+            ui.add_space(4.0);
+            let rows: Vec<(String, String)> = set
+                .images()
+                .iter()
+                .map(|i| (i.name.clone(), i.path.display().to_string()))
+                .collect();
+            for (slot, (name, path)) in rows.iter().enumerate() {
                 ui.horizontal(|ui| {
-                    ui.label("Reference").on_hover_text(REFERENCE_HELP);
-                    self.reference_choice(ui, "panel");
-                });
-                ui.add_space(6.0);
-                ui.label(
-                    RichText::new(
-                        "The panes, layouts, magnifier, heatmaps and quality figures show these \
-                         images as they show technique outputs; the scene is not rendered \
-                         meanwhile.",
+                    ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
+                    ui.label(
+                        ws.image_label(IMAGE_IDS[slot])
+                            .unwrap_or_else(|| name.clone()),
                     )
-                    .small()
-                    .weak(),
-                );
-                ui.add_space(6.0);
-                ui.horizontal(|ui| {
-                    if ui.button("Open other images…").clicked() {
-                        self.open_images_dialog(&ctx);
-                    }
-                    let back = match &self.scene {
-                        Some(scene) => format!("Back to {}", scene.name),
-                        None => "Close images".to_owned(),
-                    };
-                    if ui
-                        .button(back)
-                        .on_hover_text("Close the images and show the scene again")
-                        .clicked()
-                    {
-                        self.close_images();
-                    }
+                    .on_hover_text(path);
                 });
+            }
+            ui.add_space(6.0);
+            ui.horizontal(|ui| {
+                ui.label("Reference").on_hover_text(REFERENCE_HELP);
+                reference_choice(ui, ws, "panel");
             });
-    }
-
-    /// The metrics panel's quality section while images are shown.
-    pub(super) fn image_quality_section(&mut self, ui: &mut egui::Ui) {
-        style::section(ui, "Quality against the reference");
-        ui.checkbox(&mut self.settings.quality, "Measure")
-            .on_hover_text("Score every image against the reference image.");
-        ui.horizontal(|ui| {
-            ui.label("Reference");
-            self.reference_choice(ui, "metrics");
-        });
-        let Some((names, reference)) = self.image_names() else {
-            return;
-        };
-        let (missing, missing_tip) = if self.settings.quality {
-            ("…", "Being measured in the background.")
-        } else {
-            ("off", "Measuring is off.")
-        };
-        let mut notes = Vec::new();
-        egui::Grid::new("image quality table")
-            .num_columns(5)
-            .striped(true)
-            .spacing([10.0, 3.0])
-            .show(ui, |ui| {
-                ui.weak("image");
-                for title in ["SSIM", "PSNR", "MAE", "FLIP"] {
-                    ui.weak(title);
+            ui.add_space(6.0);
+            ui.label(
+                RichText::new(
+                    "The panes, layouts, magnifier, heatmaps and quality figures show these \
+                     images as they show technique outputs; the scene is not rendered \
+                     meanwhile.",
+                )
+                .small()
+                .weak(),
+            );
+            ui.add_space(6.0);
+            ui.horizontal(|ui| {
+                if ui.button("Open other images…").clicked() {
+                    ws.open_images_dialog(&ctx);
                 }
-                ui.end_row();
-                for (slot, name) in names.iter().enumerate() {
-                    ui.horizontal(|ui| {
-                        ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
-                        ui.label(name);
-                    });
-                    if slot == reference {
-                        ui.weak("reference").on_hover_text(REFERENCE_HELP);
-                        ui.end_row();
-                        continue;
-                    }
-                    let id = IMAGE_IDS[slot];
-                    let key = self.measure_key(id);
-                    match self.quality.current_pixels(id, key) {
-                        Some(m) => match &m.value {
-                            Ok(f) => {
-                                let how = format!("\n\nMeasured on the {} in {}.", m.on, style::ms(m.ms));
-                                number(ui, format!("{:.4}", f.ssim), &(image_help("SSIM of BT.601 luma, Gaussian 11x11 window; 1 = identical.") + &how));
-                                number(ui, quality::psnr_text(f.psnr), &(image_help("PSNR of R'G'B' in dB; ∞ = identical.") + &how));
-                                number(ui, format!("{:.3}", f.mae), &(image_help("Mean absolute error of R'G'B', 0..255.") + &how));
-                            }
-                            Err(err) => {
-                                for _ in 0..3 {
-                                    number_weak(ui, "error", err);
-                                }
-                                notes.push(format!("{name}: {err}"));
-                            }
-                        },
-                        None => {
+                let back = match &ws.scene {
+                    Some(scene) => format!("Back to {}", scene.name),
+                    None => "Close images".to_owned(),
+                };
+                if ui
+                    .button(back)
+                    .on_hover_text("Close the images and show the scene again")
+                    .clicked()
+                {
+                    ws.close_images();
+                }
+            });
+        });
+}
+
+/// The metrics panel's quality section while images are shown.
+pub(super) fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
+    style::section(ui, "Quality against the reference");
+    ui.checkbox(&mut ws.settings.quality, "Measure")
+        .on_hover_text("Score every image against the reference image.");
+    ui.horizontal(|ui| {
+        ui.label("Reference");
+        reference_choice(ui, ws, "metrics");
+    });
+    let Some((names, reference)) = ws.image_names() else {
+        return;
+    };
+    let (missing, missing_tip) = if ws.settings.quality {
+        ("…", "Being measured in the background.")
+    } else {
+        ("off", "Measuring is off.")
+    };
+    let mut notes = Vec::new();
+    egui::Grid::new("image quality table")
+        .num_columns(5)
+        .striped(true)
+        .spacing([10.0, 3.0])
+        .show(ui, |ui| {
+            ui.weak("image");
+            for title in ["SSIM", "PSNR", "MAE", "FLIP"] {
+                ui.weak(title);
+            }
+            ui.end_row();
+            for (slot, name) in names.iter().enumerate() {
+                ui.horizontal(|ui| {
+                    ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
+                    ui.label(name);
+                });
+                if slot == reference {
+                    ui.weak("reference").on_hover_text(REFERENCE_HELP);
+                    ui.end_row();
+                    continue;
+                }
+                let id = IMAGE_IDS[slot];
+                let key = ws.measure_key(id);
+                match ws.quality.current_pixels(id, key) {
+                    Some(m) => match &m.value {
+                        Ok(f) => {
+                            let how =
+                                format!("\n\nMeasured on the {} in {}.", m.on, style::ms(m.ms));
+                            number(
+                                ui,
+                                format!("{:.4}", f.ssim),
+                                &(image_help(
+                                    "SSIM of BT.601 luma, Gaussian 11x11 window; 1 = identical.",
+                                ) + &how),
+                            );
+                            number(
+                                ui,
+                                quality::psnr_text(f.psnr),
+                                &(image_help("PSNR of R'G'B' in dB; ∞ = identical.") + &how),
+                            );
+                            number(
+                                ui,
+                                format!("{:.3}", f.mae),
+                                &(image_help("Mean absolute error of R'G'B', 0..255.") + &how),
+                            );
+                        }
+                        Err(err) => {
                             for _ in 0..3 {
-                                number_weak(ui, missing, missing_tip);
+                                number_weak(ui, "error", err);
                             }
+                            notes.push(format!("{name}: {err}"));
+                        }
+                    },
+                    None => {
+                        for _ in 0..3 {
+                            number_weak(ui, missing, missing_tip);
                         }
                     }
-                    match self.quality.current_flip(id, key).map(|m| &m.value) {
-                        Some(Ok(v)) => number(ui, format!("{v:.4}"), &image_help("Mean of NVIDIA's FLIP (LDR) error; 0 = indistinguishable.")),
-                        Some(Err(err)) => number_weak(ui, "error", err),
-                        None => number_weak(ui, missing, "FLIP is computed on the CPU, after the others."),
-                    }
-                    ui.end_row();
                 }
-            });
-        for note in notes {
-            ui.label(RichText::new(note).small().color(style::ERROR));
-        }
+                match ws.quality.current_flip(id, key).map(|m| &m.value) {
+                    Some(Ok(v)) => number(
+                        ui,
+                        format!("{v:.4}"),
+                        &image_help("Mean of NVIDIA's FLIP (LDR) error; 0 = indistinguishable."),
+                    ),
+                    Some(Err(err)) => number_weak(ui, "error", err),
+                    None => number_weak(
+                        ui,
+                        missing,
+                        "FLIP is computed on the CPU, after the others.",
+                    ),
+                }
+                ui.end_row();
+            }
+        });
+    for note in notes {
+        ui.label(RichText::new(note).small().color(style::ERROR));
     }
 }
 

@@ -15,7 +15,7 @@
 //!   thread; a set that fails any check is refused whole with a message, and whatever was
 //!   shown stays.
 //! - The lookups the viewport, the magnifier, the quality figures and the export use to find
-//!   an image by id ([`AaLabApp::image_for`], [`AaLabApp::reference_for`], ...): the open set
+//!   an image by id ([`Workspace::image_for`], [`Workspace::reference_for`], ...): the open set
 //!   when there is one, the engine otherwise.
 //!
 //! **The reference** is by default the first file whose name contains the word `reference`
@@ -25,10 +25,10 @@
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, mpsc};
 
-use super::app::{AaLabApp, Level};
 use super::blit::Uploader;
 use super::engine::{ImageStamp, Published, ReferenceState};
 use super::render_thread::RenderedImage;
+use super::workspace::{Level, Workspace};
 use crate::aa::ssaa::Progress;
 
 /// The ids of the images of a set, in file order.
@@ -308,11 +308,11 @@ impl ImageSetState {
     }
 }
 
-impl AaLabApp {
+impl Workspace {
     /// Opens up to four images of one size as panes (File > Open images, dropped images, and
     /// tests): they are decoded on a worker thread and replace what is shown when they all
     /// load; otherwise a notice says why, and what was shown stays.
-    pub fn open_images(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
+    pub(super) fn open_images(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
         if paths.len() > MAX_IMAGES {
             self.notify(
                 Level::Error,
@@ -363,7 +363,7 @@ impl AaLabApp {
     }
 
     /// Closes the image set: the scene shows again.
-    pub fn close_images(&mut self) {
+    pub(super) fn close_images(&mut self) {
         if self.images.open.take().is_some() {
             self.quality.clear();
             self.magnifier.clear();
@@ -371,25 +371,15 @@ impl AaLabApp {
         }
     }
 
-    /// Whether an image set is shown instead of the scene.
-    pub fn image_set_open(&self) -> bool {
-        self.images.is_open()
-    }
-
-    /// Whether images are being decoded.
-    pub fn images_loading(&self) -> bool {
-        self.images.loading()
-    }
-
     /// The file names of the open set, in pane order, and the index of the reference.
-    pub fn image_names(&self) -> Option<(Vec<String>, usize)> {
+    pub(super) fn image_names(&self) -> Option<(Vec<String>, usize)> {
         let set = self.images.open()?;
         let names = set.images.iter().map(|i| i.name.clone()).collect();
         Some((names, set.reference))
     }
 
     /// Makes image `index` of the open set the reference.
-    pub fn set_image_reference(&mut self, index: usize) {
+    pub(super) fn set_image_reference(&mut self, index: usize) {
         let view = self.images.next_serial();
         if let Some(set) = &mut self.images.open
             && index < set.images.len()

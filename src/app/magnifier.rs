@@ -8,16 +8,24 @@
 //! images on the CPU. Heatmaps (difference.rs) are recomputed in the background when the lens,
 //! the images or the metric change, from the lens region plus a margin so that windowed
 //! metrics see the pixels' neighbourhood.
+//!
+//! What this module owns:
+//! - [`MagnifierState`], the workspace's: the lens size and the heatmaps, with the workspace's
+//!   magnifier queries (the panes' sources, labels and figures, the lens, the heatmap jobs),
+//!   which the viewport, exports, blind answers and the test API use as well.
+//! - [`MagnifierPanel`], the panel: it sizes the lens to its panes and owns the pane pixel under
+//!   the pointer; the viewport's hovered pixel is passed in for the crosshair.
 
 use egui::{Color32, Rect, Sense, Stroke, StrokeKind, TextureHandle, pos2, vec2};
 
-use super::app::{AaLabApp, Level};
 use super::blit;
 use super::difference::{self, HeatInput, HeatJob, HeatKey, HeatResult, heat_color};
 use super::engine::{Published, ReferenceState};
 use super::settings::{DiffMetric, MagnifierSettings};
+use super::shortcuts::{Action, shortcut_hint};
 use super::style::{self, REFERENCE_COLOR, SLOT_COLORS};
 use super::worker::Worker;
+use super::workspace::{Level, Workspace};
 use crate::gpu::readback::Region;
 
 /// The zoom factors offered.
@@ -69,13 +77,13 @@ struct PaneHeat {
     result: Result<(TextureHandle, Region, f64), String>,
 }
 
-/// Magnifier state kept between frames.
+/// The lens size and the heatmaps, kept between frames in the workspace: the viewport draws
+/// and moves the lens, exports and blind answers record it; export sheets and the test API
+/// read the heatmaps, which scene and image set changes forget with the quality figures.
 #[derive(Default)]
 pub struct MagnifierState {
     /// Frame pixels a pane covers (decided by the pane size and the zoom).
     pub lens_side: u32,
-    /// The frame pixel under the pointer in a pane.
-    pub hover: Option<(u32, u32)>,
     worker: Option<Worker<HeatJob, HeatResult>>,
     worker_error: Option<String>,
     /// The heatmaps last asked for.
@@ -111,7 +119,7 @@ pub fn crop(image: &image::RgbaImage, region: Region) -> image::RgbaImage {
     image::imageops::crop_imm(image, region.x, region.y, region.width, region.height).to_image()
 }
 
-impl AaLabApp {
+impl Workspace {
     /// The panes' sources: the compared techniques, then the reference when shown.
     pub(super) fn magnifier_sources(&self) -> Vec<Source> {
         let mut sources: Vec<Source> = self
@@ -139,7 +147,7 @@ impl AaLabApp {
         lens_region(
             &self.settings.magnifier,
             self.magnifier.lens_side,
-            self.viewport.render_size,
+            self.render_size,
         )
     }
 
@@ -247,7 +255,7 @@ impl AaLabApp {
     /// In difference mode, once every technique pane shows the heatmap of the current lens,
     /// images and metric: the lens means of the panes' maps, in pane order (SSIM itself for
     /// the SSIM map).
-    pub fn difference_means(&self) -> Option<Vec<f64>> {
+    pub(super) fn difference_means(&self) -> Option<Vec<f64>> {
         let job = self.heat_job()?;
         job.key
             .sources
@@ -266,11 +274,6 @@ impl AaLabApp {
             .collect()
     }
 
-    /// The lens in frame pixels: x, y, width, height.
-    pub fn lens_region(&self) -> Option<(u32, u32, u32, u32)> {
-        self.lens().map(|r| (r.x, r.y, r.width, r.height))
-    }
-
     /// The heatmap of a pane when it shows the displayed view with the selected metric.
     fn pane_heat(&self, source: Source) -> Option<&PaneHeat> {
         let view = self.current_view()?;
@@ -279,282 +282,6 @@ impl AaLabApp {
                 && h.key.view == view
                 && h.key.metric == self.settings.magnifier.metric
         })
-    }
-
-    /// The magnifier panel (bottom of the window).
-    pub(super) fn magnifier_panel(&mut self, ui: &mut egui::Ui) {
-        profiling::function_scope!();
-        egui::Panel::bottom("magnifier")
-            .resizable(true)
-            .default_size(330.0)
-            .size_range(180.0..=700.0)
-            .frame(
-                egui::Frame::side_top_panel(ui.style())
-                    .inner_margin(egui::Margin::symmetric(10, 6)),
-            )
-            .show(ui, |ui| {
-                // Keep the panel at its set height (panels otherwise shrink to their content).
-                ui.set_min_height(ui.available_height());
-                self.magnifier_header(ui);
-                ui.add_space(4.0);
-                self.magnifier_panes(ui);
-            });
-    }
-
-    fn magnifier_header(&mut self, ui: &mut egui::Ui) {
-        let ctx = ui.ctx().clone();
-        ui.horizontal(|ui| {
-            ui.strong("Magnifier");
-            ui.separator();
-            let m = &mut self.settings.magnifier;
-            ui.label("Zoom").on_hover_text("Nearest-neighbour zoom: each frame pixel becomes a zoom x zoom block.");
-            egui::ComboBox::from_id_salt("magnifier zoom")
-                .width(64.0)
-                .selected_text(format!("{}×", m.zoom))
-                .show_ui(ui, |ui| {
-                    for z in ZOOM_STEPS {
-                        ui.selectable_value(&mut m.zoom, z, format!("{z}×"));
-                    }
-                })
-                .response
-                .on_hover_text(shortcut_hint(&ctx, super::shortcuts::Action::ZoomIn, "Zoom in"));
-            ui.checkbox(&mut m.pixel_grid, "Pixel grid")
-                .on_hover_text(shortcut_hint(&ctx, super::shortcuts::Action::PixelGrid, "Lines between magnified pixels"));
-            ui.checkbox(&mut m.show_reference, "Reference")
-                .on_hover_text("Add a pane with the supersampled reference of the same frame");
-            ui.checkbox(&mut m.difference, "Difference")
-                .on_hover_text(shortcut_hint(&ctx, super::shortcuts::Action::Difference, "Show each pane's error against the reference as a heatmap"));
-            ui.add_enabled_ui(m.difference, |ui| {
-                egui::ComboBox::from_id_salt("difference metric")
-                    .width(120.0)
-                    .selected_text(m.metric.label())
-                    .show_ui(ui, |ui| {
-                        for metric in DiffMetric::MENU {
-                            ui.selectable_value(&mut m.metric, metric, metric.label())
-                                .on_hover_text(metric.help());
-                        }
-                    })
-                    .response
-                    .on_hover_text(m.metric.help());
-                if m.difference {
-                    heat_legend(ui, m.metric);
-                }
-            });
-            if let Some(lens) = self.lens() {
-                ui.separator();
-                ui.weak(format!(
-                    "lens {}×{} at ({}, {})",
-                    lens.width, lens.height, lens.x, lens.y
-                ))
-                .on_hover_text("Drag the white rectangle in the view, Ctrl+click to place it, or nudge it with the arrow keys.");
-            }
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                if ui
-                    .button("Copy sheet")
-                    .on_hover_text(shortcut_hint(&ctx, super::shortcuts::Action::CopySheet, "Copy the magnifier sheet (all panes with labels and metrics) to the clipboard"))
-                    .clicked()
-                {
-                    self.copy_sheet(&ctx);
-                }
-            });
-        });
-    }
-
-    fn magnifier_panes(&mut self, ui: &mut egui::Ui) {
-        let ppp = ui.ctx().pixels_per_point();
-        let sources = self.magnifier_sources();
-        let zoom = self.settings.magnifier.zoom.max(1);
-        let caption_height = 42.0;
-        let n = sources.len().max(1) as f32;
-        let avail = ui.available_size();
-        let side_points = ((avail.x - PANE_GAP * (n - 1.0)) / n)
-            .min(avail.y - caption_height)
-            .max(16.0);
-        let side_px = (side_points * ppp).floor() as u32;
-        self.magnifier.lens_side = (side_px / zoom).max(1);
-        let Some(lens) = self.lens() else {
-            ui.weak("The lens appears once the first frame is rendered.");
-            return;
-        };
-        let size = self.viewport.render_size;
-        let pane_points = vec2(
-            (lens.width * zoom) as f32 / ppp,
-            (lens.height * zoom) as f32 / ppp,
-        );
-        let mut hover = None;
-        let mut clicked = None;
-        let mut pane_rects = Vec::new();
-        ui.horizontal_top(|ui| {
-            ui.spacing_mut().item_spacing.x = PANE_GAP;
-            for source in &sources {
-                ui.vertical(|ui| {
-                    let (rect, response) = ui.allocate_exact_size(pane_points, Sense::click());
-                    if let (true, Source::Technique(slot, _)) = (response.clicked(), *source) {
-                        clicked = Some(slot);
-                    }
-                    let rect = Rect::from_min_size(
-                        pos2(
-                            (rect.min.x * ppp).round() / ppp,
-                            (rect.min.y * ppp).round() / ppp,
-                        ),
-                        pane_points,
-                    );
-                    pane_rects.push((*source, rect));
-                    if let Some(p) = response.hover_pos() {
-                        let local = (p - rect.min) * ppp / zoom as f32;
-                        if local.x >= 0.0 && local.y >= 0.0 {
-                            hover = Some((
-                                lens.x + (local.x as u32).min(lens.width - 1),
-                                lens.y + (local.y as u32).min(lens.height - 1),
-                            ));
-                        }
-                    }
-                    self.paint_pane(ui, *source, rect, lens, size);
-                    self.pane_caption(ui, *source, pane_points.x);
-                });
-            }
-        });
-        self.magnifier.hover = hover;
-        if let Some(slot) = clicked {
-            self.blind_click(slot);
-        }
-        let marked = hover.or(self.viewport.hover_pixel.filter(|(x, y)| {
-            *x >= lens.x && *y >= lens.y && *x < lens.x + lens.width && *y < lens.y + lens.height
-        }));
-        if let Some((x, y)) = marked {
-            for (_, rect) in &pane_rects {
-                let cell = Rect::from_min_size(
-                    rect.min
-                        + vec2(
-                            ((x - lens.x) * zoom) as f32 / ppp,
-                            ((y - lens.y) * zoom) as f32 / ppp,
-                        ),
-                    vec2(zoom as f32 / ppp, zoom as f32 / ppp),
-                );
-                let painter = ui.painter().with_clip_rect(*rect);
-                painter.rect_stroke(
-                    cell,
-                    0.0,
-                    Stroke::new(1.0, Color32::BLACK),
-                    StrokeKind::Outside,
-                );
-                painter.rect_stroke(
-                    cell.expand(1.0),
-                    0.0,
-                    Stroke::new(1.0, Color32::WHITE),
-                    StrokeKind::Outside,
-                );
-            }
-            self.pixel_readout(ui, (x, y), &sources);
-        } else {
-            ui.weak("Point at a pane (or at the lens in the view) to read pixel values.");
-        }
-    }
-
-    fn paint_pane(
-        &self,
-        ui: &egui::Ui,
-        source: Source,
-        rect: Rect,
-        lens: Region,
-        size: (u32, u32),
-    ) {
-        let painter = ui.painter().with_clip_rect(rect);
-        blit::fill(&painter, rect, Color32::from_gray(12));
-        let ppp = ui.ctx().pixels_per_point();
-        let zoom = self.settings.magnifier.zoom.max(1);
-        let difference = self.settings.magnifier.difference && source != Source::Reference;
-        if difference {
-            let heat = self.pane_heat(source).map(|h| &h.result);
-            match heat {
-                Some(Ok((handle, at, _))) => {
-                    // Drawn where it was computed: while the lens moves, the newest map stays
-                    // on its own pixels until the map of the new position arrives.
-                    let scale = zoom as f32 / ppp;
-                    let min = rect.min
-                        + vec2(
-                            (at.x as f32 - lens.x as f32) * scale,
-                            (at.y as f32 - lens.y as f32) * scale,
-                        );
-                    let placed = Rect::from_min_size(
-                        min,
-                        vec2(at.width as f32 * scale, at.height as f32 * scale),
-                    );
-                    painter.image(
-                        handle.id(),
-                        placed,
-                        Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
-                        Color32::WHITE,
-                    );
-                }
-                Some(Err(err)) => {
-                    painter.text(
-                        rect.center(),
-                        egui::Align2::CENTER_CENTER,
-                        format!("no heatmap: {err}"),
-                        egui::FontId::proportional(12.0),
-                        style::ERROR,
-                    );
-                }
-                None => {
-                    let text = match self.reference_state_for() {
-                        Some(ReferenceState::Ready(_)) => "computing…",
-                        _ => {
-                            "waiting for the reference\n(it accumulates while the camera is still)"
-                        }
-                    };
-                    painter.text(
-                        rect.center(),
-                        egui::Align2::CENTER_CENTER,
-                        text,
-                        egui::FontId::proportional(12.0),
-                        ui.visuals().weak_text_color(),
-                    );
-                }
-            }
-        } else if let Some(image) = self.source_image(source).filter(|i| i.size() == size) {
-            let uv = Rect::from_min_max(
-                pos2(lens.x as f32 / size.0 as f32, lens.y as f32 / size.1 as f32),
-                pos2(
-                    (lens.x + lens.width) as f32 / size.0 as f32,
-                    (lens.y + lens.height) as f32 / size.1 as f32,
-                ),
-            );
-            let grid = self.settings.magnifier.pixel_grid && zoom >= 4;
-            // egui's former grid: black lines at 90/255.
-            let darken = if grid { 90.0 / 255.0 } else { 0.0 };
-            blit::paint_with_grid(&painter, image.texture(), rect, uv, darken);
-        } else {
-            let text = match source {
-                Source::Reference => "reference: waiting for a still camera",
-                Source::Technique(..) => "rendering…",
-            };
-            // Wrapped to the pane, so that narrow panes show the whole message.
-            let color = ui.visuals().weak_text_color();
-            let galley = painter.layout(
-                text.to_owned(),
-                egui::FontId::proportional(12.0),
-                color,
-                (rect.width() - 8.0).max(1.0),
-            );
-            painter.galley(rect.center() - galley.size() / 2.0, galley, color);
-        }
-        // Over heatmaps (egui images) the grid is drawn as lines; image panes draw it in their
-        // blit.
-        if difference && self.settings.magnifier.pixel_grid && zoom >= 4 {
-            let stroke = Stroke::new(1.0, Color32::from_black_alpha(90));
-            let step = zoom as f32 / ppp;
-            for i in 1..lens.width {
-                let x = rect.min.x + i as f32 * step;
-                painter.line_segment([pos2(x, rect.min.y), pos2(x, rect.max.y)], stroke);
-            }
-            for j in 1..lens.height {
-                let y = rect.min.y + j as f32 * step;
-                painter.line_segment([pos2(rect.min.x, y), pos2(rect.max.x, y)], stroke);
-            }
-        }
-        let (letter, color, name) = self.source_label(source);
-        style::chip(&painter, rect.min + vec2(6.0, 6.0), letter, color, &name);
     }
 
     /// Letter, colour and name of a pane.
@@ -603,40 +330,334 @@ impl AaLabApp {
             }
         }
     }
+}
 
-    fn pane_caption(&self, ui: &mut egui::Ui, source: Source, width: f32) {
-        ui.set_max_width(width);
-        let text = self.pane_figures(source);
-        ui.add(egui::Label::new(egui::RichText::new(text).small().monospace()).wrap());
+/// The magnifier panel; the lens size it decides and the heatmaps are the workspace's
+/// ([`MagnifierState`]).
+#[derive(Default)]
+pub(super) struct MagnifierPanel {
+    /// The frame pixel under the pointer in a pane.
+    hover: Option<(u32, u32)>,
+}
+
+impl MagnifierPanel {
+    /// The frame pixel under the pointer in a pane, in the last frame.
+    pub(super) fn hover(&self) -> Option<(u32, u32)> {
+        self.hover
     }
 
-    fn pixel_readout(&self, ui: &mut egui::Ui, (x, y): (u32, u32), sources: &[Source]) {
-        ui.horizontal_wrapped(|ui| {
-            ui.monospace(format!("({x}, {y})"));
-            for source in sources {
-                let (letter, color, _) = self.source_label(*source);
-                ui.label(style::badge(letter, color));
-                let pixel = self
-                    .source_image(*source)
-                    .and_then(|i| i.pixels.as_ref()?.get_pixel_checked(x, y))
-                    .map(|p| p.0);
-                match pixel {
-                    Some([r, g, b, _]) => {
-                        let (swatch, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
-                        ui.painter()
-                            .rect_filled(swatch, 2.0, Color32::from_rgb(r, g, b));
-                        ui.monospace(format!("{r:>3} {g:>3} {b:>3}  #{r:02x}{g:02x}{b:02x}"))
-                            .on_hover_text(
-                                "sRGB-encoded 8-bit values as stored in the technique's output",
-                            );
+    /// The magnifier panel (bottom of the window).
+    pub(super) fn ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        ws: &mut Workspace,
+        viewport_hover: Option<(u32, u32)>,
+    ) {
+        profiling::function_scope!();
+        egui::Panel::bottom("magnifier")
+            .resizable(true)
+            .default_size(330.0)
+            .size_range(180.0..=700.0)
+            .frame(
+                egui::Frame::side_top_panel(ui.style())
+                    .inner_margin(egui::Margin::symmetric(10, 6)),
+            )
+            .show(ui, |ui| {
+                // Keep the panel at its set height (panels otherwise shrink to their content).
+                ui.set_min_height(ui.available_height());
+                header(ui, ws);
+                ui.add_space(4.0);
+                self.panes(ui, ws, viewport_hover);
+            });
+    }
+
+    fn panes(&mut self, ui: &mut egui::Ui, ws: &mut Workspace, viewport_hover: Option<(u32, u32)>) {
+        let ppp = ui.ctx().pixels_per_point();
+        let sources = ws.magnifier_sources();
+        let zoom = ws.settings.magnifier.zoom.max(1);
+        let caption_height = 42.0;
+        let n = sources.len().max(1) as f32;
+        let avail = ui.available_size();
+        let side_points = ((avail.x - PANE_GAP * (n - 1.0)) / n)
+            .min(avail.y - caption_height)
+            .max(16.0);
+        let side_px = (side_points * ppp).floor() as u32;
+        ws.magnifier.lens_side = (side_px / zoom).max(1);
+        let Some(lens) = ws.lens() else {
+            ui.weak("The lens appears once the first frame is rendered.");
+            return;
+        };
+        let size = ws.render_size;
+        let pane_points = vec2(
+            (lens.width * zoom) as f32 / ppp,
+            (lens.height * zoom) as f32 / ppp,
+        );
+        let mut hover = None;
+        let mut clicked = None;
+        let mut pane_rects = Vec::new();
+        ui.horizontal_top(|ui| {
+            ui.spacing_mut().item_spacing.x = PANE_GAP;
+            for source in &sources {
+                ui.vertical(|ui| {
+                    let (rect, response) = ui.allocate_exact_size(pane_points, Sense::click());
+                    if let (true, Source::Technique(slot, _)) = (response.clicked(), *source) {
+                        clicked = Some(slot);
                     }
-                    None => {
-                        ui.weak("—");
+                    let rect = Rect::from_min_size(
+                        pos2(
+                            (rect.min.x * ppp).round() / ppp,
+                            (rect.min.y * ppp).round() / ppp,
+                        ),
+                        pane_points,
+                    );
+                    pane_rects.push((*source, rect));
+                    if let Some(p) = response.hover_pos() {
+                        let local = (p - rect.min) * ppp / zoom as f32;
+                        if local.x >= 0.0 && local.y >= 0.0 {
+                            hover = Some((
+                                lens.x + (local.x as u32).min(lens.width - 1),
+                                lens.y + (local.y as u32).min(lens.height - 1),
+                            ));
+                        }
                     }
-                }
+                    paint_pane(ui, ws, *source, rect, lens, size);
+                    pane_caption(ui, ws, *source, pane_points.x);
+                });
             }
         });
+        self.hover = hover;
+        if let Some(slot) = clicked {
+            ws.blind_click(slot);
+        }
+        let marked = hover.or(viewport_hover.filter(|(x, y)| {
+            *x >= lens.x && *y >= lens.y && *x < lens.x + lens.width && *y < lens.y + lens.height
+        }));
+        if let Some((x, y)) = marked {
+            for (_, rect) in &pane_rects {
+                let cell = Rect::from_min_size(
+                    rect.min
+                        + vec2(
+                            ((x - lens.x) * zoom) as f32 / ppp,
+                            ((y - lens.y) * zoom) as f32 / ppp,
+                        ),
+                    vec2(zoom as f32 / ppp, zoom as f32 / ppp),
+                );
+                let painter = ui.painter().with_clip_rect(*rect);
+                painter.rect_stroke(
+                    cell,
+                    0.0,
+                    Stroke::new(1.0, Color32::BLACK),
+                    StrokeKind::Outside,
+                );
+                painter.rect_stroke(
+                    cell.expand(1.0),
+                    0.0,
+                    Stroke::new(1.0, Color32::WHITE),
+                    StrokeKind::Outside,
+                );
+            }
+            pixel_readout(ui, ws, (x, y), &sources);
+        } else {
+            ui.weak("Point at a pane (or at the lens in the view) to read pixel values.");
+        }
     }
+}
+
+fn header(ui: &mut egui::Ui, ws: &mut Workspace) {
+    let ctx = ui.ctx().clone();
+    ui.horizontal(|ui| {
+            ui.strong("Magnifier");
+            ui.separator();
+            let m = &mut ws.settings.magnifier;
+            ui.label("Zoom").on_hover_text("Nearest-neighbour zoom: each frame pixel becomes a zoom x zoom block.");
+            egui::ComboBox::from_id_salt("magnifier zoom")
+                .width(64.0)
+                .selected_text(format!("{}×", m.zoom))
+                .show_ui(ui, |ui| {
+                    for z in ZOOM_STEPS {
+                        ui.selectable_value(&mut m.zoom, z, format!("{z}×"));
+                    }
+                })
+                .response
+                .on_hover_text(shortcut_hint(&ctx, Action::ZoomIn, "Zoom in"));
+            ui.checkbox(&mut m.pixel_grid, "Pixel grid")
+                .on_hover_text(shortcut_hint(&ctx, Action::PixelGrid, "Lines between magnified pixels"));
+            ui.checkbox(&mut m.show_reference, "Reference")
+                .on_hover_text("Add a pane with the supersampled reference of the same frame");
+            ui.checkbox(&mut m.difference, "Difference")
+                .on_hover_text(shortcut_hint(&ctx, Action::Difference, "Show each pane's error against the reference as a heatmap"));
+            ui.add_enabled_ui(m.difference, |ui| {
+                egui::ComboBox::from_id_salt("difference metric")
+                    .width(120.0)
+                    .selected_text(m.metric.label())
+                    .show_ui(ui, |ui| {
+                        for metric in DiffMetric::MENU {
+                            ui.selectable_value(&mut m.metric, metric, metric.label())
+                                .on_hover_text(metric.help());
+                        }
+                    })
+                    .response
+                    .on_hover_text(m.metric.help());
+                if m.difference {
+                    heat_legend(ui, m.metric);
+                }
+            });
+            if let Some(lens) = ws.lens() {
+                ui.separator();
+                ui.weak(format!(
+                    "lens {}×{} at ({}, {})",
+                    lens.width, lens.height, lens.x, lens.y
+                ))
+                .on_hover_text("Drag the white rectangle in the view, Ctrl+click to place it, or nudge it with the arrow keys.");
+            }
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                if ui
+                    .button("Copy sheet")
+                    .on_hover_text(shortcut_hint(&ctx, Action::CopySheet, "Copy the magnifier sheet (all panes with labels and metrics) to the clipboard"))
+                    .clicked()
+                {
+                    ws.copy_sheet(&ctx);
+                }
+            });
+        });
+}
+
+fn paint_pane(
+    ui: &egui::Ui,
+    ws: &Workspace,
+    source: Source,
+    rect: Rect,
+    lens: Region,
+    size: (u32, u32),
+) {
+    let painter = ui.painter().with_clip_rect(rect);
+    blit::fill(&painter, rect, Color32::from_gray(12));
+    let ppp = ui.ctx().pixels_per_point();
+    let zoom = ws.settings.magnifier.zoom.max(1);
+    let difference = ws.settings.magnifier.difference && source != Source::Reference;
+    if difference {
+        let heat = ws.pane_heat(source).map(|h| &h.result);
+        match heat {
+            Some(Ok((handle, at, _))) => {
+                // Drawn where it was computed: while the lens moves, the newest map stays
+                // on its own pixels until the map of the new position arrives.
+                let scale = zoom as f32 / ppp;
+                let min = rect.min
+                    + vec2(
+                        (at.x as f32 - lens.x as f32) * scale,
+                        (at.y as f32 - lens.y as f32) * scale,
+                    );
+                let placed = Rect::from_min_size(
+                    min,
+                    vec2(at.width as f32 * scale, at.height as f32 * scale),
+                );
+                painter.image(
+                    handle.id(),
+                    placed,
+                    Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
+                    Color32::WHITE,
+                );
+            }
+            Some(Err(err)) => {
+                painter.text(
+                    rect.center(),
+                    egui::Align2::CENTER_CENTER,
+                    format!("no heatmap: {err}"),
+                    egui::FontId::proportional(12.0),
+                    style::ERROR,
+                );
+            }
+            None => {
+                let text = match ws.reference_state_for() {
+                    Some(ReferenceState::Ready(_)) => "computing…",
+                    _ => "waiting for the reference\n(it accumulates while the camera is still)",
+                };
+                painter.text(
+                    rect.center(),
+                    egui::Align2::CENTER_CENTER,
+                    text,
+                    egui::FontId::proportional(12.0),
+                    ui.visuals().weak_text_color(),
+                );
+            }
+        }
+    } else if let Some(image) = ws.source_image(source).filter(|i| i.size() == size) {
+        let uv = Rect::from_min_max(
+            pos2(lens.x as f32 / size.0 as f32, lens.y as f32 / size.1 as f32),
+            pos2(
+                (lens.x + lens.width) as f32 / size.0 as f32,
+                (lens.y + lens.height) as f32 / size.1 as f32,
+            ),
+        );
+        let grid = ws.settings.magnifier.pixel_grid && zoom >= 4;
+        // egui's former grid: black lines at 90/255.
+        let darken = if grid { 90.0 / 255.0 } else { 0.0 };
+        blit::paint_with_grid(&painter, image.texture(), rect, uv, darken);
+    } else {
+        let text = match source {
+            Source::Reference => "reference: waiting for a still camera",
+            Source::Technique(..) => "rendering…",
+        };
+        // Wrapped to the pane, so that narrow panes show the whole message.
+        let color = ui.visuals().weak_text_color();
+        let galley = painter.layout(
+            text.to_owned(),
+            egui::FontId::proportional(12.0),
+            color,
+            (rect.width() - 8.0).max(1.0),
+        );
+        painter.galley(rect.center() - galley.size() / 2.0, galley, color);
+    }
+    // Over heatmaps (egui images) the grid is drawn as lines; image panes draw it in their
+    // blit.
+    if difference && ws.settings.magnifier.pixel_grid && zoom >= 4 {
+        let stroke = Stroke::new(1.0, Color32::from_black_alpha(90));
+        let step = zoom as f32 / ppp;
+        for i in 1..lens.width {
+            let x = rect.min.x + i as f32 * step;
+            painter.line_segment([pos2(x, rect.min.y), pos2(x, rect.max.y)], stroke);
+        }
+        for j in 1..lens.height {
+            let y = rect.min.y + j as f32 * step;
+            painter.line_segment([pos2(rect.min.x, y), pos2(rect.max.x, y)], stroke);
+        }
+    }
+    let (letter, color, name) = ws.source_label(source);
+    style::chip(&painter, rect.min + vec2(6.0, 6.0), letter, color, &name);
+}
+
+fn pane_caption(ui: &mut egui::Ui, ws: &Workspace, source: Source, width: f32) {
+    ui.set_max_width(width);
+    let text = ws.pane_figures(source);
+    ui.add(egui::Label::new(egui::RichText::new(text).small().monospace()).wrap());
+}
+
+fn pixel_readout(ui: &mut egui::Ui, ws: &Workspace, (x, y): (u32, u32), sources: &[Source]) {
+    ui.horizontal_wrapped(|ui| {
+        ui.monospace(format!("({x}, {y})"));
+        for source in sources {
+            let (letter, color, _) = ws.source_label(*source);
+            ui.label(style::badge(letter, color));
+            let pixel = ws
+                .source_image(*source)
+                .and_then(|i| i.pixels.as_ref()?.get_pixel_checked(x, y))
+                .map(|p| p.0);
+            match pixel {
+                Some([r, g, b, _]) => {
+                    let (swatch, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
+                    ui.painter()
+                        .rect_filled(swatch, 2.0, Color32::from_rgb(r, g, b));
+                    ui.monospace(format!("{r:>3} {g:>3} {b:>3}  #{r:02x}{g:02x}{b:02x}"))
+                        .on_hover_text(
+                            "sRGB-encoded 8-bit values as stored in the technique's output",
+                        );
+                }
+                None => {
+                    ui.weak("—");
+                }
+            }
+        }
+    });
 }
 
 /// A small colour bar with the values at its ends.
@@ -653,18 +674,6 @@ fn heat_legend(ui: &mut egui::Ui, metric: DiffMetric) {
         ui.painter().rect_filled(cell, 0.0, color);
     }
     ui.weak(high).on_hover_text(metric.help());
-}
-
-/// A tooltip with the action's shortcut appended.
-pub(super) fn shortcut_hint(
-    ctx: &egui::Context,
-    action: super::shortcuts::Action,
-    text: &str,
-) -> String {
-    match super::shortcuts::label(ctx, action) {
-        Some(key) => format!("{text} ({key})"),
-        None => text.to_owned(),
-    }
 }
 
 #[cfg(test)]

@@ -3,17 +3,21 @@
 //! and in total, and quality against the reference with how many reference samples it rests
 //! on. Every figure has a tooltip saying exactly what it measures; figures that no longer
 //! describe the displayed frame say so instead of showing a number.
+//!
+//! A stateless function of the [`Workspace`] ([`ui`]); while an image set is open its quality
+//! section comes from image_panel.rs.
 
 use std::time::Duration;
 
 use egui::RichText;
 use egui_plot::{Legend, Line, Plot};
 
-use super::app::AaLabApp;
 use super::engine::ReferenceState;
+use super::image_panel;
 use super::quality;
 use super::reference::REFERENCE_ID;
 use super::style::{self, ACCENT, SLOT_COLORS, SLOT_LETTERS};
+use super::workspace::Workspace;
 
 /// A right-aligned monospace number cell with a tooltip.
 pub(super) fn number(ui: &mut egui::Ui, text: String, tip: &str) {
@@ -30,468 +34,463 @@ pub(super) fn number_weak(ui: &mut egui::Ui, text: &str, tip: &str) {
     });
 }
 
-impl AaLabApp {
-    /// The panel. See the module docs.
-    pub(super) fn metrics_panel(&mut self, ui: &mut egui::Ui) {
-        profiling::function_scope!();
-        egui::Panel::right("metrics")
-            .resizable(true)
-            .default_size(340.0)
-            .size_range(260.0..=560.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    ui.add_space(4.0);
-                    ui.heading("Metrics");
-                    if self.images.is_open() {
-                        // Nothing renders: only the images' figures apply.
-                        self.image_quality_section(ui);
-                        return;
-                    }
-                    self.performance_section(ui);
+/// The panel. See the module docs.
+pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
+    profiling::function_scope!();
+    egui::Panel::right("metrics")
+        .resizable(true)
+        .default_size(340.0)
+        .size_range(260.0..=560.0)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                ui.add_space(4.0);
+                ui.heading("Metrics");
+                if ws.images.is_open() {
+                    // Nothing renders: only the images' figures apply.
+                    image_panel::quality_section(ui, ws);
+                    return;
+                }
+                performance_section(ui, ws);
+                ui.separator();
+                gpu_section(ui, ws);
+                ui.separator();
+                memory_section(ui, ws);
+                ui.separator();
+                quality_section(ui, ws);
+                if ws.engine.as_ref().is_some_and(|e| e.clip().is_some()) {
                     ui.separator();
-                    self.gpu_section(ui);
-                    ui.separator();
-                    self.memory_section(ui);
-                    ui.separator();
-                    self.quality_section(ui);
-                    if self.engine.as_ref().is_some_and(|e| e.clip().is_some()) {
-                        ui.separator();
-                        self.clip_section(ui);
-                    }
-                });
+                    clip_section(ui, ws);
+                }
             });
-    }
-
-    fn performance_section(&mut self, ui: &mut egui::Ui) {
-        style::section(ui, "Frame rate");
-        ui.horizontal(|ui| match self.clock.fps(Duration::from_secs(2)) {
-            Some((fps, ms)) => {
-                ui.label(RichText::new(format!("{fps:.1}")).size(26.0).strong().color(ACCENT))
-                    .on_hover_text("Frames per second: rendered frames in the last 2 s divided by their total time (UI frames that only redrew the interface are not counted).");
-                ui.vertical(|ui| {
-                    ui.label("FPS");
-                    ui.label(RichText::new(style::ms(ms)).monospace().small())
-                        .on_hover_text("Median wall-clock time between consecutive rendered frames over the last 2 s (CPU, GPU and presentation together).");
-                });
-            }
-            None => {
-                ui.weak("techniques idle: their view has not changed")
-                    .on_hover_text("Techniques render only when the view, their settings or time change (the reference keeps accumulating meanwhile). Turn on Orbit, or drag the view, to measure frame rates continuously.");
-            }
         });
-        let frame_points = self.clock.points();
-        let gpu_points = self
-            .engine
-            .as_ref()
-            .map(|e| e.gpu_stats.total_points())
-            .unwrap_or_default();
-        Plot::new("frame times")
-            .height(110.0)
-            .legend(Legend::default().position(egui_plot::Corner::LeftTop))
-            .allow_drag(false)
-            .allow_zoom(false)
-            .allow_scroll(false)
-            .show_x(false)
-            .include_y(0.0)
-            .y_axis_label("ms")
-            .x_axis_formatter(|mark, _| format!("{:.0} s", mark.value))
-            .show(ui, |plot| {
-                plot.line(Line::new("frame (wall clock)", frame_points).color(ACCENT));
-                plot.line(Line::new("GPU (all passes)", gpu_points).color(SLOT_COLORS[0]));
+}
+
+fn performance_section(ui: &mut egui::Ui, ws: &mut Workspace) {
+    style::section(ui, "Frame rate");
+    ui.horizontal(|ui| match ws.clock.fps(Duration::from_secs(2)) {
+        Some((fps, ms)) => {
+            ui.label(RichText::new(format!("{fps:.1}")).size(26.0).strong().color(ACCENT))
+                .on_hover_text("Frames per second: rendered frames in the last 2 s divided by their total time (UI frames that only redrew the interface are not counted).");
+            ui.vertical(|ui| {
+                ui.label("FPS");
+                ui.label(RichText::new(style::ms(ms)).monospace().small())
+                    .on_hover_text("Median wall-clock time between consecutive rendered frames over the last 2 s (CPU, GPU and presentation together).");
+            });
+        }
+        None => {
+            ui.weak("techniques idle: their view has not changed")
+                .on_hover_text("Techniques render only when the view, their settings or time change (the reference keeps accumulating meanwhile). Turn on Orbit, or drag the view, to measure frame rates continuously.");
+        }
+    });
+    let frame_points = ws.clock.points();
+    let gpu_points = ws
+        .engine
+        .as_ref()
+        .map(|e| e.gpu_stats.total_points())
+        .unwrap_or_default();
+    Plot::new("frame times")
+        .height(110.0)
+        .legend(Legend::default().position(egui_plot::Corner::LeftTop))
+        .allow_drag(false)
+        .allow_zoom(false)
+        .allow_scroll(false)
+        .show_x(false)
+        .include_y(0.0)
+        .y_axis_label("ms")
+        .x_axis_formatter(|mark, _| format!("{:.0} s", mark.value))
+        .show(ui, |plot| {
+            plot.line(Line::new("frame (wall clock)", frame_points).color(ACCENT));
+            plot.line(Line::new("GPU (all passes)", gpu_points).color(SLOT_COLORS[0]));
+        })
+        .response
+        .on_hover_text("Wall-clock time between rendered frames, and the GPU time of all timed passes of each frame whose timestamps came back, over the last 20 s.");
+}
+
+fn gpu_section(ui: &mut egui::Ui, ws: &mut Workspace) {
+    ui.horizontal(|ui| {
+        style::section(ui, "GPU time per frame");
+        ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+            ui.checkbox(&mut ws.settings.show_passes, "passes")
+                .on_hover_text("List every pass of every technique");
+        });
+    });
+    let show_passes = ws.settings.show_passes;
+    let Some(engine) = &ws.engine else { return };
+    if !engine.caps().timestamps {
+        ui.weak(format!(
+            "{} has no timestamp queries: no GPU times.",
+            engine.caps().adapter_name
+        ));
+        return;
+    }
+    let stats = &engine.gpu_stats;
+    let memory = engine.memory();
+    let users_of = |input: &str| -> Vec<String> {
+        memory
+            .map(|m| {
+                m.techniques
+                    .iter()
+                    .filter(|t| t.input.as_deref() == Some(input) && t.technique != REFERENCE_ID)
+                    .map(|t| t.technique.clone())
+                    .collect()
             })
-            .response
-            .on_hover_text("Wall-clock time between rendered frames, and the GPU time of all timed passes of each frame whose timestamps came back, over the last 20 s.");
-    }
-
-    fn gpu_section(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| {
-            style::section(ui, "GPU time per frame");
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                ui.checkbox(&mut self.settings.show_passes, "passes")
-                    .on_hover_text("List every pass of every technique");
-            });
-        });
-        let show_passes = self.settings.show_passes;
-        let Some(engine) = &self.engine else { return };
-        if !engine.caps().timestamps {
-            ui.weak(format!(
-                "{} has no timestamp queries: no GPU times.",
-                engine.caps().adapter_name
-            ));
-            return;
-        }
-        let stats = &engine.gpu_stats;
-        let memory = engine.memory();
-        let users_of = |input: &str| -> Vec<String> {
-            memory
-                .map(|m| {
-                    m.techniques
-                        .iter()
-                        .filter(|t| {
-                            t.input.as_deref() == Some(input) && t.technique != REFERENCE_ID
-                        })
-                        .map(|t| t.technique.clone())
-                        .collect()
-                })
-                .unwrap_or_default()
-        };
-        let renders = stats.scene_renders();
-        let enabled: Vec<(&'static str, &'static str)> = engine
-            .entries()
-            .iter()
-            .filter(|e| e.enabled)
-            .map(|e| (e.id, e.name))
-            .collect();
-        egui::Grid::new("gpu table")
-            .num_columns(3)
-            .striped(true)
-            .spacing([10.0, 3.0])
-            .show(ui, |ui| {
-                ui.weak("pass");
-                ui.weak("own");
-                ui.weak("to run alone")
-                    .on_hover_text("Own passes plus the scene render it reads, i.e. what the technique would cost without sharing.");
+            .unwrap_or_default()
+    };
+    let renders = stats.scene_renders();
+    let enabled: Vec<(&'static str, &'static str)> = engine
+        .entries()
+        .iter()
+        .filter(|e| e.enabled)
+        .map(|e| (e.id, e.name))
+        .collect();
+    egui::Grid::new("gpu table")
+        .num_columns(3)
+        .striped(true)
+        .spacing([10.0, 3.0])
+        .show(ui, |ui| {
+            ui.weak("pass");
+            ui.weak("own");
+            ui.weak("to run alone")
+                .on_hover_text("Own passes plus the scene render it reads, i.e. what the technique would cost without sharing.");
+            ui.end_row();
+            for (label, ms) in &renders {
+                let users = users_of(label);
+                ui.label(label.clone()).on_hover_text(format!(
+                    "One scene render per frame, shared by: {}",
+                    if users.is_empty() { "—".to_owned() } else { users.join(", ") }
+                ));
+                number(ui, style::ms(*ms), "Median GPU time of this scene render over the last 30 frames that ran it (timestamp queries around the render pass).");
+                ui.label(RichText::new(format!("shared by {}", users.len())).small().weak());
                 ui.end_row();
-                for (label, ms) in &renders {
-                    let users = users_of(label);
-                    ui.label(label.clone()).on_hover_text(format!(
-                        "One scene render per frame, shared by: {}",
-                        if users.is_empty() { "—".to_owned() } else { users.join(", ") }
-                    ));
-                    number(ui, style::ms(*ms), "Median GPU time of this scene render over the last 30 frames that ran it (timestamp queries around the render pass).");
-                    ui.label(RichText::new(format!("shared by {}", users.len())).small().weak());
-                    ui.end_row();
-                }
-                for (id, name) in &enabled {
-                    let own = stats.technique_ms(id);
-                    let input_ms = memory
-                        .and_then(|m| m.techniques.iter().find(|t| t.technique == *id))
-                        .and_then(|t| t.input.as_deref())
-                        .and_then(|input| stats.pass_ms(input));
-                    ui.strong(*name);
-                    number(
-                        ui,
-                        own.map_or_else(|| "—".to_owned(), style::ms),
-                        "Sum of the median GPU times of this technique's own passes (after the shared scene render).",
-                    );
-                    number(
-                        ui,
-                        own.map(|o| o + input_ms.unwrap_or(0.0))
-                            .map_or_else(|| "—".to_owned(), style::ms),
-                        "Own passes plus the scene render this technique reads.",
-                    );
-                    ui.end_row();
-                    for (pass, ms) in stats.technique_passes(id).into_iter().filter(|_| show_passes) {
-                        ui.label(RichText::new(format!("   {pass}")).small());
-                        number(ui, style::ms(ms), "Median GPU time of this pass over the last 30 frames that ran it.");
-                        ui.label("");
-                        ui.end_row();
-                    }
-                }
-                if let Some(ms) = stats.technique_ms(REFERENCE_ID) {
-                    ui.label("reference (viewer)")
-                        .on_hover_text("The progressive reference's samples of a frame; it runs only while the camera is still.");
-                    number(ui, style::ms(ms), "GPU time the reference added to its frames (median).");
-                    ui.label("");
-                    ui.end_row();
-                }
-            });
-        let techniques = enabled.len();
-        let renders = engine.scene_renders();
-        if techniques > 0 && renders > 0 {
-            ui.label(
-                RichText::new(format!(
-                    "{renders} scene render(s) for {techniques} technique(s) per frame"
-                ))
-                .small(),
-            )
-            .on_hover_text("Techniques that read the same scene image (No AA, FXAA and SMAA 1x read the 1x render) share one render: the frame graph draws each distinct scene input once.");
-        }
-    }
-
-    /// The clip's temporal figures (see `metrics::stability`).
-    fn clip_section(&mut self, ui: &mut egui::Ui) {
-        style::section(ui, "Clip: temporal stability");
-        let Some(clip) = self.engine.as_ref().and_then(|e| e.clip()) else {
-            return;
-        };
-        let Some(scores) = &clip.scores else {
-            ui.weak(if clip.recording_now() {
-                "after the recording"
-            } else {
-                "recorded without the reference: no figures"
-            });
-            return;
-        };
-        egui::Grid::new("clip table")
-            .num_columns(3)
-            .striped(true)
-            .spacing([10.0, 3.0])
-            .show(ui, |ui| {
-                ui.weak("technique");
-                ui.weak("instability");
-                ui.weak("ghosting");
-                ui.end_row();
-                for (id, scores) in clip.techniques.iter().zip(scores) {
-                    ui.label(self.shown_label(id));
-                    let figure = |v: Option<f64>, digits: usize| {
-                        v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
-                    };
-                    number(ui, figure(scores.temporal_instability, 2), "Mean frame-to-frame luma change over the reference's (1 = as steady as the reference, higher flickers more).");
-                    number(ui, figure(scores.ghosting, 1), "Mean luma error against the reference where the reference moved (levels of 0..255): trails and aliasing on moving edges.");
-                    ui.end_row();
-                }
-            });
-        if let Some(change) = clip.reference_change {
-            ui.weak(format!(
-                "reference: {change:.2} luma levels change per pixel and frame"
-            ));
-        }
-    }
-
-    fn memory_section(&mut self, ui: &mut egui::Ui) {
-        style::section(ui, "GPU memory");
-        let Some(memory) = self.engine.as_ref().and_then(|e| e.memory()) else {
-            ui.weak("after the first frame");
-            return;
-        };
-        let reference_bytes: u64 = memory
-            .techniques
-            .iter()
-            .filter(|t| t.technique == REFERENCE_ID)
-            .map(|t| t.own_bytes())
-            .sum();
-        egui::Grid::new("memory table")
-            .num_columns(3)
-            .striped(true)
-            .spacing([10.0, 3.0])
-            .show(ui, |ui| {
-                ui.weak("technique");
-                ui.weak("own");
-                ui.weak("to run alone");
-                ui.end_row();
-                for t in memory.techniques.iter().filter(|t| t.technique != REFERENCE_ID) {
-                    let name = self
-                        .engine
-                        .as_ref()
-                        .and_then(|e| e.entry(&t.technique))
-                        .map_or(t.technique.as_str(), |e| e.name);
-                    let items: Vec<String> = t
-                        .input_items
-                        .iter()
-                        .chain(&t.private_items)
-                        .chain(t.output.iter())
-                        .map(|i| format!("{}: {} {}x{} {} spp, {}", i.label, i.format, i.width, i.height, i.samples, style::mib(i.bytes)))
-                        .collect();
-                    ui.label(name).on_hover_text(items.join("\n"));
-                    number(ui, style::mib(t.own_bytes()), "Textures and buffers this technique owns, its output included.");
-                    number(ui, style::mib(t.standalone_bytes()), "Own memory plus the scene render targets it reads (shared ones would be needed anyway).");
-                    ui.end_row();
-                }
-                ui.label("scene");
-                number(ui, style::mib(memory.scene_bytes), "The uploaded scene: vertex and index buffers, textures with their mip chains.");
-                ui.label("");
-                ui.end_row();
-                ui.strong("total");
+            }
+            for (id, name) in &enabled {
+                let own = stats.technique_ms(id);
+                let input_ms = memory
+                    .and_then(|m| m.techniques.iter().find(|t| t.technique == *id))
+                    .and_then(|t| t.input.as_deref())
+                    .and_then(|input| stats.pass_ms(input));
+                ui.strong(*name);
                 number(
                     ui,
-                    style::mib(memory.total_bytes.saturating_sub(reference_bytes)),
-                    "Everything the enabled techniques use, shared scene inputs counted once, scene included (the viewer's reference not included).",
+                    own.map_or_else(|| "—".to_owned(), style::ms),
+                    "Sum of the median GPU times of this technique's own passes (after the shared scene render).",
                 );
-                ui.label("");
+                number(
+                    ui,
+                    own.map(|o| o + input_ms.unwrap_or(0.0))
+                        .map_or_else(|| "—".to_owned(), style::ms),
+                    "Own passes plus the scene render this technique reads.",
+                );
                 ui.end_row();
-                if reference_bytes > 0 {
-                    ui.weak("reference (viewer)");
-                    number(ui, style::mib(reference_bytes), "The progressive reference's accumulator and render targets.");
+                for (pass, ms) in stats.technique_passes(id).into_iter().filter(|_| show_passes) {
+                    ui.label(RichText::new(format!("   {pass}")).small());
+                    number(ui, style::ms(ms), "Median GPU time of this pass over the last 30 frames that ran it.");
                     ui.label("");
                     ui.end_row();
                 }
-            });
-    }
-
-    fn quality_section(&mut self, ui: &mut egui::Ui) {
-        style::section(ui, "Quality against the reference");
-        ui.checkbox(&mut self.settings.quality, "Measure")
-            .on_hover_text("Accumulate the supersampled reference while the camera is still and score every technique against it.");
-        ui.horizontal(|ui| {
-            ui.label("Reference");
-            let mut samples = self.settings.reference_samples;
-            egui::ComboBox::from_id_salt("reference samples")
-                .width(150.0)
-                .selected_text(format!("{samples} spp ({0}×{0} grid)", super::reference::grid_factor(samples)))
-                .show_ui(ui, |ui| {
-                    for n in [16, 64, 256] {
-                        ui.selectable_value(&mut samples, n, format!("{n} spp ({0}×{0} grid)", super::reference::grid_factor(n)));
-                    }
-                })
-                .response
-                .on_hover_text("Samples per pixel of the reference: an ordered k×k grid with a box filter, the same samples as `aa-lab render --ssaa-factor k` (the thesis used 16).");
-            if samples != self.settings.reference_samples {
-                self.settings.reference_samples = samples;
-                if let Some(engine) = &mut self.engine {
-                    engine.set_reference_samples(samples);
-                }
+            }
+            if let Some(ms) = stats.technique_ms(REFERENCE_ID) {
+                ui.label("reference (viewer)")
+                    .on_hover_text("The progressive reference's samples of a frame; it runs only while the camera is still.");
+                number(ui, style::ms(ms), "GPU time the reference added to its frames (median).");
+                ui.label("");
+                ui.end_row();
             }
         });
-        let state = self
-            .engine
-            .as_ref()
-            .map_or(ReferenceState::Off, |e| e.reference_state());
-        let status = match state {
-            ReferenceState::Off => RichText::new("off").weak(),
-            ReferenceState::Waiting => RichText::new(
-                if self.engine.as_ref().is_some_and(|e| e.animated()) && self.camera.playing {
-                    "stale: the scene animates; pause (Space) to measure"
-                } else {
-                    "stale: waiting for the camera to stop"
-                },
-            )
-            .color(style::WARN),
-            ReferenceState::Ready(p) if p.complete() => {
-                RichText::new(format!("converged: {} samples per pixel", p.total))
-            }
-            ReferenceState::Ready(p) => RichText::new(format!(
-                "accumulating: {} of {} samples per pixel",
-                p.samples, p.total
-            )),
-        };
-        ui.label(status).on_hover_text(
-            "The reference is re-accumulated from scratch whenever the view changes, a few samples per frame; figures below rest on the samples it had when they were measured.",
-        );
-        if let ReferenceState::Ready(p) = state {
-            ui.add(
-                egui::ProgressBar::new(p.samples as f32 / p.total.max(1) as f32)
-                    .desired_height(6.0),
-            );
-        }
-        self.quality_table(ui, state);
+    let techniques = enabled.len();
+    let renders = engine.scene_renders();
+    if techniques > 0 && renders > 0 {
+        ui.label(
+            RichText::new(format!(
+                "{renders} scene render(s) for {techniques} technique(s) per frame"
+            ))
+            .small(),
+        )
+        .on_hover_text("Techniques that read the same scene image (No AA, FXAA and SMAA 1x read the 1x render) share one render: the frame graph draws each distinct scene input once.");
     }
+}
 
-    /// Per enabled technique: SSIM, PSNR, MAE and FLIP, each with a tooltip saying what it
-    /// measures against which reference, or why there is no number.
-    fn quality_table(&self, ui: &mut egui::Ui, state: ReferenceState) {
-        let Some(engine) = &self.engine else { return };
-        let compared = self.compared();
-        let enabled: Vec<&'static str> = engine
-            .entries()
-            .iter()
-            .filter(|e| e.enabled)
-            .map(|e| e.id)
-            .collect();
-        if enabled.is_empty() {
-            ui.weak("Switch a technique on to measure it.");
-            return;
-        }
-        // Stale: the reference on hand is not of the view being rendered (the camera moved).
-        let stale = engine
-            .reference()
-            .is_none_or(|(r, _)| r.stamp.view != engine.current_view());
-        let (missing, missing_tip) = if !self.settings.quality || state == ReferenceState::Off {
-            ("off", "Measuring is off.")
-        } else if stale {
-            (
-                "stale",
-                "Stale: the view changed since this was measured. New figures follow once the camera stops and the reference has samples of the new view.",
-            )
+/// The clip's temporal figures (see `metrics::stability`).
+fn clip_section(ui: &mut egui::Ui, ws: &mut Workspace) {
+    style::section(ui, "Clip: temporal stability");
+    let Some(clip) = ws.engine.as_ref().and_then(|e| e.clip()) else {
+        return;
+    };
+    let Some(scores) = &clip.scores else {
+        ui.weak(if clip.recording_now() {
+            "after the recording"
         } else {
-            (
-                "…",
-                "Being measured: the figures of the image on screen are computed in the background.",
-            )
-        };
-        let mut notes = Vec::new();
-        egui::Grid::new("quality table")
-            .num_columns(5)
-            .striped(true)
-            .spacing([10.0, 3.0])
-            .show(ui, |ui| {
-                ui.weak("technique");
-                for (title, tip) in [
-                    ("SSIM", "Structural similarity of luma; 1 = identical."),
-                    ("PSNR", "Peak signal-to-noise ratio of R'G'B' in dB; higher is closer."),
-                    ("MAE", "Mean absolute error of R'G'B', 0..255; 0 = identical."),
-                    ("FLIP", "NVIDIA's perceptual FLIP error, 0..1; 0 = indistinguishable."),
-                ] {
-                    ui.weak(title).on_hover_text(tip);
+            "recorded without the reference: no figures"
+        });
+        return;
+    };
+    egui::Grid::new("clip table")
+        .num_columns(3)
+        .striped(true)
+        .spacing([10.0, 3.0])
+        .show(ui, |ui| {
+            ui.weak("technique");
+            ui.weak("instability");
+            ui.weak("ghosting");
+            ui.end_row();
+            for (id, scores) in clip.techniques.iter().zip(scores) {
+                ui.label(ws.shown_label(id));
+                let figure = |v: Option<f64>, digits: usize| {
+                    v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
+                };
+                number(ui, figure(scores.temporal_instability, 2), "Mean frame-to-frame luma change over the reference's (1 = as steady as the reference, higher flickers more).");
+                number(ui, figure(scores.ghosting, 1), "Mean luma error against the reference where the reference moved (levels of 0..255): trails and aliasing on moving edges.");
+                ui.end_row();
+            }
+        });
+    if let Some(change) = clip.reference_change {
+        ui.weak(format!(
+            "reference: {change:.2} luma levels change per pixel and frame"
+        ));
+    }
+}
+
+fn memory_section(ui: &mut egui::Ui, ws: &mut Workspace) {
+    style::section(ui, "GPU memory");
+    let Some(memory) = ws.engine.as_ref().and_then(|e| e.memory()) else {
+        ui.weak("after the first frame");
+        return;
+    };
+    let reference_bytes: u64 = memory
+        .techniques
+        .iter()
+        .filter(|t| t.technique == REFERENCE_ID)
+        .map(|t| t.own_bytes())
+        .sum();
+    egui::Grid::new("memory table")
+        .num_columns(3)
+        .striped(true)
+        .spacing([10.0, 3.0])
+        .show(ui, |ui| {
+            ui.weak("technique");
+            ui.weak("own");
+            ui.weak("to run alone");
+            ui.end_row();
+            for t in memory.techniques.iter().filter(|t| t.technique != REFERENCE_ID) {
+                let name = ws
+                    .engine
+                    .as_ref()
+                    .and_then(|e| e.entry(&t.technique))
+                    .map_or(t.technique.as_str(), |e| e.name);
+                let items: Vec<String> = t
+                    .input_items
+                    .iter()
+                    .chain(&t.private_items)
+                    .chain(t.output.iter())
+                    .map(|i| format!("{}: {} {}x{} {} spp, {}", i.label, i.format, i.width, i.height, i.samples, style::mib(i.bytes)))
+                    .collect();
+                ui.label(name).on_hover_text(items.join("\n"));
+                number(ui, style::mib(t.own_bytes()), "Textures and buffers this technique owns, its output included.");
+                number(ui, style::mib(t.standalone_bytes()), "Own memory plus the scene render targets it reads (shared ones would be needed anyway).");
+                ui.end_row();
+            }
+            ui.label("scene");
+            number(ui, style::mib(memory.scene_bytes), "The uploaded scene: vertex and index buffers, textures with their mip chains.");
+            ui.label("");
+            ui.end_row();
+            ui.strong("total");
+            number(
+                ui,
+                style::mib(memory.total_bytes.saturating_sub(reference_bytes)),
+                "Everything the enabled techniques use, shared scene inputs counted once, scene included (the viewer's reference not included).",
+            );
+            ui.label("");
+            ui.end_row();
+            if reference_bytes > 0 {
+                ui.weak("reference (viewer)");
+                number(ui, style::mib(reference_bytes), "The progressive reference's accumulator and render targets.");
+                ui.label("");
+                ui.end_row();
+            }
+        });
+}
+
+fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
+    style::section(ui, "Quality against the reference");
+    ui.checkbox(&mut ws.settings.quality, "Measure")
+        .on_hover_text("Accumulate the supersampled reference while the camera is still and score every technique against it.");
+    ui.horizontal(|ui| {
+        ui.label("Reference");
+        let mut samples = ws.settings.reference_samples;
+        egui::ComboBox::from_id_salt("reference samples")
+            .width(150.0)
+            .selected_text(format!("{samples} spp ({0}×{0} grid)", super::reference::grid_factor(samples)))
+            .show_ui(ui, |ui| {
+                for n in [16, 64, 256] {
+                    ui.selectable_value(&mut samples, n, format!("{n} spp ({0}×{0} grid)", super::reference::grid_factor(n)));
+                }
+            })
+            .response
+            .on_hover_text("Samples per pixel of the reference: an ordered k×k grid with a box filter, the same samples as `aa-lab render --ssaa-factor k` (the thesis used 16).");
+        if samples != ws.settings.reference_samples {
+            ws.settings.reference_samples = samples;
+            if let Some(engine) = &mut ws.engine {
+                engine.set_reference_samples(samples);
+            }
+        }
+    });
+    let state = ws
+        .engine
+        .as_ref()
+        .map_or(ReferenceState::Off, |e| e.reference_state());
+    let status = match state {
+        ReferenceState::Off => RichText::new("off").weak(),
+        ReferenceState::Waiting => RichText::new(
+            if ws.engine.as_ref().is_some_and(|e| e.animated()) && ws.camera.playing {
+                "stale: the scene animates; pause (Space) to measure"
+            } else {
+                "stale: waiting for the camera to stop"
+            },
+        )
+        .color(style::WARN),
+        ReferenceState::Ready(p) if p.complete() => {
+            RichText::new(format!("converged: {} samples per pixel", p.total))
+        }
+        ReferenceState::Ready(p) => RichText::new(format!(
+            "accumulating: {} of {} samples per pixel",
+            p.samples, p.total
+        )),
+    };
+    ui.label(status).on_hover_text(
+        "The reference is re-accumulated from scratch whenever the view changes, a few samples per frame; figures below rest on the samples it had when they were measured.",
+    );
+    if let ReferenceState::Ready(p) = state {
+        ui.add(
+            egui::ProgressBar::new(p.samples as f32 / p.total.max(1) as f32).desired_height(6.0),
+        );
+    }
+    quality_table(ui, ws, state);
+}
+
+/// Per enabled technique: SSIM, PSNR, MAE and FLIP, each with a tooltip saying what it
+/// measures against which reference, or why there is no number.
+fn quality_table(ui: &mut egui::Ui, ws: &Workspace, state: ReferenceState) {
+    let Some(engine) = &ws.engine else { return };
+    let compared = ws.compared();
+    let enabled: Vec<&'static str> = engine
+        .entries()
+        .iter()
+        .filter(|e| e.enabled)
+        .map(|e| e.id)
+        .collect();
+    if enabled.is_empty() {
+        ui.weak("Switch a technique on to measure it.");
+        return;
+    }
+    // Stale: the reference on hand is not of the view being rendered (the camera moved).
+    let stale = engine
+        .reference()
+        .is_none_or(|(r, _)| r.stamp.view != engine.current_view());
+    let (missing, missing_tip) = if !ws.settings.quality || state == ReferenceState::Off {
+        ("off", "Measuring is off.")
+    } else if stale {
+        (
+            "stale",
+            "Stale: the view changed since this was measured. New figures follow once the camera stops and the reference has samples of the new view.",
+        )
+    } else {
+        (
+            "…",
+            "Being measured: the figures of the image on screen are computed in the background.",
+        )
+    };
+    let mut notes = Vec::new();
+    egui::Grid::new("quality table")
+        .num_columns(5)
+        .striped(true)
+        .spacing([10.0, 3.0])
+        .show(ui, |ui| {
+            ui.weak("technique");
+            for (title, tip) in [
+                ("SSIM", "Structural similarity of luma; 1 = identical."),
+                ("PSNR", "Peak signal-to-noise ratio of R'G'B' in dB; higher is closer."),
+                ("MAE", "Mean absolute error of R'G'B', 0..255; 0 = identical."),
+                ("FLIP", "NVIDIA's perceptual FLIP error, 0..1; 0 = indistinguishable."),
+            ] {
+                ui.weak(title).on_hover_text(tip);
+            }
+            ui.end_row();
+            for id in &enabled {
+                ui.horizontal(|ui| {
+                    if let Some(slot) = compared.iter().position(|c| c == id) {
+                        ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
+                    }
+                    ui.label(ws.shown_label(id));
+                });
+                let pixels = ws.quality.current_pixels(id, ws.measure_key(id));
+                match pixels.map(|m| (&m.value, m)) {
+                    Some((Ok(f), m)) => {
+                        let n = m.reference.samples;
+                        let how = format!("\n\nMeasured on the {} in {}.", m.on, style::ms(m.ms));
+                        number(ui, format!("{:.4}", f.ssim), &(quality::ssim_help(n) + &how));
+                        number(ui, quality::psnr_text(f.psnr), &(quality::psnr_help(n) + &how));
+                        number(ui, format!("{:.3}", f.mae), &(quality::mae_help(n) + &how));
+                    }
+                    Some((Err(err), _)) => {
+                        for _ in 0..3 {
+                            number_weak(ui, "error", err);
+                        }
+                        notes.push(format!("{}: {err}", ws.shown_label(id)));
+                    }
+                    None => {
+                        for _ in 0..3 {
+                            number_weak(ui, missing, missing_tip);
+                        }
+                    }
+                }
+                match ws.quality.current_flip(id, ws.measure_key(id)) {
+                    Some(m) => match &m.value {
+                        Ok(v) => {
+                            let tip = format!(
+                                "{}\n\nMeasured in {}.",
+                                quality::flip_help(m.reference.samples),
+                                style::ms(m.ms)
+                            );
+                            number(ui, format!("{v:.4}"), &tip);
+                        }
+                        Err(err) => number_weak(ui, "error", err),
+                    },
+                    None if pixels.is_some() => number_weak(
+                        ui,
+                        "…",
+                        "FLIP is computed on the CPU, after the others: once the camera has been still for a moment, and again when the reference has converged.",
+                    ),
+                    None => number_weak(ui, missing, missing_tip),
                 }
                 ui.end_row();
-                for id in &enabled {
-                    ui.horizontal(|ui| {
-                        if let Some(slot) = compared.iter().position(|c| c == id) {
-                            ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
-                        }
-                        ui.label(self.shown_label(id));
-                    });
-                    let pixels = self.quality.current_pixels(id, self.measure_key(id));
-                    match pixels.map(|m| (&m.value, m)) {
-                        Some((Ok(f), m)) => {
-                            let n = m.reference.samples;
-                            let how = format!("\n\nMeasured on the {} in {}.", m.on, style::ms(m.ms));
-                            number(ui, format!("{:.4}", f.ssim), &(quality::ssim_help(n) + &how));
-                            number(ui, quality::psnr_text(f.psnr), &(quality::psnr_help(n) + &how));
-                            number(ui, format!("{:.3}", f.mae), &(quality::mae_help(n) + &how));
-                        }
-                        Some((Err(err), _)) => {
-                            for _ in 0..3 {
-                                number_weak(ui, "error", err);
-                            }
-                            notes.push(format!("{}: {err}", self.shown_label(id)));
-                        }
-                        None => {
-                            for _ in 0..3 {
-                                number_weak(ui, missing, missing_tip);
-                            }
-                        }
-                    }
-                    match self.quality.current_flip(id, self.measure_key(id)) {
-                        Some(m) => match &m.value {
-                            Ok(v) => {
-                                let tip = format!(
-                                    "{}\n\nMeasured in {}.",
-                                    quality::flip_help(m.reference.samples),
-                                    style::ms(m.ms)
-                                );
-                                number(ui, format!("{v:.4}"), &tip);
-                            }
-                            Err(err) => number_weak(ui, "error", err),
-                        },
-                        None if pixels.is_some() => number_weak(
-                            ui,
-                            "…",
-                            "FLIP is computed on the CPU, after the others: once the camera has been still for a moment, and again when the reference has converged.",
-                        ),
-                        None => number_weak(ui, missing, missing_tip),
-                    }
-                    ui.end_row();
-                }
-            });
-        let samples: Vec<u32> = enabled
-            .iter()
-            .filter_map(|id| self.quality.current_pixels(id, self.measure_key(id)))
-            .map(|m| m.reference.samples)
-            .collect();
-        if let (Some(lo), Some(hi)) = (samples.iter().min(), samples.iter().max()) {
-            let total = match state {
-                ReferenceState::Ready(p) => p.total,
-                _ => *hi,
-            };
-            let rest = if lo == hi {
-                format!("Figures rest on {hi} of {total} reference samples per pixel.")
-            } else {
-                format!("Figures rest on {lo} to {hi} of {total} reference samples per pixel.")
-            };
-            ui.label(RichText::new(rest).small()).on_hover_text(
-                "The reference the figures were measured against: they are refreshed as it gains samples, and exact once it has converged. FLIP may rest on fewer samples (see its tooltip).",
-            );
-        } else if stale && self.settings.quality {
-            ui.label(
-                RichText::new("Figures are stale while the view changes.")
-                    .small()
-                    .color(style::WARN),
-            );
-        }
-        for note in notes {
-            ui.label(RichText::new(note).small().color(style::ERROR));
-        }
+            }
+        });
+    let samples: Vec<u32> = enabled
+        .iter()
+        .filter_map(|id| ws.quality.current_pixels(id, ws.measure_key(id)))
+        .map(|m| m.reference.samples)
+        .collect();
+    if let (Some(lo), Some(hi)) = (samples.iter().min(), samples.iter().max()) {
+        let total = match state {
+            ReferenceState::Ready(p) => p.total,
+            _ => *hi,
+        };
+        let rest = if lo == hi {
+            format!("Figures rest on {hi} of {total} reference samples per pixel.")
+        } else {
+            format!("Figures rest on {lo} to {hi} of {total} reference samples per pixel.")
+        };
+        ui.label(RichText::new(rest).small()).on_hover_text(
+            "The reference the figures were measured against: they are refreshed as it gains samples, and exact once it has converged. FLIP may rest on fewer samples (see its tooltip).",
+        );
+    } else if stale && ws.settings.quality {
+        ui.label(
+            RichText::new("Figures are stale while the view changes.")
+                .small()
+                .color(style::WARN),
+        );
+    }
+    for note in notes {
+        ui.label(RichText::new(note).small().color(style::ERROR));
     }
 }

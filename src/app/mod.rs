@@ -2,11 +2,24 @@
 //! command line, so that what the window shows are exactly the pixels each technique produced.
 //!
 //! How it fits together:
-//! - [`AaLabApp`] (app.rs) is the `eframe::App`. Each UI frame it picks up what finished in the
-//!   background, handles shortcuts, hands the engine the next frame to render when it is free,
-//!   then lays out the menu, the technique panel (panels.rs), the magnifier (magnifier.rs), the
-//!   metrics panel (metrics_panel.rs), the status bar and the viewport tiles (viewport.rs);
-//!   a blind comparison (blind.rs) numbers and shuffles the panes and records answers.
+//! - [`AaLabApp`] (app.rs) is the `eframe::App`: a thin shell around the workspace and the
+//!   panels. Each UI frame it picks up what finished in the background, handles shortcuts,
+//!   hands the engine the next frame to render when it is free, then calls each panel's `ui`.
+//!   Its public methods are the test API (tests/ui.rs, benches/viewer.rs).
+//! - The workspace (workspace.rs) is the state every panel reads or changes: the settings,
+//!   the engine, the scene and camera, the image set, the quality figures, the magnifier's lens
+//!   and heatmaps, the blind session, the exports, the notices, the render size. Its commands
+//!   and queries live in workspace.rs (scenes, dialogs, techniques, comparison, bookmarks) and
+//!   beside the feature they belong to (image_set.rs, quality.rs, magnifier.rs, export.rs,
+//!   clip.rs, blind.rs).
+//! - The panels take the workspace (`ui(ui, &mut Workspace)`) and never each other; what one
+//!   needs of another the app passes in (the pixel under the pointer, the help overlay's
+//!   flag). The viewport tiles (viewport.rs) and the magnifier (magnifier.rs) are structs
+//!   owning what only they keep between frames; the others own nothing and are functions: the
+//!   menu bar, toolbar and status bar (panels.rs), the techniques panel (techniques_panel.rs),
+//!   the metrics panel (metrics_panel.rs), the image set's panels (image_panel.rs), the clip
+//!   bar (clip.rs) and the blind comparison's panel (blind.rs), which numbers and shuffles the
+//!   panes and records answers.
 //! - The engine never runs on the UI thread: the render thread (render_thread.rs) owns the
 //!   render device, the frame graph and every technique, and does all slow engine work
 //!   (pipeline creation, scene uploads, target resizes, rendering, readback through the one
@@ -45,8 +58,10 @@ mod settings;
 mod shortcuts;
 mod stats;
 mod style;
+mod techniques_panel;
 mod viewport;
 mod worker;
+mod workspace;
 
 use std::sync::Arc;
 

@@ -20,16 +20,20 @@
 //! is shown only while the view it was measured at is still the view being rendered and the
 //! technique's settings are unchanged; otherwise the panel says that the figures are stale
 //! (the camera moved, the settings changed) or being measured, never an old number.
+//!
+//! The figures ([`QualityTracker`]) are the workspace's: the metrics panel, the magnifier's
+//! captions, export sheets and the test API read them; [`Workspace::update_quality`] runs
+//! once per UI frame, before the panels.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use super::app::{AaLabApp, Level};
 use super::engine::ImageStamp;
 use super::render_thread::open_device;
 use super::worker::{Reporter, Worker};
+use super::workspace::{Level, Workspace};
 use crate::aa::ssaa::Progress;
 use crate::gpu::Gpu;
 use crate::metrics::gpu::{GpuMetrics, upload_image};
@@ -70,7 +74,7 @@ pub struct Measured<T> {
     pub on: &'static str,
 }
 
-/// The current quality figures of one technique (see [`AaLabApp::quality_figures`]).
+/// The current quality figures of one technique (see [`Workspace::quality_figures`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Figures {
     /// SSIM, PSNR and MAE.
@@ -291,7 +295,7 @@ impl QualityTracker {
 
     /// The SSIM, PSNR and MAE measurement of a technique (or image) if it is valid for what
     /// is on screen now: `key` is the view and settings revision it must have been made at
-    /// ([`AaLabApp::measure_key`]).
+    /// ([`Workspace::measure_key`]).
     pub fn current_pixels(
         &self,
         id: &str,
@@ -383,7 +387,7 @@ fn schedule<T: Send + 'static>(
     }
 }
 
-impl AaLabApp {
+impl Workspace {
     /// Takes finished measurements and starts the next ones (see the module docs).
     pub(super) fn update_quality(&mut self, ctx: &egui::Context) {
         profiling::function_scope!();
@@ -467,7 +471,7 @@ impl AaLabApp {
 
     /// The quality figures of a technique that describe what is on screen now (`None` while
     /// they are stale or being measured).
-    pub fn quality_figures(&self, id: &str) -> Option<Figures> {
+    pub(super) fn quality_figures(&self, id: &str) -> Option<Figures> {
         let key = self.measure_key(id);
         let pixels = self.quality.current_pixels(id, key)?;
         let flip = self

@@ -230,6 +230,14 @@ pub fn label(ctx: &egui::Context, action: Action) -> Option<String> {
         .map(|s| ctx.format_shortcut(&s.shortcut))
 }
 
+/// A tooltip with the action's shortcut appended.
+pub(super) fn shortcut_hint(ctx: &egui::Context, action: Action, text: &str) -> String {
+    match label(ctx, action) {
+        Some(key) => format!("{text} ({key})"),
+        None => text.to_owned(),
+    }
+}
+
 /// The help overlay (a modal listing every key), while `open` is set.
 pub fn help_overlay(ctx: &egui::Context, open: &mut bool) {
     if !*open {

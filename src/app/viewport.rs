@@ -7,15 +7,18 @@
 //! size, so each image fills its tile exactly; with a fixed resolution the image is centred
 //! and cropped. The render size decided here is used by the next frame's render; while it
 //! differs from the displayed image (a resize in progress) frames keep coming.
+//!
+//! [`ViewportPanel`] owns what only the viewport uses between frames (the drag in progress,
+//! the pixel under the pointer, where image A was drawn); the render size it decides is the
+//! workspace's ([`Workspace::render_size`]), and so is the lens it draws and moves.
 
 use egui::{Color32, CursorIcon, Pos2, Rect, Sense, Stroke, StrokeKind, Vec2, pos2, vec2};
 
-use super::app::AaLabApp;
 use super::blit;
 use super::engine::Published;
-use super::magnifier::lens_region;
 use super::settings::{Layout, Resolution};
 use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, VIEWPORT_BG};
+use super::workspace::Workspace;
 
 /// Gap between grid tiles, in points.
 const GRID_GAP: f32 = 2.0;
@@ -33,17 +36,16 @@ enum Drag {
     Wipe,
 }
 
-/// Viewport state kept between frames.
+/// The viewport panel and what it keeps between frames. The size the techniques render at,
+/// which its layout decides, is the workspace's ([`Workspace::render_size`]).
 #[derive(Debug, Default)]
-pub struct ViewportState {
-    /// The size the techniques render at, from the last layout.
-    pub render_size: (u32, u32),
-    /// The size changed in the last layout (the next frame renders at the new size).
-    pub resized: bool,
+pub(super) struct ViewportPanel {
+    /// The render size changed in the last layout (the next frame renders at the new size).
+    resized: bool,
     /// The frame pixel under the pointer.
-    pub hover_pixel: Option<(u32, u32)>,
+    hover_pixel: Option<(u32, u32)>,
     /// Where the first tile's image was drawn (screen points), clipped to its tile.
-    pub image_rect: Option<Rect>,
+    image_rect: Option<Rect>,
     drag: Option<Drag>,
 }
 
@@ -176,9 +178,24 @@ fn shown_size(size: (u32, u32), rendering: (u32, u32), tile: &Rect, ppp: f32) ->
     native * (tile.width() / native.x).min(tile.height() / native.y)
 }
 
-impl AaLabApp {
+impl ViewportPanel {
+    /// Whether the render size changed in the last layout.
+    pub(super) fn resized(&self) -> bool {
+        self.resized
+    }
+
+    /// The frame pixel under the pointer in the last frame.
+    pub(super) fn hover_pixel(&self) -> Option<(u32, u32)> {
+        self.hover_pixel
+    }
+
+    /// Where technique A's image was drawn in the last frame (points).
+    pub(super) fn image_rect(&self) -> Option<Rect> {
+        self.image_rect
+    }
+
     /// The central panel. See the module docs.
-    pub(super) fn viewport_panel(&mut self, ui: &mut egui::Ui) {
+    pub(super) fn ui(&mut self, ui: &mut egui::Ui, ws: &mut Workspace) {
         profiling::function_scope!();
         // No panel fill: the background is painted around the images only (see
         // `paint_background`).
@@ -187,8 +204,8 @@ impl AaLabApp {
             .show(ui, |ui| {
                 let rect = ui.max_rect();
                 let ppp = ui.ctx().pixels_per_point();
-                let tiles_rects = tile_rects(self.settings.layout, rect, ppp);
-                let clip_size = self
+                let tiles_rects = tile_rects(ws.settings.layout, rect, ppp);
+                let clip_size = ws
                     .engine
                     .as_ref()
                     .filter(|e| e.clip_shown())
@@ -197,44 +214,43 @@ impl AaLabApp {
                 // Open images are shown at their own size, and a clip on screen keeps the
                 // size it was recorded at (the lens is in their pixels); the live view
                 // renders at the size the viewport asks for.
-                let fixed = self.images.open().map(|set| set.size()).or(clip_size);
-                let wanted = match (fixed, self.settings.resolution) {
+                let fixed = ws.images.open().map(|set| set.size()).or(clip_size);
+                let wanted = match (fixed, ws.settings.resolution) {
                     (Some(size), _) => size,
                     (None, Resolution::FitViewport) => physical_size(tiles_rects[0], ppp),
                     (None, Resolution::Fixed(w, h)) => (w, h),
                 };
-                self.viewport.resized = wanted != self.viewport.render_size;
-                self.viewport.render_size = wanted;
+                self.resized = wanted != ws.render_size;
+                ws.render_size = wanted;
                 let response = ui.interact(
                     rect,
                     ui.scope_id().with("viewport"),
                     Sense::click_and_drag(),
                 );
-                if self.engine.is_none() && !self.images.is_open() {
+                if ws.engine.is_none() && !ws.images.is_open() {
                     paint_background(ui.painter(), rect, &[]);
-                    self.empty_state(ui, rect, true);
+                    empty_state(ui, ws, rect, true);
                     return;
                 }
-                let compared = self.compared();
+                let compared = ws.compared();
                 if compared.is_empty() {
                     paint_background(ui.painter(), rect, &[]);
-                    self.empty_state(ui, rect, false);
+                    empty_state(ui, ws, rect, false);
                     return;
                 }
-                let shown = self.shown(&compared, ui.ctx());
+                let shown = shown_by_layout(ws, &compared, ui.ctx());
                 // Where each tile's image goes.
                 let placed: Vec<(Option<Shown>, Option<&Published>, Tile, Vec2)> = tiles_rects
                     .iter()
                     .enumerate()
                     .map(|(i, tile_rect)| {
-                        let what = match self.settings.layout {
+                        let what = match ws.settings.layout {
                             Layout::Grid => compared.get(i).map(|id| Shown::Technique(i, id)),
                             _ => shown.first().copied(),
                         };
-                        let image = what.and_then(|w| self.shown_image(w));
-                        let size = image.map_or(self.viewport.render_size, Published::size);
-                        let size_points =
-                            shown_size(size, self.viewport.render_size, tile_rect, ppp);
+                        let image = what.and_then(|w| shown_image(ws, w));
+                        let size = image.map_or(ws.render_size, Published::size);
+                        let size_points = shown_size(size, ws.render_size, tile_rect, ppp);
                         // Centred; an image larger than its tile (fixed resolution) is cropped
                         // evenly.
                         let origin =
@@ -257,8 +273,8 @@ impl AaLabApp {
                 for (i, (what, image, tile, size_points)) in placed.into_iter().enumerate() {
                     let tile_rect = tile.rect;
                     let painter = ui.painter().with_clip_rect(tile_rect);
-                    if self.settings.layout == Layout::Wipe && shown.len() == 2 {
-                        self.paint_wipe(&painter, &tile, size_points, &shown, ppp);
+                    if ws.settings.layout == Layout::Wipe && shown.len() == 2 {
+                        paint_wipe(&painter, ws, &tile, size_points, &shown, ppp);
                     } else if let (Some(what), Some(image)) = (what, image) {
                         blit::paint(
                             &painter,
@@ -266,7 +282,7 @@ impl AaLabApp {
                             Rect::from_min_size(tile.origin, size_points),
                             Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
                         );
-                        self.tile_label(&painter, tile_rect.min + vec2(8.0, 8.0), what);
+                        tile_label(&painter, ws, tile_rect.min + vec2(8.0, 8.0), what);
                     } else {
                         painter.text(
                             tile_rect.center(),
@@ -276,232 +292,25 @@ impl AaLabApp {
                             ui.visuals().weak_text_color(),
                         );
                     }
-                    if self.settings.show_magnifier {
-                        self.paint_lens(&painter, &tile, ppp);
+                    if ws.settings.show_magnifier {
+                        paint_lens(&painter, ws, &tile, ppp);
                     }
                     if i == 0 && image.is_some() {
                         first_image = Some(tile.image_rect(size_points));
                     }
                     tiles.push(tile);
                 }
-                self.viewport.image_rect = first_image;
-                self.viewport_input(ui, &response, &tiles, ppp);
-                self.hovered_files_overlay(ui, rect);
+                self.image_rect = first_image;
+                self.input(ui, ws, &response, &tiles, ppp);
+                hovered_files_overlay(ui, rect);
             });
     }
 
-    /// What the single, wipe and flip layouts show (first entry) and the wipe's right side.
-    fn shown(&self, compared: &[&'static str], ctx: &egui::Context) -> Vec<Shown> {
-        let a = Shown::Technique(0, compared[0]);
-        let b = compared.get(1).map(|id| Shown::Technique(1, id));
-        match self.settings.layout {
-            Layout::Single | Layout::Grid => vec![a],
-            Layout::Wipe => std::iter::once(a).chain(b).collect(),
-            Layout::Flip => {
-                let (hold_b, hold_r) =
-                    ctx.input(|i| (i.key_down(egui::Key::B), i.key_down(egui::Key::R)));
-                let typing = ctx.egui_wants_keyboard_input();
-                if hold_r && !typing && self.reference_for().is_some() {
-                    vec![Shown::Reference]
-                } else if hold_b && !typing {
-                    vec![b.unwrap_or(a)]
-                } else {
-                    vec![a]
-                }
-            }
-        }
-    }
-
-    fn shown_image(&self, shown: Shown) -> Option<&Published> {
-        match shown {
-            Shown::Technique(_, id) => self.image_for(id),
-            Shown::Reference => self.reference_for().map(|(image, _)| image),
-        }
-    }
-
-    /// The label text of what a tile shows.
-    pub(super) fn shown_label(&self, id: &str) -> String {
-        if let Some(label) = self.blind.label(id) {
-            return label;
-        }
-        if let Some(label) = self.image_label(id) {
-            return label;
-        }
-        let Some(entry) = self.engine.as_ref().and_then(|e| e.entry(id)) else {
-            return id.to_owned();
-        };
-        match &entry.debug_view {
-            Some(view) => format!("{} · {view}", entry.name),
-            None => entry.name.to_owned(),
-        }
-    }
-
-    fn tile_label(&self, painter: &egui::Painter, at: Pos2, shown: Shown) -> Rect {
-        match shown {
-            Shown::Technique(slot, id) => style::chip(
-                painter,
-                at,
-                self.blind.letter(slot),
-                SLOT_COLORS[slot],
-                &self.shown_label(id),
-            ),
-            Shown::Reference => {
-                style::chip(painter, at, "R", REFERENCE_COLOR, &self.reference_title())
-            }
-        }
-    }
-
-    fn paint_wipe(
-        &self,
-        painter: &egui::Painter,
-        tile: &Tile,
-        size_points: Vec2,
-        shown: &[Shown],
-        ppp: f32,
-    ) {
-        let image_rect = Rect::from_min_size(tile.origin, size_points);
-        let visible = image_rect.intersect(tile.rect);
-        let x = snap(
-            pos2(visible.left() + visible.width() * self.settings.wipe, 0.0),
-            ppp,
-        )
-        .x;
-        let uv = Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0));
-        for (side, what) in shown.iter().enumerate() {
-            let Some(image) = self.shown_image(*what) else {
-                continue;
-            };
-            let clip = if side == 0 {
-                Rect::from_min_max(tile.rect.min, pos2(x, tile.rect.max.y))
-            } else {
-                Rect::from_min_max(pos2(x, tile.rect.min.y), tile.rect.max)
-            };
-            blit::paint(
-                &painter.with_clip_rect(clip.intersect(tile.rect)),
-                image.texture(),
-                image_rect,
-                uv,
-            );
-        }
-        let top = pos2(x, visible.top());
-        let bottom = pos2(x, visible.bottom());
-        painter.line_segment(
-            [top, bottom],
-            Stroke::new(1.0, Color32::from_white_alpha(200)),
-        );
-        let handle = pos2(x, visible.center().y);
-        painter.circle_filled(handle, 11.0, Color32::from_black_alpha(190));
-        painter.circle_stroke(
-            handle,
-            11.0,
-            Stroke::new(1.0, Color32::from_white_alpha(200)),
-        );
-        for dir in [-1.0f32, 1.0] {
-            let tip = handle + vec2(dir * 7.0, 0.0);
-            let base = handle + vec2(dir * 2.0, 0.0);
-            painter.add(egui::Shape::convex_polygon(
-                vec![tip, base + vec2(0.0, -4.0), base + vec2(0.0, 4.0)],
-                Color32::WHITE,
-                Stroke::NONE,
-            ));
-        }
-        self.tile_label(painter, tile.rect.min + vec2(8.0, 8.0), shown[0]);
-        let label_width = 8.0
-            + painter
-                .layout_no_wrap(
-                    self.shown_label(match shown[1] {
-                        Shown::Technique(_, id) => id,
-                        Shown::Reference => "reference",
-                    }),
-                    egui::FontId::proportional(12.5),
-                    Color32::WHITE,
-                )
-                .size()
-                .x
-            + 40.0;
-        self.tile_label(
-            painter,
-            pos2(tile.rect.max.x - label_width, tile.rect.min.y + 8.0),
-            shown[1],
-        );
-    }
-
-    /// The lens outline over a tile.
-    fn paint_lens(&self, painter: &egui::Painter, tile: &Tile, ppp: f32) {
-        let Some(region) = lens_region(
-            &self.settings.magnifier,
-            self.magnifier.lens_side,
-            self.viewport.render_size,
-        ) else {
-            return;
-        };
-        let min = tile.to_screen(ppp, vec2(region.x as f32, region.y as f32));
-        let max = tile.to_screen(
-            ppp,
-            vec2(
-                (region.x + region.width) as f32,
-                (region.y + region.height) as f32,
-            ),
-        );
-        let rect = Rect::from_min_max(min, max);
-        painter.rect_stroke(
-            rect,
-            0.0,
-            Stroke::new(1.0, Color32::BLACK),
-            StrokeKind::Outside,
-        );
-        painter.rect_stroke(
-            rect.expand(1.0),
-            0.0,
-            Stroke::new(1.0, Color32::WHITE),
-            StrokeKind::Outside,
-        );
-        painter.text(
-            pos2(rect.min.x, rect.min.y - 4.0),
-            egui::Align2::LEFT_BOTTOM,
-            format!("×{}", self.settings.magnifier.zoom),
-            egui::FontId::monospace(10.0),
-            Color32::WHITE,
-        );
-    }
-
-    fn empty_state(&self, ui: &egui::Ui, rect: Rect, loading: bool) {
-        let text = if loading {
-            match self.loader.loading() {
-                Some(spec) => format!("Loading {spec}…"),
-                None => "No scene loaded: open one from the File menu".to_owned(),
-            }
-        } else {
-            "No technique is on: switch one on in the left panel (keys 1 … 9)".to_owned()
-        };
-        ui.painter().text(
-            rect.center(),
-            egui::Align2::CENTER_CENTER,
-            text,
-            egui::FontId::proportional(16.0),
-            ui.visuals().weak_text_color(),
-        );
-    }
-
-    fn hovered_files_overlay(&self, ui: &egui::Ui, rect: Rect) {
-        let hovering = ui.ctx().input(|i| !i.raw.hovered_files.is_empty());
-        if hovering {
-            let painter = ui.painter();
-            painter.rect_filled(rect, 0.0, Color32::from_black_alpha(160));
-            painter.text(
-                rect.center(),
-                egui::Align2::CENTER_CENTER,
-                "Drop an OBJ, glTF or GLB file, or up to four PNG/JPEG images",
-                egui::FontId::proportional(22.0),
-                Color32::WHITE,
-            );
-        }
-    }
-
     /// Mouse and arrow keys over the viewport.
-    fn viewport_input(
+    fn input(
         &mut self,
         ui: &egui::Ui,
+        ws: &mut Workspace,
         response: &egui::Response,
         tiles: &[Tile],
         ppp: f32,
@@ -509,9 +318,9 @@ impl AaLabApp {
         let ctx = ui.ctx().clone();
         let pointer = response.hover_pos().or(response.interact_pointer_pos());
         let tile = pointer.and_then(|p| tiles.iter().find(|t| t.rect.contains(p)).copied());
-        let size = self.viewport.render_size;
+        let size = ws.render_size;
         let frame_at = |t: &Tile, p: Pos2| t.to_frame(ppp, p);
-        self.viewport.hover_pixel = match (tile, response.hover_pos()) {
+        self.hover_pixel = match (tile, response.hover_pos()) {
             (Some(t), Some(p)) => {
                 let f = frame_at(&t, p);
                 (f.x >= 0.0 && f.y >= 0.0 && (f.x as u32) < size.0 && (f.y as u32) < size.1)
@@ -519,7 +328,7 @@ impl AaLabApp {
             }
             _ => None,
         };
-        let lens = lens_region(&self.settings.magnifier, self.magnifier.lens_side, size);
+        let lens = ws.lens();
         let over_lens = |f: Vec2| {
             lens.is_some_and(|r| {
                 f.x >= r.x as f32
@@ -531,20 +340,20 @@ impl AaLabApp {
         let divider_x = tiles.first().map(|t| {
             let visible = Rect::from_min_size(t.origin, vec2(size.0 as f32, size.1 as f32) / ppp)
                 .intersect(t.rect);
-            visible.left() + visible.width() * self.settings.wipe
+            visible.left() + visible.width() * ws.settings.wipe
         });
         let near_divider = |p: Pos2| {
-            self.settings.layout == Layout::Wipe
+            ws.settings.layout == Layout::Wipe
                 && divider_x.is_some_and(|x| (p.x - x).abs() <= DIVIDER_GRAB)
         };
 
         // Cursor shape while hovering.
         if let (Some(t), Some(p)) = (tile, response.hover_pos())
-            && self.viewport.drag.is_none()
+            && self.drag.is_none()
         {
             if near_divider(p) {
                 ctx.set_cursor_icon(CursorIcon::ResizeHorizontal);
-            } else if self.settings.show_magnifier && over_lens(frame_at(&t, p)) {
+            } else if ws.settings.show_magnifier && over_lens(frame_at(&t, p)) {
                 ctx.set_cursor_icon(CursorIcon::Grab);
             }
         }
@@ -555,7 +364,7 @@ impl AaLabApp {
             && let (Some(t), Some(p)) = (tile, pointer)
         {
             let f = frame_at(&t, p);
-            self.settings.magnifier.center = Some([f.x, f.y]);
+            ws.settings.magnifier.center = Some([f.x, f.y]);
         }
 
         // Where the button went down: a drag starts only after a few pixels of movement.
@@ -565,9 +374,9 @@ impl AaLabApp {
             && let (Some(t), Some(p)) = (origin_tile, origin)
         {
             let f = frame_at(&t, p);
-            self.viewport.drag = Some(if near_divider(p) {
+            self.drag = Some(if near_divider(p) {
                 Drag::Wipe
-            } else if self.settings.show_magnifier
+            } else if ws.settings.show_magnifier
                 && response.dragged_by(egui::PointerButton::Primary)
                 && over_lens(f)
             {
@@ -584,44 +393,44 @@ impl AaLabApp {
         }
         if response.dragged() {
             let delta = response.drag_delta();
-            match (self.viewport.drag, tile, pointer) {
+            match (self.drag, tile, pointer) {
                 (Some(Drag::Wipe), Some(t), Some(p)) => {
                     let visible =
                         Rect::from_min_size(t.origin, vec2(size.0 as f32, size.1 as f32) / ppp)
                             .intersect(t.rect);
                     if visible.width() > 0.0 {
-                        self.settings.wipe =
+                        ws.settings.wipe =
                             ((p.x - visible.left()) / visible.width()).clamp(0.0, 1.0);
                     }
                     ctx.set_cursor_icon(CursorIcon::ResizeHorizontal);
                 }
                 (Some(Drag::Lens(offset)), Some(t), Some(p)) => {
                     let f = frame_at(&t, p) - offset;
-                    self.settings.magnifier.center = Some([f.x, f.y]);
+                    ws.settings.magnifier.center = Some([f.x, f.y]);
                     ctx.set_cursor_icon(CursorIcon::Grabbing);
                 }
                 // Images have no camera.
-                (Some(Drag::Camera), _, _) if self.images.is_open() => {}
+                (Some(Drag::Camera), _, _) if ws.images.is_open() => {}
                 (Some(Drag::Camera), _, _) => {
                     if response.dragged_by(egui::PointerButton::Primary)
                         && !ctx.input(|i| i.modifiers.shift)
                     {
-                        self.camera.orbit(glam::Vec2::new(delta.x, delta.y));
+                        ws.camera.orbit(glam::Vec2::new(delta.x, delta.y));
                     } else {
                         let height = tiles.first().map_or(1.0, |t| t.rect.height());
-                        self.camera.pan(glam::Vec2::new(delta.x, delta.y), height);
+                        ws.camera.pan(glam::Vec2::new(delta.x, delta.y), height);
                     }
                 }
                 _ => {}
             }
         }
         if response.drag_stopped() {
-            self.viewport.drag = None;
+            self.drag = None;
         }
-        if response.hovered() && !self.images.is_open() {
+        if response.hovered() && !ws.images.is_open() {
             let scroll = ctx.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
-                self.camera.zoom(scroll);
+                ws.camera.zoom(scroll);
             }
         }
         // During a blind comparison a plain click answers with the pane under the pointer.
@@ -629,47 +438,229 @@ impl AaLabApp {
             && !ctx.input(|i| i.modifiers.command)
             && let Some(p) = pointer
         {
-            let slot = match self.settings.layout {
+            let slot = match ws.settings.layout {
                 Layout::Grid => tiles.iter().position(|t| t.rect.contains(p)),
                 Layout::Wipe => Some(usize::from(divider_x.is_some_and(|x| p.x >= x))),
                 Layout::Flip => Some(usize::from(ctx.input(|i| i.key_down(egui::Key::B)))),
                 Layout::Single => Some(0),
             };
             if let Some(slot) = slot {
-                self.blind_click(slot);
+                ws.blind_click(slot);
             }
         }
-        self.nudge_lens(&ctx);
+        nudge_lens(ws, &ctx);
     }
+}
 
-    /// Arrow keys move the lens by one frame pixel (ten with Shift).
-    fn nudge_lens(&mut self, ctx: &egui::Context) {
-        if ctx.egui_wants_keyboard_input() || !self.settings.show_magnifier {
-            return;
+/// What the single, wipe and flip layouts show (first entry) and the wipe's right side.
+fn shown_by_layout(ws: &Workspace, compared: &[&'static str], ctx: &egui::Context) -> Vec<Shown> {
+    let a = Shown::Technique(0, compared[0]);
+    let b = compared.get(1).map(|id| Shown::Technique(1, id));
+    match ws.settings.layout {
+        Layout::Single | Layout::Grid => vec![a],
+        Layout::Wipe => std::iter::once(a).chain(b).collect(),
+        Layout::Flip => {
+            let (hold_b, hold_r) =
+                ctx.input(|i| (i.key_down(egui::Key::B), i.key_down(egui::Key::R)));
+            let typing = ctx.egui_wants_keyboard_input();
+            if hold_r && !typing && ws.reference_for().is_some() {
+                vec![Shown::Reference]
+            } else if hold_b && !typing {
+                vec![b.unwrap_or(a)]
+            } else {
+                vec![a]
+            }
         }
-        let (dx, dy, shift) = ctx.input(|i| {
-            let d = |neg: egui::Key, pos: egui::Key| {
-                f32::from(u8::from(i.key_pressed(pos))) - f32::from(u8::from(i.key_pressed(neg)))
-            };
-            (
-                d(egui::Key::ArrowLeft, egui::Key::ArrowRight),
-                d(egui::Key::ArrowUp, egui::Key::ArrowDown),
-                i.modifiers.shift,
+    }
+}
+
+fn shown_image(ws: &Workspace, shown: Shown) -> Option<&Published> {
+    match shown {
+        Shown::Technique(_, id) => ws.image_for(id),
+        Shown::Reference => ws.reference_for().map(|(image, _)| image),
+    }
+}
+
+fn tile_label(painter: &egui::Painter, ws: &Workspace, at: Pos2, shown: Shown) -> Rect {
+    match shown {
+        Shown::Technique(slot, id) => style::chip(
+            painter,
+            at,
+            ws.blind.letter(slot),
+            SLOT_COLORS[slot],
+            &ws.shown_label(id),
+        ),
+        Shown::Reference => style::chip(painter, at, "R", REFERENCE_COLOR, &ws.reference_title()),
+    }
+}
+
+fn paint_wipe(
+    painter: &egui::Painter,
+    ws: &Workspace,
+    tile: &Tile,
+    size_points: Vec2,
+    shown: &[Shown],
+    ppp: f32,
+) {
+    let image_rect = Rect::from_min_size(tile.origin, size_points);
+    let visible = image_rect.intersect(tile.rect);
+    let x = snap(
+        pos2(visible.left() + visible.width() * ws.settings.wipe, 0.0),
+        ppp,
+    )
+    .x;
+    let uv = Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0));
+    for (side, what) in shown.iter().enumerate() {
+        let Some(image) = shown_image(ws, *what) else {
+            continue;
+        };
+        let clip = if side == 0 {
+            Rect::from_min_max(tile.rect.min, pos2(x, tile.rect.max.y))
+        } else {
+            Rect::from_min_max(pos2(x, tile.rect.min.y), tile.rect.max)
+        };
+        blit::paint(
+            &painter.with_clip_rect(clip.intersect(tile.rect)),
+            image.texture(),
+            image_rect,
+            uv,
+        );
+    }
+    let top = pos2(x, visible.top());
+    let bottom = pos2(x, visible.bottom());
+    painter.line_segment(
+        [top, bottom],
+        Stroke::new(1.0, Color32::from_white_alpha(200)),
+    );
+    let handle = pos2(x, visible.center().y);
+    painter.circle_filled(handle, 11.0, Color32::from_black_alpha(190));
+    painter.circle_stroke(
+        handle,
+        11.0,
+        Stroke::new(1.0, Color32::from_white_alpha(200)),
+    );
+    for dir in [-1.0f32, 1.0] {
+        let tip = handle + vec2(dir * 7.0, 0.0);
+        let base = handle + vec2(dir * 2.0, 0.0);
+        painter.add(egui::Shape::convex_polygon(
+            vec![tip, base + vec2(0.0, -4.0), base + vec2(0.0, 4.0)],
+            Color32::WHITE,
+            Stroke::NONE,
+        ));
+    }
+    tile_label(painter, ws, tile.rect.min + vec2(8.0, 8.0), shown[0]);
+    let label_width = 8.0
+        + painter
+            .layout_no_wrap(
+                ws.shown_label(match shown[1] {
+                    Shown::Technique(_, id) => id,
+                    Shown::Reference => "reference",
+                }),
+                egui::FontId::proportional(12.5),
+                Color32::WHITE,
             )
-        });
-        if dx == 0.0 && dy == 0.0 {
-            return;
+            .size()
+            .x
+        + 40.0;
+    tile_label(
+        painter,
+        ws,
+        pos2(tile.rect.max.x - label_width, tile.rect.min.y + 8.0),
+        shown[1],
+    );
+}
+
+/// The lens outline over a tile.
+fn paint_lens(painter: &egui::Painter, ws: &Workspace, tile: &Tile, ppp: f32) {
+    let Some(region) = ws.lens() else {
+        return;
+    };
+    let min = tile.to_screen(ppp, vec2(region.x as f32, region.y as f32));
+    let max = tile.to_screen(
+        ppp,
+        vec2(
+            (region.x + region.width) as f32,
+            (region.y + region.height) as f32,
+        ),
+    );
+    let rect = Rect::from_min_max(min, max);
+    painter.rect_stroke(
+        rect,
+        0.0,
+        Stroke::new(1.0, Color32::BLACK),
+        StrokeKind::Outside,
+    );
+    painter.rect_stroke(
+        rect.expand(1.0),
+        0.0,
+        Stroke::new(1.0, Color32::WHITE),
+        StrokeKind::Outside,
+    );
+    painter.text(
+        pos2(rect.min.x, rect.min.y - 4.0),
+        egui::Align2::LEFT_BOTTOM,
+        format!("×{}", ws.settings.magnifier.zoom),
+        egui::FontId::monospace(10.0),
+        Color32::WHITE,
+    );
+}
+
+fn empty_state(ui: &egui::Ui, ws: &Workspace, rect: Rect, loading: bool) {
+    let text = if loading {
+        match ws.loader.loading() {
+            Some(spec) => format!("Loading {spec}…"),
+            None => "No scene loaded: open one from the File menu".to_owned(),
         }
-        let step = if shift { 10.0 } else { 1.0 };
-        if let Some(region) = lens_region(
-            &self.settings.magnifier,
-            self.magnifier.lens_side,
-            self.viewport.render_size,
-        ) {
-            let cx = region.x as f32 + region.width as f32 * 0.5 + dx * step;
-            let cy = region.y as f32 + region.height as f32 * 0.5 + dy * step;
-            self.settings.magnifier.center = Some([cx, cy]);
-        }
+    } else {
+        "No technique is on: switch one on in the left panel (keys 1 … 9)".to_owned()
+    };
+    ui.painter().text(
+        rect.center(),
+        egui::Align2::CENTER_CENTER,
+        text,
+        egui::FontId::proportional(16.0),
+        ui.visuals().weak_text_color(),
+    );
+}
+
+fn hovered_files_overlay(ui: &egui::Ui, rect: Rect) {
+    let hovering = ui.ctx().input(|i| !i.raw.hovered_files.is_empty());
+    if hovering {
+        let painter = ui.painter();
+        painter.rect_filled(rect, 0.0, Color32::from_black_alpha(160));
+        painter.text(
+            rect.center(),
+            egui::Align2::CENTER_CENTER,
+            "Drop an OBJ, glTF or GLB file, or up to four PNG/JPEG images",
+            egui::FontId::proportional(22.0),
+            Color32::WHITE,
+        );
+    }
+}
+
+/// Arrow keys move the lens by one frame pixel (ten with Shift).
+fn nudge_lens(ws: &mut Workspace, ctx: &egui::Context) {
+    if ctx.egui_wants_keyboard_input() || !ws.settings.show_magnifier {
+        return;
+    }
+    let (dx, dy, shift) = ctx.input(|i| {
+        let d = |neg: egui::Key, pos: egui::Key| {
+            f32::from(u8::from(i.key_pressed(pos))) - f32::from(u8::from(i.key_pressed(neg)))
+        };
+        (
+            d(egui::Key::ArrowLeft, egui::Key::ArrowRight),
+            d(egui::Key::ArrowUp, egui::Key::ArrowDown),
+            i.modifiers.shift,
+        )
+    });
+    if dx == 0.0 && dy == 0.0 {
+        return;
+    }
+    let step = if shift { 10.0 } else { 1.0 };
+    if let Some(region) = ws.lens() {
+        let cx = region.x as f32 + region.width as f32 * 0.5 + dx * step;
+        let cy = region.y as f32 + region.height as f32 * 0.5 + dy * step;
+        ws.settings.magnifier.center = Some([cx, cy]);
     }
 }
 
