@@ -26,15 +26,16 @@ use wgpu::util::DeviceExt;
 
 pub use settings::{EdgeMode, MlaaSettings, PipelineKey, Preset};
 
-use crate::aa::common::{bilinear_clamp_sampler, debug_texture, view_as};
+use crate::aa::common::{bilinear_clamp_sampler, view_as};
 use crate::aa::params::{Named, Param, ParamError, ParamValue};
 use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::smaa::pipeline::{
-    self, Binding, PassDesc, Stencil, Vertex, bind_group, stencil_pass,
+    self, Binding, EdgeDebugViews, EdgeTargets, MorphologicalDesc, MorphologicalPipelines, Vertex,
+    bind_group, edge_and_weight_passes,
 };
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
-use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu};
+use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
 
@@ -71,21 +72,7 @@ struct Params {
 
 struct Pipelines {
     key: PipelineKey,
-    edges: wgpu::RenderPipeline,
-    weights: wgpu::RenderPipeline,
-    blend: wgpu::RenderPipeline,
-}
-
-struct Targets {
-    size: (u32, u32),
-    edges: wgpu::Texture,
-    stencil: wgpu::Texture,
-    weights: wgpu::Texture,
-}
-
-struct DebugViews {
-    edges: wgpu::Texture,
-    weights: wgpu::Texture,
+    passes: MorphologicalPipelines,
 }
 
 /// The MLAA technique.
@@ -98,13 +85,12 @@ pub struct Mlaa {
     edge_layout: wgpu::BindGroupLayout,
     weight_layout: wgpu::BindGroupLayout,
     blend_layout: wgpu::BindGroupLayout,
-    debug_layout: wgpu::BindGroupLayout,
     debug_pipelines: [wgpu::RenderPipeline; 2],
     area: wgpu::Texture,
     uniform: wgpu::Buffer,
     pipelines: Option<Pipelines>,
-    targets: Option<Targets>,
-    debug: Option<DebugViews>,
+    targets: Option<EdgeTargets>,
+    debug: Option<EdgeDebugViews>,
     debug_enabled: bool,
 }
 
@@ -116,24 +102,7 @@ impl Mlaa {
         let vertex = Vertex::new(device);
         let module = WGSL.module(device);
         let debug_layout = pipeline::layout(device, "mlaa debug", &[(7, Binding::Texture)]);
-        let debug_pipeline = |entry_point: &str| {
-            vertex.pipeline(
-                device,
-                &PassDesc {
-                    label: entry_point,
-                    module: &module,
-                    entry_point,
-                    layout: &debug_layout,
-                    format: COLOR_FORMAT_ENCODED_VIEW,
-                    constants: &[],
-                    stencil: Stencil::None,
-                },
-            )
-        };
-        let debug_pipelines = [
-            debug_pipeline("fs_debug_edges"),
-            debug_pipeline("fs_debug_weights"),
-        ];
+        let debug_pipelines = vertex.debug_pipelines(device, &module, &debug_layout);
         let area = device.create_texture_with_data(
             &gpu.queue,
             &crate::gpu::Texture2d::new(
@@ -180,7 +149,6 @@ impl Mlaa {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            debug_layout,
             debug_pipelines,
             area,
             vertex,
@@ -209,82 +177,33 @@ impl Mlaa {
             ),
             ("MAX_SEARCH_STEPS", f64::from(key.max_search_steps)),
         ];
-        let build = |label: &str, entry_point: &str, layout, format, stencil| {
-            self.vertex.pipeline(
-                &self.device,
-                &PassDesc {
-                    label,
-                    module: &self.module,
-                    entry_point,
-                    layout,
-                    format,
-                    constants: &constants,
-                    stencil,
-                },
-            )
-        };
-        self.pipelines = Some(Pipelines {
-            key,
-            edges: build(
-                "mlaa edges",
-                "fs_edges",
-                &self.edge_layout,
-                wgpu::TextureFormat::Rg8Unorm,
-                Stencil::Mark,
-            ),
-            weights: build(
-                "mlaa weights",
-                "fs_weights",
-                &self.weight_layout,
-                wgpu::TextureFormat::Rgba8Unorm,
-                Stencil::Test,
-            ),
-            blend: build(
-                "mlaa blend",
-                "fs_blend",
-                &self.blend_layout,
-                COLOR_FORMAT,
-                Stencil::None,
-            ),
-        });
+        let passes = self.vertex.morphological(
+            &self.device,
+            &MorphologicalDesc {
+                prefix: "mlaa",
+                module: &self.module,
+                edge_entry: "fs_edges",
+                layouts: [&self.edge_layout, &self.weight_layout, &self.blend_layout],
+                constants: &constants,
+            },
+        );
+        self.pipelines = Some(Pipelines { key, passes });
     }
 
     fn ensure_targets(&mut self, size: (u32, u32)) {
         if self.targets.as_ref().is_some_and(|t| t.size == size) {
             return;
         }
-        let target = |label, format| pipeline::target(&self.device, label, size, format, &[]);
-        self.targets = Some(Targets {
-            size,
-            edges: target("mlaa edges", wgpu::TextureFormat::Rg8Unorm),
-            stencil: target("mlaa edge stencil", pipeline::STENCIL_FORMAT),
-            weights: target("mlaa weights", wgpu::TextureFormat::Rgba8Unorm),
-        });
+        self.targets = Some(EdgeTargets::new(&self.device, "mlaa", size));
         self.debug = None;
     }
 
     /// Records the two debug views of the last run.
     fn encode_debug(&mut self, ctx: &mut PassContext<'_>) {
         let Some(targets) = &self.targets else { return };
-        let debug = self.debug.get_or_insert_with(|| DebugViews {
-            edges: debug_texture(&self.device, "mlaa edges view", targets.size),
-            weights: debug_texture(&self.device, "mlaa weights view", targets.size),
-        });
-        let views = [
-            ("debug edges", &targets.edges, &debug.edges),
-            ("debug weights", &targets.weights, &debug.weights),
-        ];
-        for ((name, source, view), pipeline) in views.into_iter().zip(&self.debug_pipelines) {
-            let source = source.create_view(&Default::default());
-            let group = bind_group(
-                &self.device,
-                name,
-                &self.debug_layout,
-                &[(7, wgpu::BindingResource::TextureView(&source))],
-            );
-            let target = view_as(view, COLOR_FORMAT_ENCODED_VIEW);
-            ctx.fullscreen_pass(name, &target, pipeline, &group);
-        }
+        self.debug
+            .get_or_insert_with(|| EdgeDebugViews::new(&self.device, "mlaa", targets.size))
+            .encode(ctx, targets, &self.debug_pipelines, 7);
     }
 }
 
@@ -330,9 +249,7 @@ impl Technique for Mlaa {
         let uniform = self.uniform.as_entire_binding();
         let color_encoded = view_as(&input.color, COLOR_FORMAT_ENCODED_VIEW);
         let color_linear = input.color.create_view(&Default::default());
-        let edges = targets.edges.create_view(&Default::default());
-        let stencil = targets.stencil.create_view(&Default::default());
-        let weights = targets.weights.create_view(&Default::default());
+        let views = targets.views();
         let area = self.area.create_view(&Default::default());
         use wgpu::BindingResource::{Sampler, TextureView};
 
@@ -342,33 +259,23 @@ impl Technique for Mlaa {
             &self.edge_layout,
             &[(0, uniform.clone()), (1, TextureView(&color_encoded))],
         );
-        stencil_pass(
-            ctx,
-            "edges",
-            &edges,
-            &stencil,
-            wgpu::LoadOp::Clear(0),
-            (&pipelines.edges, &edge_group),
-        );
-
         let weight_group = bind_group(
             device,
             "mlaa weights",
             &self.weight_layout,
             &[
                 (0, uniform.clone()),
-                (2, TextureView(&edges)),
+                (2, TextureView(&views.edges)),
                 (3, TextureView(&area)),
                 (4, Sampler(&self.sampler)),
             ],
         );
-        stencil_pass(
+        edge_and_weight_passes(
             ctx,
-            "weights",
-            &weights,
-            &stencil,
-            wgpu::LoadOp::Load,
-            (&pipelines.weights, &weight_group),
+            "",
+            &views,
+            &pipelines.passes,
+            [&edge_group, &weight_group],
         );
 
         let blend_group = bind_group(
@@ -379,11 +286,11 @@ impl Technique for Mlaa {
                 (0, uniform),
                 (4, Sampler(&self.sampler)),
                 (5, TextureView(&color_linear)),
-                (6, TextureView(&weights)),
+                (6, TextureView(&views.weights)),
             ],
         );
         let target = output.create_view(&Default::default());
-        ctx.fullscreen_pass("blend", &target, &pipelines.blend, &blend_group);
+        ctx.fullscreen_pass("blend", &target, &pipelines.passes.blend, &blend_group);
         if self.debug_enabled {
             self.encode_debug(ctx);
         }
@@ -395,13 +302,10 @@ impl Technique for Mlaa {
             MemoryItem::buffer("mlaa params", &self.uniform),
         ];
         if let Some(t) = &self.targets {
-            items.push(MemoryItem::texture("mlaa edges", &t.edges));
-            items.push(MemoryItem::texture("mlaa edge stencil", &t.stencil));
-            items.push(MemoryItem::texture("mlaa weights", &t.weights));
+            items.extend(t.memory(ID));
         }
         if let Some(d) = &self.debug {
-            items.push(MemoryItem::texture("mlaa edges view", &d.edges));
-            items.push(MemoryItem::texture("mlaa weights view", &d.weights));
+            items.extend(d.memory(ID));
         }
         items
     }

@@ -12,7 +12,8 @@
 use glam::Vec2;
 
 use super::pipeline::{
-    self, Binding, LutTextures, PassDesc, Stencil, Vertex, bind_group, stencil_pass,
+    self, Binding, EdgeDebugViews, EdgeTargets, LutTextures, MorphologicalDesc,
+    MorphologicalPipelines, PassDesc, Stencil, Vertex, bind_group, edge_and_weight_passes,
 };
 use super::settings::{EdgeMode, PipelineKey, SmaaSettings};
 use crate::aa::common::{bilinear_clamp_sampler, view_as};
@@ -54,24 +55,13 @@ impl Params {
 
 struct Pipelines {
     key: PipelineKey,
-    edges: wgpu::RenderPipeline,
-    weights: wgpu::RenderPipeline,
-    blend: wgpu::RenderPipeline,
+    passes: MorphologicalPipelines,
     blend_velocity: wgpu::RenderPipeline,
 }
 
-struct Targets {
-    size: (u32, u32),
-    edges: wgpu::Texture,
-    stencil: wgpu::Texture,
-    weights: wgpu::Texture,
-}
-
 struct DebugViews {
-    edges_pipeline: wgpu::RenderPipeline,
-    weights_pipeline: wgpu::RenderPipeline,
-    edges: wgpu::Texture,
-    weights: wgpu::Texture,
+    pipelines: [wgpu::RenderPipeline; 2],
+    views: EdgeDebugViews,
 }
 
 /// The images one SMAA 1x run reads.
@@ -101,7 +91,7 @@ pub struct SmaaPasses {
     no_motion: wgpu::Texture,
     uniforms: Vec<wgpu::Buffer>,
     pipelines: Option<Pipelines>,
-    targets: Option<Targets>,
+    targets: Option<EdgeTargets>,
     debug: Option<DebugViews>,
 }
 
@@ -173,55 +163,37 @@ impl SmaaPasses {
                 f64::from(u8::from(key.corner_detection)),
             ),
         ];
-        let build = |label: &str, entry_point: &str, layout, format, stencil| {
-            self.vertex.pipeline(
-                &self.device,
-                &PassDesc {
-                    label,
-                    module: &self.module,
-                    entry_point,
-                    layout,
-                    format,
-                    constants: &constants,
-                    stencil,
-                },
-            )
-        };
         let edge_entry = if key.edge_mode == EdgeMode::Depth {
             "fs_edges_depth"
         } else {
             "fs_edges"
         };
+        let passes = self.vertex.morphological(
+            &self.device,
+            &MorphologicalDesc {
+                prefix: "smaa",
+                module: &self.module,
+                edge_entry,
+                layouts: [&self.edge_layout, &self.weight_layout, &self.blend_layout],
+                constants: &constants,
+            },
+        );
+        let blend_velocity = self.vertex.pipeline(
+            &self.device,
+            &PassDesc {
+                label: "smaa blend with velocity",
+                module: &self.module,
+                entry_point: "fs_blend_velocity",
+                layout: &self.blend_layout,
+                format: COLOR_FORMAT,
+                constants: &constants,
+                stencil: Stencil::None,
+            },
+        );
         self.pipelines = Some(Pipelines {
             key,
-            edges: build(
-                "smaa edges",
-                edge_entry,
-                &self.edge_layout,
-                wgpu::TextureFormat::Rg8Unorm,
-                Stencil::Mark,
-            ),
-            weights: build(
-                "smaa weights",
-                "fs_weights",
-                &self.weight_layout,
-                wgpu::TextureFormat::Rgba8Unorm,
-                Stencil::Test,
-            ),
-            blend: build(
-                "smaa blend",
-                "fs_blend",
-                &self.blend_layout,
-                COLOR_FORMAT,
-                Stencil::None,
-            ),
-            blend_velocity: build(
-                "smaa blend with velocity",
-                "fs_blend_velocity",
-                &self.blend_layout,
-                COLOR_FORMAT,
-                Stencil::None,
-            ),
+            passes,
+            blend_velocity,
         });
     }
 
@@ -229,31 +201,7 @@ impl SmaaPasses {
         if self.targets.as_ref().is_some_and(|t| t.size == size) {
             return;
         }
-        let device = &self.device;
-        self.targets = Some(Targets {
-            size,
-            edges: pipeline::target(
-                device,
-                "smaa edges",
-                size,
-                wgpu::TextureFormat::Rg8Unorm,
-                &[],
-            ),
-            stencil: pipeline::target(
-                device,
-                "smaa edge stencil",
-                size,
-                pipeline::STENCIL_FORMAT,
-                &[],
-            ),
-            weights: pipeline::target(
-                device,
-                "smaa weights",
-                size,
-                wgpu::TextureFormat::Rgba8Unorm,
-                &[],
-            ),
-        });
+        self.targets = Some(EdgeTargets::new(&self.device, "smaa", size));
         self.debug = None;
     }
 
@@ -300,9 +248,7 @@ impl SmaaPasses {
         let color_encoded = view_as(input.color, COLOR_FORMAT_ENCODED_VIEW);
         let color_linear = input.color.create_view(&Default::default());
         let depth = input.depth.create_view(&Default::default());
-        let edges = targets.edges.create_view(&Default::default());
-        let stencil = targets.stencil.create_view(&Default::default());
-        let weights = targets.weights.create_view(&Default::default());
+        let views = targets.views();
         let area = self.luts.area.create_view(&Default::default());
         let search = self.luts.search.create_view(&Default::default());
         let motion = input
@@ -321,34 +267,24 @@ impl SmaaPasses {
                 (2, TextureView(&depth)),
             ],
         );
-        stencil_pass(
-            ctx,
-            &format!("{prefix}edges"),
-            &edges,
-            &stencil,
-            wgpu::LoadOp::Clear(0),
-            (&pipelines.edges, &edge_group),
-        );
-
         let weight_group = bind_group(
             device,
             "smaa weights",
             &self.weight_layout,
             &[
                 (0, uniform.clone()),
-                (3, TextureView(&edges)),
+                (3, TextureView(&views.edges)),
                 (4, TextureView(&area)),
                 (5, TextureView(&search)),
                 (6, Sampler(&self.sampler)),
             ],
         );
-        stencil_pass(
+        edge_and_weight_passes(
             ctx,
-            &format!("{prefix}weights"),
-            &weights,
-            &stencil,
-            wgpu::LoadOp::Load,
-            (&pipelines.weights, &weight_group),
+            prefix,
+            &views,
+            &pipelines.passes,
+            [&edge_group, &weight_group],
         );
 
         let blend_group = bind_group(
@@ -359,14 +295,14 @@ impl SmaaPasses {
                 (0, uniform),
                 (6, Sampler(&self.sampler)),
                 (7, TextureView(&color_linear)),
-                (8, TextureView(&weights)),
+                (8, TextureView(&views.weights)),
                 (9, TextureView(&motion)),
             ],
         );
         let blend = if input.motion.is_some() {
             &pipelines.blend_velocity
         } else {
-            &pipelines.blend
+            &pipelines.passes.blend
         };
         ctx.fullscreen_pass(&format!("{prefix}blend"), target, blend, &blend_group);
     }
@@ -374,68 +310,23 @@ impl SmaaPasses {
     /// Records the debug views of the last run (edges and weights as RGBA8 images).
     pub fn encode_debug(&mut self, ctx: &mut PassContext<'_>) {
         let Some(targets) = &self.targets else { return };
-        if self.debug.is_none() {
+        let debug = self.debug.get_or_insert_with(|| {
             let layout = pipeline::layout(&self.device, "smaa debug", &[(9, Binding::Texture)]);
-            let build = |entry_point: &str| {
-                self.vertex.pipeline(
-                    &self.device,
-                    &PassDesc {
-                        label: entry_point,
-                        module: &self.modes_module,
-                        entry_point,
-                        layout: &layout,
-                        format: COLOR_FORMAT_ENCODED_VIEW,
-                        constants: &[],
-                        stencil: Stencil::None,
-                    },
-                )
-            };
-            self.debug = Some(DebugViews {
-                edges_pipeline: build("fs_debug_edges"),
-                weights_pipeline: build("fs_debug_weights"),
-                edges: crate::aa::common::debug_texture(
-                    &self.device,
-                    "smaa edges view",
-                    targets.size,
-                ),
-                weights: crate::aa::common::debug_texture(
-                    &self.device,
-                    "smaa weights view",
-                    targets.size,
-                ),
-            });
-        }
-        let Some(debug) = &self.debug else { return };
-        let views = [
-            (
-                "debug edges",
-                &debug.edges_pipeline,
-                &targets.edges,
-                &debug.edges,
-            ),
-            (
-                "debug weights",
-                &debug.weights_pipeline,
-                &targets.weights,
-                &debug.weights,
-            ),
-        ];
-        for (name, pipeline, source, view) in views {
-            let source = source.create_view(&Default::default());
-            let group = bind_group(
-                &self.device,
-                name,
-                &pipeline.get_bind_group_layout(0),
-                &[(9, wgpu::BindingResource::TextureView(&source))],
-            );
-            let target = view_as(view, COLOR_FORMAT_ENCODED_VIEW);
-            ctx.fullscreen_pass(name, &target, pipeline, &group);
-        }
+            DebugViews {
+                pipelines: self
+                    .vertex
+                    .debug_pipelines(&self.device, &self.modes_module, &layout),
+                views: EdgeDebugViews::new(&self.device, "smaa", targets.size),
+            }
+        });
+        debug.views.encode(ctx, targets, &debug.pipelines, 9);
     }
 
     /// The debug views, when they have been rendered: (edges, weights).
     pub fn debug_textures(&self) -> Option<(&wgpu::Texture, &wgpu::Texture)> {
-        self.debug.as_ref().map(|d| (&d.edges, &d.weights))
+        self.debug
+            .as_ref()
+            .map(|d| (&d.views.edges, &d.views.weights))
     }
 
     /// Memory of the targets, tables and uniforms, labelled with the technique id.
@@ -445,19 +336,10 @@ impl SmaaPasses {
             MemoryItem::texture(format!("{id} search table"), &self.luts.search),
         ];
         if let Some(t) = &self.targets {
-            items.push(MemoryItem::texture(format!("{id} edges"), &t.edges));
-            items.push(MemoryItem::texture(
-                format!("{id} edge stencil"),
-                &t.stencil,
-            ));
-            items.push(MemoryItem::texture(format!("{id} weights"), &t.weights));
+            items.extend(t.memory(id));
         }
         if let Some(d) = &self.debug {
-            items.push(MemoryItem::texture(format!("{id} edges view"), &d.edges));
-            items.push(MemoryItem::texture(
-                format!("{id} weights view"),
-                &d.weights,
-            ));
+            items.extend(d.views.memory(id));
         }
         items.extend(
             self.uniforms

@@ -2,10 +2,12 @@
 //! share one WGSL module per file, so layouts are spelled out rather than derived),
 //! full-screen pipelines with SMAA's stencil use (built by the shared
 //! `crate::gpu::fullscreen` helper), bind groups, private render targets and the lookup-table
-//! textures.
+//! textures; and what the three morphological passes of SMAA and MLAA share: their pipelines,
+//! working targets, edge and weight passes and debug views.
 
+use crate::aa::common::{debug_texture, view_as};
 use crate::gpu::fullscreen::{FragmentDesc, Fullscreen};
-use crate::graph::PassContext;
+use crate::graph::{MemoryItem, PassContext};
 
 use super::lut;
 
@@ -255,6 +257,240 @@ pub fn stencil_pass(
             pass.draw(0..3, 0..1);
         },
     );
+}
+
+/// What the three morphological passes (MLAA's and SMAA's) are built from: one WGSL module
+/// with the entry points `edge_entry`, `fs_weights` and `fs_blend`, a layout per pass and the
+/// override constants they share.
+pub struct MorphologicalDesc<'a> {
+    /// Starts the pipelines' labels (the technique's id).
+    pub prefix: &'a str,
+    /// The module with the three entry points.
+    pub module: &'a wgpu::ShaderModule,
+    /// The edge pass's entry point.
+    pub edge_entry: &'a str,
+    /// The edge, weight and blend passes' layouts.
+    pub layouts: [&'a wgpu::BindGroupLayout; 3],
+    /// WGSL override constants.
+    pub constants: &'a [(&'a str, f64)],
+}
+
+/// The pipelines of the three morphological passes.
+pub struct MorphologicalPipelines {
+    /// Finds the edges and marks them in the stencil.
+    pub edges: wgpu::RenderPipeline,
+    /// Computes the blending weights on the marked pixels.
+    pub weights: wgpu::RenderPipeline,
+    /// Blends each pixel with its neighbours by the weights.
+    pub blend: wgpu::RenderPipeline,
+}
+
+impl Vertex {
+    /// Builds the three morphological passes' pipelines.
+    pub fn morphological(
+        &self,
+        device: &wgpu::Device,
+        desc: &MorphologicalDesc<'_>,
+    ) -> MorphologicalPipelines {
+        let [edge_layout, weight_layout, blend_layout] = desc.layouts;
+        let build = |pass: &str, entry_point: &str, layout, format, stencil| {
+            self.pipeline(
+                device,
+                &PassDesc {
+                    label: &format!("{} {pass}", desc.prefix),
+                    module: desc.module,
+                    entry_point,
+                    layout,
+                    format,
+                    constants: desc.constants,
+                    stencil,
+                },
+            )
+        };
+        MorphologicalPipelines {
+            edges: build(
+                "edges",
+                desc.edge_entry,
+                edge_layout,
+                wgpu::TextureFormat::Rg8Unorm,
+                Stencil::Mark,
+            ),
+            weights: build(
+                "weights",
+                "fs_weights",
+                weight_layout,
+                wgpu::TextureFormat::Rgba8Unorm,
+                Stencil::Test,
+            ),
+            blend: build(
+                "blend",
+                "fs_blend",
+                blend_layout,
+                crate::gpu::COLOR_FORMAT,
+                Stencil::None,
+            ),
+        }
+    }
+
+    /// The two debug-view pipelines of a morphological technique, `fs_debug_edges` and
+    /// `fs_debug_weights` of `module`, each reading one texture through `layout` and writing
+    /// encoded colour.
+    pub fn debug_pipelines(
+        &self,
+        device: &wgpu::Device,
+        module: &wgpu::ShaderModule,
+        layout: &wgpu::BindGroupLayout,
+    ) -> [wgpu::RenderPipeline; 2] {
+        ["fs_debug_edges", "fs_debug_weights"].map(|entry_point| {
+            self.pipeline(
+                device,
+                &PassDesc {
+                    label: entry_point,
+                    module,
+                    entry_point,
+                    layout,
+                    format: crate::gpu::COLOR_FORMAT_ENCODED_VIEW,
+                    constants: &[],
+                    stencil: Stencil::None,
+                },
+            )
+        })
+    }
+}
+
+/// The working textures of the morphological passes, all of the output's size: the edges,
+/// the stencil the edge pass marks them in, and the blending weights.
+pub struct EdgeTargets {
+    /// Their size.
+    pub size: (u32, u32),
+    /// Edges (red: left side, green: top side).
+    pub edges: wgpu::Texture,
+    /// The edge mask.
+    pub stencil: wgpu::Texture,
+    /// Blending weights.
+    pub weights: wgpu::Texture,
+}
+
+/// Views of [`EdgeTargets`] for one run.
+pub struct EdgeViews {
+    /// The edges.
+    pub edges: wgpu::TextureView,
+    /// The edge mask.
+    pub stencil: wgpu::TextureView,
+    /// The blending weights.
+    pub weights: wgpu::TextureView,
+}
+
+impl EdgeTargets {
+    /// The targets at `size`, labelled after `prefix` (the technique's id).
+    pub fn new(device: &wgpu::Device, prefix: &str, size: (u32, u32)) -> Self {
+        let target =
+            |name: &str, format| target(device, &format!("{prefix} {name}"), size, format, &[]);
+        Self {
+            size,
+            edges: target("edges", wgpu::TextureFormat::Rg8Unorm),
+            stencil: target("edge stencil", STENCIL_FORMAT),
+            weights: target("weights", wgpu::TextureFormat::Rgba8Unorm),
+        }
+    }
+
+    /// Views for one run.
+    pub fn views(&self) -> EdgeViews {
+        let view = |texture: &wgpu::Texture| texture.create_view(&Default::default());
+        EdgeViews {
+            edges: view(&self.edges),
+            stencil: view(&self.stencil),
+            weights: view(&self.weights),
+        }
+    }
+
+    /// Their memory, labelled after `prefix`.
+    pub fn memory(&self, prefix: &str) -> [MemoryItem; 3] {
+        [
+            MemoryItem::texture(format!("{prefix} edges"), &self.edges),
+            MemoryItem::texture(format!("{prefix} edge stencil"), &self.stencil),
+            MemoryItem::texture(format!("{prefix} weights"), &self.weights),
+        ]
+    }
+}
+
+/// Records the edge pass (it clears the stencil and marks the edge pixels) and the weight pass
+/// (only on the marked pixels), named `{prefix}edges` and `{prefix}weights` in the timings.
+pub fn edge_and_weight_passes(
+    ctx: &mut PassContext<'_>,
+    prefix: &str,
+    views: &EdgeViews,
+    pipelines: &MorphologicalPipelines,
+    [edge_group, weight_group]: [&wgpu::BindGroup; 2],
+) {
+    stencil_pass(
+        ctx,
+        &format!("{prefix}edges"),
+        &views.edges,
+        &views.stencil,
+        wgpu::LoadOp::Clear(0),
+        (&pipelines.edges, edge_group),
+    );
+    stencil_pass(
+        ctx,
+        &format!("{prefix}weights"),
+        &views.weights,
+        &views.stencil,
+        wgpu::LoadOp::Load,
+        (&pipelines.weights, weight_group),
+    );
+}
+
+/// The debug views of a morphological technique: its edges and blending weights as images.
+pub struct EdgeDebugViews {
+    /// The edges.
+    pub edges: wgpu::Texture,
+    /// The blending weights.
+    pub weights: wgpu::Texture,
+}
+
+impl EdgeDebugViews {
+    /// The views at `size`, labelled after `prefix`.
+    pub fn new(device: &wgpu::Device, prefix: &str, size: (u32, u32)) -> Self {
+        Self {
+            edges: debug_texture(device, &format!("{prefix} edges view"), size),
+            weights: debug_texture(device, &format!("{prefix} weights view"), size),
+        }
+    }
+
+    /// Records both views of `targets`' last run with the [`Vertex::debug_pipelines`], which
+    /// read their source at `binding`.
+    pub fn encode(
+        &self,
+        ctx: &mut PassContext<'_>,
+        targets: &EdgeTargets,
+        pipelines: &[wgpu::RenderPipeline; 2],
+        binding: u32,
+    ) {
+        let views = [
+            ("debug edges", &targets.edges, &self.edges),
+            ("debug weights", &targets.weights, &self.weights),
+        ];
+        for ((name, source, view), pipeline) in views.into_iter().zip(pipelines) {
+            let source = source.create_view(&Default::default());
+            let group = bind_group(
+                &ctx.gpu.device,
+                name,
+                &pipeline.get_bind_group_layout(0),
+                &[(binding, wgpu::BindingResource::TextureView(&source))],
+            );
+            let target = view_as(view, crate::gpu::COLOR_FORMAT_ENCODED_VIEW);
+            ctx.fullscreen_pass(name, &target, pipeline, &group);
+        }
+    }
+
+    /// Their memory, labelled after `prefix`.
+    pub fn memory(&self, prefix: &str) -> [MemoryItem; 2] {
+        [
+            MemoryItem::texture(format!("{prefix} edges view"), &self.edges),
+            MemoryItem::texture(format!("{prefix} weights view"), &self.weights),
+        ]
+    }
 }
 
 /// The lookup tables on the GPU.
