@@ -38,7 +38,7 @@ pub use settings::{Cmaa2Settings, EdgeDetection, Quality};
 use crate::aa::common::{debug_texture, encoded_view};
 use crate::aa::params::{Named, Param, ParamError, ParamValue};
 use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
-use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
+use crate::aa::{DebugView, Technique};
 use crate::gpu::shader::Shader;
 use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
 use crate::graph::{MemoryItem, PassContext};
@@ -288,21 +288,7 @@ impl Cmaa2 {
 }
 
 impl Technique for Cmaa2 {
-    fn id(&self) -> &'static str {
-        ID
-    }
-
-    fn label(&self) -> String {
-        crate::aa::registry::display_name(self.id())
-    }
-
-    fn color_only(&self) -> bool {
-        true
-    }
-
-    fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
-        Some(SceneInput::Shared1x)
-    }
+    crate::aa::common::shared_1x_post_process!(ID);
 
     fn encode(
         &mut self,

@@ -3,10 +3,37 @@
 //! post-process passes: the bilinear sampler, encoded (`Rgba8Unorm`) views of the sRGB colour
 //! targets, debug-view textures and a cache of full-screen pipelines keyed by what they are
 //! specialised on ([`PipelineCache`]). The full-screen vertex stage and pipeline builder itself
-//! is `crate::gpu::fullscreen` (the frame graph hands it to every pass).
+//! is `crate::gpu::fullscreen` (the frame graph hands it to every pass). And
+//! [`shared_1x_post_process`], the `Technique` methods that every post-process of the shared
+//! one-sample render spells the same way.
 
 pub mod color;
 pub mod sampling;
+
+/// Writes, inside an `impl Technique` block, the methods that every post-process of the shared
+/// one-sample render spells the same way: `id` (the technique's constant, the argument),
+/// `label` (its registry name), `color_only` (true: it reads colour alone) and `scene_input`
+/// (the shared 1x render, every frame).
+macro_rules! shared_1x_post_process {
+    ($id:path) => {
+        fn id(&self) -> &'static str {
+            $id
+        }
+
+        fn label(&self) -> String {
+            $crate::aa::registry::display_name($id)
+        }
+
+        fn color_only(&self) -> bool {
+            true
+        }
+
+        fn scene_input(&self, _frame: &$crate::aa::FrameInfo) -> Option<$crate::aa::SceneInput> {
+            Some($crate::aa::SceneInput::Shared1x)
+        }
+    };
+}
+pub(crate) use shared_1x_post_process;
 
 use std::collections::HashMap;
 use std::hash::Hash;

@@ -38,7 +38,7 @@ use crate::aa::common::color::LumaSource;
 use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, debug_texture, encoded_view};
 use crate::aa::params::{Named, Param, ParamError, ParamValue, as_f32, as_named, preset_named};
 use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
-use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
+use crate::aa::{DebugView, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
 use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
@@ -191,21 +191,7 @@ impl Fxaa {
 }
 
 impl Technique for Fxaa {
-    fn id(&self) -> &'static str {
-        ID
-    }
-
-    fn label(&self) -> String {
-        crate::aa::registry::display_name(self.id())
-    }
-
-    fn color_only(&self) -> bool {
-        true
-    }
-
-    fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
-        Some(SceneInput::Shared1x)
-    }
+    crate::aa::common::shared_1x_post_process!(ID);
 
     fn encode(
         &mut self,

@@ -33,7 +33,7 @@ use crate::aa::smaa::pipeline::{
     self, Binding, EdgeDebugViews, EdgeTargets, MorphologicalDesc, MorphologicalPipelines, Vertex,
     bind_group, edge_and_weight_passes,
 };
-use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
+use crate::aa::{DebugView, Technique};
 use crate::gpu::shader::Shader;
 use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
 use crate::graph::{MemoryItem, PassContext};
@@ -208,21 +208,7 @@ impl Mlaa {
 }
 
 impl Technique for Mlaa {
-    fn id(&self) -> &'static str {
-        ID
-    }
-
-    fn label(&self) -> String {
-        crate::aa::registry::display_name(self.id())
-    }
-
-    fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
-        Some(SceneInput::Shared1x)
-    }
-
-    fn color_only(&self) -> bool {
-        true
-    }
+    crate::aa::common::shared_1x_post_process!(ID);
 
     fn encode(
         &mut self,

@@ -1,8 +1,8 @@
 //! No AA: the shared one-sample render, unchanged. It is the baseline every other technique is
 //! compared with, and its scene render is the one FXAA and SMAA 1x post-process.
 
+use crate::aa::Technique;
 use crate::aa::registry::{TechniqueInfo, anywhere};
-use crate::aa::{FrameInfo, SceneInput, Technique};
 use crate::graph::PassContext;
 use crate::scene::renderer::SceneTargets;
 
@@ -25,21 +25,7 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
 pub struct NoAa;
 
 impl Technique for NoAa {
-    fn id(&self) -> &'static str {
-        ID
-    }
-
-    fn label(&self) -> String {
-        crate::aa::registry::display_name(self.id())
-    }
-
-    fn color_only(&self) -> bool {
-        true
-    }
-
-    fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
-        Some(SceneInput::Shared1x)
-    }
+    crate::aa::common::shared_1x_post_process!(ID);
 
     fn encode(
         &mut self,
