@@ -1,6 +1,6 @@
 //! The viewer benchmark: drives the real [`AaLabApp`] headless (egui_kittest on the wgpu
 //! renderer, as the UI tests do) and measures what a user feels, per scene, with four
-//! techniques (No AA, FXAA, SMAA 1x, MSAA 4x) rendering at 1280x720:
+//! techniques (No AA, FXAA, SMAA 1x, MSAA 4x) rendering at 1280x720 (or `--size`):
 //! - **UI frame** (median, p95, worst): the wall time of one UI frame while the camera orbits
 //!   and the engine renders continuously: the app's update, its panels, the upload of newly
 //!   published images (egui-wgpu's texture updates) and painting the window on eframe's
@@ -22,7 +22,8 @@
 //!   change), clip frames skipped (a change to another frame than the next) and the UI frame's
 //!   time while playing.
 //!
-//! `cargo bench --bench viewer -- [--seconds S] [--scenes a,b] [--out file.json]`; with
+//! `cargo bench --bench viewer -- [--seconds S] [--scenes a,b] [--size WxH] [--out file.json]`
+//! (`--size 1920x1080` for the GPU target, which is stated at that size); with
 //! `--features profile` it also prints where the UI frame's time goes (puffin scopes).
 //! The figures in the README come from this benchmark.
 
@@ -34,10 +35,11 @@ use aa_lab::scene::motion::Motion;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 
-/// The render size the issue's targets are stated for.
+/// The render size the issue's targets on this machine are stated for.
 const RENDER_SIZE: (u32, u32) = (1280, 720);
-/// Window size: the 1280x720 viewport plus the side panels.
-const WINDOW: egui::Vec2 = egui::vec2(1900.0, 1000.0);
+/// What the window adds around the viewport: the side panels, the menu, toolbar, magnifier
+/// and status bar (a 1900x1000 window for 1280x720).
+const PANELS: egui::Vec2 = egui::vec2(620.0, 280.0);
 /// The UI's pace (a 60 Hz display).
 const UI_PERIOD: Duration = Duration::from_micros(16_667);
 /// Longest wait for the first frame.
@@ -56,6 +58,8 @@ struct SceneFigures {
     scene: String,
     /// The adapter eframe's device runs on (the engine's too).
     adapter: String,
+    /// The render size of each technique.
+    size: (u32, u32),
     seconds: f64,
     ui_frames: usize,
     ui_frames_per_second: f64,
@@ -93,6 +97,7 @@ const PLAYBACK_WARMUP: Duration = Duration::from_secs(1);
 struct Options {
     seconds: f64,
     scenes: Vec<String>,
+    size: (u32, u32),
     out: Option<String>,
 }
 
@@ -100,6 +105,7 @@ fn options() -> Options {
     let mut options = Options {
         seconds: 30.0,
         scenes: vec!["hairball".to_owned(), "atrium".to_owned()],
+        size: RENDER_SIZE,
         out: None,
     };
     let mut args = std::env::args().skip(1);
@@ -118,6 +124,15 @@ fn options() -> Options {
                     .split(',')
                     .map(str::to_owned)
                     .collect();
+            }
+            "--size" => {
+                options.size = args
+                    .next()
+                    .and_then(|s| {
+                        let (w, h) = s.split_once('x')?;
+                        Some((w.parse().ok()?, h.parse().ok()?))
+                    })
+                    .expect("--size takes WIDTHxHEIGHT");
             }
             "--out" => options.out = Some(args.next().expect("--out takes a path")),
             // `cargo bench` passes `--bench`; other flags are the test harness's.
@@ -321,12 +336,12 @@ fn pace(next: &mut Instant) {
     }
 }
 
-fn measure(scene: &str, seconds: f64) -> SceneFigures {
+fn measure(scene: &str, seconds: f64, size: (u32, u32)) -> SceneFigures {
     let owned = scene.to_owned();
     let painter = WindowPainter::new();
     let adapter = painter.adapter();
     let mut harness = Harness::builder()
-        .with_size(WINDOW)
+        .with_size(egui::vec2(size.0 as f32, size.1 as f32) + PANELS)
         .renderer(painter)
         .build_eframe(move |cc| {
             AaLabApp::new(
@@ -341,7 +356,7 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
         });
     {
         let app = harness.state_mut();
-        app.settings_mut().resolution = Resolution::Fixed(RENDER_SIZE.0, RENDER_SIZE.1);
+        app.settings_mut().resolution = Resolution::Fixed(size.0, size.1);
         app.camera_mut().playing = false;
         app.camera_mut().auto_rotate = false;
     }
@@ -351,7 +366,7 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
         harness.step();
         std::thread::sleep(Duration::from_millis(10));
     }
-    assert_eq!(harness.state().render_size(), RENDER_SIZE);
+    assert_eq!(harness.state().render_size(), size);
     assert_eq!(harness.state().compared().len(), 4, "four techniques");
 
     // Orbiting: the engine renders continuously.
@@ -498,6 +513,7 @@ fn measure(scene: &str, seconds: f64) -> SceneFigures {
     SceneFigures {
         scene: scene.to_owned(),
         adapter,
+        size,
         seconds: elapsed,
         ui_frames: frames.len(),
         ui_frames_per_second: frames.len() as f64 / elapsed,
@@ -530,8 +546,11 @@ fn main() {
     let options = options();
     let mut all = Vec::new();
     for scene in &options.scenes {
-        eprintln!("viewer benchmark: {scene}, {} s…", options.seconds);
-        let figures = measure(scene, options.seconds);
+        eprintln!(
+            "viewer benchmark: {scene} at {}x{}, {} s…",
+            options.size.0, options.size.1, options.seconds
+        );
+        let figures = measure(scene, options.seconds, options.size);
         eprintln!("on {}", figures.adapter);
         println!(
             "{:<10} {:>5.1} UI frames/s, median {:>6.1} ms  p95 {:>6.1} ms  max {:>7.1} ms | engine {:>5.2} frames/s ({:.2} with input) | \
