@@ -128,16 +128,17 @@ pub(super) fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
         ("off", "Measuring is off.")
     };
     let mut notes = Vec::new();
-    egui::Grid::new("image quality table")
-        .num_columns(5)
-        .striped(true)
-        .spacing([10.0, 3.0])
-        .show(ui, |ui| {
-            ui.weak("image");
-            for title in ["SSIM", "PSNR", "MAE", "FLIP"] {
-                ui.weak(title);
-            }
-            ui.end_row();
+    style::figures_table(
+        ui,
+        "image quality table",
+        &[
+            ("image", None),
+            ("SSIM", None),
+            ("PSNR", None),
+            ("MAE", None),
+            ("FLIP", None),
+        ],
+        |ui| {
             for (slot, name) in names.iter().enumerate() {
                 ui.horizontal(|ui| {
                     ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
@@ -201,7 +202,8 @@ pub(super) fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
                 }
                 ui.end_row();
             }
-        });
+        },
+    );
     for note in notes {
         ui.label(RichText::new(note).small().color(style::ERROR));
     }

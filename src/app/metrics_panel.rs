@@ -143,24 +143,40 @@ fn gpu_section(ui: &mut egui::Ui, ws: &mut Workspace) {
         .filter(|e| e.enabled)
         .map(|e| (e.id, e.name))
         .collect();
-    egui::Grid::new("gpu table")
-        .num_columns(3)
-        .striped(true)
-        .spacing([10.0, 3.0])
-        .show(ui, |ui| {
-            ui.weak("pass");
-            ui.weak("own");
-            ui.weak("to run alone")
-                .on_hover_text("Own passes plus the scene render it reads, i.e. what the technique would cost without sharing.");
-            ui.end_row();
+    style::figures_table(
+        ui,
+        "gpu table",
+        &[
+            ("pass", None),
+            ("own", None),
+            (
+                "to run alone",
+                Some(
+                    "Own passes plus the scene render it reads, i.e. what the technique would cost without sharing.",
+                ),
+            ),
+        ],
+        |ui| {
             for (label, ms) in &renders {
                 let users = users_of(label);
                 ui.label(label.clone()).on_hover_text(format!(
                     "One scene render per frame, shared by: {}",
-                    if users.is_empty() { "—".to_owned() } else { users.join(", ") }
+                    if users.is_empty() {
+                        "—".to_owned()
+                    } else {
+                        users.join(", ")
+                    }
                 ));
-                number(ui, style::ms(*ms), "Median GPU time of this scene render over the last 30 frames that ran it (timestamp queries around the render pass).");
-                ui.label(RichText::new(format!("shared by {}", users.len())).small().weak());
+                number(
+                    ui,
+                    style::ms(*ms),
+                    "Median GPU time of this scene render over the last 30 frames that ran it (timestamp queries around the render pass).",
+                );
+                ui.label(
+                    RichText::new(format!("shared by {}", users.len()))
+                        .small()
+                        .weak(),
+                );
                 ui.end_row();
             }
             for (id, name) in &enabled {
@@ -182,9 +198,17 @@ fn gpu_section(ui: &mut egui::Ui, ws: &mut Workspace) {
                     "Own passes plus the scene render this technique reads.",
                 );
                 ui.end_row();
-                for (pass, ms) in stats.technique_passes(id).into_iter().filter(|_| show_passes) {
+                for (pass, ms) in stats
+                    .technique_passes(id)
+                    .into_iter()
+                    .filter(|_| show_passes)
+                {
                     ui.label(RichText::new(format!("   {pass}")).small());
-                    number(ui, style::ms(ms), "Median GPU time of this pass over the last 30 frames that ran it.");
+                    number(
+                        ui,
+                        style::ms(ms),
+                        "Median GPU time of this pass over the last 30 frames that ran it.",
+                    );
                     ui.label("");
                     ui.end_row();
                 }
@@ -192,11 +216,16 @@ fn gpu_section(ui: &mut egui::Ui, ws: &mut Workspace) {
             if let Some(ms) = stats.technique_ms(REFERENCE_ID) {
                 ui.label("reference (viewer)")
                     .on_hover_text("The progressive reference's samples of a frame; it runs only while the camera is still.");
-                number(ui, style::ms(ms), "GPU time the reference added to its frames (median).");
+                number(
+                    ui,
+                    style::ms(ms),
+                    "GPU time the reference added to its frames (median).",
+                );
                 ui.label("");
                 ui.end_row();
             }
-        });
+        },
+    );
     let techniques = enabled.len();
     let renders = engine.scene_renders();
     if techniques > 0 && renders > 0 {
@@ -224,25 +253,34 @@ fn clip_section(ui: &mut egui::Ui, ws: &mut Workspace) {
         });
         return;
     };
-    egui::Grid::new("clip table")
-        .num_columns(3)
-        .striped(true)
-        .spacing([10.0, 3.0])
-        .show(ui, |ui| {
-            ui.weak("technique");
-            ui.weak("instability");
-            ui.weak("ghosting");
-            ui.end_row();
+    style::figures_table(
+        ui,
+        "clip table",
+        &[
+            ("technique", None),
+            ("instability", None),
+            ("ghosting", None),
+        ],
+        |ui| {
             for (id, scores) in clip.techniques.iter().zip(scores) {
                 ui.label(ws.shown_label(id));
                 let figure = |v: Option<f64>, digits: usize| {
                     v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
                 };
-                number(ui, figure(scores.temporal_instability, 2), "Mean frame-to-frame luma change over the reference's (1 = as steady as the reference, higher flickers more).");
-                number(ui, figure(scores.ghosting, 1), "Mean luma error against the reference where the reference moved (levels of 0..255): trails and aliasing on moving edges.");
+                number(
+                    ui,
+                    figure(scores.temporal_instability, 2),
+                    "Mean frame-to-frame luma change over the reference's (1 = as steady as the reference, higher flickers more).",
+                );
+                number(
+                    ui,
+                    figure(scores.ghosting, 1),
+                    "Mean luma error against the reference where the reference moved (levels of 0..255): trails and aliasing on moving edges.",
+                );
                 ui.end_row();
             }
-        });
+        },
+    );
     if let Some(change) = clip.reference_change {
         ui.weak(format!(
             "reference: {change:.2} luma levels change per pixel and frame"
@@ -262,16 +300,16 @@ fn memory_section(ui: &mut egui::Ui, ws: &mut Workspace) {
         .filter(|t| t.technique == REFERENCE_ID)
         .map(|t| t.own_bytes())
         .sum();
-    egui::Grid::new("memory table")
-        .num_columns(3)
-        .striped(true)
-        .spacing([10.0, 3.0])
-        .show(ui, |ui| {
-            ui.weak("technique");
-            ui.weak("own");
-            ui.weak("to run alone");
-            ui.end_row();
-            for t in memory.techniques.iter().filter(|t| t.technique != REFERENCE_ID) {
+    style::figures_table(
+        ui,
+        "memory table",
+        &[("technique", None), ("own", None), ("to run alone", None)],
+        |ui| {
+            for t in memory
+                .techniques
+                .iter()
+                .filter(|t| t.technique != REFERENCE_ID)
+            {
                 let name = ws
                     .engine
                     .as_ref()
@@ -282,15 +320,37 @@ fn memory_section(ui: &mut egui::Ui, ws: &mut Workspace) {
                     .iter()
                     .chain(&t.private_items)
                     .chain(t.output.iter())
-                    .map(|i| format!("{}: {} {}x{} {} spp, {}", i.label, i.format, i.width, i.height, i.samples, style::mib(i.bytes)))
+                    .map(|i| {
+                        format!(
+                            "{}: {} {}x{} {} spp, {}",
+                            i.label,
+                            i.format,
+                            i.width,
+                            i.height,
+                            i.samples,
+                            style::mib(i.bytes)
+                        )
+                    })
                     .collect();
                 ui.label(name).on_hover_text(items.join("\n"));
-                number(ui, style::mib(t.own_bytes()), "Textures and buffers this technique owns, its output included.");
-                number(ui, style::mib(t.standalone_bytes()), "Own memory plus the scene render targets it reads (shared ones would be needed anyway).");
+                number(
+                    ui,
+                    style::mib(t.own_bytes()),
+                    "Textures and buffers this technique owns, its output included.",
+                );
+                number(
+                    ui,
+                    style::mib(t.standalone_bytes()),
+                    "Own memory plus the scene render targets it reads (shared ones would be needed anyway).",
+                );
                 ui.end_row();
             }
             ui.label("scene");
-            number(ui, style::mib(memory.scene_bytes), "The uploaded scene: vertex and index buffers, textures with their mip chains.");
+            number(
+                ui,
+                style::mib(memory.scene_bytes),
+                "The uploaded scene: vertex and index buffers, textures with their mip chains.",
+            );
             ui.label("");
             ui.end_row();
             ui.strong("total");
@@ -303,11 +363,16 @@ fn memory_section(ui: &mut egui::Ui, ws: &mut Workspace) {
             ui.end_row();
             if reference_bytes > 0 {
                 ui.weak("reference (viewer)");
-                number(ui, style::mib(reference_bytes), "The progressive reference's accumulator and render targets.");
+                number(
+                    ui,
+                    style::mib(reference_bytes),
+                    "The progressive reference's accumulator and render targets.",
+                );
                 ui.label("");
                 ui.end_row();
             }
-        });
+        },
+    );
 }
 
 fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
@@ -400,21 +465,29 @@ fn quality_table(ui: &mut egui::Ui, ws: &Workspace, state: ReferenceState) {
         )
     };
     let mut notes = Vec::new();
-    egui::Grid::new("quality table")
-        .num_columns(5)
-        .striped(true)
-        .spacing([10.0, 3.0])
-        .show(ui, |ui| {
-            ui.weak("technique");
-            for (title, tip) in [
-                ("SSIM", "Structural similarity of luma; 1 = identical."),
-                ("PSNR", "Peak signal-to-noise ratio of R'G'B' in dB; higher is closer."),
-                ("MAE", "Mean absolute error of R'G'B', 0..255; 0 = identical."),
-                ("FLIP", "NVIDIA's perceptual FLIP error, 0..1; 0 = indistinguishable."),
-            ] {
-                ui.weak(title).on_hover_text(tip);
-            }
-            ui.end_row();
+    style::figures_table(
+        ui,
+        "quality table",
+        &[
+            ("technique", None),
+            (
+                "SSIM",
+                Some("Structural similarity of luma; 1 = identical."),
+            ),
+            (
+                "PSNR",
+                Some("Peak signal-to-noise ratio of R'G'B' in dB; higher is closer."),
+            ),
+            (
+                "MAE",
+                Some("Mean absolute error of R'G'B', 0..255; 0 = identical."),
+            ),
+            (
+                "FLIP",
+                Some("NVIDIA's perceptual FLIP error, 0..1; 0 = indistinguishable."),
+            ),
+        ],
+        |ui| {
             for id in &enabled {
                 ui.horizontal(|ui| {
                     if let Some(slot) = compared.iter().position(|c| c == id) {
@@ -427,8 +500,16 @@ fn quality_table(ui: &mut egui::Ui, ws: &Workspace, state: ReferenceState) {
                     Some((Ok(f), m)) => {
                         let n = m.reference.samples;
                         let how = format!("\n\nMeasured on the {} in {}.", m.on, style::ms(m.ms));
-                        number(ui, format!("{:.4}", f.ssim), &(quality::ssim_help(n) + &how));
-                        number(ui, quality::psnr_text(f.psnr), &(quality::psnr_help(n) + &how));
+                        number(
+                            ui,
+                            format!("{:.4}", f.ssim),
+                            &(quality::ssim_help(n) + &how),
+                        );
+                        number(
+                            ui,
+                            quality::psnr_text(f.psnr),
+                            &(quality::psnr_help(n) + &how),
+                        );
                         number(ui, format!("{:.3}", f.mae), &(quality::mae_help(n) + &how));
                     }
                     Some((Err(err), _)) => {
@@ -464,7 +545,8 @@ fn quality_table(ui: &mut egui::Ui, ws: &Workspace, state: ReferenceState) {
                 }
                 ui.end_row();
             }
-        });
+        },
+    );
     let samples: Vec<u32> = enabled
         .iter()
         .filter_map(|id| ws.quality.current_pixels(id, ws.measure_key(id)))

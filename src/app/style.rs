@@ -70,6 +70,31 @@ pub fn section(ui: &mut egui::Ui, title: &str) {
     );
 }
 
+/// A table of figures: a striped grid whose first row holds the column titles, weak, each with
+/// its hover text when it has one; `rows` adds the rest.
+pub fn figures_table<R>(
+    ui: &mut egui::Ui,
+    id: &str,
+    columns: &[(&str, Option<&str>)],
+    rows: impl FnOnce(&mut egui::Ui) -> R,
+) -> R {
+    egui::Grid::new(id)
+        .num_columns(columns.len())
+        .striped(true)
+        .spacing([10.0, 3.0])
+        .show(ui, |ui| {
+            for &(title, tip) in columns {
+                let title = ui.weak(title);
+                if let Some(tip) = tip {
+                    title.on_hover_text(tip);
+                }
+            }
+            ui.end_row();
+            rows(ui)
+        })
+        .inner
+}
+
 /// A coloured letter badge (A, B, C, D, R) as text.
 pub fn badge(letter: &str, color: Color32) -> RichText {
     RichText::new(format!(" {letter} "))
