@@ -437,12 +437,15 @@ fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
 fn quality_table(ui: &mut egui::Ui, ws: &Workspace, state: ReferenceState) {
     let Some(engine) = &ws.engine else { return };
     let compared = ws.compared();
-    let enabled: Vec<&'static str> = engine
+    // The compared techniques first, in the order of their letters (as the toolbar and the
+    // magnifier show them), then the other running ones in list order.
+    let mut enabled: Vec<&'static str> = engine
         .entries()
         .iter()
         .filter(|e| e.enabled)
         .map(|e| e.id)
         .collect();
+    enabled.sort_by_key(|id| compared.iter().position(|c| c == id).unwrap_or(usize::MAX));
     if enabled.is_empty() {
         ui.weak("Switch a technique on to measure it.");
         return;
