@@ -92,6 +92,23 @@ fn wait(harness: &mut Harness<'_, AaLabApp>, what: &str, done: impl Fn(&AaLabApp
     harness.step();
 }
 
+/// Switches FXAA off, so that a new technique is among the four compared (and read back), and
+/// adds the user technique in `file`; returns its id.
+fn add_user_technique_instead_of_fxaa(
+    harness: &mut Harness<'_, AaLabApp>,
+    file: &std::path::Path,
+) -> String {
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::CheckBox, "FXAA")
+        .click();
+    harness.step();
+    harness.state_mut().add_user_technique(file.to_path_buf());
+    format!(
+        "user:{}",
+        std::fs::canonicalize(file).expect("canonical").display()
+    )
+}
+
 /// Clicks at `pos` with `modifiers` held (as the window reports them: in the input state, not
 /// only on the click) and runs a frame.
 fn click_with(harness: &mut Harness<'_, AaLabApp>, pos: Pos2, modifiers: Modifiers) {
@@ -1079,16 +1096,7 @@ fn a_user_technique_runs_shows_its_errors_and_reloads_when_its_file_changes() {
     };
     std::fs::write(&file, main("return aa_load(vec2<i32>(pixel));")).expect("write");
     let mut harness = viewer("chart");
-    // FXAA off, so that the new technique is among the four compared (and read back).
-    harness
-        .get_by_role_and_label(egui::accesskit::Role::CheckBox, "FXAA")
-        .click();
-    harness.step();
-    harness.state_mut().add_user_technique(file.clone());
-    let id = format!(
-        "user:{}",
-        std::fs::canonicalize(&file).expect("canonical").display()
-    );
+    let id = add_user_technique_instead_of_fxaa(&mut harness, &file);
     wait(&mut harness, "the user technique's output", |app| {
         app.frame_ready() && app.output_pixels(&id).is_some()
     });
@@ -1143,14 +1151,8 @@ fn a_user_technique_is_remembered_across_starts_and_can_be_removed() {
     )
     .expect("write");
     let path = std::fs::canonicalize(&file).expect("canonical");
-    let id = format!("user:{}", path.display());
     let mut first = viewer("chart");
-    // FXAA off, so that the new technique is among the four compared.
-    first
-        .get_by_role_and_label(egui::accesskit::Role::CheckBox, "FXAA")
-        .click();
-    first.step();
-    first.state_mut().add_user_technique(file.clone());
+    let id = add_user_technique_instead_of_fxaa(&mut first, &file);
     wait(&mut first, "the user technique", |app| {
         app.compared().contains(&id.as_str())
     });

@@ -46,68 +46,64 @@ pub(super) fn strip(ui: &mut egui::Ui, ws: &mut Workspace) {
 /// The left panel while images are shown.
 pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
     let ctx = ui.ctx().clone();
-    egui::Panel::left("images")
-        .resizable(true)
-        .default_size(300.0)
-        .size_range(240.0..=480.0)
-        .show(ui, |ui| {
-            ui.add_space(4.0);
-            ui.heading("Images");
-            ui.separator();
-            let Some(set) = ws.images.open() else {
-                return;
-            };
-            let (w, h) = set.size();
-            ui.label(format!("{} image(s), {w} × {h} pixels", set.images().len()));
-            ui.add_space(4.0);
-            let rows: Vec<(String, String)> = set
-                .images()
-                .iter()
-                .map(|i| (i.name.clone(), i.path.display().to_string()))
-                .collect();
-            for (slot, (name, path)) in rows.iter().enumerate() {
-                ui.horizontal(|ui| {
-                    ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
-                    ui.label(
-                        ws.image_label(IMAGE_IDS[slot])
-                            .unwrap_or_else(|| name.clone()),
-                    )
-                    .on_hover_text(path);
-                });
-            }
-            ui.add_space(6.0);
+    style::left_panel("images").show(ui, |ui| {
+        ui.add_space(4.0);
+        ui.heading("Images");
+        ui.separator();
+        let Some(set) = ws.images.open() else {
+            return;
+        };
+        let (w, h) = set.size();
+        ui.label(format!("{} image(s), {w} × {h} pixels", set.images().len()));
+        ui.add_space(4.0);
+        let rows: Vec<(String, String)> = set
+            .images()
+            .iter()
+            .map(|i| (i.name.clone(), i.path.display().to_string()))
+            .collect();
+        for (slot, (name, path)) in rows.iter().enumerate() {
             ui.horizontal(|ui| {
-                ui.label("Reference").on_hover_text(REFERENCE_HELP);
-                reference_choice(ui, ws, "panel");
+                ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
+                ui.label(
+                    ws.image_label(IMAGE_IDS[slot])
+                        .unwrap_or_else(|| name.clone()),
+                )
+                .on_hover_text(path);
             });
-            ui.add_space(6.0);
-            ui.label(
-                RichText::new(
-                    "The panes, layouts, magnifier, heatmaps and quality figures show these \
+        }
+        ui.add_space(6.0);
+        ui.horizontal(|ui| {
+            ui.label("Reference").on_hover_text(REFERENCE_HELP);
+            reference_choice(ui, ws, "panel");
+        });
+        ui.add_space(6.0);
+        ui.label(
+            RichText::new(
+                "The panes, layouts, magnifier, heatmaps and quality figures show these \
                      images as they show technique outputs; the scene is not rendered \
                      meanwhile.",
-                )
-                .small()
-                .weak(),
-            );
-            ui.add_space(6.0);
-            ui.horizontal(|ui| {
-                if ui.button("Open other images…").clicked() {
-                    ws.open_images_dialog(&ctx);
-                }
-                let back = match &ws.scene {
-                    Some(scene) => format!("Back to {}", scene.name),
-                    None => "Close images".to_owned(),
-                };
-                if ui
-                    .button(back)
-                    .on_hover_text("Close the images and show the scene again")
-                    .clicked()
-                {
-                    ws.close_images();
-                }
-            });
+            )
+            .small()
+            .weak(),
+        );
+        ui.add_space(6.0);
+        ui.horizontal(|ui| {
+            if ui.button("Open other images…").clicked() {
+                ws.open_images_dialog(&ctx);
+            }
+            let back = match &ws.scene {
+                Some(scene) => format!("Back to {}", scene.name),
+                None => "Close images".to_owned(),
+            };
+            if ui
+                .button(back)
+                .on_hover_text("Close the images and show the scene again")
+                .clicked()
+            {
+                ws.close_images();
+            }
         });
+    });
 }
 
 /// The metrics panel's quality section while images are shown.

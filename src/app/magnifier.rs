@@ -16,7 +16,7 @@
 //! - [`MagnifierPanel`], the panel: it sizes the lens to its panes and owns the pane pixel under
 //!   the pointer; the viewport's hovered pixel is passed in for the crosshair.
 
-use egui::{Color32, Rect, Sense, Stroke, StrokeKind, TextureHandle, pos2, vec2};
+use egui::{Color32, Rect, Sense, Stroke, TextureHandle, pos2, vec2};
 
 use super::blit;
 use super::difference::{self, HeatInput, HeatJob, HeatKey, HeatResult, heat_color};
@@ -443,18 +443,7 @@ impl MagnifierPanel {
                     vec2(zoom as f32 / ppp, zoom as f32 / ppp),
                 );
                 let painter = ui.painter().with_clip_rect(*rect);
-                painter.rect_stroke(
-                    cell,
-                    0.0,
-                    Stroke::new(1.0, Color32::BLACK),
-                    StrokeKind::Outside,
-                );
-                painter.rect_stroke(
-                    cell.expand(1.0),
-                    0.0,
-                    Stroke::new(1.0, Color32::WHITE),
-                    StrokeKind::Outside,
-                );
+                style::outline(&painter, cell);
             }
             pixel_readout(ui, ws, (x, y), &sources);
         } else {

@@ -95,6 +95,27 @@ pub fn figures_table<R>(
         .inner
 }
 
+/// The left side panel: the techniques, or the images in their place, at the same size.
+pub fn left_panel(id: &'static str) -> egui::Panel {
+    egui::Panel::left(id)
+        .resizable(true)
+        .default_size(300.0)
+        .size_range(240.0..=480.0)
+}
+
+/// Outlines `rect` in black, then in white one pixel further out, so that it shows on any
+/// image (the lens in the viewport, the pixel under the pointer in the magnifier).
+pub fn outline(painter: &egui::Painter, rect: egui::Rect) {
+    for (rect, color) in [(rect, Color32::BLACK), (rect.expand(1.0), Color32::WHITE)] {
+        painter.rect_stroke(
+            rect,
+            0.0,
+            Stroke::new(1.0, color),
+            egui::StrokeKind::Outside,
+        );
+    }
+}
+
 /// A coloured letter badge (A, B, C, D, R) as text.
 pub fn badge(letter: &str, color: Color32) -> RichText {
     RichText::new(format!(" {letter} "))

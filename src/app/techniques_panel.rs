@@ -19,11 +19,7 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
         image_panel::ui(ui, ws);
         return;
     }
-    egui::Panel::left("techniques")
-        .resizable(true)
-        .default_size(300.0)
-        .size_range(240.0..=480.0)
-        .show(ui, |ui| {
+    super::style::left_panel("techniques").show(ui, |ui| {
             ui.add_space(4.0);
             ui.horizontal(|ui| {
                 ui.heading("Techniques");

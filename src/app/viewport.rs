@@ -12,7 +12,7 @@
 //! the pixel under the pointer, where image A was drawn); the render size it decides is the
 //! workspace's ([`Workspace::render_size`]), and so is the lens it draws and moves.
 
-use egui::{Color32, CursorIcon, Pos2, Rect, Sense, Stroke, StrokeKind, Vec2, pos2, vec2};
+use egui::{Color32, CursorIcon, Pos2, Rect, Sense, Stroke, Vec2, pos2, vec2};
 
 use super::blit;
 use super::engine::Published;
@@ -584,18 +584,7 @@ fn paint_lens(painter: &egui::Painter, ws: &Workspace, tile: &Tile, ppp: f32) {
         ),
     );
     let rect = Rect::from_min_max(min, max);
-    painter.rect_stroke(
-        rect,
-        0.0,
-        Stroke::new(1.0, Color32::BLACK),
-        StrokeKind::Outside,
-    );
-    painter.rect_stroke(
-        rect.expand(1.0),
-        0.0,
-        Stroke::new(1.0, Color32::WHITE),
-        StrokeKind::Outside,
-    );
+    style::outline(painter, rect);
     painter.text(
         pos2(rect.min.x, rect.min.y - 4.0),
         egui::Align2::LEFT_BOTTOM,
