@@ -8,7 +8,7 @@
 //!   for the swapchain, and nothing is read back, as in the app). Painting on the GPU is what
 //!   waits when the engine shares eframe's queue, so it must be in the figure. Frames run as
 //!   eframe runs them: when the app asked for a repaint (its own requests, the render thread's
-//!   wake-ups) or input arrives, at most 60 per second like a display.
+//!   wake-ups) or input arrives, on the refresh ticks of a 60 Hz display ([`Display`]).
 //! - **engine frames per second** (frames whose outputs were published) over the first half of
 //!   the run, when nothing but the camera moves, and over the second half, with the key presses;
 //! - **input-to-visible latency** of a pure UI change (a layout key every 1.5 s in the second
@@ -325,14 +325,44 @@ impl RepaintClock {
     }
 }
 
-/// Sleeps until the next tick of the UI's pace.
-fn pace(next: &mut Instant) {
-    *next += UI_PERIOD;
-    let now = Instant::now();
-    if *next > now {
-        std::thread::sleep(*next - now);
-    } else {
-        *next = now;
+/// A 60 Hz display's refresh ticks on a fixed grid: eframe presents at most one frame per
+/// tick, so a frame asked for between two ticks starts at the next one, and a frame slower
+/// than a period misses the ticks it overlaps (as with vsync). Pacing by "a period after the
+/// last frame started" instead drifts by the polling delay and ran ~58 frames per second.
+struct Display {
+    next_tick: Instant,
+}
+
+impl Display {
+    fn new() -> Self {
+        Self {
+            next_tick: Instant::now(),
+        }
+    }
+
+    /// Whether a refresh tick has come since the last frame began.
+    fn ready(&self) -> bool {
+        Instant::now() >= self.next_tick
+    }
+
+    /// Sleeps 1 ms at most (until the next tick if that is sooner), so that a repaint request
+    /// or input is still seen at once.
+    fn wait(&self) {
+        let until_tick = self.next_tick.saturating_duration_since(Instant::now());
+        let nap = Duration::from_millis(1);
+        std::thread::sleep(if until_tick.is_zero() {
+            nap
+        } else {
+            until_tick.min(nap)
+        });
+    }
+
+    /// A frame begins now: the next one waits for the first tick after it.
+    fn frame_begins(&mut self) {
+        let now = Instant::now();
+        while self.next_tick <= now {
+            self.next_tick += UI_PERIOD;
+        }
     }
 }
 
@@ -366,6 +396,10 @@ fn measure(scene: &str, seconds: f64, size: (u32, u32)) -> SceneFigures {
         harness.step();
         std::thread::sleep(Duration::from_millis(10));
     }
+    eprintln!(
+        "  {scene}: first frame after {:.1} s",
+        start.elapsed().as_secs_f64()
+    );
     assert_eq!(harness.state().render_size(), size);
     assert_eq!(harness.state().compared().len(), 4, "four techniques");
 
@@ -385,7 +419,7 @@ fn measure(scene: &str, seconds: f64, size: (u32, u32)) -> SceneFigures {
     let mut next_key = run_start + half;
     let mut engine_at_half = None;
     let mut key_index = 0;
-    let mut last_frame = Instant::now();
+    let mut display = Display::new();
     while run_start.elapsed().as_secs_f64() < seconds {
         if engine_at_half.is_none() && run_start.elapsed() >= half {
             engine_at_half = Some(harness.state().engine_frames());
@@ -402,14 +436,14 @@ fn measure(scene: &str, seconds: f64, size: (u32, u32)) -> SceneFigures {
                 shown = harness.state().settings().layout == layout;
             }
             latencies.push(pressed.elapsed().as_secs_f64() * 1000.0);
-            last_frame = Instant::now();
-            next_key = last_frame + Duration::from_millis(1500);
-        } else if repaint.due() && last_frame.elapsed() >= UI_PERIOD {
+            display.frame_begins();
+            next_key = Instant::now() + Duration::from_millis(1500);
+        } else if repaint.due() && display.ready() {
             repaint.clear();
-            last_frame = Instant::now();
+            display.frame_begins();
             frames.push(step_timed(&mut harness));
         } else {
-            std::thread::sleep(Duration::from_millis(1));
+            display.wait();
         }
     }
     let elapsed = run_start.elapsed().as_secs_f64();
@@ -425,30 +459,51 @@ fn measure(scene: &str, seconds: f64, size: (u32, u32)) -> SceneFigures {
     harness.state_mut().camera_mut().auto_rotate = false;
     harness.state_mut().camera_mut().playing = false;
     harness.state_mut().settings_mut().quality = false;
+    eprintln!("  {scene}: orbit measured");
     let settle = Instant::now();
-    while (harness.state().rendering() || !harness.state().frame_ready())
-        && settle.elapsed() < TIMEOUT
-    {
+    while harness.state().rendering() || !harness.state().frame_ready() {
+        assert!(
+            settle.elapsed() < TIMEOUT,
+            "the engine of {scene} did not settle"
+        );
         harness.step();
         std::thread::sleep(Duration::from_millis(10));
     }
     let mut idle = Vec::new();
-    let mut next = Instant::now();
-    for _ in 0..120 {
-        idle.push(step_timed(&mut harness));
-        pace(&mut next);
+    let mut display = Display::new();
+    while idle.len() < 120 {
+        if display.ready() {
+            display.frame_begins();
+            idle.push(step_timed(&mut harness));
+        } else {
+            display.wait();
+        }
     }
 
     // A clip: recorded once, then played at 30 frames per second.
-    harness.state_mut().settings_mut().clip = ClipSettings {
+    let mut clip = ClipSettings {
         frames: CLIP_FRAMES,
         warmup: 4,
         path: ClipPath::Motion(Motion::Pan),
         reference: false,
         ..ClipSettings::default()
     };
+    // The memory cap is the user's to raise; 1920x1080 needs more than the default.
+    let needed_mib = clip.bytes(4, size).div_ceil(1 << 20);
+    clip.budget_mib = clip.budget_mib.max(needed_mib as u32);
+    harness.state_mut().settings_mut().clip = clip;
+    eprintln!("  {scene}: idle UI measured");
     let recording = Instant::now();
     harness.get_by_label("Record").click();
+    // Input runs frames at once, as in eframe (on a GPU the settled app asks for none).
+    while harness.state().clip_progress().is_none() {
+        assert!(
+            recording.elapsed() < Duration::from_secs(10),
+            "the Record click did not start a clip of {scene}"
+        );
+        harness.step();
+        std::thread::sleep(Duration::from_millis(1));
+    }
     while harness.state().clip_progress() != Some((CLIP_FRAMES as usize, false)) {
         assert!(
             recording.elapsed() < TIMEOUT,
@@ -466,6 +521,7 @@ fn measure(scene: &str, seconds: f64, size: (u32, u32)) -> SceneFigures {
         }
     }
     let clip_record_seconds = recording.elapsed().as_secs_f64();
+    eprintln!("  {scene}: clip recorded in {clip_record_seconds:.1} s");
     harness.state_mut().settings_mut().layout = Layout::Grid;
     // The switch to the grid is a layout change, timed above, not playback.
     let switched = Instant::now();
@@ -480,11 +536,11 @@ fn measure(scene: &str, seconds: f64, size: (u32, u32)) -> SceneFigures {
     let mut skipped = 0usize;
     let mut shown = harness.state().shown_clip_frame();
     let start = Instant::now();
-    let mut last_frame = Instant::now();
+    let mut display = Display::new();
     while start.elapsed() < PLAYBACK {
-        if repaint.due() && last_frame.elapsed() >= UI_PERIOD {
+        if repaint.due() && display.ready() {
             repaint.clear();
-            last_frame = Instant::now();
+            display.frame_begins();
             playback.push(step_timed(&mut harness));
             let now_shown = harness.state().shown_clip_frame();
             if now_shown != shown {

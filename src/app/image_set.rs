@@ -347,6 +347,7 @@ impl Workspace {
                             (image.path, rendered)
                         })
                         .collect();
+                    uploader.flush();
                     (images, decoded.notes)
                 });
                 let _ = sender.send(uploaded);

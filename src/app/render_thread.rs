@@ -352,15 +352,42 @@ impl Drop for RenderThread {
     }
 }
 
-/// A device of its own on `adapter`, with the features the frame graph uses.
+/// A device of its own for the adapter `adapter` stands for, opened on an instance of its own
+/// (the same driver and device, found again by name, vendor, device id and backend). On a
+/// software rasteriser this keeps the caller's work off the window's: lavapipe gives each
+/// instance its own llvmpipe screen, whose rasteriser threads are started by the thread that
+/// enumerates the adapters and inherit its CPU priority. A background thread calling this after
+/// [`super::worker::lower_priority`] gets rasteriser threads at the lowest priority, and the
+/// window's paint no longer queues behind one of its render passes. Where the new instance
+/// does not list the same adapter, the device is opened on `adapter` itself.
 pub fn open_device(adapter: &wgpu::Adapter) -> Result<Gpu, GpuError> {
+    let adapter = same_adapter_on_own_instance(adapter).unwrap_or_else(|| adapter.clone());
     let (device, queue) =
-        pollster::block_on(adapter.request_device(&crate::gpu::device_descriptor(adapter)))
+        pollster::block_on(adapter.request_device(&crate::gpu::device_descriptor(&adapter)))
             .map_err(|source| GpuError::RequestDevice {
                 adapter: adapter.get_info().name,
                 source,
             })?;
-    Ok(Gpu::from_parts(adapter.clone(), device, queue))
+    Ok(Gpu::from_parts(adapter, device, queue))
+}
+
+/// `adapter`'s device as a new instance lists it (see [`open_device`]).
+fn same_adapter_on_own_instance(adapter: &wgpu::Adapter) -> Option<wgpu::Adapter> {
+    let wanted = adapter.get_info();
+    let backends = wgpu::Backends::from(wanted.backend);
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+        backends,
+        ..wgpu::InstanceDescriptor::new_without_display_handle_from_env()
+    });
+    pollster::block_on(instance.enumerate_adapters(backends))
+        .into_iter()
+        .find(|candidate| {
+            let info = candidate.get_info();
+            info.name == wanted.name
+                && info.vendor == wanted.vendor
+                && info.device == wanted.device
+                && info.driver_info == wanted.driver_info
+        })
 }
 
 /// Everything the thread owns.
@@ -852,7 +879,7 @@ impl Tickets {
                 }
             }
         }
-        Ok(FrameResult {
+        let result = FrameResult {
             outputs,
             debug: collect(&self.debug, |&(index, name, description, ticket)| {
                 Ok((index, name, description, image(ticket)?))
@@ -864,7 +891,9 @@ impl Tickets {
             memory: None,
             scene_renders: 0,
             timings: None,
-        })
+        };
+        uploader.flush();
+        Ok(result)
     }
 }
 

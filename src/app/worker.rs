@@ -30,18 +30,34 @@ impl<R> Reporter<R> {
     }
 }
 
-/// Gives the calling background thread the lowest CPU priority (nice 19 on Linux). On a machine
-/// with few cores the engine's frames, the quality figures and the window's paint compete for
-/// every core; at equal priority the UI thread's paint waited behind them. The render thread
-/// calls it before it opens its device, so the threads a driver starts for that device (a
-/// software rasteriser's queue thread) inherit it; lavapipe's rasteriser threads themselves are
-/// shared by every device of the process and keep their priority. On a GPU the threads mostly
-/// wait and this changes nothing measurable. Where the system refuses, the thread keeps its
-/// priority.
+/// Gives the calling background thread the lowest CPU priority: the idle scheduling class
+/// (SCHED_IDLE) on Linux, the lowest priority elsewhere. On a machine with few cores the
+/// engine's frames, the quality figures and the window's paint compete for every core; at
+/// equal priority the UI thread's paint waited behind them, and at nice 19 it still waited
+/// for a time slice. The render thread and the quality worker call it before they open their
+/// devices ([`super::render_thread::open_device`], each on an instance of its own), so the
+/// threads a driver starts for that device inherit it: on lavapipe that is the rasteriser
+/// threads of the device's own llvmpipe screen. The cost: while other programs keep every core
+/// busy, idle-class threads get almost no CPU and the engine's frame rate drops near zero
+/// (nice 19 behaved nearly the same). On a GPU the threads mostly wait and this changes nothing
+/// measurable. Where the system refuses, the thread keeps its priority.
 pub fn lower_priority() {
-    if let Err(err) =
-        thread_priority::set_current_thread_priority(thread_priority::ThreadPriority::Min)
-    {
+    #[cfg(target_os = "linux")]
+    let lowered = {
+        use thread_priority::unix::{
+            NormalThreadSchedulePolicy, ThreadSchedulePolicy, set_thread_priority_and_policy,
+            thread_native_id,
+        };
+        set_thread_priority_and_policy(
+            thread_native_id(),
+            thread_priority::ThreadPriority::Min,
+            ThreadSchedulePolicy::Normal(NormalThreadSchedulePolicy::Idle),
+        )
+    };
+    #[cfg(not(target_os = "linux"))]
+    let lowered =
+        thread_priority::set_current_thread_priority(thread_priority::ThreadPriority::Min);
+    if let Err(err) = lowered {
         log::info!("a background thread keeps its priority: {err:?}");
     }
 }
