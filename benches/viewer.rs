@@ -188,7 +188,7 @@ impl WindowPainter {
     fn new() -> Self {
         let state = egui_kittest::wgpu::create_render_state(
             aa_lab::app::wgpu_setup(),
-            egui_wgpu::RendererOptions::PREDICTABLE,
+            egui_wgpu::RendererOptions::default(),
         );
         Self {
             uploads: egui_kittest::wgpu::WgpuTestRenderer::from_render_state(state.clone()),

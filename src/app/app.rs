@@ -95,6 +95,8 @@ impl AaLabApp {
     /// Creates the app on eframe's wgpu device and starts loading the scene.
     pub fn new(cc: &eframe::CreationContext<'_>, options: LaunchOptions) -> Result<Self, AppError> {
         let state = cc.wgpu_render_state.as_ref().ok_or(AppError::NoWgpu)?;
+        // Before the app opens devices of its own, whose rasteriser threads are idle-class.
+        super::rasterizer_threads::spread_window_rasterizer_threads(&state.adapter.get_info());
         super::blit::install(state);
         let gpu = Gpu::from_parts(
             state.adapter.clone(),

@@ -50,6 +50,7 @@ mod magnifier;
 mod metrics_panel;
 mod panels;
 mod quality;
+mod rasterizer_threads;
 mod reference;
 mod render_thread;
 mod scene_loader;
@@ -71,7 +72,9 @@ pub use camera::CameraController;
 pub use clip::{ClipPath, ClipSettings};
 pub use engine::DisplayPath;
 pub use quality::{Figures, PixelFigures};
+pub use rasterizer_threads::spread_window_rasterizer_threads;
 pub use settings::{DiffMetric, Layout, Resolution, Settings};
+pub use worker::lower_priority;
 
 /// Application id: window class and the folder eframe persists settings in.
 pub const APP_ID: &str = "aa-lab";
