@@ -31,6 +31,9 @@
 //!   previous ones when they arrive.
 //! - Scene loading, file dialogs, PNG encoding, the quality figures (quality.rs) and the
 //!   magnifier's heatmaps (difference.rs) run on worker threads (worker.rs) as well.
+//!   Those threads, and the devices the render thread and the quality worker open, run at the
+//!   lowest CPU priority; on a software adapter the window's own rasteriser threads get a CPU
+//!   each (rasterizer_threads.rs), so that the window's paint never shares a core with itself.
 //! - Settings and layout persist through eframe's storage (settings.rs); keyboard shortcuts and
 //!   the help overlay share one table (shortcuts.rs).
 
