@@ -15,6 +15,9 @@
 //!   half: Single, 2x2 grid, Wipe, A/B flip; the render size is fixed, so only the UI changes):
 //!   from the key event to the end of the UI frame that shows the new layout;
 //! - **idle UI frame**: the same with the camera still and the engine idle.
+//! - **UI thread CPU** per UI frame, orbiting and idle: the CPU time the UI thread itself spends
+//!   on a frame (update, layout, tessellation, buffer uploads, submit), without the wait for
+//!   the GPU; on a software adapter the window's rasteriser threads do the painting besides.
 //! - **clip playback**: a 48-frame clip of the four techniques is recorded (camera panning,
 //!   no reference) and played at 30 frames per second in the 2x2 grid (all four on screen,
 //!   and in the magnifier) for a second, then measured over eight seconds: UI frames per
@@ -69,6 +72,9 @@ struct SceneFigures {
     /// The part of a UI frame before the paint: the app's update, layout, tessellation.
     ui_update_ms_median: f64,
     ui_update_ms_p95: f64,
+    /// CPU time of the UI thread per UI frame (see [`FrameTimes::ui_thread_cpu`]).
+    ui_thread_cpu_ms_median: f64,
+    ui_thread_cpu_ms_p95: f64,
     engine_frames_per_second: f64,
     engine_frames_per_second_with_input: f64,
     layout_latency_ms_median: f64,
@@ -78,6 +84,8 @@ struct SceneFigures {
     idle_ui_frame_ms_p95: f64,
     idle_ui_update_ms_median: f64,
     idle_ui_update_ms_p95: f64,
+    idle_ui_thread_cpu_ms_median: f64,
+    idle_ui_thread_cpu_ms_p95: f64,
     clip_frames: usize,
     clip_record_seconds: f64,
     playback_ui_frames_per_second: f64,
@@ -155,20 +163,48 @@ fn sorted(mut values: Vec<f64>) -> Vec<f64> {
     values
 }
 
-/// Whole UI frames and their update parts, each sorted.
-fn split(timed: Vec<(f64, f64)>) -> (Vec<f64>, Vec<f64>) {
-    let (frames, updates) = timed.into_iter().unzip();
-    (sorted(frames), sorted(updates))
+/// One painted UI frame, in milliseconds.
+struct FrameTimes {
+    /// Wall time, paint included.
+    wall: f64,
+    /// The part before the paint: the app's update, layout and tessellation.
+    update: f64,
+    /// CPU time of the UI thread over the whole frame (update, buffer uploads, submit; not the
+    /// wait for the GPU, nor a software rasteriser's own threads).
+    ui_thread_cpu: f64,
 }
 
-/// One UI frame, painted: its wall time in milliseconds, and the part of it before the paint
-/// (the app's update, layout and tessellation: the UI thread's own CPU).
-fn step_timed(harness: &mut Harness<'_, AaLabApp>) -> (f64, f64) {
+/// Each part of the frames, sorted: wall times, update parts, UI thread CPU.
+fn split(timed: Vec<FrameTimes>) -> [Vec<f64>; 3] {
+    let part = |f: fn(&FrameTimes) -> f64| sorted(timed.iter().map(f).collect());
+    [
+        part(|t| t.wall),
+        part(|t| t.update),
+        part(|t| t.ui_thread_cpu),
+    ]
+}
+
+/// CPU time the calling thread has used so far, in milliseconds (NaN where the system does
+/// not say: `/proc/thread-self/schedstat` is Linux's).
+fn thread_cpu_ms() -> f64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|stat| stat.split_whitespace().next()?.parse::<f64>().ok())
+        .map_or(f64::NAN, |ns| ns / 1e6)
+}
+
+/// One UI frame, painted and timed.
+fn step_timed(harness: &mut Harness<'_, AaLabApp>) -> FrameTimes {
+    let cpu_start = thread_cpu_ms();
     let start = Instant::now();
     harness.step();
     let update = start.elapsed().as_secs_f64() * 1000.0;
     harness.render().expect("the window paints");
-    (start.elapsed().as_secs_f64() * 1000.0, update)
+    FrameTimes {
+        wall: start.elapsed().as_secs_f64() * 1000.0,
+        update,
+        ui_thread_cpu: thread_cpu_ms() - cpu_start,
+    }
 }
 
 /// Paints the UI as eframe does on a window, with a window-sized texture in place of the
@@ -561,10 +597,10 @@ fn measure(scene: &str, seconds: f64, size: (u32, u32)) -> SceneFigures {
         eprintln!("{scene}, clip playing: {}", profile.report(30));
     }
     let playback_ui_frames_per_second = playback.len() as f64 / playing;
-    let (playback, _) = split(playback);
+    let [playback, _, _] = split(playback);
 
-    let (frames, updates) = split(frames);
-    let (idle, idle_updates) = split(idle);
+    let [frames, updates, ui_thread_cpu] = split(frames);
+    let [idle, idle_updates, idle_ui_thread_cpu] = split(idle);
     let latencies = sorted(latencies);
     SceneFigures {
         scene: scene.to_owned(),
@@ -578,6 +614,8 @@ fn measure(scene: &str, seconds: f64, size: (u32, u32)) -> SceneFigures {
         ui_frame_ms_max: frames.last().copied().unwrap_or(f64::NAN),
         ui_update_ms_median: percentile(&updates, 0.5),
         ui_update_ms_p95: percentile(&updates, 0.95),
+        ui_thread_cpu_ms_median: percentile(&ui_thread_cpu, 0.5),
+        ui_thread_cpu_ms_p95: percentile(&ui_thread_cpu, 0.95),
         engine_frames_per_second: (engine_at_half - engine_start) as f64 / half.as_secs_f64(),
         engine_frames_per_second_with_input: (engine_end - engine_at_half) as f64
             / (elapsed - half.as_secs_f64()),
@@ -588,6 +626,8 @@ fn measure(scene: &str, seconds: f64, size: (u32, u32)) -> SceneFigures {
         idle_ui_frame_ms_p95: percentile(&idle, 0.95),
         idle_ui_update_ms_median: percentile(&idle_updates, 0.5),
         idle_ui_update_ms_p95: percentile(&idle_updates, 0.95),
+        idle_ui_thread_cpu_ms_median: percentile(&idle_ui_thread_cpu, 0.5),
+        idle_ui_thread_cpu_ms_p95: percentile(&idle_ui_thread_cpu, 0.95),
         clip_frames: CLIP_FRAMES as usize,
         clip_record_seconds,
         playback_ui_frames_per_second,
@@ -610,7 +650,7 @@ fn main() {
         eprintln!("on {}", figures.adapter);
         println!(
             "{:<10} {:>5.1} UI frames/s, median {:>6.1} ms  p95 {:>6.1} ms  max {:>7.1} ms | engine {:>5.2} frames/s ({:.2} with input) | \
-             layout change visible after median {:>6.1} ms, worst {:>6.1} ms ({} changes) | idle UI frame median {:>5.1} ms p95 {:>5.1} ms | update (before the paint) median {:>5.1} ms p95 {:>5.1} ms, idle {:>5.1} ms p95 {:>5.1} ms | clip of {} frames recorded in {:.0} s, plays at {:.1} UI frames/s showing {:.1} clip frames/s ({} skipped), UI frame median {:.1} ms p95 {:.1} ms",
+             layout change visible after median {:>6.1} ms, worst {:>6.1} ms ({} changes) | idle UI frame median {:>5.1} ms p95 {:>5.1} ms | update (before the paint) median {:>5.1} ms p95 {:>5.1} ms, idle {:>5.1} ms p95 {:>5.1} ms | UI thread CPU per frame median {:>5.1} ms p95 {:>5.1} ms, idle {:>5.1} ms p95 {:>5.1} ms | clip of {} frames recorded in {:.0} s, plays at {:.1} UI frames/s showing {:.1} clip frames/s ({} skipped), UI frame median {:.1} ms p95 {:.1} ms",
             figures.scene,
             figures.ui_frames_per_second,
             figures.ui_frame_ms_median,
@@ -627,6 +667,10 @@ fn main() {
             figures.ui_update_ms_p95,
             figures.idle_ui_update_ms_median,
             figures.idle_ui_update_ms_p95,
+            figures.ui_thread_cpu_ms_median,
+            figures.ui_thread_cpu_ms_p95,
+            figures.idle_ui_thread_cpu_ms_median,
+            figures.idle_ui_thread_cpu_ms_p95,
             figures.clip_frames,
             figures.clip_record_seconds,
             figures.playback_ui_frames_per_second,
