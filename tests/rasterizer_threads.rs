@@ -1,7 +1,9 @@
 //! On a software adapter the window's rasteriser threads get one CPU each
 //! (`app::spread_window_rasterizer_threads`), and the idle-class threads of the app's own
 //! devices keep every CPU. A test binary of its own: no other test opens devices (and starts
-//! rasteriser threads) while this one looks at the process's threads.
+//! rasteriser threads) while this one looks at the process's threads. Linux only, as the
+//! pinning is.
+#![cfg(target_os = "linux")]
 
 mod common;
 
@@ -58,7 +60,6 @@ fn threads() -> Vec<ThreadInfo> {
 }
 
 #[test]
-#[cfg(target_os = "linux")]
 fn the_window_rasterizer_threads_get_a_cpu_each_and_background_ones_keep_all() {
     let process_cpus = allowed_cpus(&std::fs::read_to_string("/proc/self/status").unwrap());
     // The window's device, opened on this (normal priority) thread.

@@ -28,30 +28,30 @@ pub fn spread_window_rasterizer_threads(adapter: &wgpu::AdapterInfo) {
     linux::spread();
 }
 
-/// The rasteriser index of a thread named `name` (`llvmpipe-3` → 3).
-fn rasterizer_index(name: &str) -> Option<usize> {
-    name.trim().strip_prefix("llvmpipe-")?.parse().ok()
-}
-
-/// The scheduling policy in a thread's `/proc/…/stat` line (its 41st field).
-fn policy_from_stat(stat: &str) -> Option<i32> {
-    // The name (field 2) is in parentheses and may hold spaces: count after its end.
-    let after_name = &stat[stat.rfind(')')? + 1..];
-    after_name.split_whitespace().nth(41 - 3)?.parse().ok()
-}
-
-/// Linux's idle scheduling class (SCHED_IDLE).
-const SCHED_IDLE: i32 = 5;
-
-/// The CPU for rasteriser thread `index`, among the CPUs the process may use.
-fn cpu_for(index: usize, allowed: &[usize]) -> Option<usize> {
-    (!allowed.is_empty()).then(|| allowed[index % allowed.len()])
-}
-
 #[cfg(target_os = "linux")]
 mod linux {
     use nix::sched::{CpuSet, sched_getaffinity, sched_setaffinity};
     use nix::unistd::Pid;
+
+    /// The rasteriser index of a thread named `name` (`llvmpipe-3` → 3).
+    fn rasterizer_index(name: &str) -> Option<usize> {
+        name.trim().strip_prefix("llvmpipe-")?.parse().ok()
+    }
+
+    /// The scheduling policy in a thread's `/proc/…/stat` line (its 41st field).
+    fn policy_from_stat(stat: &str) -> Option<i32> {
+        // The name (field 2) is in parentheses and may hold spaces: count after its end.
+        let after_name = &stat[stat.rfind(')')? + 1..];
+        after_name.split_whitespace().nth(41 - 3)?.parse().ok()
+    }
+
+    /// Linux's idle scheduling class (SCHED_IDLE).
+    const SCHED_IDLE: i32 = 5;
+
+    /// The CPU for rasteriser thread `index`, among the CPUs the process may use.
+    fn cpu_for(index: usize, allowed: &[usize]) -> Option<usize> {
+        (!allowed.is_empty()).then(|| allowed[index % allowed.len()])
+    }
 
     /// A thread of this process that is a window rasteriser: its id and rasteriser index.
     fn window_rasterizers() -> Vec<(i32, usize)> {
@@ -63,9 +63,9 @@ mod linux {
             .filter_map(|task| {
                 let tid: i32 = task.file_name().to_str()?.parse().ok()?;
                 let name = std::fs::read_to_string(task.path().join("comm")).ok()?;
-                let index = super::rasterizer_index(&name)?;
+                let index = rasterizer_index(&name)?;
                 let stat = std::fs::read_to_string(task.path().join("stat")).ok()?;
-                (super::policy_from_stat(&stat)? != super::SCHED_IDLE).then_some((tid, index))
+                (policy_from_stat(&stat)? != SCHED_IDLE).then_some((tid, index))
             })
             .collect()
     }
@@ -84,7 +84,7 @@ mod linux {
     pub(super) fn spread() {
         let allowed = allowed_cpus();
         for (tid, index) in window_rasterizers() {
-            let Some(cpu) = super::cpu_for(index, &allowed) else {
+            let Some(cpu) = cpu_for(index, &allowed) else {
                 return;
             };
             let mut set = CpuSet::new();
@@ -99,39 +99,39 @@ mod linux {
             }
         }
     }
-}
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+    #[cfg(test)]
+    mod tests {
+        use super::*;
 
-    #[test]
-    fn reads_the_rasteriser_index_from_the_thread_name() {
-        assert_eq!(rasterizer_index("llvmpipe-0\n"), Some(0));
-        assert_eq!(rasterizer_index("llvmpipe-15"), Some(15));
-        assert_eq!(rasterizer_index("llvmpipe-"), None);
-        assert_eq!(rasterizer_index("aa-lab render"), None);
-    }
+        #[test]
+        fn reads_the_rasteriser_index_from_the_thread_name() {
+            assert_eq!(rasterizer_index("llvmpipe-0\n"), Some(0));
+            assert_eq!(rasterizer_index("llvmpipe-15"), Some(15));
+            assert_eq!(rasterizer_index("llvmpipe-"), None);
+            assert_eq!(rasterizer_index("aa-lab render"), None);
+        }
 
-    #[test]
-    fn reads_the_policy_past_a_name_with_spaces_and_parentheses() {
-        // The format of an idle-class thread's line, with a name that holds ") (".
-        let stat = "4242 (aa-lab ) (x) S 1 4242 4242 0 -1 4194368 2069 0 0 0 12 3 0 0 39 19 \
-                    3 0 21817 1999624192 146116 18446744073709551615 1 1 0 0 0 0 0 4096 \
-                    17642 0 0 0 -1 1 0 5 0 0 0 0 0 0 0 0 0 0 0";
-        assert_eq!(policy_from_stat(stat), Some(SCHED_IDLE));
-        let normal = stat.replace(" 0 5 0 0 0 0", " 0 0 0 0 0 0");
-        assert_eq!(policy_from_stat(&normal), Some(0));
-        assert_eq!(policy_from_stat("4242 (cut"), None);
-    }
+        #[test]
+        fn reads_the_policy_past_a_name_with_spaces_and_parentheses() {
+            // The format of an idle-class thread's line, with a name that holds ") (".
+            let stat = "4242 (aa-lab ) (x) S 1 4242 4242 0 -1 4194368 2069 0 0 0 12 3 0 0 39 19 \
+                        3 0 21817 1999624192 146116 18446744073709551615 1 1 0 0 0 0 0 4096 \
+                        17642 0 0 0 -1 1 0 5 0 0 0 0 0 0 0 0 0 0 0";
+            assert_eq!(policy_from_stat(stat), Some(SCHED_IDLE));
+            let normal = stat.replace(" 0 5 0 0 0 0", " 0 0 0 0 0 0");
+            assert_eq!(policy_from_stat(&normal), Some(0));
+            assert_eq!(policy_from_stat("4242 (cut"), None);
+        }
 
-    #[test]
-    fn thread_n_gets_the_nth_allowed_cpu() {
-        let allowed = [2, 3, 6];
-        assert_eq!(cpu_for(0, &allowed), Some(2));
-        assert_eq!(cpu_for(2, &allowed), Some(6));
-        // More threads than CPUs: they share them in turn.
-        assert_eq!(cpu_for(4, &allowed), Some(3));
-        assert_eq!(cpu_for(0, &[]), None);
+        #[test]
+        fn thread_n_gets_the_nth_allowed_cpu() {
+            let allowed = [2, 3, 6];
+            assert_eq!(cpu_for(0, &allowed), Some(2));
+            assert_eq!(cpu_for(2, &allowed), Some(6));
+            // More threads than CPUs: they share them in turn.
+            assert_eq!(cpu_for(4, &allowed), Some(3));
+            assert_eq!(cpu_for(0, &[]), None);
+        }
     }
 }
