@@ -1,7 +1,8 @@
 //! Technique settings as data: every technique describes its parameters (kind, range, help
 //! text) and reads/writes them by key. One description serves the CLI (`--set fxaa.subpix=0.5`),
 //! the viewer's settings panels, tooltips and the reproducibility sidecar, so adding a
-//! parameter to a technique needs no front-end code.
+//! parameter to a technique needs no front-end code. A settings type with named presets
+//! implements [`Tunable`] once, and its technique's parameter methods only forward to it.
 
 use std::collections::BTreeMap;
 use std::fmt;
@@ -410,6 +411,50 @@ pub fn preset_named<E: Named>(technique: &str, name: &str) -> Result<E, ParamErr
         name: name.to_owned(),
         known: E::NAMES.join(", "),
     })
+}
+
+/// A technique's settings seen as its parameters, with named presets: implemented once by each
+/// settings type, so that the technique's `params`, `set_param`, `presets` and `apply_preset`
+/// only forward to it (`aa::common::tunable_settings!` writes them).
+pub trait Tunable {
+    /// The named presets.
+    type Preset: Named;
+
+    /// Every parameter with its current value.
+    fn params(&self) -> Vec<Param>;
+
+    /// Applies a value already validated against [`Tunable::params`]; `false` for a key these
+    /// settings do not have.
+    fn set(&mut self, key: &str, value: &ParamValue) -> bool;
+
+    /// Applies a preset (what it leaves alone is the settings type's to say).
+    fn apply_preset(&mut self, preset: Self::Preset);
+
+    /// [`Tunable::set`] as technique `technique` answers it: an unknown key is an error that
+    /// lists the known ones.
+    fn set_param(
+        &mut self,
+        technique: &str,
+        key: &str,
+        value: &ParamValue,
+    ) -> Result<(), ParamError> {
+        if self.set(key, value) {
+            Ok(())
+        } else {
+            Err(ParamError::unknown_key(technique, key, &self.params()))
+        }
+    }
+
+    /// Applies technique `technique`'s preset named `name`.
+    fn apply_preset_named(&mut self, technique: &str, name: &str) -> Result<(), ParamError> {
+        self.apply_preset(preset_named(technique, name)?);
+        Ok(())
+    }
+
+    /// The presets' names.
+    fn preset_names(&self) -> &'static [&'static str] {
+        Self::Preset::NAMES
+    }
 }
 
 #[cfg(test)]

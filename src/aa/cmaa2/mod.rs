@@ -36,7 +36,7 @@ pub mod settings;
 pub use settings::{Cmaa2Settings, EdgeDetection, Quality};
 
 use crate::aa::common::{debug_texture, encoded_view};
-use crate::aa::params::{Named, Param, ParamError, ParamValue};
+use crate::aa::params::Named;
 use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, Technique};
 use crate::gpu::shader::Shader;
@@ -370,26 +370,7 @@ impl Technique for Cmaa2 {
         items
     }
 
-    fn params(&self) -> Vec<Param> {
-        self.settings.params()
-    }
-
-    fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
-        self.settings.set(key, value)
-    }
-
-    fn presets(&self) -> &'static [&'static str] {
-        Quality::NAMES
-    }
-
-    fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
-        self.settings = Cmaa2Settings::preset(name).ok_or_else(|| ParamError::UnknownPreset {
-            technique: ID.to_owned(),
-            name: name.to_owned(),
-            known: Quality::NAMES.join(", "),
-        })?;
-        Ok(())
-    }
+    crate::aa::common::tunable_settings!(settings);
 
     fn set_debug_views(&mut self, enabled: bool) {
         self.debug_enabled = enabled;

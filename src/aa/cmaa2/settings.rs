@@ -1,10 +1,11 @@
 //! CMAA 2 settings: Intel's four quality presets (they set the edge threshold), the extra
 //! sharpness switch (a second set of Intel's constants that keeps more text and shape detail),
-//! the edge-detection input, every parameter as data for the CLI, viewer and sidecars, and the
+//! the edge-detection input, every parameter as data for the CLI, viewer and sidecars (its
+//! [`Tunable`] implementation), and the
 //! uniform block the passes read. Nothing here selects a pipeline: every setting is a uniform
 //! value used in arithmetic or `select`, so changing one costs no pipeline build.
 
-use crate::aa::params::{Named, Param, ParamError, ParamValue, as_bool, as_named};
+use crate::aa::params::{Param, ParamValue, Tunable, as_bool, as_named};
 
 crate::named_enum! {
     /// Intel's quality presets, which differ only in the edge threshold.
@@ -113,15 +114,6 @@ pub struct Cmaa2Uniform {
 }
 
 impl Cmaa2Settings {
-    /// The settings of a preset name (`low` .. `ultra`), sharpness and edge input at their
-    /// defaults.
-    pub fn preset(name: &str) -> Option<Self> {
-        Quality::from_name(name).map(|quality| Self {
-            quality,
-            ..Self::default()
-        })
-    }
-
     /// The uniform block for an image of `size`.
     pub fn uniform(&self, size: (u32, u32)) -> Cmaa2Uniform {
         let s = if self.extra_sharpness { SHARP } else { NORMAL };
@@ -143,9 +135,12 @@ impl Cmaa2Settings {
             lines: [s.run_ratio, s.z_damping, 0.0, 0.0],
         }
     }
+}
 
-    /// The parameters with their current values.
-    pub fn params(&self) -> Vec<Param> {
+impl Tunable for Cmaa2Settings {
+    type Preset = Quality;
+
+    fn params(&self) -> Vec<Param> {
         vec![
             Param::named(
                 "quality",
@@ -174,8 +169,7 @@ impl Cmaa2Settings {
         ]
     }
 
-    /// Applies a value already validated against [`Cmaa2Settings::params`].
-    pub fn set(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
+    fn set(&mut self, key: &str, value: &ParamValue) -> bool {
         match key {
             "quality" => {
                 self.quality = as_named(value).unwrap_or(self.quality);
@@ -184,26 +178,44 @@ impl Cmaa2Settings {
             "edge_detection" => {
                 self.edge_detection = as_named(value).unwrap_or(self.edge_detection);
             }
-            _ => return Err(ParamError::unknown_key(super::ID, key, &self.params())),
+            _ => return false,
         }
-        Ok(())
+        true
+    }
+
+    /// Sets the quality (the edge threshold), keeping the sharpness and the edge input.
+    fn apply_preset(&mut self, quality: Quality) {
+        self.quality = quality;
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::aa::params::Named;
 
     #[test]
     fn presets_lower_the_threshold_in_order_and_keep_the_other_settings() {
         let thresholds: Vec<f32> = Quality::ALL.iter().map(|q| q.edge_threshold()).collect();
         assert_eq!(thresholds, [0.15, 0.10, 0.07, 0.05]);
         for name in Quality::NAMES {
-            let settings = Cmaa2Settings::preset(name).expect("listed preset");
+            let mut settings = Cmaa2Settings {
+                extra_sharpness: true,
+                edge_detection: EdgeDetection::Color,
+                ..Cmaa2Settings::default()
+            };
+            settings
+                .apply_preset_named("cmaa2", name)
+                .expect("listed preset");
             assert_eq!(settings.quality.name(), *name);
-            assert!(!settings.extra_sharpness);
+            assert!(settings.extra_sharpness);
+            assert_eq!(settings.edge_detection, EdgeDetection::Color);
         }
-        assert!(Cmaa2Settings::preset("extreme").is_none());
+        assert!(
+            Cmaa2Settings::default()
+                .apply_preset_named("cmaa2", "extreme")
+                .is_err()
+        );
         assert_eq!(Cmaa2Settings::default().quality, Quality::High);
     }
 

@@ -4,8 +4,9 @@
 //! targets, debug-view textures and a cache of full-screen pipelines keyed by what they are
 //! specialised on ([`PipelineCache`]). The full-screen vertex stage and pipeline builder itself
 //! is `crate::gpu::fullscreen` (the frame graph hands it to every pass). And
-//! [`shared_1x_post_process`], the `Technique` methods that every post-process of the shared
-//! one-sample render spells the same way.
+//! two macros that write `Technique` methods once: `shared_1x_post_process!`, the ones every
+//! post-process of the shared one-sample render spells the same way, and `tunable_settings!`,
+//! the parameter methods of a technique whose settings are `Tunable`.
 
 pub mod color;
 pub mod sampling;
@@ -34,6 +35,36 @@ macro_rules! shared_1x_post_process {
     };
 }
 pub(crate) use shared_1x_post_process;
+
+/// Writes, inside an `impl Technique` block, the parameter methods of a technique whose
+/// settings (the field named by the argument) are [`Tunable`](crate::graph::params::Tunable):
+/// `params`, `set_param`, `presets` and `apply_preset` forward to them under the technique's id.
+macro_rules! tunable_settings {
+    ($field:ident) => {
+        fn params(&self) -> Vec<$crate::aa::Param> {
+            $crate::graph::params::Tunable::params(&self.$field)
+        }
+
+        fn set_param(
+            &mut self,
+            key: &str,
+            value: &$crate::aa::ParamValue,
+        ) -> Result<(), $crate::aa::ParamError> {
+            let id = self.id();
+            $crate::graph::params::Tunable::set_param(&mut self.$field, id, key, value)
+        }
+
+        fn presets(&self) -> &'static [&'static str] {
+            $crate::graph::params::Tunable::preset_names(&self.$field)
+        }
+
+        fn apply_preset(&mut self, name: &str) -> Result<(), $crate::aa::ParamError> {
+            let id = self.id();
+            $crate::graph::params::Tunable::apply_preset_named(&mut self.$field, id, name)
+        }
+    };
+}
+pub(crate) use tunable_settings;
 
 use std::collections::HashMap;
 use std::hash::Hash;

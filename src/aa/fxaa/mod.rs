@@ -36,7 +36,7 @@ pub use settings::{FxaaSettings, MAX_STEPS, Preset, Quality};
 
 use crate::aa::common::color::LumaSource;
 use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, debug_texture, encoded_view};
-use crate::aa::params::{Named, Param, ParamError, ParamValue, as_f32, as_named, preset_named};
+use crate::aa::params::Named;
 use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
@@ -239,79 +239,7 @@ impl Technique for Fxaa {
         items
     }
 
-    fn params(&self) -> Vec<Param> {
-        let s = &self.settings;
-        vec![
-            Param::named(
-                "quality",
-                "Quality preset",
-                "FXAA 3.11 quality preset: how far and in what steps the pass searches along an edge \
-                 for its ends. 10-15: few steps ending in a long jump (fast, some dither on long \
-                 edges); 20-29: more, shorter steps; 39: twelve short steps (no dither, slowest). \
-                 Lottes' default is 12.",
-                s.quality,
-            ),
-            Param::float(
-                "subpix",
-                "Sub-pixel blending",
-                "How much single pixels that stand out from their 3x3 neighbourhood are blended \
-                 (sub-pixel aliasing): 0 off and sharpest, 0.75 the default, 1 softest.",
-                0.0,
-                1.0,
-                s.subpix,
-            ),
-            Param::float(
-                "edge_threshold",
-                "Edge threshold",
-                "Local contrast needed to treat a pixel as an edge, relative to the brightest luma \
-                 around it: 0.333 too little, 0.25 low quality, 0.166 default, 0.125 high quality, \
-                 0.063 overkill (more texture blur).",
-                0.03,
-                0.5,
-                s.edge_threshold,
-            ),
-            Param::float(
-                "edge_threshold_min",
-                "Edge threshold (dark)",
-                "Contrast below which pixels are left alone however dark they are: 0.0833 default, \
-                 0.0625 high quality, 0.0312 visible limit (dark noise gets blurred).",
-                0.0,
-                0.1,
-                s.edge_threshold_min,
-            ),
-            Param::named(
-                "luma",
-                "Luma",
-                "Luma used for every test: bt601 weighs the sRGB-encoded red, green and blue \
-                 (0.299, 0.587, 0.114); green uses the green channel alone (cheaper, misses \
-                 edges between colours of equal green).",
-                s.luma,
-            ),
-        ]
-    }
-
-    fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
-        let s = &mut self.settings;
-        match key {
-            "quality" => s.quality = as_named(value).unwrap_or(s.quality),
-            "subpix" => s.subpix = as_f32(value),
-            "edge_threshold" => s.edge_threshold = as_f32(value),
-            "edge_threshold_min" => s.edge_threshold_min = as_f32(value),
-            "luma" => s.luma = as_named(value).unwrap_or(s.luma),
-            _ => return Err(ParamError::unknown_key(ID, key, &self.params())),
-        }
-        Ok(())
-    }
-
-    fn presets(&self) -> &'static [&'static str] {
-        Preset::NAMES
-    }
-
-    fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
-        let preset: Preset = preset_named(ID, name)?;
-        self.settings.apply_preset(preset);
-        Ok(())
-    }
+    crate::aa::common::tunable_settings!(settings);
 
     fn set_debug_views(&mut self, enabled: bool) {
         self.debug_enabled = enabled;

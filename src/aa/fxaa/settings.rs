@@ -1,8 +1,10 @@
 //! FXAA's settings: Lottes' quality presets (the edge-search step lists, which become override
-//! constants), the two contrast thresholds, the sub-pixel amount, the luma choice, and the
-//! named presets (Lottes' defaults and Bevy's sensitivity levels).
+//! constants), the two contrast thresholds, the sub-pixel amount, the luma choice, the named
+//! presets (Lottes' defaults and Bevy's sensitivity levels), and every parameter as data for
+//! the CLI, viewer and sidecars (its [`Tunable`] implementation).
 
 use crate::aa::common::color::LumaSource;
+use crate::aa::params::{Param, ParamValue, Tunable, as_f32, as_named};
 
 /// Most search steps a preset has (the shader has this many step constants).
 pub const MAX_STEPS: usize = 12;
@@ -135,9 +137,75 @@ impl Default for FxaaSettings {
     }
 }
 
-impl FxaaSettings {
-    /// Applies a named preset.
-    pub fn apply_preset(&mut self, preset: Preset) {
+impl Tunable for FxaaSettings {
+    type Preset = Preset;
+
+    fn params(&self) -> Vec<Param> {
+        let s = self;
+        vec![
+            Param::named(
+                "quality",
+                "Quality preset",
+                "FXAA 3.11 quality preset: how far and in what steps the pass searches along an edge \
+                 for its ends. 10-15: few steps ending in a long jump (fast, some dither on long \
+                 edges); 20-29: more, shorter steps; 39: twelve short steps (no dither, slowest). \
+                 Lottes' default is 12.",
+                s.quality,
+            ),
+            Param::float(
+                "subpix",
+                "Sub-pixel blending",
+                "How much single pixels that stand out from their 3x3 neighbourhood are blended \
+                 (sub-pixel aliasing): 0 off and sharpest, 0.75 the default, 1 softest.",
+                0.0,
+                1.0,
+                s.subpix,
+            ),
+            Param::float(
+                "edge_threshold",
+                "Edge threshold",
+                "Local contrast needed to treat a pixel as an edge, relative to the brightest luma \
+                 around it: 0.333 too little, 0.25 low quality, 0.166 default, 0.125 high quality, \
+                 0.063 overkill (more texture blur).",
+                0.03,
+                0.5,
+                s.edge_threshold,
+            ),
+            Param::float(
+                "edge_threshold_min",
+                "Edge threshold (dark)",
+                "Contrast below which pixels are left alone however dark they are: 0.0833 default, \
+                 0.0625 high quality, 0.0312 visible limit (dark noise gets blurred).",
+                0.0,
+                0.1,
+                s.edge_threshold_min,
+            ),
+            Param::named(
+                "luma",
+                "Luma",
+                "Luma used for every test: bt601 weighs the sRGB-encoded red, green and blue \
+                 (0.299, 0.587, 0.114); green uses the green channel alone (cheaper, misses \
+                 edges between colours of equal green).",
+                s.luma,
+            ),
+        ]
+    }
+
+    fn set(&mut self, key: &str, value: &ParamValue) -> bool {
+        let s = self;
+        match key {
+            "quality" => s.quality = as_named(value).unwrap_or(s.quality),
+            "subpix" => s.subpix = as_f32(value),
+            "edge_threshold" => s.edge_threshold = as_f32(value),
+            "edge_threshold_min" => s.edge_threshold_min = as_f32(value),
+            "luma" => s.luma = as_named(value).unwrap_or(s.luma),
+            _ => return false,
+        }
+        true
+    }
+
+    /// Lottes' defaults, or a sensitivity level's two thresholds (the rest kept).
+    fn apply_preset(&mut self, preset: Preset) {
         match preset.thresholds() {
             None => *self = Self::default(),
             Some((threshold, threshold_min)) => {
@@ -146,7 +214,9 @@ impl FxaaSettings {
             }
         }
     }
+}
 
+impl FxaaSettings {
     /// The override constants of the quality preset and luma choice.
     pub(super) fn constants(&self) -> Vec<(String, f64)> {
         let steps = self.quality.search_steps();

@@ -27,7 +27,7 @@ use wgpu::util::DeviceExt;
 pub use settings::{EdgeMode, MlaaSettings, PipelineKey, Preset};
 
 use crate::aa::common::{bilinear_clamp_sampler, view_as};
-use crate::aa::params::{Named, Param, ParamError, ParamValue};
+use crate::aa::params::Named;
 use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::smaa::pipeline::{
     self, Binding, EdgeDebugViews, EdgeTargets, MorphologicalDesc, MorphologicalPipelines, Vertex,
@@ -296,25 +296,7 @@ impl Technique for Mlaa {
         items
     }
 
-    fn params(&self) -> Vec<Param> {
-        self.settings.params()
-    }
-
-    fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
-        if self.settings.set(key, value) {
-            Ok(())
-        } else {
-            Err(ParamError::unknown_key(self.id(), key, &self.params()))
-        }
-    }
-
-    fn presets(&self) -> &'static [&'static str] {
-        Preset::NAMES
-    }
-
-    fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
-        self.settings.apply_preset_named(self.id(), name)
-    }
+    crate::aa::common::tunable_settings!(settings);
 
     fn set_debug_views(&mut self, enabled: bool) {
         self.debug_enabled = enabled;

@@ -1,10 +1,8 @@
 //! MLAA settings: quality presets, every parameter as data for the CLI, viewer and sidecars
-//! ([`MlaaSettings::params`], [`MlaaSettings::set`]), and the part compiled into pipelines
+//! (its [`Tunable`] implementation), and the part compiled into pipelines
 //! ([`PipelineKey`]).
 
-use crate::aa::params::{
-    Named, Param, ParamError, ParamValue, as_f32, as_i64, as_named, preset_named,
-};
+use crate::aa::params::{Named, Param, ParamValue, Tunable, as_f32, as_i64, as_named};
 
 use super::area::MAX_DISTANCE;
 
@@ -60,21 +58,6 @@ impl MlaaSettings {
         }
     }
 
-    /// Applies a preset's quality settings, keeping the edge mode.
-    pub fn apply_preset(&mut self, preset: Preset) {
-        *self = Self {
-            edge_mode: self.edge_mode,
-            ..Self::preset(preset)
-        };
-    }
-
-    /// Applies a preset by name.
-    pub fn apply_preset_named(&mut self, technique: &str, name: &str) -> Result<(), ParamError> {
-        let preset: Preset = preset_named(technique, name)?;
-        self.apply_preset(preset);
-        Ok(())
-    }
-
     /// The preset these settings equal, if any (otherwise they are custom).
     pub fn matching_preset(&self) -> Option<Preset> {
         Preset::ALL.iter().copied().find(|&p| {
@@ -91,9 +74,12 @@ impl MlaaSettings {
             max_search_steps: self.max_search_steps,
         }
     }
+}
 
-    /// Every parameter with its current value.
-    pub fn params(&self) -> Vec<Param> {
+impl Tunable for MlaaSettings {
+    type Preset = Preset;
+
+    fn params(&self) -> Vec<Param> {
         vec![
             Param::float(
                 "threshold",
@@ -126,9 +112,7 @@ impl MlaaSettings {
         ]
     }
 
-    /// Applies a value already validated against [`MlaaSettings::params`]; `false` for an
-    /// unknown key.
-    pub fn set(&mut self, key: &str, value: &ParamValue) -> bool {
+    fn set(&mut self, key: &str, value: &ParamValue) -> bool {
         match key {
             "threshold" => self.threshold = as_f32(value),
             "max_search_steps" => {
@@ -138,6 +122,14 @@ impl MlaaSettings {
             _ => return false,
         }
         true
+    }
+
+    /// Keeps the edge mode.
+    fn apply_preset(&mut self, preset: Preset) {
+        *self = Self {
+            edge_mode: self.edge_mode,
+            ..Self::preset(preset)
+        };
     }
 }
 

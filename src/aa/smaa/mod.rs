@@ -29,7 +29,7 @@ pub mod temporal;
 
 pub use settings::{EdgeMode, Preset, SmaaSettings};
 
-use crate::aa::params::{Named, Param, ParamError, ParamValue};
+use crate::aa::params::{Named, Param, ParamError, ParamValue, Tunable};
 use crate::aa::registry::{FULL_SET_HINT, TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
@@ -268,7 +268,7 @@ impl Technique for Smaa {
     }
 
     fn params(&self) -> Vec<Param> {
-        self.settings.params(self.mode == Mode::T2x)
+        self.settings.params_for(self.mode == Mode::T2x)
     }
 
     fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
@@ -280,7 +280,7 @@ impl Technique for Smaa {
     }
 
     fn presets(&self) -> &'static [&'static str] {
-        Preset::NAMES
+        self.settings.preset_names()
     }
 
     fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {

@@ -1,11 +1,9 @@
 //! SMAA settings: the quality presets of the paper, every parameter as data for the CLI,
-//! viewer and sidecars ([`SmaaSettings::params`], [`SmaaSettings::set`]), and the split
+//! viewer and sidecars (its [`Tunable`] implementation, [`SmaaSettings::params_for`] a mode), and the split
 //! between settings that change pipelines ([`PipelineKey`], WGSL override constants) and
 //! those that only change a uniform.
 
-use crate::aa::params::{
-    Named, Param, ParamError, ParamValue, as_bool, as_f32, as_i64, as_named, preset_named,
-};
+use crate::aa::params::{Named, Param, ParamValue, Tunable, as_bool, as_f32, as_i64, as_named};
 
 use super::lut::MAX_DIAG_DISTANCE;
 
@@ -105,18 +103,6 @@ impl SmaaSettings {
         }
     }
 
-    /// Applies a preset's quality settings, keeping the edge mode, predication and
-    /// reprojection choices.
-    pub fn apply_preset(&mut self, preset: Preset) {
-        let p = Self::preset(preset);
-        self.threshold = p.threshold;
-        self.max_search_steps = p.max_search_steps;
-        self.diagonal_detection = p.diagonal_detection;
-        self.max_search_steps_diag = p.max_search_steps_diag;
-        self.corner_detection = p.corner_detection;
-        self.corner_rounding = p.corner_rounding;
-    }
-
     /// The preset these settings equal, if any (otherwise they are custom).
     pub fn matching_preset(&self) -> Option<Preset> {
         Preset::ALL.iter().copied().find(|&p| {
@@ -152,8 +138,9 @@ impl SmaaSettings {
         }
     }
 
-    /// Every parameter with its current value; `temporal` adds the T2x resolve settings.
-    pub fn params(&self, temporal: bool) -> Vec<Param> {
+    /// Every parameter with its current value; `temporal` adds the resolve settings of the
+    /// temporal modes (T2x, 4x), which the others do not have.
+    pub fn params_for(&self, temporal: bool) -> Vec<Param> {
         let mut params = vec![
             Param::float(
                 "threshold",
@@ -282,10 +269,17 @@ impl SmaaSettings {
         }
         params
     }
+}
 
-    /// Applies a value already validated against [`SmaaSettings::params`]; `false` for an
-    /// unknown key.
-    pub fn set(&mut self, key: &str, value: &ParamValue) -> bool {
+impl Tunable for SmaaSettings {
+    type Preset = Preset;
+
+    /// Every parameter, the temporal modes' included ([`SmaaSettings::params_for`]).
+    fn params(&self) -> Vec<Param> {
+        self.params_for(true)
+    }
+
+    fn set(&mut self, key: &str, value: &ParamValue) -> bool {
         let steps = |v: &ParamValue, max: u32| as_i64(v).clamp(1, i64::from(max)) as u32;
         match key {
             "threshold" => self.threshold = as_f32(value),
@@ -307,11 +301,15 @@ impl SmaaSettings {
         true
     }
 
-    /// Applies a preset by name.
-    pub fn apply_preset_named(&mut self, technique: &str, name: &str) -> Result<(), ParamError> {
-        let preset: Preset = preset_named(technique, name)?;
-        self.apply_preset(preset);
-        Ok(())
+    /// Keeps the edge mode, predication and reprojection choices.
+    fn apply_preset(&mut self, preset: Preset) {
+        let p = Self::preset(preset);
+        self.threshold = p.threshold;
+        self.max_search_steps = p.max_search_steps;
+        self.diagonal_detection = p.diagonal_detection;
+        self.max_search_steps_diag = p.max_search_steps_diag;
+        self.corner_detection = p.corner_detection;
+        self.corner_rounding = p.corner_rounding;
     }
 }
 
@@ -373,7 +371,7 @@ mod tests {
     #[test]
     fn every_param_round_trips() {
         let mut s = SmaaSettings::default();
-        for p in s.params(true) {
+        for p in s.params() {
             let value = p
                 .validate("smaa", p.value.clone())
                 .expect("current value is valid");
@@ -381,7 +379,7 @@ mod tests {
         }
         assert_eq!(s, SmaaSettings::default());
         let edge = s
-            .params(false)
+            .params_for(false)
             .into_iter()
             .find(|p| p.key == "edge_detection")
             .expect("edge param");

@@ -20,13 +20,12 @@
 
 use glam::Vec2;
 
-use crate::aa::params::{Named, Param, ParamError, ParamValue};
 use crate::aa::registry::TechniqueInfo;
 use crate::aa::smaa::multisample::{Multisample, S2xPath, sample_offsets};
 use crate::aa::smaa::passes::{Input, SmaaPasses};
 use crate::aa::smaa::pipeline::{self, Binding, PassDesc, Stencil, bind_group, cleared};
 use crate::aa::smaa::temporal::{ResolveFrame, Temporal};
-use crate::aa::smaa::{Preset, SmaaSettings, s2x_availability};
+use crate::aa::smaa::{SmaaSettings, s2x_availability};
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
 use crate::gpu::{Gpu, MOTION_FORMAT};
@@ -304,25 +303,7 @@ impl Technique for Smaa4x {
         items
     }
 
-    fn params(&self) -> Vec<Param> {
-        self.settings.params(true)
-    }
-
-    fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
-        if self.settings.set(key, value) {
-            Ok(())
-        } else {
-            Err(ParamError::unknown_key(self.id(), key, &self.params()))
-        }
-    }
-
-    fn presets(&self) -> &'static [&'static str] {
-        Preset::NAMES
-    }
-
-    fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
-        self.settings.apply_preset_named(self.id(), name)
-    }
+    crate::aa::common::tunable_settings!(settings);
 
     fn set_debug_views(&mut self, enabled: bool) {
         self.debug_enabled = enabled;

@@ -94,9 +94,7 @@ use glam::Vec2;
 
 use crate::aa::common::sampling::halton;
 use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, encoded_view};
-use crate::aa::params::{
-    Named, Param, ParamError, ParamValue, as_bool, as_f32, as_named, preset_named,
-};
+use crate::aa::params::{Named, Param, ParamError, ParamValue, Tunable};
 use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
@@ -534,182 +532,24 @@ impl Technique for Taa {
     }
 
     fn params(&self) -> Vec<Param> {
-        let s = &self.settings;
-        vec![
-            Param::named(
-                "samples",
-                "Jitter samples",
-                "Length of the Halton(2,3) jitter sequence: each pixel is sampled at this many \
-                 places in turn. 8 converges faster; 16 resolves finer detail on a still image.",
-                s.samples,
-            ),
-            Param::named(
-                "history_filter",
-                "History filter",
-                "How the previous result is read at the reprojected position: bilinear is cheap \
-                 but softens the image a little more every frame the camera moves; catmull-rom \
-                 (five bilinear taps) keeps it sharp.",
-                s.history_filter,
-            ),
-            Param::named(
-                "rectify",
-                "History rectification",
-                "How the history is made to agree with the current frame, which removes ghosts of \
-                 moved or uncovered content: none (ghost trails, for comparison); clamp to the RGB \
-                 range of the 3x3 neighbourhood; clip towards the neighbourhood's YCoCg box (Karis); \
-                 variance: clip to mean +/- gamma standard deviations (Salvi: tighter, less ghosting).",
-                s.rectify,
-            ),
-            Param::float(
-                "gamma",
-                "Variance gamma",
-                "Variance clipping only: half-width of the colour box in standard deviations. \
-                 Smaller rejects more history (less ghosting, more flicker); about 1 is usual.",
-                0.25,
-                3.0,
-                s.gamma,
-            ),
-            Param::float(
-                "current_weight",
-                "Current frame weight",
-                "Share of the new frame in each blend: small values (0.04) accumulate more samples \
-                 and look smoother but react slower; 1 turns the history off.",
-                0.01,
-                1.0,
-                s.current_weight,
-            ),
-            Param::float(
-                "motion_weight",
-                "Current weight in motion",
-                "Share of the new frame where the image moves by a pixel per frame or more (it \
-                 rises from the current frame weight with the speed): every frame of motion \
-                 resamples the history between pixels, which softens it a little; a larger share \
-                 keeps thin lines sharp under motion at the cost of a little more aliasing.",
-                0.01,
-                1.0,
-                s.motion_weight,
-            ),
-            Param::float(
-                "velocity_tolerance",
-                "Velocity tolerance",
-                "Change of speed in pixels per frame between the history and the current pixel at \
-                 which rectification applies in full. Where the content moves as it did, the \
-                 history shows the same surface: rectification is eased off there, so thin lines \
-                 that this frame's jitter missed are kept; an occluder sliding over its background \
-                 changes the speed and brings it back. 0 always rectifies in full.",
-                0.0,
-                4.0,
-                s.velocity_tolerance,
-            ),
-            Param::named(
-                "current_filter",
-                "Current-frame filter",
-                "What the new frame adds to the history: sample, the pixel's own jittered sample (a \
-                 point of the scene); gaussian, under motion, the samples of the colour \
-                 neighbourhood weighed by their distance from the pixel centre with the spread of \
-                 the pixel's area, so the new frame estimates the pixel's average as a \
-                 supersampled image does (less noise on sub-pixel geometry, a little softer; no \
-                 extra reads). It takes over as far as resampling blurs the history: a still \
-                 camera keeps the exact samples.",
-                s.current_filter,
-            ),
-            Param::bool(
-                "luma_weight",
-                "Luminance weighting",
-                "Weigh current frame and history by 1 / (1 + luminance) (Karis), so a single bright \
-                 sample cannot make a pixel flicker.",
-                s.luma_weight,
-            ),
-            Param::named(
-                "velocity",
-                "Velocity source",
-                "Which motion vector reprojects the pixel: own (the pixel's, no depth reads); \
-                 diagonals (the nearest surface among the pixel and its four diagonal neighbours, \
-                 five depth reads); 3x3 (the nearest of the whole block, nine); quads (the \
-                 nearest of the two 2x2 blocks that share the pixel along its main diagonal: \
-                 seven pixels from two depth gathers, the default). The nearest \
-                 surface makes antialiased silhouettes move with the foreground object; without it \
-                 thin geometry smears.",
-                s.velocity,
-            ),
-            Param::named(
-                "neighbourhood",
-                "Colour neighbourhood",
-                "Which current-frame colours bound the history: 3x3 (nine reads) or cross (the \
-                 pixel and its four direct neighbours: five reads, a tighter box that rejects a \
-                 little more history).",
-                s.neighbourhood,
-            ),
-            Param::bool(
-                "resample_feedback",
-                "Resampling-adaptive feedback",
-                "What raises the current frame's share from the current frame weight towards the \
-                 motion weight: on, the blur of reading the history between texels (none on a \
-                 still camera or whole-pixel motion, most at half-pixel offsets); off, the speed \
-                 (in full at one pixel per frame).",
-                s.resample_feedback,
-            ),
-            Param::bool(
-                "trust_sharp_only",
-                "Trust sharp history only",
-                "Ease the velocity tolerance's trust off as the read between texels blurs the \
-                 history: a blurred history spreads a little into its neighbours every frame, and \
-                 trusted, that spread is never rectified away (a dark veil creeping out of moving \
-                 thin geometry, ghosts beside slow objects).",
-                s.trust_sharp_only,
-            ),
-            Param::bool(
-                "trust_own_speed",
-                "Trust by own speed",
-                "Velocity tolerance compares the history's speed with the speed of the pixel's own \
-                 surface (one more motion read) instead of the nearest surface's: a background \
-                 pixel next to a moving strand then does not inherit the strand's speed, and \
-                 keeps no stale strand colour (the grey veil over fine geometry).",
-                s.trust_own_speed,
-            ),
-            Param::float(
-                "mip_bias",
-                "Texture mip bias",
-                "Texture level-of-detail bias of the jittered render: negative values pick sharper \
-                 mip levels, whose extra aliasing the accumulation averages away.",
-                -2.0,
-                0.0,
-                s.mip_bias,
-            ),
-        ]
+        self.settings.params()
     }
 
     fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
-        let mut s = self.settings;
-        match key {
-            "samples" => s.samples = as_named(value).unwrap_or(s.samples),
-            "history_filter" => s.history_filter = as_named(value).unwrap_or(s.history_filter),
-            "rectify" => s.rectify = as_named(value).unwrap_or(s.rectify),
-            "gamma" => s.gamma = as_f32(value),
-            "current_weight" => s.current_weight = as_f32(value),
-            "motion_weight" => s.motion_weight = as_f32(value),
-            "velocity_tolerance" => s.velocity_tolerance = as_f32(value),
-            "luma_weight" => s.luma_weight = as_bool(value),
-            "current_filter" => s.current_filter = as_named(value).unwrap_or(s.current_filter),
-            "velocity" => s.velocity = as_named(value).unwrap_or(s.velocity),
-            "neighbourhood" => s.neighbourhood = as_named(value).unwrap_or(s.neighbourhood),
-            "trust_own_speed" => s.trust_own_speed = as_bool(value),
-            "resample_feedback" => s.resample_feedback = as_bool(value),
-            "trust_sharp_only" => s.trust_sharp_only = as_bool(value),
-            "mip_bias" => s.mip_bias = as_f32(value),
-            _ => return Err(ParamError::unknown_key(ID, key, &self.params())),
-        }
-        self.set_settings(s);
+        let mut settings = self.settings;
+        settings.set_param(ID, key, value)?;
+        self.set_settings(settings);
         Ok(())
     }
 
     fn presets(&self) -> &'static [&'static str] {
-        Preset::NAMES
+        self.settings.preset_names()
     }
 
     fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
-        let preset: Preset = preset_named(ID, name)?;
-        self.set_settings(TaaSettings::preset(preset));
+        let mut settings = self.settings;
+        settings.apply_preset_named(ID, name)?;
+        self.set_settings(settings);
         Ok(())
     }
 
