@@ -1,7 +1,7 @@
 //! SMAA settings: the quality presets of the paper, every parameter as data for the CLI,
-//! viewer and sidecars (its [`Tunable`] implementation, [`SmaaSettings::params_for`] a mode), and the split
-//! between settings that change pipelines ([`PipelineKey`], WGSL override constants) and
-//! those that only change a uniform.
+//! viewer and sidecars (its [`Tunable`] implementation; [`SmaaSettings::params_for`] those of
+//! one mode), and the split between settings that change pipelines ([`PipelineKey`], WGSL
+//! override constants) and those that only change a uniform.
 
 use crate::aa::params::{Named, Param, ParamValue, Tunable, as_bool, as_f32, as_i64, as_named};
 
