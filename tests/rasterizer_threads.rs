@@ -52,7 +52,7 @@ fn threads() -> Vec<ThreadInfo> {
                 .to_owned();
             Some(ThreadInfo {
                 name: name.trim().to_owned(),
-                idle_class: policy == "5",
+                idle_class: policy == nix::libc::SCHED_IDLE.to_string(),
                 cpus: allowed_cpus(&status),
             })
         })

@@ -30,6 +30,7 @@ pub fn spread_window_rasterizer_threads(adapter: &wgpu::AdapterInfo) {
 
 #[cfg(target_os = "linux")]
 mod linux {
+    use nix::libc::SCHED_IDLE;
     use nix::sched::{CpuSet, sched_getaffinity, sched_setaffinity};
     use nix::unistd::Pid;
 
@@ -44,9 +45,6 @@ mod linux {
         let after_name = &stat[stat.rfind(')')? + 1..];
         after_name.split_whitespace().nth(41 - 3)?.parse().ok()
     }
-
-    /// Linux's idle scheduling class (SCHED_IDLE).
-    const SCHED_IDLE: i32 = 5;
 
     /// The CPU for rasteriser thread `index`, among the CPUs the process may use.
     fn cpu_for(index: usize, allowed: &[usize]) -> Option<usize> {
