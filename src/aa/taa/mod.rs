@@ -21,14 +21,18 @@
 //! and 2 diagonal ones), read with two depth gathers instead of the pixel and its 4 diagonal
 //! neighbours' five loads: the same cost on lavapipe, and .0013 / .0008 better on hairball
 //! (.8544 / .8510) and .0004 on atrium; the 5-pixel cross bounds the history as well as the
-//! 3x3 block (within .0003) with 4 fewer reads; the 4 texel loads that kept the Catmull-Rom
+//! 3x3 block (within .0003) with 4 fewer colours (1 fewer load, below); the 4 texel loads that kept the Catmull-Rom
 //! result within its bilinear footprint, and a separate bilinear read of the history's speed,
-//! are dropped (the rectification removes the overshoot). The default resolve makes 13 reads
-//! per pixel (5 colours, 2 depth gathers, 1 motion, 5 history taps) where it made 29. The
-//! Catmull-Rom filter's 4 extra bilinear taps are a quarter of its cost on lavapipe (14x a
-//! full-screen copy at 1920x1080, 10.3x with a bilinear history), where each tap filters in
-//! software; the same filter from its 12 texels by loads costs more still. A bilinear history
-//! (`lean` preset, 9 reads) is as good on hairball, but where the velocity tolerance trusts
+//! are dropped (the rectification removes the overshoot). The colours are shared within each
+//! 2x2 quad of fragments: a fragment loads its own colour and its neighbours outside the quad,
+//! and takes the ones inside from its quad partners' loads through the fine derivatives (the
+//! same values, so the same image, for 3 loads of the cross instead of 5: 0.3-0.5x a copy less
+//! on lavapipe, where each load also decodes sRGB in software). The default resolve makes 11
+//! texture reads per pixel (3 colour loads, 2 depth gathers, 1 motion, 5 history taps) where
+//! it made 29. The Catmull-Rom filter's 4 extra bilinear taps are about a fifth of its cost on
+//! lavapipe (12.2-12.6x a full-screen copy at 1920x1080, 9.5-9.7x with a bilinear history),
+//! where each tap filters in software; the same filter from its 12 texels by loads costs more
+//! still. A bilinear history (`lean` preset, 7 reads) is as good on hairball, but where the velocity tolerance trusts
 //! it, its blur spreads a slow object into its background a little every frame and leaves a
 //! faint ghost (13/255 on the spinning object of `tests/fxaa_taa.rs`; a smaller tolerance does
 //! not remove it, none loses hairball's thin strands), and atrium's textures come out .02

@@ -70,9 +70,10 @@ crate::named_enum! {
 crate::named_enum! {
     /// Which current-frame colours make the box the history is rectified against.
     pub enum Neighbourhood {
-        /// The 3x3 block (nine colour reads).
+        /// The 3x3 block (nine colours from four loads, the rest shared within the 2x2 quad).
         Box => "3x3",
-        /// The pixel and its four direct neighbours (five reads; a tighter box).
+        /// The pixel and its four direct neighbours (five colours from three loads; a tighter
+        /// box).
         Cross => "cross",
     }
 }
@@ -165,9 +166,9 @@ crate::named_enum! {
     pub enum Preset {
         /// The defaults.
         Default => "default",
-        /// The defaults with one bilinear history read instead of five (9 reads per pixel
-        /// instead of 13): about 10x a full-screen copy at 1920x1080 on lavapipe against the
-        /// defaults' 14x, SSIM still at MSAA 4x's on hairball and above it on atrium, but
+        /// The defaults with one bilinear history read instead of five (7 reads per pixel
+        /// instead of 11): about 9.5x a full-screen copy at 1920x1080 on lavapipe against the
+        /// defaults' 12.2-12.6x, SSIM still at MSAA 4x's on hairball and above it on atrium, but
         /// textures come out softer in motion (atrium FLIP 0.053 against the defaults' 0.036)
         /// and a slowly spinning object leaves a faint trail (13/255).
         Lean => "lean",
@@ -181,7 +182,7 @@ crate::named_enum! {
         /// 0.041 / 0.036).
         Steady => "steady",
         /// The cheapest variant: bilinear history, RGB clamp to the 5-pixel cross, the pixel's
-        /// own motion (7 reads per pixel).
+        /// own motion (5 reads per pixel).
         Fast => "fast",
         /// The most reads: nearest surface and colour box of the 3x3 block, 16 jitter positions
         /// and a mip bias of -2 to match them.

@@ -4,7 +4,9 @@
 // Every frame the scene is rendered with a different sub-pixel jitter (Halton 2,3), and this
 // pass blends that one-sample image into an accumulated history:
 //  1. Neighbourhood: the current colours around the pixel (3x3, or the 5-pixel cross) give the
-//     colour box (min/max, mean and variance), and the nearest surface among the pixel and its
+//     colour box (min/max, mean and variance; a fragment loads its own colour and its
+//     neighbours outside its 2x2 quad, and takes those inside from its quad partners' loads
+//     through the fine derivatives), and the nearest surface among the pixel and its
 //     neighbours (reverse-Z: largest depth; the two 2x2 quads that share the pixel, read by two
 //     gathers, the 4 diagonal ones or all 8) gives the motion vector, so silhouettes carry the
 //     foreground's motion.
@@ -163,6 +165,75 @@ fn history_at(uv: vec2<f32>) -> vec4<f32> {
     return vec4<f32>(max(sum / total, vec3<f32>(0.0)), speed);
 }
 
+// The current frame's colour at a pixel, clamped to the image.
+fn current_at(pixel: vec2<i32>, last: vec2<i32>) -> vec3<f32> {
+    return textureLoad(current, clamp(pixel, vec2<i32>(0), last), 0).rgb;
+}
+
+// A value of the fragment's partner across its 2x2 quad in x: the fine derivative is the odd
+// column's value minus the even one's in both fragments of a row, so each gets the other's.
+fn across_x(value: vec3<f32>, odd: bool) -> vec3<f32> {
+    let difference = dpdxFine(value);
+    return select(value + difference, value - difference, odd);
+}
+
+// The same across the quad in y.
+fn across_y(value: vec3<f32>, odd: bool) -> vec3<f32> {
+    let difference = dpdyFine(value);
+    return select(value + difference, value - difference, odd);
+}
+
+// A row (or column) of three: the neighbour inside the pixel's 2x2 quad and the one outside
+// it, ordered from the negative side (an even pixel's partner is at +1, an odd one's at -1).
+fn ordered(
+    inside: vec3<f32>,
+    middle: vec3<f32>,
+    outside: vec3<f32>,
+    odd: bool,
+) -> array<vec3<f32>, 3> {
+    return array<vec3<f32>, 3>(
+        select(outside, inside, odd),
+        middle,
+        select(inside, outside, odd),
+    );
+}
+
+// The current colours of the 3x3 neighbourhood (clamped at the image's border), index
+// 3 (dy + 1) + dx + 1. Each fragment loads itself and its neighbours outside its 2x2 quad; the
+// neighbours inside the quad are its partners' loads, exchanged through the fine derivatives:
+// 3 texture loads for the 5-pixel cross instead of 5, 4 for the 3x3 block instead of 9.
+// Called in uniform control flow (derivatives); a partner beyond the image's last row or
+// column is a helper fragment, which loads the clamped pixel, as a clamped load would.
+fn neighbourhood_colours(pixel: vec2<i32>, last: vec2<i32>) -> array<vec3<f32>, 9> {
+    let odd = (pixel & vec2<i32>(1)) == vec2<i32>(1);
+    // One step from the pixel away from its quad partner.
+    let outward = select(vec2<i32>(-1), vec2<i32>(1), odd);
+    let own = current_at(pixel, last);
+    let outside_x = current_at(pixel + vec2<i32>(outward.x, 0), last);
+    let outside_y = current_at(pixel + vec2<i32>(0, outward.y), last);
+    var outside_xy = vec3<f32>(0.0);
+    if NEIGHBOURHOOD == 0u {
+        outside_xy = current_at(pixel + outward, last);
+    }
+    let inside_x = across_x(own, odd.x);
+    // The partner row (across the quad in y) and the outside row.
+    let row = ordered(inside_x, own, outside_x, odd.x);
+    let partner_row = ordered(
+        across_y(inside_x, odd.y),
+        across_y(own, odd.y),
+        across_y(outside_x, odd.y),
+        odd.x,
+    );
+    let outside_row = ordered(across_x(outside_y, odd.x), outside_y, outside_xy, odd.x);
+    var colours: array<vec3<f32>, 9>;
+    for (var dx = 0u; dx < 3u; dx++) {
+        colours[dx] = select(outside_row[dx], partner_row[dx], odd.y);
+        colours[3u + dx] = row[dx];
+        colours[6u + dx] = select(partner_row[dx], outside_row[dx], odd.y);
+    }
+    return colours;
+}
+
 struct Nearest {
     pixel: vec2<i32>,
     depth: f32,
@@ -208,7 +279,6 @@ struct Resolved {
 fn resolve(position: vec2<f32>) -> Resolved {
     let pixel = vec2<i32>(position);
     let last = vec2<i32>(params.size.xy) - 1;
-    var centre = vec3<f32>(0.0);
 
     // 1. Neighbourhood colour box and nearest surface.
     var low = vec3<f32>(1e9);
@@ -226,17 +296,16 @@ fn resolve(position: vec2<f32>) -> Resolved {
         nearest = nearest_quads.pixel;
         nearest_depth = nearest_quads.depth;
     }
+    let colours = neighbourhood_colours(pixel, last);
+    var centre = colours[4];
     for (var dy = -1; dy <= 1; dy++) {
         for (var dx = -1; dx <= 1; dx++) {
             let p = clamp(pixel + vec2<i32>(dx, dy), vec2<i32>(0), last);
             let diagonal = dx != 0 && dy != 0;
             let centre_tap = dx == 0 && dy == 0;
             if NEIGHBOURHOOD == 0u || !diagonal {
-                let rgb = textureLoad(current, p, 0).rgb;
-                if centre_tap {
-                    centre = rgb;
-                }
                 let tap = u32(3 * (dy + 1) + dx + 1);
+                let rgb = colours[tap];
                 filtered += params.current_filter[tap / 4u][tap % 4u] * rgb;
                 let c = to_box_space(rgb);
                 low = min(low, c);
