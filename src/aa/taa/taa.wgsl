@@ -134,35 +134,24 @@ fn history_at(uv: vec2<f32>) -> vec4<f32> {
     let w = catmull_rom_weights(position - base);
     let middle = w[1] + w[2];
     let texel = params.size.zw;
-    let at_before = (base - 0.5) * texel;
-    let at_middle = (base + 0.5 + w[2] / middle) * texel;
-    let at_after = (base + 2.5) * texel;
-    let weights = array<f32, 5>(
-        middle.x * w[0].y,
-        w[0].x * middle.y,
-        middle.x * middle.y,
-        w[3].x * middle.y,
-        middle.x * w[3].y,
-    );
-    let taps = array<vec2<f32>, 5>(
-        vec2<f32>(at_middle.x, at_before.y),
-        vec2<f32>(at_before.x, at_middle.y),
-        at_middle,
-        vec2<f32>(at_after.x, at_middle.y),
-        vec2<f32>(at_middle.x, at_after.y),
-    );
-    var sum = vec3<f32>(0.0);
-    var total = 0.0;
-    var speed = 0.0;
-    for (var i = 0u; i < 5u; i++) {
-        let tap = textureSampleLevel(history, bilinear, taps[i], 0.0);
-        sum += weights[i] * tap.rgb;
-        total += weights[i];
-        if i == 2u {
-            speed = tap.a;
-        }
-    }
-    return vec4<f32>(max(sum / total, vec3<f32>(0.0)), speed);
+    let before = (base - 0.5) * texel;
+    let inner = (base + 0.5 + w[2] / middle) * texel;
+    let after = (base + 2.5) * texel;
+    // Five taps in straight-line code (no arrays: GPU compilers would put them in memory).
+    let up = textureSampleLevel(history, bilinear, vec2<f32>(inner.x, before.y), 0.0).rgb;
+    let left = textureSampleLevel(history, bilinear, vec2<f32>(before.x, inner.y), 0.0).rgb;
+    let centre = textureSampleLevel(history, bilinear, inner, 0.0);
+    let right = textureSampleLevel(history, bilinear, vec2<f32>(after.x, inner.y), 0.0).rgb;
+    let down = textureSampleLevel(history, bilinear, vec2<f32>(inner.x, after.y), 0.0).rgb;
+    let w_up = middle.x * w[0].y;
+    let w_left = w[0].x * middle.y;
+    let w_centre = middle.x * middle.y;
+    let w_right = w[3].x * middle.y;
+    let w_down = middle.x * w[3].y;
+    let sum = w_up * up + w_left * left + w_centre * centre.rgb + w_right * right + w_down * down;
+    let total = w_up + w_left + w_centre + w_right + w_down;
+    // The speed is the centre tap's.
+    return vec4<f32>(max(sum / total, vec3<f32>(0.0)), centre.a);
 }
 
 // The current frame's colour at a pixel, clamped to the image.
@@ -183,30 +172,28 @@ fn across_y(value: vec3<f32>, odd: bool) -> vec3<f32> {
     return select(value + difference, value - difference, odd);
 }
 
-// A row (or column) of three: the neighbour inside the pixel's 2x2 quad and the one outside
-// it, ordered from the negative side (an even pixel's partner is at +1, an odd one's at -1).
-fn ordered(
-    inside: vec3<f32>,
-    middle: vec3<f32>,
-    outside: vec3<f32>,
-    odd: bool,
-) -> array<vec3<f32>, 3> {
-    return array<vec3<f32>, 3>(
-        select(outside, inside, odd),
-        middle,
-        select(inside, outside, odd),
-    );
+// The current colours of the pixel's 3x3 neighbourhood, clamped at the image's border.
+struct Neighbours {
+    centre: vec3<f32>,
+    left: vec3<f32>,
+    right: vec3<f32>,
+    up: vec3<f32>,
+    down: vec3<f32>,
+    up_left: vec3<f32>,
+    up_right: vec3<f32>,
+    down_left: vec3<f32>,
+    down_right: vec3<f32>,
 }
 
-// The current colours of the 3x3 neighbourhood (clamped at the image's border), index
-// 3 (dy + 1) + dx + 1. Each fragment loads itself and its neighbours outside its 2x2 quad; the
-// neighbours inside the quad are its partners' loads, exchanged through the fine derivatives:
-// 3 texture loads for the 5-pixel cross instead of 5, 4 for the 3x3 block instead of 9.
-// Called in uniform control flow (derivatives); a partner beyond the image's last row or
-// column is a helper fragment, which loads the clamped pixel, as a clamped load would.
-fn neighbourhood_colours(pixel: vec2<i32>, last: vec2<i32>) -> array<vec3<f32>, 9> {
+// Each fragment loads its own colour and its neighbours outside its 2x2 quad; the neighbours
+// inside the quad are its partners' loads, exchanged through the fine derivatives: 3 texture
+// loads for the 5-pixel cross instead of 5, 4 for the 3x3 block instead of 9 (the diagonals
+// are only loaded for the 3x3 box). Called in uniform control flow (derivatives); a partner
+// beyond the image's last row or column is a helper fragment, which loads the clamped pixel,
+// as a clamped load would. Plain values, no arrays: GPU compilers keep them in registers.
+fn neighbours(pixel: vec2<i32>, last: vec2<i32>) -> Neighbours {
     let odd = (pixel & vec2<i32>(1)) == vec2<i32>(1);
-    // One step from the pixel away from its quad partner.
+    // One step from the pixel away from its quad partner (an even pixel's partner is at +1).
     let outward = select(vec2<i32>(-1), vec2<i32>(1), odd);
     let own = current_at(pixel, last);
     let outside_x = current_at(pixel + vec2<i32>(outward.x, 0), last);
@@ -216,22 +203,62 @@ fn neighbourhood_colours(pixel: vec2<i32>, last: vec2<i32>) -> array<vec3<f32>, 
         outside_xy = current_at(pixel + outward, last);
     }
     let inside_x = across_x(own, odd.x);
-    // The partner row (across the quad in y) and the outside row.
-    let row = ordered(inside_x, own, outside_x, odd.x);
-    let partner_row = ordered(
-        across_y(inside_x, odd.y),
-        across_y(own, odd.y),
-        across_y(outside_x, odd.y),
-        odd.x,
+    let inside_y = across_y(own, odd.y);
+    // The corners: inside or outside the quad in x, then in y.
+    let inside_inside = across_y(inside_x, odd.y);
+    let outside_inside = across_y(outside_x, odd.y);
+    let inside_outside = across_x(outside_y, odd.x);
+    // The left neighbour is inside the quad for an odd column, the upper one for an odd row.
+    let left_in = odd.x;
+    let up_in = odd.y;
+    return Neighbours(
+        own,
+        select(outside_x, inside_x, left_in),
+        select(inside_x, outside_x, left_in),
+        select(outside_y, inside_y, up_in),
+        select(inside_y, outside_y, up_in),
+        corner(left_in, up_in, inside_inside, outside_inside, inside_outside, outside_xy),
+        corner(!left_in, up_in, inside_inside, outside_inside, inside_outside, outside_xy),
+        corner(left_in, !up_in, inside_inside, outside_inside, inside_outside, outside_xy),
+        corner(!left_in, !up_in, inside_inside, outside_inside, inside_outside, outside_xy),
     );
-    let outside_row = ordered(across_x(outside_y, odd.x), outside_y, outside_xy, odd.x);
-    var colours: array<vec3<f32>, 9>;
-    for (var dx = 0u; dx < 3u; dx++) {
-        colours[dx] = select(outside_row[dx], partner_row[dx], odd.y);
-        colours[3u + dx] = row[dx];
-        colours[6u + dx] = select(partner_row[dx], outside_row[dx], odd.y);
-    }
-    return colours;
+}
+
+// One of the four corners, by whether it lies inside the quad in x and in y.
+fn corner(
+    x_inside: bool,
+    y_inside: bool,
+    inside_inside: vec3<f32>,
+    outside_inside: vec3<f32>,
+    inside_outside: vec3<f32>,
+    outside_outside: vec3<f32>,
+) -> vec3<f32> {
+    return select(
+        select(outside_outside, inside_outside, x_inside),
+        select(outside_inside, inside_inside, x_inside),
+        y_inside,
+    );
+}
+
+// The colour box the history is rectified against, and the current frame's filtered estimate.
+struct ColourBox {
+    low: vec3<f32>,
+    high: vec3<f32>,
+    sum: vec3<f32>,
+    sum_squares: vec3<f32>,
+    count: f32,
+    filtered: vec3<f32>,
+}
+
+// Adds the neighbour at 3x3 index `tap` (3 (dy + 1) + dx + 1) to the box.
+fn add_tap(colour_box: ptr<function, ColourBox>, rgb: vec3<f32>, tap: u32) {
+    (*colour_box).filtered += params.current_filter[tap / 4u][tap % 4u] * rgb;
+    let c = to_box_space(rgb);
+    (*colour_box).low = min((*colour_box).low, c);
+    (*colour_box).high = max((*colour_box).high, c);
+    (*colour_box).sum += c;
+    (*colour_box).sum_squares += c * c;
+    (*colour_box).count += 1.0;
 }
 
 struct Nearest {
@@ -248,20 +275,20 @@ fn nearest_in_quads(pixel: vec2<i32>, last: vec2<i32>) -> Nearest {
     // A gather's components: (x0, y1), (x1, y1), (x1, y0), (x0, y0).
     let above = textureGather(depth, bilinear, corner);
     let below = textureGather(depth, bilinear, corner + params.size.zw);
-    let depths = array<f32, 6>(above.x, above.z, above.w, below.x, below.y, below.z);
-    let offsets = array<vec2<i32>, 6>(
-        vec2<i32>(-1, 0),
-        vec2<i32>(0, -1),
-        vec2<i32>(-1, -1),
-        vec2<i32>(0, 1),
-        vec2<i32>(1, 1),
-        vec2<i32>(1, 0),
-    );
     var nearest = Nearest(pixel, above.y);
-    for (var i = 0u; i < 6u; i++) {
-        if depths[i] > nearest.depth {
-            nearest = Nearest(clamp(pixel + offsets[i], vec2<i32>(0), last), depths[i]);
-        }
+    nearest = nearer(nearest, above.x, pixel + vec2<i32>(-1, 0));
+    nearest = nearer(nearest, above.z, pixel + vec2<i32>(0, -1));
+    nearest = nearer(nearest, above.w, pixel + vec2<i32>(-1, -1));
+    nearest = nearer(nearest, below.x, pixel + vec2<i32>(0, 1));
+    nearest = nearer(nearest, below.y, pixel + vec2<i32>(1, 1));
+    nearest = nearer(nearest, below.z, pixel + vec2<i32>(1, 0));
+    return Nearest(clamp(nearest.pixel, vec2<i32>(0), last), nearest.depth);
+}
+
+// The candidate surface if it is nearer (reverse-Z: larger depth) than `nearest`.
+fn nearer(nearest: Nearest, depth: f32, pixel: vec2<i32>) -> Nearest {
+    if depth > nearest.depth {
+        return Nearest(pixel, depth);
     }
     return nearest;
 }
@@ -281,47 +308,42 @@ fn resolve(position: vec2<f32>) -> Resolved {
     let last = vec2<i32>(params.size.xy) - 1;
 
     // 1. Neighbourhood colour box and nearest surface.
-    var low = vec3<f32>(1e9);
-    var high = vec3<f32>(-1e9);
-    var sum = vec3<f32>(0.0);
-    var sum_squares = vec3<f32>(0.0);
-    var count = 0.0;
-    var filtered = vec3<f32>(0.0);
+    let n = neighbours(pixel, last);
+    var centre = n.centre;
+    let zero = vec3<f32>(0.0);
+    var colour_box = ColourBox(vec3<f32>(1e9), vec3<f32>(-1e9), zero, zero, 0.0, zero);
+    add_tap(&colour_box, n.up, 1u);
+    add_tap(&colour_box, n.left, 3u);
+    add_tap(&colour_box, n.centre, 4u);
+    add_tap(&colour_box, n.right, 5u);
+    add_tap(&colour_box, n.down, 7u);
+    if NEIGHBOURHOOD == 0u {
+        add_tap(&colour_box, n.up_left, 0u);
+        add_tap(&colour_box, n.up_right, 2u);
+        add_tap(&colour_box, n.down_left, 6u);
+        add_tap(&colour_box, n.down_right, 8u);
+    }
+    let low = colour_box.low;
+    let high = colour_box.high;
     var nearest = pixel;
     var nearest_depth = 0.0;
     if VELOCITY_TAPS == 1u || VELOCITY_TAPS == 2u {
         nearest_depth = textureLoad(depth, pixel, 0);
-    } else if VELOCITY_TAPS == 3u {
-        let nearest_quads = nearest_in_quads(pixel, last);
-        nearest = nearest_quads.pixel;
-        nearest_depth = nearest_quads.depth;
-    }
-    let colours = neighbourhood_colours(pixel, last);
-    var centre = colours[4];
-    for (var dy = -1; dy <= 1; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let p = clamp(pixel + vec2<i32>(dx, dy), vec2<i32>(0), last);
-            let diagonal = dx != 0 && dy != 0;
-            let centre_tap = dx == 0 && dy == 0;
-            if NEIGHBOURHOOD == 0u || !diagonal {
-                let tap = u32(3 * (dy + 1) + dx + 1);
-                let rgb = colours[tap];
-                filtered += params.current_filter[tap / 4u][tap % 4u] * rgb;
-                let c = to_box_space(rgb);
-                low = min(low, c);
-                high = max(high, c);
-                sum += c;
-                sum_squares += c * c;
-                count += 1.0;
-            }
-            if !centre_tap && (VELOCITY_TAPS == 2u || (VELOCITY_TAPS == 1u && diagonal)) {
-                let d = textureLoad(depth, p, 0);
-                if d > nearest_depth {
-                    nearest_depth = d;
-                    nearest = p;
+        for (var dy = -1; dy <= 1; dy++) {
+            for (var dx = -1; dx <= 1; dx++) {
+                let diagonal = dx != 0 && dy != 0;
+                if (dx != 0 || dy != 0) && (VELOCITY_TAPS == 2u || diagonal) {
+                    let p = clamp(pixel + vec2<i32>(dx, dy), vec2<i32>(0), last);
+                    let d = textureLoad(depth, p, 0);
+                    if d > nearest_depth {
+                        nearest_depth = d;
+                        nearest = p;
+                    }
                 }
             }
         }
+    } else if VELOCITY_TAPS == 3u {
+        nearest = nearest_in_quads(pixel, last).pixel;
     }
 
     // 2. Reprojection.
@@ -354,8 +376,9 @@ fn resolve(position: vec2<f32>) -> Resolved {
         var box_low = low;
         var box_high = high;
         if RECTIFY == 3u {
-            let mean = sum / count;
-            let sigma = sqrt(max(sum_squares / count - mean * mean, vec3<f32>(0.0)));
+            let mean = colour_box.sum / colour_box.count;
+            let variance = colour_box.sum_squares / colour_box.count - mean * mean;
+            let sigma = sqrt(max(variance, vec3<f32>(0.0)));
             box_low = max(mean - params.blend.y * sigma, low);
             box_high = min(mean + params.blend.y * sigma, high);
         }
@@ -394,7 +417,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // the pixel's own sample is exact; where resampling blurs the history every frame it never
     // gets there, the current frame's weight rises and its point-sample noise dominates, so the
     // filtered estimate takes over by the same measure (a mix, not a branch on the uniform).
-    centre = mix(centre, filtered, adapt);
+    centre = mix(centre, colour_box.filtered, adapt);
     var colour: vec3<f32>;
     if LUMA_WEIGHT {
         let w_current = alpha / (1.0 + luminance(centre));
