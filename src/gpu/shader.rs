@@ -14,6 +14,13 @@
 //! constant. Conditions that also read a texture,
 //! a varying or the pixel position are not affected. `tests/long_runs.rs` renders hundreds of
 //! frames of every technique and fails on growth.
+//!
+//! **Per-pixel values are named, not kept in function-local arrays.** NVIDIA's compiler (driver
+//! 580 on an H200) kept TAA's small local arrays (the 3x3 colours, the Catmull-Rom taps and
+//! weights, the nearest-surface candidates, each filled and read in a loop) in memory: the
+//! resolve took 3.5 ms at 1920x1080, and 1.5 ms once they became named values (structs,
+//! straight-line code). lavapipe's LLVM keeps both forms in registers, so only a GPU shows
+//! the difference.
 
 /// A WGSL file compiled into the binary: its path from the repository root and its text.
 /// Shared shaders are listed in [`SHADERS`]; a technique lists its own in its folder and

@@ -14,30 +14,32 @@
 //! variance clip) and blends it with the current sample, writing the output and the next
 //! history (ping-pong Rgba16Float textures, linear colour).
 //!
-//! What each read earns (SSIM against the 64-sample reference at 640x360, orbit frames 16 and
-//! 40, measured when the defaults were chosen): the nearest-surface velocity is worth .02 on
-//! hairball (thin strands smear with their own motion), so it stays, searched over the two
-//! 2x2 blocks that share the pixel along its main diagonal (the pixel, its 4 direct neighbours
-//! and 2 diagonal ones), read with two depth gathers instead of the pixel and its 4 diagonal
-//! neighbours' five loads: the same cost on lavapipe, and .0013 / .0008 better on hairball
-//! (.8544 / .8510) and .0004 on atrium; the 5-pixel cross bounds the history as well as the
-//! 3x3 block (within .0003) with 4 fewer colours (1 fewer load, below); the 4 texel loads that kept the Catmull-Rom
-//! result within its bilinear footprint, and a separate bilinear read of the history's speed,
-//! are dropped (the rectification removes the overshoot). The colours are shared within each
-//! 2x2 quad of fragments: a fragment loads its own colour and its neighbours outside the quad,
-//! and takes the ones inside from its quad partners' loads through the fine derivatives (the
-//! same values, so the same image, for 3 loads of the cross instead of 5: 0.3-0.5x a copy less
-//! on lavapipe, where each load also decodes sRGB in software). The default resolve makes 11
-//! texture reads per pixel (3 colour loads, 2 depth gathers, 1 motion, 5 history taps) where
-//! it made 29. The Catmull-Rom filter's 4 extra bilinear taps are about a fifth of its cost on
-//! lavapipe (12.2-12.6x a full-screen copy at 1920x1080, 9.5-9.7x with a bilinear history),
-//! where each tap filters in software; the same filter from its 12 texels by loads costs more
-//! still. A bilinear history (`lean` preset, 7 reads) is as good on hairball, but where the velocity tolerance trusts
-//! it, its blur spreads a slow object into its background a little every frame and leaves a
-//! faint ghost (13/255 on the spinning object of `tests/fxaa_taa.rs`; a smaller tolerance does
-//! not remove it, none loses hairball's thin strands), and atrium's textures come out .02
-//! softer (FLIP .053 against .036). Under motion the current frame's share rises with how much the read between
-//! texels blurs the history (`resample_feedback`), none on whole-pixel motion.
+//! What each read earns (SSIM against the 64-sample reference at 640x360, orbit frames 16 and 40,
+//! measured when the defaults were chosen): the nearest-surface velocity is worth .02 on hairball
+//! (thin strands smear with their own motion), so it stays, searched over the two 2x2 blocks that
+//! share the pixel along its main diagonal (the pixel, its 4 direct neighbours and 2 diagonal
+//! ones), read with two depth gathers instead of the pixel and its 4 diagonal neighbours' five
+//! loads: the same cost on lavapipe, and .0013 / .0008 better on hairball (.8544 / .8510) and .0004
+//! on atrium; the 5-pixel cross bounds the history as well as the 3x3 block (within .0003) with 4
+//! fewer colours (1 fewer load, below); the 4 texel loads that kept the Catmull-Rom result within
+//! its bilinear footprint, and a separate bilinear read of the history's speed, are dropped (the
+//! rectification removes the overshoot). The colours are shared within each 2x2 quad of fragments:
+//! a fragment loads its own colour and its neighbours outside the quad, and takes the ones inside
+//! from its quad partners' loads through the fine derivatives (the same values, so the same image,
+//! for 3 loads of the cross instead of 5: about 0.3x a copy less on lavapipe, where each load also
+//! decodes sRGB in software). The default resolve makes 11 texture reads per pixel (3 colour loads,
+//! 2 depth gathers, 1 motion, 5 history taps) where it made 29. The Catmull-Rom filter's 4 extra
+//! bilinear taps are about a fifth of its cost on lavapipe (12.2-12.6x a full-screen copy at
+//! 1920x1080, 9.5-9.7x with a bilinear history), where each tap filters in software (reading the
+//! history is about 40% of the resolve's time there: 41 of 98 ms at 1920x1080 on hairball); the
+//! same filter from its 12 texels by loads costs more still. On an H200 the resolve costs 5.2x a
+//! copy (no function-local arrays: see `gpu/shader.rs`). A bilinear history (`lean` preset, 7
+//! reads) is as good on hairball, but where the velocity tolerance trusts it, its blur spreads a
+//! slow object into its background a little every frame and leaves a faint ghost (13/255 on the
+//! spinning object of `tests/fxaa_taa.rs`; a smaller tolerance does not remove it, none loses
+//! hairball's thin strands), and atrium's textures come out .02 softer (FLIP .053 against .036).
+//! Under motion the current frame's share rises with how much the read between texels blurs the
+//! history (`resample_feedback`), none on whole-pixel motion.
 //!
 //! Under motion the current frame's share is not only the pixel's point sample but
 //! (`current_filter` `gaussian`, the default) the colour neighbourhood's samples weighed by a
