@@ -233,6 +233,15 @@ fn techniques_switch_on_and_off() {
     wait(&mut harness, "the new frame", AaLabApp::frame_ready);
     assert!(harness.state().output_pixels("ssaa").is_some());
     assert!(harness.state().output_pixels("none").is_none());
+    // On the still view only SSAA rendered; the memory figures list it beside the techniques
+    // that kept their images from the first frame.
+    let listed = harness.state().memory_listed();
+    for id in ["ssaa", "fxaa", "smaa", "msaa4"] {
+        assert!(
+            listed.iter().any(|t| t == id),
+            "{id} missing from the memory figures {listed:?}"
+        );
+    }
 }
 
 #[test]

@@ -246,6 +246,22 @@ impl AaLabApp {
         self.ws.reference_for().map_or(0, |(_, p)| p.samples)
     }
 
+    /// The techniques the GPU memory figures list, in the render thread's last report.
+    pub fn memory_listed(&self) -> Vec<String> {
+        self.ws
+            .engine
+            .as_ref()
+            .and_then(|engine| engine.memory())
+            .map(|report| {
+                report
+                    .techniques
+                    .iter()
+                    .map(|t| t.technique.clone())
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
     /// The ids compared as A, B, C, D (see [`Workspace::compared`]).
     pub fn compared(&self) -> Vec<&'static str> {
         self.ws.compared()

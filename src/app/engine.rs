@@ -967,8 +967,10 @@ impl Engine {
         if let Some(timings) = &frame.timings {
             self.gpu_stats.add(timings);
         }
-        if flight.complete && frame.memory.is_some() {
+        if frame.memory.is_some() {
             self.memory = frame.memory;
+        }
+        if flight.complete {
             self.scene_renders = frame.scene_renders;
         }
         for (index, output) in frame.outputs {
@@ -1149,7 +1151,11 @@ impl Engine {
                 restart,
                 budget: self.reference_budget(),
             }),
-            measure_memory: complete && !plan.run.is_empty(),
+            memory_of: if plan.run.is_empty() {
+                Vec::new()
+            } else {
+                (0..states.len()).filter(|&i| states[i].enabled).collect()
+            },
             delay: self.frame_delay,
         };
         if !self.send(Command::Render(request)) {

@@ -98,8 +98,11 @@ pub struct FramePlan {
     pub debug: Vec<usize>,
     /// The reference's part, if it renders.
     pub reference: Option<ReferenceRequest>,
-    /// Report the graph's memory after this frame (every enabled technique runs in it).
-    pub measure_memory: bool,
+    /// Registry indices whose memory is reported after this frame (empty: no report): every
+    /// technique the user has on, whether it renders in this frame or kept its output from
+    /// an earlier one (a technique added to a still view renders alone, and the others'
+    /// resources still exist).
+    pub memory_of: Vec<usize>,
     /// Test hook: the thread waits this long before rendering (a deliberately slow frame).
     pub delay: Duration,
 }
@@ -608,7 +611,7 @@ impl RenderState {
                     restart: true,
                     budget: self.reference_samples,
                 }),
-                measure_memory: false,
+                memory_of: Vec::new(),
                 delay: Duration::ZERO,
             };
             let result = self.render(&plan)?;
@@ -726,7 +729,12 @@ impl RenderState {
             Some(_) => after.samples.saturating_sub(before.samples),
             None => 0,
         };
-        let memory = plan.measure_memory.then(|| self.graph.memory_report());
+        let memory = (!plan.memory_of.is_empty()).then(|| {
+            self.enable(&plan.memory_of, plan.reference.is_some());
+            let report = self.graph.memory_report();
+            self.enable(&plan.run, plan.reference.is_some());
+            report
+        });
         let scene_renders = self
             .graph
             .scene_renders_last_frame()
