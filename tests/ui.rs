@@ -234,12 +234,18 @@ fn techniques_switch_on_and_off() {
     assert!(harness.state().output_pixels("ssaa").is_some());
     assert!(harness.state().output_pixels("none").is_none());
     // On the still view only SSAA rendered; the memory figures list it beside the techniques
-    // that kept their images from the first frame.
+    // that kept their images from the first frame, with the scene inputs those read.
     let listed = harness.state().memory_listed();
     for id in ["ssaa", "fxaa", "smaa", "msaa4"] {
         assert!(
-            listed.iter().any(|t| t == id),
+            listed.iter().any(|(t, _)| t == id),
             "{id} missing from the memory figures {listed:?}"
+        );
+    }
+    for id in ["fxaa", "smaa", "msaa4"] {
+        assert!(
+            listed.iter().any(|(t, input)| t == id && input.is_some()),
+            "{id} lost its scene input in the memory figures {listed:?}"
         );
     }
 }

@@ -246,8 +246,8 @@ impl AaLabApp {
         self.ws.reference_for().map_or(0, |(_, p)| p.samples)
     }
 
-    /// The techniques the GPU memory figures list, in the render thread's last report.
-    pub fn memory_listed(&self) -> Vec<String> {
+    /// The techniques the GPU memory figures list, each with the scene input it reads.
+    pub fn memory_listed(&self) -> Vec<(String, Option<String>)> {
         self.ws
             .engine
             .as_ref()
@@ -256,7 +256,7 @@ impl AaLabApp {
                 report
                     .techniques
                     .iter()
-                    .map(|t| t.technique.clone())
+                    .map(|t| (t.technique.clone(), t.input.clone()))
                     .collect()
             })
             .unwrap_or_default()

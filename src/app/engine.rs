@@ -967,8 +967,16 @@ impl Engine {
         if let Some(timings) = &frame.timings {
             self.gpu_stats.add(timings);
         }
-        if frame.memory.is_some() {
-            self.memory = frame.memory;
+        if let Some(report) = frame.memory {
+            // A partial frame knows the inputs of the techniques that ran in it only.
+            let mut ran: Vec<&str> = flight.running.iter().map(|&i| self.entries[i].id).collect();
+            if flight.reference.is_some() {
+                ran.push(REFERENCE_ID);
+            }
+            self.memory = Some(match &self.memory {
+                Some(previous) if !flight.complete => previous.updated_by(report, &ran),
+                _ => report,
+            });
         }
         if flight.complete {
             self.scene_renders = frame.scene_renders;

@@ -101,7 +101,8 @@ pub struct FramePlan {
     /// Registry indices whose memory is reported after this frame (empty: no report): every
     /// technique the user has on, whether it renders in this frame or kept its output from
     /// an earlier one (a technique added to a still view renders alone, and the others'
-    /// resources still exist).
+    /// resources still exist). The report knows the scene inputs of this frame's techniques
+    /// only; the engine merges it into its last one (`MemoryReport::updated_by`).
     pub memory_of: Vec<usize>,
     /// Test hook: the thread waits this long before rendering (a deliberately slow frame).
     pub delay: Duration,

@@ -150,6 +150,55 @@ impl MemoryReport {
         }
     }
 
+    /// This report brought up to date by `newer`, the report of a frame in which only the
+    /// techniques `ran` rendered (the others kept their images). Such a frame knows only the
+    /// scene inputs it rendered, so the techniques that did not run keep their entries from
+    /// this report (their inputs still exist); those that ran, and any this report lacks, take
+    /// `newer`'s; techniques `newer` does not list (switched off) are dropped. Which
+    /// techniques share each input and the total (each input once) are worked out anew.
+    pub fn updated_by(&self, newer: MemoryReport, ran: &[&str]) -> MemoryReport {
+        let mut techniques: Vec<TechniqueMemory> = newer
+            .techniques
+            .into_iter()
+            .map(|entry| {
+                let kept = self
+                    .techniques
+                    .iter()
+                    .find(|t| t.technique == entry.technique);
+                match kept {
+                    Some(old) if !ran.contains(&entry.technique.as_str()) => old.clone(),
+                    _ => entry,
+                }
+            })
+            .collect();
+        let readers: Vec<(Option<String>, String)> = techniques
+            .iter()
+            .map(|t| (t.input.clone(), t.technique.clone()))
+            .collect();
+        for t in &mut techniques {
+            t.input_shared_with = readers
+                .iter()
+                .filter(|(input, _)| input.is_some() && *input == t.input)
+                .map(|(_, id)| id.clone())
+                .collect();
+        }
+        let mut inputs_total = 0;
+        for (n, t) in techniques.iter().enumerate() {
+            let first_reader = techniques[..n]
+                .iter()
+                .all(|earlier| earlier.input.is_none() || earlier.input != t.input);
+            if first_reader {
+                inputs_total += t.input_bytes();
+            }
+        }
+        let own_total: u64 = techniques.iter().map(TechniqueMemory::own_bytes).sum();
+        MemoryReport {
+            total_bytes: inputs_total + own_total + newer.scene_bytes,
+            techniques,
+            scene_bytes: newer.scene_bytes,
+        }
+    }
+
     /// A plain-text table (what `aa-lab render --memory` prints).
     pub fn table(&self) -> String {
         let mib = |b: u64| b as f64 / (1024.0 * 1024.0);
@@ -194,5 +243,71 @@ impl MemoryReport {
             mib(self.total_bytes)
         );
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn item(label: &str, bytes: u64) -> MemoryItem {
+        MemoryItem {
+            label: label.to_owned(),
+            format: "Rgba8Unorm".to_owned(),
+            width: 1,
+            height: 1,
+            samples: 1,
+            mips: 1,
+            bytes,
+        }
+    }
+
+    fn entry(id: &str, input: Option<(&str, u64)>, own: u64) -> TechniqueMemory {
+        TechniqueMemory {
+            technique: id.to_owned(),
+            input: input.map(|(label, _)| label.to_owned()),
+            input_shared_with: Vec::new(),
+            input_items: input.map_or_else(Vec::new, |(label, bytes)| vec![item(label, bytes)]),
+            private_items: Vec::new(),
+            output: Some(item("output", own)),
+        }
+    }
+
+    #[test]
+    fn a_partial_frame_updates_what_ran_and_keeps_the_others_inputs() {
+        let scene = Some(("scene 1x", 100));
+        let complete = MemoryReport {
+            techniques: vec![
+                entry("none", scene, 10),
+                entry("fxaa", scene, 20),
+                entry("msaa4", Some(("scene msaa4", 400)), 30),
+            ],
+            scene_bytes: 1000,
+            total_bytes: 1560,
+        };
+        // TAA switched on and MSAA 4x off on a still view: only TAA renders, and the frame
+        // knows no input of the others.
+        let partial = MemoryReport {
+            techniques: vec![
+                entry("none", None, 10),
+                entry("fxaa", None, 20),
+                entry("taa", Some(("scene 1x jittered", 150)), 50),
+            ],
+            scene_bytes: 1000,
+            total_bytes: 1230,
+        };
+        let merged = complete.updated_by(partial, &["taa"]);
+        let ids: Vec<&str> = merged
+            .techniques
+            .iter()
+            .map(|t| t.technique.as_str())
+            .collect();
+        assert_eq!(ids, ["none", "fxaa", "taa"]);
+        let none = &merged.techniques[0];
+        assert_eq!(none.input.as_deref(), Some("scene 1x"));
+        assert_eq!(none.input_shared_with, ["none", "fxaa"]);
+        assert_eq!(none.standalone_bytes(), 110);
+        assert_eq!(merged.techniques[2].input_shared_with, ["taa"]);
+        assert_eq!(merged.total_bytes, 1000 + 100 + 150 + 10 + 20 + 50);
     }
 }
