@@ -325,30 +325,25 @@ fn resolve(position: vec2<f32>) -> Resolved {
     }
     let low = colour_box.low;
     let high = colour_box.high;
-    var nearest = pixel;
-    var nearest_depth = 0.0;
+    var nearest = Nearest(pixel, 0.0);
     if VELOCITY_TAPS == 1u || VELOCITY_TAPS == 2u {
-        nearest_depth = textureLoad(depth, pixel, 0);
+        nearest.depth = textureLoad(depth, pixel, 0);
         for (var dy = -1; dy <= 1; dy++) {
             for (var dx = -1; dx <= 1; dx++) {
                 let diagonal = dx != 0 && dy != 0;
                 if (dx != 0 || dy != 0) && (VELOCITY_TAPS == 2u || diagonal) {
                     let p = clamp(pixel + vec2<i32>(dx, dy), vec2<i32>(0), last);
-                    let d = textureLoad(depth, p, 0);
-                    if d > nearest_depth {
-                        nearest_depth = d;
-                        nearest = p;
-                    }
+                    nearest = nearer(nearest, textureLoad(depth, p, 0), p);
                 }
             }
         }
     } else if VELOCITY_TAPS == 3u {
-        nearest = nearest_in_quads(pixel, last).pixel;
+        nearest = nearest_in_quads(pixel, last);
     }
 
     // 2. Reprojection.
     let uv = (floor(position) + 0.5) * params.size.zw;
-    let velocity = textureLoad(motion, nearest, 0).xy;
+    let velocity = textureLoad(motion, nearest.pixel, 0).xy;
     let speed = length(velocity * params.size.xy);
     // The speed the trust test compares (and the history keeps): the pixel's own surface's.
     var own_speed = speed;
