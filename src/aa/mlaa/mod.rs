@@ -18,6 +18,8 @@
 //! that cannot tell which of the two last pixels ends the run, and a blend towards all four
 //! neighbours at once. Settings and presets: [`settings`]. Debug views: the edges and the
 //! blending weights.
+//!
+//! Figures: `docs/techniques/mlaa.md`.
 
 pub mod area;
 pub mod settings;

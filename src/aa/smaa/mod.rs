@@ -19,6 +19,8 @@
 //! is `smaa.wgsl` (the three SMAA passes, debug views) and `smaa_modes.wgsl` (T2x, S2x) here. Only edge
 //! pixels run the blending-weight pass: the edge pass marks them in a stencil buffer that the
 //! weight pass tests. Debug views: the edges and the blending weights.
+//!
+//! Figures on lavapipe and a GPU, and the lookup tables in full: `docs/techniques/smaa.md`.
 
 pub mod lut;
 pub mod multisample;

@@ -17,6 +17,8 @@
 //! Built from the SMAA module's parts: its passes, S2x's sample copy and average, T2x's
 //! resolve, settings and presets (`low` .. `ultra`, with T2x's velocity weighting and mip
 //! bias). Debug views: edges and blending weights of the first sample.
+//!
+//! Figures: `docs/techniques/smaa.md`.
 
 use glam::Vec2;
 

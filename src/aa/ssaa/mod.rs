@@ -16,6 +16,8 @@
 //! prefix covers the pixel evenly) and resolves the partial sum divided by the weight
 //! accumulated so far. A 64-sample `grid` pattern with the box filter gives the same samples as
 //! the ordered 8 x 8 reference.
+//!
+//! Figures: `docs/techniques/ssaa.md`.
 
 use glam::{UVec2, Vec2};
 use wgpu::util::DeviceExt;
