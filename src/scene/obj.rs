@@ -1,63 +1,32 @@
 //! Wavefront OBJ/MTL loading: [`load_obj`] turns an `.obj` file, its material libraries and
 //! their textures into a [`Scene`] whose camera is framed to the model.
 //!
-//! # How it works
-//! 1. The OBJ file is read whole and must be a regular file of UTF-8 text without NUL bytes
-//!    (a BOM is skipped), at most [`MAX_OBJ_BYTES`] long ([`MAX_MTL_BYTES`] for a material
-//!    library), so a device or FIFO named as a model is refused instead of read forever.
-//! 2. A validation pass walks every line before `tobj` sees the text. `tobj` reports errors
-//!    without line numbers, accepts `nan`/`inf` coordinates, turns 3-point polylines into faces
-//!    and can overflow on absurd relative indices, so this pass rejects non-finite or malformed
-//!    `v`/`vt`/`vn` records and out-of-range face indices, naming the line. It rewrites the
-//!    records `tobj` would mishandle: `l` polylines and faces with fewer than three corners are
-//!    blanked out (each kind reported once as a warning), vertex colours are dropped, and names
-//!    after `o`, `g`, `usemtl` and `mtllib` are re-spaced. A file with no face left is an error.
-//! 3. `tobj` parses the text with `triangulate` and `single_index`. Material libraries are read
-//!    through our own loader, relative to the OBJ's directory (backslashes are path separators;
-//!    several names on one `mtllib` line are several libraries). A library that cannot be read
-//!    is an error. MTL text gets the same treatment as OBJ text: colours with one value are
-//!    widened to three, non-numeric or non-finite numbers are errors with a line number, and
-//!    `illum` is dropped because nothing here depends on it.
-//! 4. Each `tobj` model (one per object/group and material run) becomes vertices: UV `v` is
-//!    flipped (OBJ puts (0, 0) at the bottom-left, the renderer at the top-left), and normals
-//!    are generated when the model has none (area-weighted, averaged over vertices that share a
-//!    position so UV seams stay smooth; degenerate faces contribute nothing and cannot produce
-//!    NaN). Runs with the same object name and material are merged, so the scene has one
-//!    [`Mesh`] per (object, material) pair. Faces without a material get one default material.
+//! The file is read whole, bounded ([`MAX_OBJ_BYTES`], [`MAX_MTL_BYTES`]) and required to be a
+//! regular file of UTF-8 text, so a device or FIFO named as a model is refused instead of read
+//! forever. `tobj` parses it, but only after a validation pass of our own: `tobj` reports errors
+//! without line numbers, accepts `nan`/`inf` coordinates, turns 3-point polylines into faces and
+//! can overflow on absurd relative indices, so this pass rejects malformed or non-finite records
+//! and out-of-range indices naming the line, and rewrites what `tobj` would mishandle
+//! (polylines, short faces, vertex colours, spacing of names), with one warning per kind. MTL
+//! text gets the same treatment. Each `tobj` model then becomes vertices (UV `v` flipped to the
+//! renderer's top-left origin; area-weighted normals generated where the model has none, smooth
+//! across UV seams), merged into one [`Mesh`] per (object, material) pair.
 //!
-//! # Materials
-//! * `Kd` and `Ks` are read as sRGB-encoded colours (the usual reading of hand-written and
-//!   most exported MTL files, and the one three.js and similar loaders make) and decoded to the
-//!   linear values [`Material`] holds. Blender writes linear values, so Blender exports come
-//!   out a little darker and more saturated than in Blender; a fixed convention beats guessing
-//!   per file. Without `Kd` the base colour is white when there is a `map_Kd` (the texture
-//!   alone) and the [`Material`] default otherwise.
-//! * `Ns` is the Blinn-Phong exponent as written (negative values are raised to 0).
-//! * `d` below 1 or `Tr` above 0 ask for translucency, which the renderer does not do: the
-//!   material stays opaque and a warning notes it.
-//! * `map_Kd` (PNG, JPEG or TGA) is the base-colour texture. `map_d` is an alpha mask: it is
-//!   merged into the base texture's alpha channel (a white texture when there is no `map_Kd`;
-//!   images of different sizes are both resampled bilinearly to the larger width and height)
-//!   and the material becomes [`AlphaMode::Mask`] with cutoff 0.5. The mask is the channel
-//!   named by `-imfchan` (`r`, `g`, `b`, `m` for alpha, anything else luminance); without it,
-//!   the image's alpha when that is not fully opaque, its luminance otherwise.
-//! * Texture paths are relative to the MTL file's directory. Options before the file name
-//!   (`-bm 1`, `-s 1 1 1`, `-clamp on`, ...) are skipped; only `-imfchan` is used.
-//! * A texture that is missing or cannot be decoded never fails the load: the material draws a
-//!   magenta/black checker at full brightness and [`Scene::warnings`] names the texture path
-//!   and the reason.
-//! * `illum` and the other MTL records (`Ka`, `Ke`, `Ni`, `Tf`, bump and specular maps) are
-//!   ignored; one note in [`Scene::notes`] lists every ignored keyword with its count.
-//! * A material without `Kd` and without a texture is the neutral mid grey of
-//!   [`Material::default`], and so are faces without a material.
+//! Materials map onto the renderer's [`Material`]: `Kd`/`Ks` are read as sRGB-encoded colours
+//! (the usual reading of hand-written MTL files; a fixed convention beats guessing per file),
+//! `Ns` as the Blinn-Phong exponent, `map_Kd` as the base texture and `map_d` as an alpha mask
+//! merged into its alpha ([`AlphaMode::Mask`]). Translucency is not rendered (a warning says
+//! so), a missing or undecodable texture draws a checker and is named in
+//! [`Scene::warnings`] instead of failing the load, and the records that are ignored are
+//! counted in [`Scene::notes`].
 //!
-//! # Camera
-//! The camera orbits the centre of the model's bounding box, slightly from above, at
-//! 0.5 degrees per frame. Its distance makes the sphere about that centre through the farthest
-//! vertex fill the vertical field of view less a 10% margin, so no orbit angle clips the
-//! model (for image heights up to the width). Near and far planes scale with the radius.
-//! A model that encloses that centre (a room, a Cornell box: see [`super::interior`]) opens
-//! with an inside view instead, and [`Scene::interior`] says so.
+//! The camera orbits the centre of the model's bounding box, slightly from above, at a
+//! distance at which no orbit angle clips the model; a model that encloses that centre (a room,
+//! a Cornell box: see [`super::interior`]) opens with an inside view instead, and
+//! [`Scene::interior`] says so.
+//!
+//! Every rule in full (what each record means, texture options, the camera's framing):
+//! `docs/content.md`, "How OBJ/MTL files are read".
 
 use std::borrow::Cow;
 use std::cell::RefCell;
