@@ -1,6 +1,6 @@
 //! The list of every technique aa-lab knows. Each technique's folder provides its own entry
 //! ([`TechniqueInfo`]: stable id (the folder's `ID` constant), display name, the trade-off
-//! paragraph used for `aa-lab techniques`, tooltips and the README, whether this adapter can
+//! paragraph used for `aa-lab techniques` and tooltips, whether this adapter can
 //! run it, how to create it and its WGSL files); [`registry`] lists the entries, one line per
 //! technique. The availability checks several techniques share live here too.
 

@@ -1,6 +1,6 @@
 //! User techniques: a post-process pass written by the user in WGSL, run beside the built-in
 //! techniques on the same frame (`--technique user:PATH.wgsl`, the viewer's "Add technique
-//! from file"). The contract (README, "Your own technique in WGSL"): the file defines
+//! from file"). The contract (`docs/user-techniques.md`): the file defines
 //! `fn aa_main(pixel: vec2<u32>, uv: vec2<f32>) -> vec4<f32>` returning the pixel's linear
 //! colour; aa-lab places its prelude (`prelude.wgsl`: `aa_load`, `aa_sample`, `aa_depth`,
 //! `aa_motion`, `aa_size`, `aa_frame`) before the file and the fragment entry point
