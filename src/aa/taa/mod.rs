@@ -7,53 +7,43 @@
 //! shifted by the next offset of a Halton(2,3) sequence of 8 or 16 samples, so over a cycle
 //! every pixel is sampled at that many places, and textures get a negative mip bias (-1.5 by
 //! default: -1/2 log2 of the 8 samples the history averages, so textures come out as sharp as
-//! in a supersampled image). The resolve (`taa.wgsl` in this folder, one fullscreen pass with two
-//! targets) reprojects the history with the renderer's motion vectors (camera and object
-//! motion, without jitter; taken from the nearest surface among the pixel and its
-//! neighbours), rectifies it against the current neighbourhood's colours (clamp, YCoCg clip or
-//! variance clip) and blends it with the current sample, writing the output and the next
-//! history (ping-pong Rgba16Float textures, linear colour). The default resolve makes 11
-//! texture reads per pixel: the 5-pixel cross of colours, shared within each 2x2 quad of
-//! fragments through the fine derivatives (3 loads); the nearest surface, searched over the two
-//! 2x2 blocks that share the pixel along its main diagonal (2 depth gathers); 1 motion read;
-//! 5 Catmull-Rom history taps. The shader keeps no function-local arrays, which a GPU's
-//! compiler may keep in memory (see `gpu/shader.rs`).
+//! in a supersampled image). The resolve (`taa.wgsl` in this folder, one fullscreen pass with
+//! two targets) reprojects the history with the renderer's motion vectors (camera and object
+//! motion, without jitter; taken from the nearest surface among the pixel and its neighbours),
+//! rectifies it against the current neighbourhood's colours (clamp, YCoCg clip or variance
+//! clip) and blends it with the current sample, writing the output and the next history
+//! (ping-pong Rgba16Float textures, linear colour). The default makes 11 texture reads per
+//! pixel: the colour neighbourhood is shared within each 2x2 quad of fragments through the fine
+//! derivatives, depths come in two gathers, and the shader keeps no function-local arrays,
+//! which a GPU's compiler may keep in memory (see `gpu/shader.rs`).
 //!
 //! Under motion the history is resampled between pixels every frame, which softens it, so the
 //! current frame's share rises with how much that read blurs it (`resample_feedback`; none on
-//! whole-pixel motion). What the current frame contributes is then not only the pixel's point
-//! sample but (`current_filter` `gaussian`, the default) the colour neighbourhood's samples
-//! weighed by a Gaussian with the variance of the pixel's one-pixel box: an estimate of the
-//! pixel's area average, as the 64-sample reference computes it, from reads the rectification
-//! makes anyway. Where the history stays sharp (still camera, whole-pixel motion) the
-//! accumulated point samples converge to the box average exactly and the Gaussian would only
-//! blur pixel-aligned edges, so it is mixed in only as far as the history is blurred.
+//! whole-pixel motion), and the current frame then contributes (`current_filter` `gaussian`,
+//! the default) its colour neighbourhood weighed by a Gaussian with the variance of the pixel's
+//! one-pixel box: an estimate of the pixel's area average, as the 64-sample reference computes
+//! it, from reads the rectification makes anyway. A sharp history converges to that average
+//! on its own, so the Gaussian is mixed in only as far as the history is blurred.
 //!
-//! Thin geometry under motion: a line thinner than a pixel is hit by only some of the jitter
-//! positions, so the neighbourhood of a frame that missed it holds no trace of it, and clamping
-//! the history to that neighbourhood would cut the line out of the history again and again.
-//! Colour alone cannot tell such a line from a ghost, but motion can: a ghost appears where an
-//! occluder slides over a background whose speed differs from the occluder's, while a missed
-//! line moves with the surfaces around it. So the history keeps the speed it was written with
-//! (its alpha) and rectification is eased off in proportion as the speed of the pixel now
-//! matches it (`velocity_tolerance`: the change of speed, in pixels per frame, at which it
-//! applies in full; the idea follows the velocity weighting of Jimenez et al.'s SMAA T2x). The
-//! current frame's share also rises with the speed (`motion_weight`). Karis' 1 / (1 +
-//! luminance) weighting is off by default (the `karis` preset turns it on): on display-range
-//! colours it gives dark samples more weight than light ones and makes thin dark lines too
-//! dark once they are kept.
+//! Thin geometry: a line thinner than a pixel is hit by only some of the jitter positions, and
+//! clamping the history to the neighbourhood of a frame that missed it would cut the line out
+//! again and again. Colour cannot tell such a line from a ghost, but motion can: a ghost
+//! appears where an occluder slides over a background of another speed, while a missed line
+//! moves with the surfaces around it. So the history keeps the speed it was written with (its
+//! alpha) and rectification eases off as the pixel's speed matches it (`velocity_tolerance`;
+//! after the velocity weighting of Jimenez et al.'s SMAA T2x). Karis' 1 / (1 + luminance)
+//! weighting is off by default (the `karis` preset turns it on): on display-range colours it
+//! makes thin dark lines too dark once they are kept.
 //!
 //! The history is dropped when the frame asks for it (camera cut, scene change, first frame),
-//! when the camera does not continue the previous frame (an unflagged cut: the frame's
-//! previous pose is not the pose the history was made with, or frames were skipped), when
-//! the size changes and when a setting changes, so frame N of a sequence depends only on
-//! frames 0..=N since the last reset. The jitter offset is a function of the frame number, which
-//! keeps headless renders reproducible. Structural options (history filter, rectification,
-//! luminance weighting, velocity dilation, debug output) are override constants with one cached
-//! pipeline each; the weights are uniforms.
-//!
-//! Debug views: `velocity` (motion vectors), `rejection` (where the history was rectified or
-//! dropped) and `jitter` (the sample pattern inside one pixel).
+//! when the camera does not continue the previous frame (its previous pose is not the one the
+//! history was made with, or frames were skipped), when the size changes and when a setting
+//! changes, so frame N of a sequence depends only on frames 0..=N since the last reset; the
+//! jitter offset is a function of the frame number, which keeps headless renders reproducible.
+//! Structural options (history filter, rectification, luminance weighting, velocity dilation,
+//! debug output) are override constants with one cached pipeline each; the weights are
+//! uniforms. Debug views: `velocity` (motion vectors), `rejection` (where the history was
+//! rectified or dropped) and `jitter` (the sample pattern inside one pixel).
 //!
 //! What each read earns, the costs on lavapipe and on a GPU, and what was tried:
 //! `docs/techniques/taa.md`.
