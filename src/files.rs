@@ -106,6 +106,10 @@ fn kind_of(metadata: &std::fs::Metadata) -> &'static str {
     }
 }
 
+/// Largest image file read (compressed size on disk): images, textures and the images a
+/// scene file names.
+pub const MAX_IMAGE_FILE_BYTES: u64 = 1 << 30;
+
 /// Checks that `path` is a regular file (following links) of at most `limit` bytes and
 /// returns its size. `what` names its purpose in the error.
 pub fn check_regular(path: &Path, limit: u64, what: &'static str) -> Result<u64, FileError> {

@@ -12,8 +12,9 @@ pub mod procedural;
 pub mod renderer;
 pub mod source;
 
+pub use camera::CameraRig;
 pub use model::{
-    AlphaMode, CameraRig, DirectionalLight, Filter, Material, Mesh, Scene, SceneView, Spin,
-    TextureImage, TextureSampler, Vertex, Wrap,
+    AlphaMode, DirectionalLight, Filter, Material, Mesh, Scene, SceneView, Spin, TextureImage,
+    TextureSampler, Vertex, Wrap,
 };
 pub use motion::Motion;

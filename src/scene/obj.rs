@@ -38,7 +38,6 @@ use glam::Vec3;
 use image::imageops::FilterType;
 use image::{DynamicImage, GrayImage, RgbaImage};
 
-use crate::export::png::MAX_IMAGE_FILE_BYTES;
 use crate::files::{self, FileError};
 
 use super::{AlphaMode, CameraRig, DirectionalLight, Material, Mesh, Scene, TextureImage, Vertex};
@@ -835,14 +834,15 @@ impl Textures {
         warnings: &mut Vec<String>,
     ) -> Option<&DynamicImage> {
         let decoded = self.decoded.entry(texture.path.clone()).or_insert_with(|| {
-            let decoded = files::check_regular(&texture.path, MAX_IMAGE_FILE_BYTES, "a texture")
-                .map_err(|e| e.to_string())
-                .and_then(|_| {
-                    image::ImageReader::open(&texture.path)
-                        .and_then(|reader| reader.with_guessed_format())
-                        .map_err(|e| e.to_string())
-                })
-                .and_then(|reader| reader.decode().map_err(|e| e.to_string()));
+            let decoded =
+                files::check_regular(&texture.path, files::MAX_IMAGE_FILE_BYTES, "a texture")
+                    .map_err(|e| e.to_string())
+                    .and_then(|_| {
+                        image::ImageReader::open(&texture.path)
+                            .and_then(|reader| reader.with_guessed_format())
+                            .map_err(|e| e.to_string())
+                    })
+                    .and_then(|reader| reader.decode().map_err(|e| e.to_string()));
             if let Err(reason) = &decoded {
                 warnings.push(format!(
                     "texture {} ({usage}) could not be loaded: {reason}; \

@@ -37,8 +37,8 @@ pub mod settings;
 pub use settings::{Cmaa2Settings, EdgeDetection, Quality};
 
 use crate::aa::common::{debug_texture, encoded_view};
+use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
-use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, Technique};
 use crate::gpu::shader::Shader;
 use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
@@ -289,7 +289,7 @@ impl Cmaa2 {
 }
 
 impl Technique for Cmaa2 {
-    crate::aa::common::shared_1x_post_process!(ID);
+    crate::aa::common::shared_1x_post_process!(INFO);
 
     fn encode(
         &mut self,

@@ -12,17 +12,17 @@ pub mod color;
 pub mod sampling;
 
 /// Writes, inside an `impl Technique` block, the methods that every post-process of the shared
-/// one-sample render spells the same way: `id` (the technique's constant, the argument),
-/// `label` (its registry name), `color_only` (true: it reads colour alone) and `scene_input`
+/// one-sample render spells the same way: `id` and `label` (the id and name of the technique's
+/// registry entry, the argument), `color_only` (true: it reads colour alone) and `scene_input`
 /// (the shared 1x render, every frame).
 macro_rules! shared_1x_post_process {
-    ($id:path) => {
+    ($info:path) => {
         fn id(&self) -> &'static str {
-            $id
+            $info.id
         }
 
         fn label(&self) -> String {
-            $crate::aa::registry::display_name($id)
+            $info.name.to_owned()
         }
 
         fn color_only(&self) -> bool {

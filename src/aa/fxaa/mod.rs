@@ -35,8 +35,8 @@ pub use settings::{FxaaSettings, MAX_STEPS, Preset, Quality};
 
 use crate::aa::common::color::LumaSource;
 use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, debug_texture, encoded_view};
+use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
-use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
@@ -190,7 +190,7 @@ impl Fxaa {
 }
 
 impl Technique for Fxaa {
-    crate::aa::common::shared_1x_post_process!(ID);
+    crate::aa::common::shared_1x_post_process!(INFO);
 
     fn encode(
         &mut self,

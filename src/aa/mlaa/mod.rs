@@ -29,8 +29,8 @@ use wgpu::util::DeviceExt;
 pub use settings::{EdgeMode, MlaaSettings, PipelineKey, Preset};
 
 use crate::aa::common::{bilinear_clamp_sampler, view_as};
+use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
-use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::smaa::pipeline::{
     self, Binding, EdgeDebugViews, EdgeTargets, MorphologicalDesc, MorphologicalPipelines, Vertex,
     bind_group, edge_and_weight_passes,
@@ -210,7 +210,7 @@ impl Mlaa {
 }
 
 impl Technique for Mlaa {
-    crate::aa::common::shared_1x_post_process!(ID);
+    crate::aa::common::shared_1x_post_process!(INFO);
 
     fn encode(
         &mut self,

@@ -31,8 +31,8 @@ pub mod temporal;
 
 pub use settings::{EdgeMode, Preset, SmaaSettings};
 
+use crate::aa::info::{FULL_SET_HINT, TechniqueInfo, needs_encoded_views};
 use crate::aa::params::{Named, Param, ParamError, ParamValue, Tunable};
-use crate::aa::registry::{FULL_SET_HINT, TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
 use crate::gpu::{Capabilities, Gpu};
@@ -134,10 +134,15 @@ pub enum Mode {
 impl Mode {
     /// The technique id.
     pub fn id(self) -> &'static str {
+        self.info().id
+    }
+
+    /// The mode's registry entry.
+    pub fn info(self) -> &'static TechniqueInfo {
         match self {
-            Self::X1 => ID_1X,
-            Self::T2x => ID_T2X,
-            Self::S2x => ID_S2X,
+            Self::X1 => &INFOS[0],
+            Self::T2x => &INFOS[1],
+            Self::S2x => &INFOS[2],
         }
     }
 }
@@ -192,7 +197,7 @@ impl Technique for Smaa {
     }
 
     fn label(&self) -> String {
-        crate::aa::registry::display_name(self.id())
+        self.mode.info().name.to_owned()
     }
 
     fn scene_input(&self, frame: &FrameInfo) -> Option<SceneInput> {

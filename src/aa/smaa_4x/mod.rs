@@ -22,7 +22,7 @@
 
 use glam::Vec2;
 
-use crate::aa::registry::TechniqueInfo;
+use crate::aa::info::TechniqueInfo;
 use crate::aa::smaa::multisample::{Multisample, S2xPath, sample_offsets};
 use crate::aa::smaa::passes::{Input, SmaaPasses};
 use crate::aa::smaa::pipeline::{self, Binding, PassDesc, Stencil, bind_group, cleared};
@@ -197,7 +197,7 @@ impl Technique for Smaa4x {
     }
 
     fn label(&self) -> String {
-        crate::aa::registry::display_name(self.id())
+        INFO.name.to_owned()
     }
 
     /// SMAA 4x renders the scene itself: jittered and, where it can, multisampled.

@@ -27,8 +27,8 @@ pub mod settings;
 pub use settings::{MAX_FACTOR, MAX_SAMPLES, Mode, SsaaSettings};
 
 use crate::aa::common::sampling::{Filter, Pattern, accumulation_weights};
+use crate::aa::info::{TechniqueInfo, anywhere};
 use crate::aa::params::{Named, Param, ParamError, ParamValue, as_i64, as_named};
-use crate::aa::registry::{TechniqueInfo, anywhere};
 use crate::aa::{FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;

@@ -60,8 +60,8 @@ use glam::Vec2;
 
 use crate::aa::common::sampling::halton;
 use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, encoded_view};
+use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::{Named, Param, ParamError, ParamValue, Tunable};
-use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
@@ -353,7 +353,7 @@ impl Technique for Taa {
     }
 
     fn label(&self) -> String {
-        crate::aa::registry::display_name(self.id())
+        INFO.name.to_owned()
     }
 
     fn scene_input(&self, frame: &FrameInfo) -> Option<SceneInput> {
