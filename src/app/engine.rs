@@ -967,15 +967,7 @@ impl Engine {
             self.gpu_stats.add(timings);
         }
         if let Some(report) = frame.memory {
-            // A partial frame knows the inputs of the techniques that ran in it only.
-            let mut ran: Vec<&str> = flight.running.iter().map(|&i| self.entries[i].id).collect();
-            if flight.reference.is_some() {
-                ran.push(REFERENCE_ID);
-            }
-            self.memory = Some(match &self.memory {
-                Some(previous) if !flight.complete => previous.updated_by(report, &ran),
-                _ => report,
-            });
+            self.memory = Some(report);
         }
         if flight.complete {
             self.scene_renders = frame.scene_renders;
@@ -1158,11 +1150,8 @@ impl Engine {
                 restart,
                 budget: self.reference_budget(),
             }),
-            memory_of: if plan.run.is_empty() {
-                Vec::new()
-            } else {
-                (0..states.len()).filter(|&i| states[i].enabled).collect()
-            },
+            on: (0..states.len()).filter(|&i| states[i].enabled).collect(),
+            report_memory: !plan.run.is_empty(),
             delay: self.frame_delay,
         };
         if !self.send(Command::Render(request)) {
