@@ -166,7 +166,12 @@ fn assert_report_is_what_is_held(graph: &aa_lab::graph::FrameGraph) {
             listed_inputs += t.input_bytes();
         }
     }
-    assert_eq!(listed_inputs, graph.pooled_input_bytes(), "{}", report.table());
+    assert_eq!(
+        listed_inputs,
+        graph.pooled_input_bytes(),
+        "{}",
+        report.table()
+    );
     let own: u64 = report
         .techniques
         .iter()
@@ -184,7 +189,10 @@ fn switching_a_technique_off_releases_its_scene_input_and_the_report_shows_what_
     let gpu = common::gpu();
     let scene = source::load("hairball", &SceneOptions::default()).expect("built-in scene loads");
     let ids = [aa::none::ID, "msaa4", aa::taa::ID];
-    let techniques = ids.iter().map(|id| common::technique(&gpu, id, &[])).collect();
+    let techniques = ids
+        .iter()
+        .map(|id| common::technique(&gpu, id, &[]))
+        .collect();
     let mut graph = common::graph(&gpu, &scene, techniques);
     let frame = |n| FrameInfo {
         camera: common::camera(&scene, n, (96, 64)),

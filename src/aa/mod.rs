@@ -24,7 +24,6 @@ pub mod msaa;
 pub mod none;
 pub mod registry;
 pub mod smaa;
-pub mod smaa_4x;
 pub mod ssaa;
 pub mod taa;
 pub mod user;

@@ -4,7 +4,7 @@
 //! techniques themselves never import this file (it imports them).
 
 use super::info::TechniqueInfo;
-use super::{cmaa2, fxaa, mlaa, msaa, none, smaa, smaa_4x, ssaa, taa};
+use super::{cmaa2, fxaa, mlaa, msaa, none, smaa, ssaa, taa};
 
 /// Every technique, in the order front ends list them: each technique folder provides its
 /// entries (`INFO`, or `INFOS` for a family of fixed variants), and adding a technique is one
@@ -17,7 +17,7 @@ pub fn registry() -> Vec<TechniqueInfo> {
         &[fxaa::INFO],
         &[mlaa::INFO],
         &smaa::INFOS,
-        &[smaa_4x::INFO],
+        &[smaa::x4::INFO],
         &[taa::INFO],
         &[cmaa2::INFO],
     ]

@@ -36,6 +36,7 @@ pub mod settings;
 
 pub use settings::{Cmaa2Settings, EdgeDetection, Quality};
 
+use crate::aa::common::pass;
 use crate::aa::common::{debug_texture, encoded_view};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
@@ -217,12 +218,7 @@ impl Cmaa2 {
         };
         Self {
             settings,
-            uniform: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("cmaa2 params"),
-                size: std::mem::size_of::<settings::Cmaa2Uniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            uniform: pass::uniform_buffer::<settings::Cmaa2Uniform>(device, "cmaa2 params"),
             edges: compute_pass(
                 device,
                 &module,

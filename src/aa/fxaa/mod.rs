@@ -34,6 +34,7 @@ pub mod settings;
 pub use settings::{FxaaSettings, MAX_STEPS, Preset, Quality};
 
 use crate::aa::common::color::LumaSource;
+use crate::aa::common::pass;
 use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, debug_texture, encoded_view};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
@@ -107,12 +108,7 @@ impl Fxaa {
             settings,
             module: WGSL.module(device),
             sampler: bilinear_clamp_sampler(device, "fxaa bilinear"),
-            uniform: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("fxaa params"),
-                size: std::mem::size_of::<FxaaUniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            uniform: pass::uniform_buffer::<FxaaUniform>(device, "fxaa params"),
             device: device.clone(),
             pipelines: PipelineCache::default(),
             debug_enabled: false,

@@ -36,6 +36,8 @@
 
 use std::sync::OnceLock;
 
+use crate::aa::common::morphology::{Crossing, polyline_area};
+
 /// Size of the area table in texels.
 pub const AREA_SIZE: (u32, u32) = (160, 560);
 /// Size of the search table in texels.
@@ -70,63 +72,6 @@ const SMOOTH_MAX_DISTANCE: f32 = 32.0;
 /// Search table value of one extra pixel.
 pub const SEARCH_UNIT: u8 = 127;
 
-/// Crossing edges at one end of an orthogonal edge run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Crossing {
-    /// No crossing edge: the run ends flat (or was not searched to its end).
-    None,
-    /// A crossing edge in the current pixel's row: the outline turns towards the current side.
-    Current,
-    /// A crossing edge in the row across the edge.
-    Opposite,
-    /// Crossing edges on both sides: a junction.
-    Both,
-}
-
-impl Crossing {
-    /// Every value, in cell order of the current-side bit then the opposite-side bit.
-    pub const ALL: [Self; 4] = [Self::None, Self::Current, Self::Opposite, Self::Both];
-
-    /// The crossing from the two edges the shader reads.
-    pub fn from_edges(current: bool, opposite: bool) -> Self {
-        match (current, opposite) {
-            (false, false) => Self::None,
-            (true, false) => Self::Current,
-            (false, true) => Self::Opposite,
-            (true, true) => Self::Both,
-        }
-    }
-
-    /// Cell index along one axis of the orthogonal part: `3 * current + opposite`.
-    pub fn cell(self) -> u32 {
-        match self {
-            Self::None => 0,
-            Self::Opposite => 1,
-            Self::Current => 3,
-            Self::Both => 4,
-        }
-    }
-
-    /// Height of the revectorised line at this end, for single-sided crossings (MLAA's
-    /// table uses it too, with no offset).
-    pub(crate) fn height(self, offset: f32) -> Option<f32> {
-        match self {
-            Self::Current => Some(-0.5 + offset),
-            Self::Opposite => Some(0.5 + offset),
-            Self::None | Self::Both => None,
-        }
-    }
-
-    /// The other side.
-    fn flipped(self) -> Self {
-        match self {
-            Self::Current => Self::Opposite,
-            Self::Opposite => Self::Current,
-            other => other,
-        }
-    }
-}
-
 /// How a diagonal run continues past one of its ends.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DiagonalEnd {
@@ -158,37 +103,6 @@ impl DiagonalEnd {
             Self::Both => 3,
         }
     }
-}
-
-/// Area between y = 0 and a polyline over `[x0, x1]`: (below, above). The polyline
-/// contributes nothing outside its own x range. MLAA's table integrates its lines with it.
-pub(crate) fn polyline_area(points: &[(f32, f32)], x0: f32, x1: f32) -> [f32; 2] {
-    let mut area = [0.0f32; 2];
-    let mut add = |xa: f32, ya: f32, xb: f32, yb: f32| {
-        let trapezoid = (xb - xa) * (ya + yb) * 0.5;
-        if trapezoid < 0.0 {
-            area[0] -= trapezoid;
-        } else {
-            area[1] += trapezoid;
-        }
-    };
-    for pair in points.windows(2) {
-        let ((ax, ay), (bx, by)) = (pair[0], pair[1]);
-        let (lo, hi) = (ax.max(x0), bx.min(x1));
-        if hi <= lo {
-            continue;
-        }
-        let at = |x: f32| ay + (by - ay) * (x - ax) / (bx - ax);
-        let (ylo, yhi) = (at(lo), at(hi));
-        if ylo * yhi < 0.0 {
-            let zero = lo + (hi - lo) * ylo / (ylo - yhi);
-            add(lo, ylo, zero, 0.0);
-            add(zero, 0.0, hi, yhi);
-        } else {
-            add(lo, ylo, hi, yhi);
-        }
-    }
-    area
 }
 
 /// Rounds the sharp tip of a short U: small areas are raised towards `sqrt(2a) / 2`, less

@@ -12,7 +12,7 @@
 //!   the previous frame through motion vectors ([`temporal`]);
 //! - `smaa-s2x`: per sample of a two-sample render, averaged ([`multisample`]).
 //!
-//! SMAA 4x, S2x and T2x combined, is `aa::smaa_4x`, built from these parts.
+//! SMAA 4x, S2x and T2x combined, is a technique of its own ([`x4`]) built from these parts.
 //!
 //! The lookup tables are generated at first use from their rules ([`lut`]); the settings,
 //! presets and parameters live in [`settings`]; [`pipeline`] has the wgpu helpers; the WGSL
@@ -25,9 +25,9 @@
 pub mod lut;
 pub mod multisample;
 pub mod passes;
-pub mod pipeline;
 pub mod settings;
 pub mod temporal;
+pub mod x4;
 
 pub use settings::{EdgeMode, Preset, SmaaSettings};
 

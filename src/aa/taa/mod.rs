@@ -58,10 +58,11 @@ pub use settings::{
 
 use glam::Vec2;
 
+use crate::aa::common::pass;
 use crate::aa::common::sampling::halton;
 use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, encoded_view};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
-use crate::aa::params::{Named, Param, ParamError, ParamValue, Tunable};
+use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
@@ -275,12 +276,7 @@ impl Taa {
             settings,
             module: WGSL.module(device),
             sampler: bilinear_clamp_sampler(device, "taa history"),
-            uniform: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("taa params"),
-                size: std::mem::size_of::<TaaUniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            uniform: pass::uniform_buffer::<TaaUniform>(device, "taa params"),
             layout,
             pipeline_layout,
             device: device.clone(),
@@ -497,27 +493,7 @@ impl Technique for Taa {
         items
     }
 
-    fn params(&self) -> Vec<Param> {
-        self.settings.params()
-    }
-
-    fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
-        let mut settings = self.settings;
-        settings.set_param(ID, key, value)?;
-        self.set_settings(settings);
-        Ok(())
-    }
-
-    fn presets(&self) -> &'static [&'static str] {
-        self.settings.preset_names()
-    }
-
-    fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
-        let mut settings = self.settings;
-        settings.apply_preset_named(ID, name)?;
-        self.set_settings(settings);
-        Ok(())
-    }
+    crate::aa::common::tunable_settings!(settings, then set_settings);
 
     fn set_debug_views(&mut self, enabled: bool) {
         self.debug_enabled = enabled;

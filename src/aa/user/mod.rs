@@ -33,6 +33,7 @@ use glam::Vec2;
 
 use super::params::{Param, ParamError, ParamKind, ParamValue, as_bool, as_f32, as_i64};
 use super::{FrameInfo, SceneInput, Technique};
+use crate::aa::common::pass;
 use crate::gpu::fullscreen::{FragmentDesc, Fullscreen};
 use crate::gpu::{COLOR_FORMAT, Gpu};
 use crate::graph::{MemoryItem, PassContext};
@@ -279,12 +280,7 @@ impl UserTechnique {
             pipeline_layout,
             pipeline,
             sampler: crate::aa::common::bilinear_clamp_sampler(device, "user technique bilinear"),
-            uniform: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("user technique frame"),
-                size: std::mem::size_of::<FrameUniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            uniform: pass::uniform_buffer::<FrameUniform>(device, "user technique frame"),
             no_motion: crate::gpu::texture_2d(
                 device,
                 &crate::gpu::Texture2d::new(
