@@ -3,6 +3,7 @@
 //! the targets a technique asks for.
 
 pub mod camera;
+pub mod framing;
 pub mod gltf;
 pub mod interior;
 pub mod model;
