@@ -27,6 +27,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use super::render::{configured_specs, parse_size, set_flags, technique_ids};
 use crate::aa::floor::{COPY_FLOOR_ID, CopyFloor};
 use crate::aa::{self, FrameInfo, Named, ParamValue, SceneInput};
+use crate::bench::TimingSamples;
 use crate::export::heatmap::{HeatmapStyle, write_heatmap};
 use crate::export::report::{
     self, BenchReport, BenchSettings, InputReport, Invocations, MemorySummary, PassReport,
@@ -35,7 +36,7 @@ use crate::export::report::{
 use crate::export::write_png;
 use crate::files::{self, Overwrite};
 use crate::gpu::{Gpu, read_texture_rgba8};
-use crate::graph::{FrameGraph, FrameScope, FrameStatistics, FrameTimings};
+use crate::graph::{FrameGraph, FrameScope};
 use crate::metrics::coverage::chart_truth;
 use crate::metrics::stability::MovingEdgeError;
 use crate::metrics::temporal::{ChangeMeter, SlowTrack, flicker_ratio};
@@ -201,142 +202,6 @@ pub(super) fn reference_spec(gpu: &Gpu) -> anyhow::Result<TechniqueSpec> {
         ParamValue::Int(i64::from(REFERENCE_FACTOR)),
     )?;
     Ok(TechniqueSpec::of(ssaa.as_ref()))
-}
-
-/// Per-frame samples of one technique.
-#[derive(Default)]
-struct TechniqueSamples {
-    input_label: Option<String>,
-    post_process: bool,
-    own: Vec<f64>,
-    input: Vec<f64>,
-    /// Per pass label, in first-seen order: passes per frame and ms per frame.
-    passes: Vec<(String, usize, Vec<f64>)>,
-}
-
-/// Per-frame samples of one shared input, keyed by label and users.
-struct InputSamples {
-    label: String,
-    users: Vec<String>,
-    ms: Vec<f64>,
-    invocations: Option<u64>,
-}
-
-/// Everything the timing loop collects.
-struct TimingSamples {
-    techniques: Vec<(String, TechniqueSamples)>,
-    inputs: Vec<InputSamples>,
-    frame: Vec<f64>,
-    floor: Vec<f64>,
-}
-
-impl TimingSamples {
-    fn new(ids: &[&'static str]) -> Self {
-        Self {
-            techniques: ids
-                .iter()
-                .map(|id| ((*id).to_owned(), TechniqueSamples::default()))
-                .collect(),
-            inputs: Vec::new(),
-            frame: Vec::new(),
-            floor: Vec::new(),
-        }
-    }
-
-    /// Adds one frame: `inputs` are the graph's scene inputs in render order.
-    fn add(&mut self, timings: &FrameTimings, inputs: &[(SceneInput, Vec<&'static str>)]) {
-        let input_ms: Vec<f64> = timings
-            .passes
-            .iter()
-            .filter(|p| p.technique().is_none())
-            .map(|p| p.ms)
-            .collect();
-        self.frame.push(
-            timings
-                .passes
-                .iter()
-                .filter(|p| p.technique() != Some(COPY_FLOOR_ID))
-                .map(|p| p.ms)
-                .sum(),
-        );
-        self.floor.push(timings.technique_ms(COPY_FLOOR_ID));
-        for (n, (input, readers)) in inputs.iter().enumerate() {
-            let ms = input_ms.get(n).copied().unwrap_or(f64::NAN);
-            let users: Vec<String> = readers
-                .iter()
-                .filter(|u| **u != COPY_FLOOR_ID)
-                .map(|u| (*u).to_owned())
-                .collect();
-            let label = input.label();
-            match self
-                .inputs
-                .iter_mut()
-                .find(|i| i.label == label && i.users == users)
-            {
-                Some(existing) => existing.ms.push(ms),
-                None => self.inputs.push(InputSamples {
-                    label,
-                    users,
-                    ms: vec![ms],
-                    invocations: None,
-                }),
-            }
-            for user in readers {
-                if let Some((_, t)) = self.techniques.iter_mut().find(|(id, _)| id == user) {
-                    t.input.push(ms);
-                    t.input_label = Some(input.label());
-                    t.post_process = input.sample_count() == 1;
-                }
-            }
-        }
-        for (id, samples) in &mut self.techniques {
-            samples.own.push(timings.technique_ms(id));
-            let mut frame_passes: Vec<(String, usize, f64)> = Vec::new();
-            for pass in timings.technique_passes(id) {
-                match frame_passes.iter_mut().find(|(l, _, _)| *l == pass.label) {
-                    Some(entry) => {
-                        entry.1 += 1;
-                        entry.2 += pass.ms;
-                    }
-                    None => frame_passes.push((pass.label.clone(), 1, pass.ms)),
-                }
-            }
-            for (label, count, ms) in frame_passes {
-                match samples.passes.iter_mut().find(|(l, _, _)| *l == label) {
-                    Some(entry) => entry.2.push(ms),
-                    None => samples.passes.push((label, count, vec![ms])),
-                }
-            }
-        }
-    }
-
-    /// Records the statistics frame's invocations on the shared inputs.
-    fn add_statistics(
-        &mut self,
-        statistics: &FrameStatistics,
-        inputs: &[(SceneInput, Vec<&'static str>)],
-    ) {
-        let counts: Vec<u64> = statistics
-            .passes
-            .iter()
-            .filter(|p| p.technique().is_none())
-            .map(|p| p.fragment_invocations)
-            .collect();
-        for ((input, users), count) in inputs.iter().zip(counts) {
-            let users: Vec<String> = users
-                .iter()
-                .filter(|u| **u != COPY_FLOOR_ID)
-                .map(|u| (*u).to_owned())
-                .collect();
-            if let Some(i) = self
-                .inputs
-                .iter_mut()
-                .find(|i| i.label == input.label() && i.users == users)
-            {
-                i.invocations = Some(count);
-            }
-        }
-    }
 }
 
 /// The progress bar of the whole bench.
