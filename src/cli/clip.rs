@@ -343,6 +343,75 @@ fn record(
     })
 }
 
+/// The layout of every frame, with the captions left empty (the figures come at the end).
+fn pending_layout(
+    args: &ClipArgs,
+    scene: &str,
+    adapter: &str,
+    labels: &[String],
+    region: Option<Rect>,
+    zoom: u32,
+) -> clip::Layout {
+    let motion_text = if args.motion.uses_speed() {
+        format!("{} {} px/frame", args.motion, args.speed)
+    } else {
+        args.motion.to_string()
+    };
+    clip::Layout {
+        title: format!("aa-lab clip: {scene}, {motion_text}"),
+        scene: scene.to_owned(),
+        region,
+        zoom,
+        footer: format!(
+            "captions: temporal instability / ghosting (luma levels); {} on {adapter}",
+            spec::build_id(),
+        ),
+        panes: labels
+            .iter()
+            .map(|label| clip::Pane {
+                label: label.clone(),
+                caption: String::new(),
+            })
+            .collect(),
+    }
+}
+
+/// Captions every pane of `layout` with its figures, fitted to `width` pixels: the
+/// techniques' `scores`, then the reference's mean change.
+fn show_figures(
+    layout: &mut clip::Layout,
+    scores: &[TemporalScores],
+    reference_change: Option<f64>,
+    width: u32,
+) {
+    for (pane, scores) in layout.panes.iter_mut().zip(scores) {
+        pane.caption = clip::fit(&[clip::caption(scores), clip::short_caption(scores)], width);
+    }
+    if let Some(reference_pane) = layout.panes.last_mut() {
+        reference_pane.caption = clip::reference_caption(reference_change, width);
+    }
+}
+
+/// Every technique's figures for the record, in pane order.
+fn technique_figures(
+    ids: &[String],
+    labels: &[String],
+    scores: &[TemporalScores],
+    region_scores: Option<&[TemporalScores]>,
+) -> Vec<ClipTechnique> {
+    ids.iter()
+        .zip(labels)
+        .zip(scores)
+        .enumerate()
+        .map(|(i, ((id, label), scores))| ClipTechnique {
+            id: id.clone(),
+            label: label.clone(),
+            scores: *scores,
+            region: region_scores.and_then(|r| r.get(i).copied()),
+        })
+        .collect()
+}
+
 /// Checks the arguments that need no GPU; returns the region, the zoom and the format.
 fn check_args(args: &ClipArgs) -> anyhow::Result<(Option<Rect>, u32, ClipFormat)> {
     let format = ClipFormat::of_path(&args.out)?;
@@ -423,29 +492,8 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         .iter()
         .map(|s| s.technique.id().to_owned())
         .collect();
-    let motion_text = if args.motion.uses_speed() {
-        format!("{} {} px/frame", args.motion, args.speed)
-    } else {
-        args.motion.to_string()
-    };
-    let mut layout = clip::Layout {
-        title: format!("aa-lab clip: {}, {motion_text}", scene.name),
-        scene: scene.name.clone(),
-        region,
-        zoom,
-        footer: format!(
-            "captions: temporal instability / ghosting (luma levels); {} on {}",
-            spec::build_id(),
-            spec.adapter.clone().unwrap_or_default()
-        ),
-        panes: labels
-            .iter()
-            .map(|label| clip::Pane {
-                label: label.clone(),
-                caption: String::new(),
-            })
-            .collect(),
-    };
+    let adapter = spec.adapter.clone().unwrap_or_default();
+    let mut layout = pending_layout(args, &scene.name, &adapter, &labels, region, zoom);
     if let Some(parent) = args.out.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent)
             .with_context(|| format!("cannot create directory {}", parent.display()))?;
@@ -471,18 +519,13 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     let page = html
         .as_deref()
         .map(|path| {
-            HtmlPage::create(
-                path,
-                &policy,
-                &layout.title,
-                &labels,
-                (pane.width, pane.height),
-                args.fps,
-                zoom,
-            )
+            let size = (pane.width, pane.height);
+            HtmlPage::create(path, &policy, &layout.title, &labels, size, args.fps, zoom)
         })
         .transpose()?;
+    let started = std::time::Instant::now();
     let recorded = record(&recording, &mut graph, page)?;
+    let rendered = started.elapsed();
     drop(graph);
 
     let metrics = &recorded.metrics;
@@ -491,14 +534,12 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     // The captions give the figures of what the animation shows.
     let shown_metrics = recorded.region_metrics.as_ref().unwrap_or(metrics);
     let shown_scores = region_scores.as_ref().unwrap_or(&scores);
-    let width = pane.width * zoom;
-    for (pane, scores) in layout.panes.iter_mut().zip(shown_scores) {
-        pane.caption = clip::fit(&[clip::caption(scores), clip::short_caption(scores)], width);
-    }
-    if let Some(reference_pane) = layout.panes.last_mut() {
-        reference_pane.caption =
-            clip::reference_caption(shown_metrics.reference().mean_change(), width);
-    }
+    show_figures(
+        &mut layout,
+        shown_scores,
+        shown_metrics.reference().mean_change(),
+        pane.width * zoom,
+    );
     let first_refs: Vec<&image::RgbaImage> = recorded.first_crops.iter().collect();
     let first = layout.compose(0, args.frames as usize, &first_refs)?;
 
@@ -523,18 +564,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
             .and_then(|m| m.reference().mean_change()),
         moving_fraction: metrics.moving_fraction(),
         reference_mean_change: metrics.reference().mean_change(),
-        techniques: ids
-            .iter()
-            .zip(&labels)
-            .zip(&scores)
-            .enumerate()
-            .map(|(i, ((id, label), scores))| ClipTechnique {
-                id: id.clone(),
-                label: label.clone(),
-                scores: *scores,
-                region: region_scores.as_ref().and_then(|r| r.get(i).copied()),
-            })
-            .collect(),
+        techniques: technique_figures(&ids, &labels, &scores, region_scores.as_deref()),
     };
     let text = serde_json::to_string_pretty(&record)? + "\n";
     if matches!(format, ClipFormat::Video(_)) {
@@ -543,6 +573,12 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     let replaced = recorded
         .writer
         .finish(Some(&first), Some(&text), sheet::BACKGROUND_RGBA)?;
+    eprintln!(
+        "rendered and encoded {} frames in {:.1} s, then {:.1} s to finish the file",
+        u64::from(args.warmup) + u64::from(args.frames),
+        rendered.as_secs_f64(),
+        (started.elapsed() - rendered).as_secs_f64()
+    );
     println!("{}", files::wrote_line(&args.out, replaced));
     let replaced = files::write_bytes(&json, &policy, text.as_bytes())?;
     println!("{}", files::wrote_line(&json, replaced));

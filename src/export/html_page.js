@@ -49,7 +49,8 @@ function draw() {
 function step(delta) { state.frame = (state.frame + delta + F.length) % F.length; draw(); }
 function setPlaying(playing) { state.playing = playing; draw(); }
 // Playback: one frame per 1/fps s on a timer (frames are never skipped).
-function tick() { if (state.playing) step(1); }
+let played = 0;
+function tick() { if (state.playing) { played += 1; step(1); } }
 
 function dragOn(element, move) {
   element.addEventListener("pointerdown", (e) => {
@@ -119,26 +120,29 @@ function selftest() {
   const out = { frames: F.length, width: CW, height: CH, samples: [] };
   setPlaying(false);
   state.frame = 0; step(1); step(1);
-  state.zoom = 2; state.cx = W / 2; state.cy = H / 2;
+  // Twice the zoom that fits the pane: the views show a window around the centre.
+  state.zoom = 2 * Math.ceil(CW / W); state.cx = W / 2; state.cy = H / 2;
   state.left = 0; state.right = N - 1;
   state.wipe = 0.5;
   draw();
   const v = view(), ctx = byId("wipe").getContext("2d");
-  for (const px of [Math.floor(CW / 4), wipeX() - 1, wipeX(), Math.floor(CW * 3 / 4)]) {
-    const py = Math.floor(CH / 2);
-    if (px < 0 || px >= Math.min(CW, v.sw * v.z) || py >= v.sh * v.z) continue;
-    const rgba = Array.from(ctx.getImageData(px, py, 1, 1).data);
-    const pane = px < wipeX() ? state.left : state.right;
-    out.samples.push({ frame: state.frame, pane, x: v.sx + Math.floor(px / v.z), y: v.sy + Math.floor(py / v.z), rgba });
+  const shown = Math.min(CW, v.sw * v.z), rows = Math.min(CH, v.sh * v.z);
+  for (const py of [Math.floor(rows / 4), Math.floor(rows / 2), Math.floor(rows * 3 / 4)]) {
+    const line = ctx.getImageData(0, py, shown, 1).data;
+    for (let px = 0; px < shown; px += 1) {
+      const pane = px < wipeX() ? state.left : state.right;
+      const rgba = Array.from(line.slice(px * 4, px * 4 + 4));
+      out.samples.push({ frame: state.frame, pane, x: v.sx + Math.floor(px / v.z), y: v.sy + Math.floor(py / v.z), rgba });
+    }
   }
   out.stepped_to = state.frame;
+  played = 0;
   setPlaying(true);
-  const started = state.frame;
   setTimeout(() => {
-    out.played_from = started; out.played_to = state.frame;
+    out.played_frames = played;
     setPlaying(false);
     byId("selftest").textContent = JSON.stringify(out);
-  }, 20 * 1000 / META.fps);
+  }, 10 * 1000 / META.fps);
 }
 
 Promise.all(sprites.map((s) => s.decode())).then(() => {
