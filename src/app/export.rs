@@ -8,7 +8,8 @@
 //! The frames are the engine's published CPU copies (the bytes on screen); a worker thread
 //! encodes and writes the files, so the window keeps running while a large export is written.
 //! A clip is composed frame by frame into a streamed animation (compressed on every core,
-//! [`crate::export::animation`]). The job reports its progress (the toolbar shows it with the
+//! [`crate::export::animation`]) and a self-contained HTML comparison page
+//! ([`crate::export::html`]). The job reports its progress (the toolbar shows it with the
 //! time left) and can be cancelled; closing the viewer cancels it and waits for it, and either
 //! way the temporary file it was writing is removed.
 //!
@@ -27,6 +28,7 @@ use super::difference::lens_heatmap;
 use super::magnifier::{Source, crop};
 use super::workspace::{DialogPurpose, Level, Workspace};
 use crate::export::animation::{AnimationFormat, AnimationOptions, AnimationStream};
+use crate::export::html::HtmlPage;
 use crate::export::sheet::{self, Cell, Row};
 use crate::export::write_png;
 use crate::files::{self, Overwrite};
@@ -310,12 +312,16 @@ fn write_clip(plan: &ClipPlan, progress: &ExportProgress) -> Result<Vec<PathBuf>
     let (dir, region, fps) = (dir.as_path(), *region, *fps);
     std::fs::create_dir_all(dir)
         .map_err(|e| format!("cannot create the export folder {}: {e}", dir.display()))?;
-    let stem = free_stem(dir, stem, &[".png".to_owned(), ".json".to_owned()]);
+    let suffixes = [".png", ".json", ".html"].map(str::to_owned);
+    let stem = free_stem(dir, stem, &suffixes);
     let policy = Overwrite::new(false);
     let animation = dir.join(format!("{stem}.png"));
+    let page_path = dir.join(format!("{stem}.html"));
     let options = AnimationOptions::new(AnimationFormat::Apng, fps);
+    let labels: Vec<String> = layout.panes.iter().map(|p| p.label.clone()).collect();
     progress.set_total(frames.len());
     let mut stream = None;
+    let mut page = None;
     for (n, panes) in frames.iter().enumerate() {
         if progress.cancelled() {
             return Err(CANCELLED.to_owned());
@@ -329,6 +335,22 @@ fn write_clip(plan: &ClipPlan, progress: &ExportProgress) -> Result<Vec<PathBuf>
             })
             .collect();
         let refs: Vec<&image::RgbaImage> = crops.iter().collect();
+        let page = match &mut page {
+            Some(page) => page,
+            None => page.insert(
+                HtmlPage::create(
+                    &page_path,
+                    &policy,
+                    &layout.title,
+                    &labels,
+                    refs.first().map_or((1, 1), |c| c.dimensions()),
+                    fps,
+                    layout.zoom,
+                )
+                .map_err(|e| e.to_string())?,
+            ),
+        };
+        page.push(&refs).map_err(|e| e.to_string())?;
         let composed = layout
             .compose(n, frames.len(), &refs)
             .map_err(|e| format!("clip export: {e}"))?;
@@ -336,13 +358,17 @@ fn write_clip(plan: &ClipPlan, progress: &ExportProgress) -> Result<Vec<PathBuf>
             .map_err(|e| e.to_string())?;
         progress.advance();
     }
-    let stream = stream.ok_or("clip export: the clip has no frame")?;
+    let (Some(stream), Some(page)) = (stream, page) else {
+        return Err("clip export: the clip has no frame".to_owned());
+    };
     stream
         .finish(None, Some(record))
         .map_err(|e| e.to_string())?;
     let sidecar = dir.join(format!("{stem}.json"));
     files::write_bytes(&sidecar, &policy, record.as_bytes()).map_err(|e| e.to_string())?;
-    Ok(vec![animation, sidecar])
+    let record: serde_json::Value = serde_json::from_str(record).map_err(|e| e.to_string())?;
+    page.finish(&record).map_err(|e| e.to_string())?;
+    Ok(vec![animation, sidecar, page_path])
 }
 
 impl Workspace {
@@ -514,7 +540,8 @@ impl Workspace {
 
     /// Exports the clip as a looping animated PNG of the magnifier's panes (the lens region,
     /// zoomed as the magnifier shows it; whole frames in a grid when the magnifier is closed)
-    /// with its temporal figures, and the clip's record beside it, into the export folder.
+    /// with its temporal figures, the clip's record beside it and a self-contained HTML
+    /// comparison page of the same panes, into the export folder.
     pub(super) fn export_clip(&mut self) {
         if self.export.running() {
             return;
