@@ -299,7 +299,7 @@ impl AnimationStream {
             }
         }
         self.pushed += 1;
-        let in_flight_limit = self.pool.current_num_threads() + 2;
+        let in_flight_limit = self.pool.current_num_threads();
         while self.pushed - self.written > in_flight_limit {
             self.collect(true)?;
         }

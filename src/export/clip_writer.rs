@@ -154,7 +154,12 @@ impl ClipWriter {
                 options,
             )?),
         };
-        Ok(writer.stream().push(frame)?)
+        writer.push(frame)
+    }
+
+    /// Hands over the next frame (see [`AnimationStream::push`]).
+    pub fn push(&mut self, frame: image::RgbaImage) -> Result<(), ClipWriteError> {
+        Ok(self.stream().push(frame)?)
     }
 
     fn stream(&mut self) -> &mut AnimationStream {
