@@ -5,28 +5,8 @@
 
 mod common;
 
-use common::{fails_with, stderr};
+use common::{clip, fails_with, stderr};
 use std::path::Path;
-
-fn clip(out: &Path, extra: &[&str]) -> std::process::Output {
-    let mut args = vec![
-        "clip",
-        "--scene",
-        "chart",
-        "--size",
-        "64x48",
-        "--frames",
-        "4",
-        "--warmup",
-        "2",
-        "--technique",
-        "none,fxaa,taa,msaa4",
-        "--out",
-        out.to_str().expect("utf-8"),
-    ];
-    args.extend_from_slice(extra);
-    common::aa_lab(&args)
-}
 
 fn be32(bytes: &[u8]) -> u32 {
     u32::from_be_bytes(bytes[..4].try_into().expect("4 bytes"))
