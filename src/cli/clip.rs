@@ -574,8 +574,9 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         .writer
         .finish(Some(&first), Some(&text), sheet::BACKGROUND_RGBA)?;
     eprintln!(
-        "rendered and encoded {} frames in {:.1} s, then {:.1} s to finish the file",
+        "rendered {} frames ({} of warm-up), compressing the clip's as they came, in {:.1} s; then {:.1} s to finish the file",
         u64::from(args.warmup) + u64::from(args.frames),
+        args.warmup,
         rendered.as_secs_f64(),
         (started.elapsed() - rendered).as_secs_f64()
     );
