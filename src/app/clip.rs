@@ -641,7 +641,7 @@ pub fn clip_bar(
             }
         }
         if !recording {
-            if ui.button("Export…").on_hover_text("Write the clip as a looping animated PNG (or GIF) with its record").clicked() {
+            if ui.button("Export…").on_hover_text("Write the clip as a looping animated PNG and a self-contained HTML comparison page, with its record").clicked() {
                 action = Some(ClipAction::Export);
             }
             if ui.button("Discard").clicked() {
