@@ -742,14 +742,24 @@ mod hostile {
                 confined::ADDRESS_SPACE_LIMIT,
                 Duration::from_secs(20),
             );
-            match ended {
+            let failure = match ended {
                 confined::Ended::Reported(outcome)
-                    if case.expect.iter().all(|word| outcome.contains(word)) => {}
-                other => failures.push(format!(
-                    "{}: expected {:?}, got {other:?}",
-                    case.file, case.expect
-                )),
-            }
+                    if case.expect.iter().all(|word| outcome.contains(word)) =>
+                {
+                    continue;
+                }
+                confined::Ended::Reported(outcome) => format!("reported: {outcome}"),
+                confined::Ended::Failed(output) => {
+                    format!("the child failed (a panic, or memory past the limit):\n{output}")
+                }
+                confined::Ended::TimedOut(output) => {
+                    format!("the child was still running after 20 s:\n{output}")
+                }
+            };
+            failures.push(format!(
+                "{}: expected {:?}; {failure}",
+                case.file, case.expect
+            ));
         }
         assert!(failures.is_empty(), "{}", failures.join("\n\n"));
     }

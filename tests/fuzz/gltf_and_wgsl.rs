@@ -31,8 +31,8 @@ fn run_in_child(test: &str) {
         };
     let last = output
         .lines()
-        .filter_map(|l| l.split_once(CASE_PREFIX).map(|(_, case)| case))
-        .last()
+        .rev()
+        .find_map(|l| l.split_once(CASE_PREFIX).map(|(_, case)| case))
         .unwrap_or("none");
     panic!(
         "the child running {test} {what} in case {last} (address-space limit {} bytes, time \
@@ -211,11 +211,11 @@ fn edit_model(g: &mut Gen, json: &mut Value) {
 /// too long, a cut, trailing bytes.
 fn glb(g: &mut Gen, json: &Value, bin: &[u8]) -> Vec<u8> {
     let mut text = serde_json::to_vec(json).expect("json");
-    while text.len() % 4 != 0 {
+    while !text.len().is_multiple_of(4) {
         text.push(b' ');
     }
     let mut bin = bin.to_vec();
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let mut json_length = text.len() as u32;
