@@ -4,7 +4,9 @@
 //! # Reading
 //! [`read_bounded`] reads only regular files (so `/dev/zero`, a FIFO or a directory named
 //! as a scene is refused up front instead of being read until memory runs out) and only up to
-//! a stated size, which the error message quotes.
+//! a stated size, which the error message quotes. [`read_head`] reads the first bytes of a
+//! regular file and never more (a glTF buffer is read no further than its declared length,
+//! whatever the size of the file it names).
 //!
 //! # Writing, and the overwrite policy
 //! Every output is written to a temporary file in the destination's folder and renamed into
@@ -161,6 +163,22 @@ pub fn read_bounded(path: &Path, limit: u64, what: &'static str) -> Result<Vec<u
             what,
         });
     }
+    Ok(bytes)
+}
+
+/// The first `length` bytes of a regular file (fewer when the file is shorter): the rest of
+/// the file is never read. `what` names its purpose in the error.
+pub fn read_head(path: &Path, length: u64, what: &'static str) -> Result<Vec<u8>, FileError> {
+    check_regular(path, u64::MAX, what)?;
+    let read_error = |source| FileError::Read {
+        path: path.to_owned(),
+        source,
+    };
+    let file = File::open(path).map_err(read_error)?;
+    let mut bytes = Vec::new();
+    file.take(length)
+        .read_to_end(&mut bytes)
+        .map_err(read_error)?;
     Ok(bytes)
 }
 
@@ -522,5 +540,21 @@ mod tests {
         let err = read_bounded(&path, 100, "a test").unwrap_err();
         assert!(err.to_string().contains("100 bytes"), "{err}");
         assert_eq!(read_bounded(&path, 101, "a test").unwrap().len(), 101);
+    }
+
+    #[test]
+    fn head_reads_stop_at_the_length_and_refuse_what_is_not_a_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("big");
+        std::fs::write(&path, [b'x'; 101]).unwrap();
+        assert_eq!(read_head(&path, 10, "a test").unwrap().len(), 10);
+        assert_eq!(read_head(&path, 1000, "a test").unwrap().len(), 101);
+        let err = read_head(dir.path(), 10, "a test").unwrap_err();
+        assert!(err.to_string().contains("a directory"), "{err}");
+        #[cfg(unix)]
+        {
+            let err = read_head(Path::new("/dev/zero"), 10, "a test").unwrap_err();
+            assert!(err.to_string().contains("a device"), "{err}");
+        }
     }
 }

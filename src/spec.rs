@@ -5,6 +5,12 @@
 //! `aa-lab render --from` runs the spec again, so results can be reproduced bit-exactly on the
 //! same adapter. Frame N of a temporal technique means running frames 0..=N of the
 //! deterministic camera: warm-up frames run only the temporal techniques.
+//!
+//! A record is read strictly ([`parse_record`]): a field it does not know (a typo such as
+//! `yaw` for `yaw_degrees`), a value of the wrong type and a camera number that is not a finite
+//! `f32` are errors naming the field's path (`camera.pitch_degrees`), because a record that
+//! silently fell back to defaults would render another picture than the one it describes.
+//! Fields left out still take their defaults.
 
 use crate::aa::{self, FrameInfo, ParamMap, TechniqueError};
 use crate::gpu::{Gpu, read_texture_rgba8, readback::ReadbackError};
@@ -106,6 +112,96 @@ fn default_density() -> f32 {
 
 fn default_seed() -> u64 {
     SceneOptions::default().seed
+}
+
+/// Why a render record's JSON was refused; every message names the field's path.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    /// Fields a render record does not have (misspelt, or from another program).
+    #[error(
+        "unknown field(s) {}: a render record has no such field (a misspelt name would \
+         silently render another picture)",
+        .0.join(", ")
+    )]
+    UnknownFields(Vec<String>),
+    /// A value of the wrong type, out of range, or JSON that is not well formed.
+    #[error("{path}: {message}")]
+    BadValue {
+        /// The field's path (`camera.pitch_degrees`, `techniques[0].id`; `.` for the whole).
+        path: String,
+        /// The parser's message.
+        message: String,
+    },
+}
+
+/// Parses a render record's JSON strictly (see the module docs).
+pub fn parse_record(text: &str) -> Result<RenderSpec, RecordError> {
+    let mut unknown = Vec::new();
+    let mut json = serde_json::Deserializer::from_str(text);
+    // serde_ignored writes `?` for the inside of an `Option`: `camera.?.yaw` is `camera.yaw`.
+    let mut note_unknown = |path: serde_ignored::Path<'_>| {
+        let path = path.to_string();
+        let parts: Vec<&str> = path.split('.').filter(|part| *part != "?").collect();
+        unknown.push(parts.join("."));
+    };
+    let tracked = serde_ignored::Deserializer::new(&mut json, &mut note_unknown);
+    let spec: RenderSpec =
+        serde_path_to_error::deserialize(tracked).map_err(|error| RecordError::BadValue {
+            path: error.path().to_string(),
+            message: error.into_inner().to_string(),
+        })?;
+    json.end().map_err(|error| RecordError::BadValue {
+        path: ".".to_owned(),
+        message: error.to_string(),
+    })?;
+    if !unknown.is_empty() {
+        return Err(RecordError::UnknownFields(unknown));
+    }
+    if let Some(path) = first_non_finite(&spec) {
+        return Err(RecordError::BadValue {
+            path,
+            message: "not a finite number a 32-bit float holds".to_owned(),
+        });
+    }
+    Ok(spec)
+}
+
+/// The path of the first number of a record's density or camera that is not a finite `f32`
+/// (JSON's `1e39` reads as infinity).
+fn first_non_finite(spec: &RenderSpec) -> Option<String> {
+    let mut fields = vec![("density".to_owned(), spec.density)];
+    if let Some(pose) = &spec.camera {
+        fields.extend(
+            [
+                ("camera.distance", pose.distance),
+                ("camera.yaw_degrees", pose.yaw_degrees),
+                ("camera.pitch_degrees", pose.pitch_degrees),
+                ("camera.fov_y_degrees", pose.fov_y_degrees),
+                ("camera.near", pose.near),
+            ]
+            .map(|(name, value)| (name.to_owned(), value)),
+        );
+        fields.extend((0..3).map(|i| (format!("camera.target[{i}]"), pose.target[i])));
+    }
+    if let Some(rig) = &spec.rig {
+        fields.extend(
+            [
+                ("rig.distance", rig.distance),
+                ("rig.yaw_degrees", rig.yaw_degrees),
+                ("rig.pitch_degrees", rig.pitch_degrees),
+                ("rig.fov_y_degrees", rig.fov_y_degrees),
+                ("rig.near", rig.near),
+                ("rig.far", rig.far),
+                ("rig.orbit_degrees_per_frame", rig.orbit_degrees_per_frame),
+            ]
+            .map(|(name, value)| (name.to_owned(), value)),
+        );
+        fields.extend((0..3).map(|i| (format!("rig.target[{i}]"), rig.target[i])));
+    }
+    fields
+        .into_iter()
+        .find(|(_, value)| !value.is_finite())
+        .map(|(path, _)| path)
 }
 
 /// This build's version and commit.

@@ -1,9 +1,17 @@
-//! Bounded fuzzing of the two readers of untrusted files (issue 10): the OBJ/MTL loader and the
-//! render-record reader (the `aa-lab` chunk of a PNG, then its JSON). Inputs come from a
-//! grammar of the records these formats have (with hostile numbers, indices, names and paths)
-//! plus byte-level mutations; a fixed seed and case count keep the run to a few seconds and
-//! reproducible. Properties: nothing panics, and every scene that loads is drawable (indices
-//! in range, finite positions); every record that parses serialises back.
+//! Bounded fuzzing of the readers of untrusted files (issues 10 and 29): the OBJ/MTL loader,
+//! the render-record reader (the `aa-lab` chunk of a PNG, then its JSON), the glTF/GLB loader
+//! and the user technique compiler. Inputs come from a grammar of the records these formats
+//! have (with hostile numbers, indices, names and paths) plus byte-level mutations; a fixed
+//! seed and case count keep the run to seconds and reproducible. Properties: nothing panics,
+//! every scene that loads is drawable (indices in range, finite positions), every record that
+//! parses serialises back, and every compiler error points into the user's file.
+//!
+//! glTF (JSON and GLB: hostile counts, offsets, strides, component types, node hierarchies,
+//! URIs naming `/dev/zero`, a FIFO, a directory, a path out of the folder or a file far longer
+//! than its buffer, truncated and oversized chunks) and WGSL (random edits of the example
+//! techniques) run in a child process under an address-space and a time limit
+//! (`common/confined.rs`): a case that allocates without bound or never ends fails the test
+//! with the number of the case, instead of taking the machine.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::Path;
@@ -11,39 +19,46 @@ use std::path::Path;
 use aa_lab::export::png::{RECORD_KEYWORD, read_record};
 use aa_lab::spec::{RenderSpec, TechniqueSpec};
 
+#[cfg(unix)]
+#[path = "common/confined.rs"]
+mod confined;
+#[cfg(unix)]
+#[path = "fuzz/gltf_and_wgsl.rs"]
+mod gltf_and_wgsl;
+
 /// Cases per target; each takes well under a millisecond.
 const OBJ_CASES: u64 = 800;
 const RECORD_CASES: u64 = 800;
 
 /// xorshift64* (Vigna 2016): the fuzzer's own small generator, seeded per case.
-struct Gen(u64);
+pub(crate) struct Gen(u64);
 
 impl Gen {
-    fn new(case: u64) -> Self {
+    pub(crate) fn new(case: u64) -> Self {
         Self(case.wrapping_mul(0x2545_F491_4F6C_DD1D) | 1)
     }
 
-    fn next(&mut self) -> u64 {
+    pub(crate) fn next(&mut self) -> u64 {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;
         self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
     }
 
-    fn below(&mut self, n: usize) -> usize {
+    pub(crate) fn below(&mut self, n: usize) -> usize {
         (self.next() % n.max(1) as u64) as usize
     }
 
-    fn pick<'a>(&mut self, items: &[&'a str]) -> &'a str {
+    pub(crate) fn pick<'a>(&mut self, items: &[&'a str]) -> &'a str {
         items[self.below(items.len())]
     }
 
-    fn chance(&mut self, percent: u64) -> bool {
+    pub(crate) fn chance(&mut self, percent: u64) -> bool {
         self.next() % 100 < percent
     }
 
     /// From `usual` nineteen times in twenty, else from `hostile`.
-    fn mostly<'a>(&mut self, usual: &[&'a str], hostile: &[&'a str]) -> &'a str {
+    pub(crate) fn mostly<'a>(&mut self, usual: &[&'a str], hostile: &[&'a str]) -> &'a str {
         if self.chance(95) {
             self.pick(usual)
         } else {
@@ -192,7 +207,7 @@ fn mtl_line(g: &mut Gen) -> String {
 }
 
 /// Byte-level damage on top of the grammar: a replaced byte, a NUL, a cut.
-fn mutate(g: &mut Gen, mut bytes: Vec<u8>) -> Vec<u8> {
+pub(crate) fn mutate(g: &mut Gen, mut bytes: Vec<u8>) -> Vec<u8> {
     for _ in 0..g.below(4) {
         if bytes.is_empty() {
             break;
@@ -228,7 +243,7 @@ fn text(g: &mut Gen, least: usize, spread: usize, line: fn(&mut Gen) -> String) 
 }
 
 /// A loaded scene is drawable: every index in range, every position finite.
-fn check_scene(scene: &aa_lab::scene::Scene) -> Result<(), String> {
+pub(crate) fn check_scene(scene: &aa_lab::scene::Scene) -> Result<(), String> {
     for mesh in &scene.meshes {
         if let Some(bad) = mesh
             .indices
@@ -403,7 +418,7 @@ fn render_record_reading_never_panics() {
             } else {
                 text.clone()
             };
-            let spec = serde_json::from_str::<RenderSpec>(&text).ok()?;
+            let spec = aa_lab::spec::parse_record(&text).ok()?;
             Some(serde_json::to_string(&spec).is_ok())
         }));
         match result {

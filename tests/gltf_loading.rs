@@ -1,7 +1,10 @@
 //! glTF 2.0 loading on small files generated here: a .glb with an embedded texture, a .gltf
 //! with an external buffer, MASK and BLEND materials, a sparse accessor, node transforms,
 //! cameras, extensions, and every malformed kind the loader must refuse with a clear message
-//! naming the file (never a panic).
+//! naming the file (never a panic). The hostile URIs of issue 29 (`/dev/zero`, a FIFO, a
+//! directory, a file far longer than its buffer, paths that leave the model's folder) and
+//! hostile sizes run in a child process under an address-space and a time limit
+//! ([`confined`]), so a loader that reads without bound fails the test instead of the machine.
 
 use std::path::{Path, PathBuf};
 
@@ -561,4 +564,203 @@ fn missing_image_draws_the_checker_with_a_warning() {
     );
     let material = &scene.materials[scene.meshes[0].material];
     assert_eq!(material.alpha_mode, AlphaMode::Opaque);
+}
+
+#[cfg(unix)]
+#[path = "common/confined.rs"]
+mod confined;
+
+/// Issue 29, item 1 (Unix: FIFOs, devices and address-space limits).
+#[cfg(unix)]
+mod hostile {
+    use std::path::Path;
+    use std::time::Duration;
+
+    use super::*;
+
+    /// A hostile case: the file written into the case folder and what the load must come to.
+    struct HostileCase {
+        file: &'static str,
+        build: fn(&Path),
+        /// `refused: ...` or `loaded: ...` with these words in the message or a warning.
+        expect: &'static [&'static str],
+    }
+
+    /// The quad scene as a .gltf whose buffer (or textured scene whose image) has this URI.
+    fn with_buffer_uri(dir: &Path, file: &str, uri: &str, byte_length: Option<u64>) {
+        let mut asset = scene_asset(false);
+        asset.write_gltf(&dir.join(file));
+        let length = byte_length.unwrap_or(asset.bin.len() as u64);
+        asset.json["buffers"][0] = json!({"uri": uri, "byteLength": length});
+        asset.write_json(&dir.join(file));
+    }
+
+    fn with_image_uri(dir: &Path, file: &str, uri: &str) {
+        let mut asset = scene_asset(true);
+        asset.json["images"][0] = json!({"uri": uri});
+        asset.write_glb(&dir.join(file));
+    }
+
+    const HOSTILE_CASES: &[HostileCase] = &[
+        HostileCase {
+            file: "zero-buffer.gltf",
+            build: |dir| with_buffer_uri(dir, "zero-buffer.gltf", "/dev/zero", Some(100)),
+            expect: &["refused", "/dev/zero", "outside the model's folder"],
+        },
+        HostileCase {
+            file: "fifo-buffer.gltf",
+            build: |dir| with_buffer_uri(dir, "fifo-buffer.gltf", "pipe", None),
+            expect: &["refused", "pipe", "a FIFO"],
+        },
+        HostileCase {
+            file: "directory-buffer.gltf",
+            build: |dir| with_buffer_uri(dir, "directory-buffer.gltf", "folder", None),
+            expect: &["refused", "folder", "a directory"],
+        },
+        HostileCase {
+            file: "traversal-buffer.gltf",
+            build: |dir| {
+                with_buffer_uri(dir, "traversal-buffer.gltf", "../../../../etc/passwd", None);
+            },
+            expect: &["refused", "etc/passwd", "outside the model's folder"],
+        },
+        HostileCase {
+            file: "huge-declared-buffer.gltf",
+            build: |dir| {
+                with_buffer_uri(dir, "huge-declared-buffer.gltf", "a.bin", Some(1 << 40));
+            },
+            expect: &["refused", "1099511627776 bytes", "more than"],
+        },
+        HostileCase {
+            // A 3 GiB (sparse) file behind a small buffer: only byteLength bytes are read.
+            file: "long-file.gltf",
+            build: |dir| {
+                let mut asset = scene_asset(false);
+                asset.write_gltf(&dir.join("long-file.gltf"));
+                let file = std::fs::OpenOptions::new()
+                    .append(true)
+                    .open(dir.join("long-file.bin"))
+                    .expect("bin");
+                file.set_len(3 << 30).expect("a sparse file");
+            },
+            expect: &["loaded"],
+        },
+        HostileCase {
+            file: "zero-image.glb",
+            build: |dir| with_image_uri(dir, "zero-image.glb", "/dev/zero"),
+            expect: &[
+                "loaded",
+                "/dev/zero",
+                "outside the model's folder",
+                "checker",
+            ],
+        },
+        HostileCase {
+            file: "fifo-image.glb",
+            build: |dir| with_image_uri(dir, "fifo-image.glb", "pipe"),
+            expect: &["loaded", "pipe", "a FIFO", "checker"],
+        },
+        HostileCase {
+            file: "traversal-image.glb",
+            build: |dir| with_image_uri(dir, "traversal-image.glb", "../../../../etc/passwd"),
+            expect: &[
+                "loaded",
+                "etc/passwd",
+                "outside the model's folder",
+                "checker",
+            ],
+        },
+        HostileCase {
+            file: "fifo-model.gltf",
+            build: |dir| {
+                nix::unistd::mkfifo(&dir.join("fifo-model.gltf"), nix::sys::stat::Mode::S_IRWXU)
+                    .expect("mkfifo");
+            },
+            expect: &["refused", "fifo-model.gltf", "a FIFO"],
+        },
+        HostileCase {
+            // Four billion vertices without a buffer view (zeros but for one sparse value).
+            file: "huge-count.gltf",
+            build: |dir| {
+                let mut asset = scene_asset(false);
+                asset.json["accessors"][0] = json!({
+                    "componentType": FLOAT, "count": 4_000_000_000u64, "type": "VEC3",
+                    "min": [-1, -1, 0], "max": [1, 1, 0],
+                    "sparse": {"count": 1, "indices": {"bufferView": 3, "componentType": 5123},
+                               "values": {"bufferView": 0}},
+                });
+                asset.write_gltf(&dir.join("huge-count.gltf"));
+            },
+            expect: &["refused", "4000000000", "more than"],
+        },
+        HostileCase {
+            // 40 levels of nodes, each listing the next twice: 2^40 paths to the mesh.
+            file: "node-fan.gltf",
+            build: |dir| {
+                let mut asset = scene_asset(false);
+                let mesh = asset.json["nodes"][0]["mesh"].clone();
+                let mut below = asset.node(json!({"mesh": mesh}), false);
+                for _ in 0..40 {
+                    below = asset.node(json!({"children": [below, below]}), false);
+                }
+                asset.json["scenes"][0]["nodes"] = json!([below]);
+                asset.write_gltf(&dir.join("node-fan.gltf"));
+            },
+            expect: &["refused", "node"],
+        },
+    ];
+
+    /// The child's side of [`hostile_uris_and_sizes_are_refused_within_bounds`]: load the file
+    /// the case names and report the outcome.
+    fn run_hostile_case(path: &Path) {
+        match load_gltf(path) {
+            Ok(scene) => confined::report(&format!("loaded: {}", scene.warnings.join(" / "))),
+            Err(err) => confined::report(&format!("refused: {err}")),
+        }
+    }
+
+    /// Issue 29, item 1: every hostile file ends quickly in a clear error or a warning, within
+    /// [`confined::ADDRESS_SPACE_LIMIT`] of address space (before the fix `/dev/zero` was read
+    /// until memory ran out and a FIFO hung the load for ever).
+    #[test]
+    fn hostile_uris_and_sizes_are_refused_within_bounds() {
+        if let Some(case) = confined::case() {
+            return run_hostile_case(Path::new(&case));
+        }
+        let dir = tempfile::tempdir().expect("temp dir");
+        nix::unistd::mkfifo(&dir.path().join("pipe"), nix::sys::stat::Mode::S_IRWXU)
+            .expect("mkfifo");
+        std::fs::create_dir(dir.path().join("folder")).expect("folder");
+        std::fs::write(dir.path().join("a.bin"), [0u8; 16]).expect("a.bin");
+        let mut failures = Vec::new();
+        for case in HOSTILE_CASES {
+            (case.build)(dir.path());
+            let path = dir.path().join(case.file);
+            let ended = confined::run(
+                "hostile::hostile_uris_and_sizes_are_refused_within_bounds",
+                &path.display().to_string(),
+                confined::ADDRESS_SPACE_LIMIT,
+                Duration::from_secs(20),
+            );
+            let failure = match ended {
+                confined::Ended::Reported(outcome)
+                    if case.expect.iter().all(|word| outcome.contains(word)) =>
+                {
+                    continue;
+                }
+                confined::Ended::Reported(outcome) => format!("reported: {outcome}"),
+                confined::Ended::Failed(output) => {
+                    format!("the child failed (a panic, or memory past the limit):\n{output}")
+                }
+                confined::Ended::TimedOut(output) => {
+                    format!("the child was still running after 20 s:\n{output}")
+                }
+            };
+            failures.push(format!(
+                "{}: expected {:?}; {failure}",
+                case.file, case.expect
+            ));
+        }
+        assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+    }
 }

@@ -367,3 +367,50 @@ fn messages_say_what_is_expected_and_print_os_errors_once() {
     );
     assert_eq!(text.matches("os error").count(), 1, "{text}");
 }
+
+/// Issue 29, item 2: a render record with a misspelt field, an unknown top-level field, a
+/// value of the wrong type or a number no `f32` holds is refused with the field's path,
+/// instead of rendering the default camera with exit 0.
+#[test]
+fn render_records_refuse_unknown_fields_and_wrong_types_by_path() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("x.png");
+    let record = |name: &str, camera: &str, extra: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(
+            &path,
+            format!(
+                r#"{{"scene": "chart", "width": 64, "height": 36, "frame": 0,
+                    "camera": {camera}, {extra}
+                    "techniques": [{{"id": "none"}}]}}"#
+            ),
+        )
+        .expect("record");
+        path
+    };
+    let misspelt = record(
+        "misspelt.json",
+        r#"{"yaw": 1e39, "pitch": "x"}"#,
+        r#""colour": "red","#,
+    );
+    let text = refused(
+        &["render", "--from", utf8(&misspelt), "--out", utf8(&out)],
+        &["misspelt.json", "camera.yaw", "camera.pitch", "colour"],
+    );
+    assert!(text.contains("unknown field"), "{text}");
+    let wrong_type = record("wrong-type.json", r#"{"pitch_degrees": "x"}"#, "");
+    refused(
+        &["render", "--from", utf8(&wrong_type), "--out", utf8(&out)],
+        &["wrong-type.json", "camera.pitch_degrees", "invalid type"],
+    );
+    let too_large = record("too-large.json", r#"{"yaw_degrees": 1e39}"#, "");
+    refused(
+        &["render", "--from", utf8(&too_large), "--out", utf8(&out)],
+        &["too-large.json", "camera.yaw_degrees", "finite"],
+    );
+    assert!(!out.exists(), "a refused record wrote {}", out.display());
+    // Fields left out still take their defaults.
+    let partial = record("partial.json", r#"{"yaw_degrees": 30}"#, "");
+    succeeds(&["render", "--from", utf8(&partial), "--out", utf8(&out)]);
+    assert!(out.exists());
+}

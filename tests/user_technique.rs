@@ -259,3 +259,45 @@ fn records_keep_the_path_and_hash_and_refuse_a_changed_file() {
         &["mine.wgsl has changed since the record was made"],
     );
 }
+
+/// Issue 29, item 3: a file the driver takes minutes to compile (a large function-local array
+/// keeps lavapipe busy for more than 100 s) no longer holds `render` without a word: progress
+/// is printed every second and `--build-timeout` ends the wait with a clear error.
+#[test]
+fn a_build_past_the_timeout_is_a_clear_error_with_progress() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("huge_array.wgsl");
+    std::fs::write(
+        &file,
+        "fn aa_main(pixel: vec2<u32>, uv: vec2<f32>) -> vec4<f32> {\n\
+         \x20   var big: array<f32, 65536>;\n\
+         \x20   return aa_load(vec2<i32>(pixel)) + vec4<f32>(big[pixel.x % 65536u]);\n}\n",
+    )
+    .expect("write");
+    let started = std::time::Instant::now();
+    let text = fails_with(
+        &[
+            "render",
+            "--scene",
+            "chart",
+            "--size",
+            "64x36",
+            "--technique",
+            &format!("none,{}", user_arg(&file)),
+            "--build-timeout",
+            "2",
+            "--out",
+            dir.path().to_str().expect("utf-8"),
+        ],
+        &[
+            "compiling the GPU pipeline of",
+            "huge_array.wgsl",
+            "still compiling after 2 s (--build-timeout)",
+        ],
+    );
+    assert!(
+        started.elapsed() < std::time::Duration::from_secs(60),
+        "the timeout took {:?}: {text}",
+        started.elapsed()
+    );
+}

@@ -175,6 +175,8 @@ pub struct TechniqueEntry {
     pub problem: Option<String>,
     /// A user technique the user removed: off, not listed, its file no longer watched.
     pub removed: bool,
+    /// A user technique whose build is running: since when (the row shows "compiling...").
+    building: Option<std::time::Instant>,
     /// Its settings as the render thread last reported them (`None` until it is ready).
     settings: Option<TechniqueSettings>,
     rendered: Option<Stamp>,
@@ -185,14 +187,51 @@ pub struct TechniqueEntry {
 }
 
 impl TechniqueEntry {
+    /// An entry, switched off, with nothing rendered yet.
+    fn new(
+        id: &'static str,
+        name: &'static str,
+        summary: &'static str,
+        availability: Result<(), String>,
+    ) -> Self {
+        Self {
+            id,
+            name,
+            summary,
+            availability,
+            enabled: false,
+            debug_view: None,
+            problem: None,
+            removed: false,
+            building: None,
+            settings: None,
+            rendered: None,
+            dirty: false,
+            revision: 0,
+            output: None,
+            debug_images: Vec::new(),
+        }
+    }
+
     /// Counts its settings changes: outputs and figures of an older revision are out of date.
     pub fn revision(&self) -> u64 {
         self.revision
     }
 
+    /// How long its user technique build has been running, while it runs.
+    pub fn compiling_for(&self) -> Option<std::time::Duration> {
+        self.building.map(|since| since.elapsed())
+    }
+
     /// Whether it can run here.
     pub fn available(&self) -> bool {
         self.availability.is_ok()
+    }
+
+    /// Whether it can be switched on now: it can run here and is not a user technique whose
+    /// first build is still compiling.
+    pub fn switchable(&self) -> bool {
+        self.available() && !(self.building.is_some() && self.settings.is_none())
     }
 
     /// The debug views the technique produced: (name, description).
@@ -307,21 +346,8 @@ impl Engine {
     ) -> Result<Self, EngineError> {
         let entries: Vec<TechniqueEntry> = aa::registry()
             .into_iter()
-            .map(|info| TechniqueEntry {
-                id: info.id,
-                name: info.name,
-                summary: info.summary,
-                availability: (info.availability)(&caps),
-                enabled: false,
-                debug_view: None,
-                problem: None,
-                removed: false,
-                settings: None,
-                rendered: None,
-                dirty: false,
-                revision: 0,
-                output: None,
-                debug_images: Vec::new(),
+            .map(|info| {
+                TechniqueEntry::new(info.id, info.name, info.summary, (info.availability)(&caps))
             })
             .collect();
         let animated = scene.meshes.iter().any(|m| m.spin.is_some());
@@ -560,7 +586,7 @@ impl Engine {
     /// Switches a technique on or off (unavailable ones stay off).
     pub fn set_enabled(&mut self, id: &str, on: bool) {
         if let Some(entry) = self.entries.iter_mut().find(|e| e.id == id)
-            && entry.available()
+            && entry.switchable()
         {
             entry.enabled = on;
         }
@@ -842,6 +868,11 @@ impl Engine {
                     name,
                     result,
                 } => self.user_technique(index, id, &name, result, &mut publication),
+                Event::UserBuilding { index, id, name } => {
+                    if let Some(entry) = self.user_entry(index, id, &name) {
+                        entry.building = Some(std::time::Instant::now());
+                    }
+                }
                 Event::UserRefused(reason) => publication.problems.push(reason),
             }
         }
@@ -872,8 +903,31 @@ impl Engine {
         self.send(Command::RemoveUser(index));
     }
 
-    /// A user technique's (re)build from the render thread: a new entry at the next index, or
-    /// new settings and a re-render, or the error of its file.
+    /// The entry of the user technique at `index`: a new one at the next index (switched off
+    /// until its first build works).
+    fn user_entry(
+        &mut self,
+        index: usize,
+        id: &'static str,
+        name: &str,
+    ) -> Option<&mut TechniqueEntry> {
+        if index == self.entries.len() {
+            let path = aa::user::path_of(id).map_or_else(String::new, |p| p.display().to_string());
+            self.entries.push(TechniqueEntry::new(
+                id,
+                aa::user::intern(name),
+                aa::user::intern(&format!(
+                    "Your technique from {path}: a post-process pass over the scene render, \
+                     reloaded when the file changes."
+                )),
+                Ok(()),
+            ));
+        }
+        self.entries.get_mut(index)
+    }
+
+    /// A user technique's (re)build from the render thread: new settings and a re-render, or
+    /// the error of its file.
     fn user_technique(
         &mut self,
         index: usize,
@@ -882,32 +936,10 @@ impl Engine {
         result: Result<TechniqueSettings, String>,
         publication: &mut Publication,
     ) {
-        let added = index == self.entries.len();
-        if added {
-            let path = aa::user::path_of(id).map_or_else(String::new, |p| p.display().to_string());
-            self.entries.push(TechniqueEntry {
-                id,
-                name: aa::user::intern(name),
-                summary: aa::user::intern(&format!(
-                    "Your technique from {path}: a post-process pass over the scene render, \
-                     reloaded when the file changes."
-                )),
-                availability: Ok(()),
-                enabled: false,
-                debug_view: None,
-                problem: None,
-                removed: false,
-                settings: None,
-                rendered: None,
-                dirty: false,
-                revision: 0,
-                output: None,
-                debug_images: Vec::new(),
-            });
-        }
-        let Some(entry) = self.entries.get_mut(index) else {
+        let Some(entry) = self.user_entry(index, id, name) else {
             return;
         };
+        entry.building = None;
         // A build (after the file was added again) lists it again.
         entry.removed = false;
         match result {

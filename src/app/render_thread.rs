@@ -14,10 +14,16 @@
 //! ([`Command::AddUser`], `aa::user`) take the next indices after the registry's, in the order
 //! added; their files are looked at about once a second and rebuilt when they change
 //! ([`Event::UserTechnique`]), the last good build running on while a change does not compile.
+//! A user technique is built on a thread of its own (`aa::user::build`): the thread announces
+//! the build ([`Event::UserBuilding`]), goes on rendering the other techniques (and the last
+//! good build of this one) and installs the result when the build finishes, however long the
+//! driver takes to compile it.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, mpsc};
 use std::time::Duration;
+
+use crate::aa::user::PendingBuild;
 
 use super::blit::{DisplayTexture, Uploader};
 use super::reference::{ProgressiveReference, SharedControl};
@@ -249,9 +255,22 @@ pub enum Event {
         /// Its settings, or what is wrong with its file.
         result: Result<TechniqueSettings, String>,
     },
+    /// A user technique's build started (`index` is the next one when it is new); its result
+    /// comes as [`Event::UserTechnique`].
+    UserBuilding {
+        /// Registry index.
+        index: usize,
+        /// Its id (`user:PATH`).
+        id: &'static str,
+        /// Its display name.
+        name: String,
+    },
     /// A file given to [`Command::AddUser`] could not even be named (it does not exist).
     UserRefused(String),
 }
+
+/// How often the thread looks at the builds in progress while it has no command.
+const BUILD_POLL: Duration = Duration::from_millis(20);
 
 /// The device the thread renders on.
 pub enum RenderDevice {
@@ -317,11 +336,17 @@ impl RenderThread {
                         }
                     };
                 loop {
-                    match command_receiver.recv_timeout(aa::user::watch::INTERVAL) {
+                    let wait = if state.builds.is_empty() {
+                        aa::user::watch::INTERVAL
+                    } else {
+                        BUILD_POLL
+                    };
+                    match command_receiver.recv_timeout(wait) {
                         Ok(command) => state.handle(command, &send),
                         Err(mpsc::RecvTimeoutError::Timeout) => {}
                         Err(mpsc::RecvTimeoutError::Disconnected) => break,
                     }
+                    state.finish_user_builds(&send);
                     state.reload_user_techniques(&send);
                 }
             })?;
@@ -411,6 +436,9 @@ struct RenderState {
     watcher: aa::user::watch::Watcher,
     /// Registry index and id of every user technique.
     user_ids: Vec<(usize, &'static str)>,
+    /// User technique builds in progress, by registry index (one per index: a newer build
+    /// replaces an older one, whose result is dropped).
+    builds: Vec<(usize, PendingBuild)>,
 }
 
 impl RenderState {
@@ -462,6 +490,7 @@ impl RenderState {
             uploader,
             watcher: aa::user::watch::Watcher::default(),
             user_ids: Vec::new(),
+            builds: Vec::new(),
         };
         Ok((state, ready))
     }
@@ -485,7 +514,11 @@ impl RenderState {
                 send(Event::ClipEnd(end));
             }
             Command::AddUser(path) => self.add_user(&path, send),
-            Command::RemoveUser(index) => self.watcher.unwatch(index),
+            Command::RemoveUser(index) => {
+                self.watcher.unwatch(index);
+                // A build still running would list the technique again when it finished.
+                self.builds.retain(|(building, _)| *building != index);
+            }
         }
     }
 
@@ -511,10 +544,42 @@ impl RenderState {
         send(self.build_user(index, id));
     }
 
-    /// Builds the user technique at `index` from its file, keeping the settings of the build
-    /// it replaces where they still apply.
+    /// Starts building the user technique at `index` from its file (see the module docs).
     fn build_user(&mut self, index: usize, id: &'static str) -> Event {
-        let result = aa::create(&self.gpu, id).map_err(|e| e.to_string());
+        self.builds.retain(|(building, _)| *building != index);
+        self.builds
+            .push((index, PendingBuild::start(&self.gpu, id)));
+        Event::UserBuilding {
+            index,
+            id,
+            name: aa::user::display_name(id),
+        }
+    }
+
+    /// Installs the user techniques whose builds finished, keeping the settings of the builds
+    /// they replace where they still apply.
+    fn finish_user_builds(&mut self, send: &dyn Fn(Event)) {
+        let mut finished = Vec::new();
+        self.builds.retain(|(index, build)| match build.finished() {
+            Some(result) => {
+                finished.push((*index, build.id(), result));
+                false
+            }
+            None => true,
+        });
+        for (index, id, result) in finished {
+            send(self.install_user(index, id, result));
+        }
+    }
+
+    /// Puts a finished build of the user technique at `index` in the graph.
+    fn install_user(
+        &mut self,
+        index: usize,
+        id: &'static str,
+        result: aa::user::build::BuildResult,
+    ) -> Event {
+        let result = result.map_err(|e| e.to_string());
         let result = result.map(|mut technique| {
             if let Some(slot) = self.slots[index] {
                 let previous = aa::param_map(self.graph.slots()[slot].technique.as_ref());

@@ -64,14 +64,16 @@ fn technique_row(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str, number
     let Some(entry) = engine.entry(id) else {
         return;
     };
-    let (name, summary, available, reason, enabled, problem) = (
+    let (name, summary, available, reason, enabled, problem, compiling) = (
         entry.name,
         entry.summary,
         entry.available(),
         entry.availability.clone().err(),
         entry.enabled,
         entry.problem.clone(),
+        entry.compiling_for(),
     );
+    let switchable = entry.switchable();
     let key = if available {
         *number += 1;
         (*number <= 9).then(|| number.to_string())
@@ -101,7 +103,7 @@ fn technique_row(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str, number
             };
             let response = ui
                 .add_enabled(
-                    available,
+                    switchable,
                     egui::Checkbox::new(&mut on, RichText::new(name).strong()),
                 )
                 .on_hover_text(tip);
@@ -156,6 +158,9 @@ fn technique_row(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str, number
                 }
             });
         });
+        if let Some(elapsed) = compiling {
+            compiling_note(ui, elapsed);
+        }
         if let Some(reason) = &reason
             && user
         {
@@ -190,6 +195,22 @@ fn technique_row(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str, number
     if remove_clicked {
         ws.remove_user_technique(id);
     }
+}
+
+/// "compiling... Ns" under a user technique whose build is running (the other techniques go on
+/// rendering meanwhile); the row is redrawn every second while it lasts.
+fn compiling_note(ui: &mut egui::Ui, elapsed: std::time::Duration) {
+    ui.label(
+        RichText::new(format!("compiling... {}s", elapsed.as_secs()))
+            .small()
+            .italics(),
+    )
+    .on_hover_text(
+        "The GPU driver is compiling this technique's shader; the other techniques keep \
+         rendering, and this one appears (or its previous build is replaced) when it is done.",
+    );
+    ui.ctx()
+        .request_repaint_after(std::time::Duration::from_secs(1));
 }
 
 /// Presets, parameters, debug views and code path of an enabled technique.

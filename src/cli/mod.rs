@@ -109,6 +109,19 @@ pub fn remove_temporaries_on_interrupt() -> std::io::Result<()> {
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
+    let techniques = match &cli.command {
+        Some(Command::Render(args)) => Some(&args.techniques),
+        Some(Command::Sheet(args)) => Some(&args.techniques),
+        Some(Command::Clip(args)) => Some(&args.techniques),
+        _ => None,
+    };
+    crate::aa::user::build::set_build_wait(techniques.map_or_else(
+        || crate::aa::user::BuildWait {
+            progress: Some(render::print_build_progress),
+            ..Default::default()
+        },
+        TechniqueArgs::build_wait,
+    ));
     match cli.command {
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Sheet(args)) => sheet::run(&args),

@@ -2,7 +2,7 @@
 //! writes one PNG per technique (and per debug view), each carrying its reproducibility record.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use anyhow::{Context, bail};
 use glam::Vec3;
@@ -48,6 +48,45 @@ pub struct TechniqueArgs {
     /// Set any parameter: TECHNIQUE.KEY=VALUE (repeatable), e.g. msaa4.alpha_to_coverage=on.
     #[arg(long = "set", value_name = "TECHNIQUE.KEY=VALUE")]
     pub set: Vec<String>,
+    /// Longest wait for a user technique's GPU pipeline to compile, in seconds; a build still
+    /// running then is an error (progress is printed every second meanwhile).
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = aa::user::build::DEFAULT_BUILD_TIMEOUT.as_secs_f64(),
+        value_parser = parse_build_timeout
+    )]
+    pub build_timeout: f64,
+}
+
+/// Parses `--build-timeout`: a positive number of seconds.
+fn parse_build_timeout(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(seconds) if seconds > 0.0 && Duration::try_from_secs_f64(seconds).is_ok() => Ok(seconds),
+        _ => Err(format!(
+            "expected a positive number of seconds, got `{text}`"
+        )),
+    }
+}
+
+impl TechniqueArgs {
+    /// How user technique builds are waited for under these arguments: `--build-timeout`,
+    /// with a progress line on standard error every second.
+    pub fn build_wait(&self) -> aa::user::BuildWait {
+        aa::user::BuildWait {
+            timeout: Duration::from_secs_f64(self.build_timeout),
+            progress: Some(print_build_progress),
+        }
+    }
+}
+
+/// The command line's progress line for a user technique that is still compiling.
+pub(super) fn print_build_progress(path: &Path, elapsed: Duration) {
+    eprintln!(
+        "compiling the GPU pipeline of {}... {} s",
+        path.display(),
+        elapsed.as_secs()
+    );
 }
 
 /// Whether the camera given on the command line moves with the frame number.
@@ -530,7 +569,7 @@ pub fn load_spec(path: &Path) -> anyhow::Result<RenderSpec> {
         let bytes = files::read_bounded(path, MAX_RECORD_BYTES as u64, "a render record")?;
         String::from_utf8(bytes).with_context(|| format!("{} is not UTF-8 text", path.display()))?
     };
-    serde_json::from_str(&text)
+    spec::parse_record(&text)
         .with_context(|| format!("{} is not a valid aa-lab render record", path.display()))
 }
 

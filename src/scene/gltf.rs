@@ -39,13 +39,27 @@
 //! * A missing or undecodable image does not fail the load, as with OBJ: the material draws
 //!   the magenta/black checker and a warning names the image (`--strict` makes it an error).
 //!   A missing or short buffer is an error.
+//!
+//! # What is read from disk, and how much
+//! The glTF file and every file its URIs name must be regular files (a device, a FIFO or a
+//! directory is refused up front, as for OBJ). The file itself is read up to
+//! [`MAX_GLTF_BYTES`]; a buffer file no further than the buffer's `byteLength` (a larger file
+//! is not read whole), which may not exceed [`MAX_BUFFER_BYTES`]; an image file up to the
+//! texture limit of the OBJ loader. A URI must stay in the model's folder: an absolute path or
+//! one whose `..` climbs above the folder is refused (an error for a buffer, the checker and a
+//! warning for an image). What the loader builds is bounded too: one accessor yields at most
+//! [`MAX_ACCESSOR_VALUES`] values, the scene (meshes instanced by several nodes counted each
+//! time) at most [`MAX_SCENE_VERTICES`] vertices and three times as many indices, and the node
+//! hierarchy is walked through at most [`MAX_NODE_VISITS`] nodes, so a small hostile file
+//! cannot make the loader allocate without bound or run for ever.
 
 use std::collections::HashMap;
-use std::io;
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 
 use base64::Engine as _;
 use glam::{Mat3, Mat4, Vec3};
+
+use crate::files::{self, FileError, MAX_IMAGE_FILE_BYTES};
 
 use super::framing::{bounding_sphere, framed_camera};
 use super::model::{Filter, SceneView, TextureSampler, Wrap};
@@ -58,21 +72,27 @@ const IMPLEMENTED_EXTENSIONS: &[&str] = &["KHR_materials_unlit"];
 /// Deepest node hierarchy followed (deeper means a cycle or a hostile file).
 const MAX_NODE_DEPTH: usize = 256;
 
+/// Largest `.gltf` or `.glb` file read.
+pub const MAX_GLTF_BYTES: u64 = 2 << 30;
+/// Largest `byteLength` of a buffer.
+pub const MAX_BUFFER_BYTES: u64 = 2 << 30;
+/// Most values (elements times components) read from one accessor.
+pub const MAX_ACCESSOR_VALUES: usize = 1 << 26;
+/// Most vertices in a loaded scene (indices: three times as many).
+pub const MAX_SCENE_VERTICES: usize = 1 << 25;
+/// Most node visits while walking the hierarchy (a node listed as the child of several
+/// parents is visited once per path to it).
+pub const MAX_NODE_VISITS: usize = 1 << 20;
+
 /// Background colour of glTF scenes (linear RGB), as for OBJ scenes.
 const CLEAR_COLOR: Vec3 = Vec3::splat(0.1);
 
 /// Why a glTF file could not be loaded. Every message names the file at fault.
 #[derive(Debug, thiserror::Error)]
 pub enum GltfError {
-    /// The file (or a buffer it names) could not be read.
-    #[error("cannot read {}: {source}", path.display())]
-    Io {
-        /// File that was read.
-        path: PathBuf,
-        /// The operating system's error.
-        #[source]
-        source: io::Error,
-    },
+    /// The file could not be read, is not a regular file or is too large.
+    #[error(transparent)]
+    File(#[from] FileError),
     /// The JSON or the GLB container is malformed, or an index refers to nothing.
     #[error("{} is not a valid glTF 2.0 file: {message}", path.display())]
     Parse {
@@ -112,10 +132,7 @@ pub enum GltfError {
 
 /// Loads a `.gltf` or `.glb` file into a Scene (see the module docs).
 pub fn load_gltf(path: &Path) -> Result<Scene, GltfError> {
-    let bytes = std::fs::read(path).map_err(|source| GltfError::Io {
-        path: path.to_owned(),
-        source,
-    })?;
+    let bytes = files::read_bounded(path, MAX_GLTF_BYTES, "a glTF file")?;
     let parse = |message: String| GltfError::Parse {
         path: path.to_owned(),
         message,
@@ -145,6 +162,9 @@ pub fn load_gltf(path: &Path) -> Result<Scene, GltfError> {
         skipped_modes: Vec::new(),
         blended: Vec::new(),
         warnings: Vec::new(),
+        scene_vertices: 0,
+        scene_indices: 0,
+        node_visits: 0,
     };
     let roots: Vec<gltf::Node<'_>> = match document
         .default_scene()
@@ -301,8 +321,32 @@ fn percent_decode(uri: &str) -> Vec<u8> {
     out
 }
 
-/// Reads a URI a glTF file names: a `data:` URI or a path relative to the file.
-fn read_uri(base: &Path, uri: &str) -> Result<(Vec<u8>, String), String> {
+/// What a URI is read as: a buffer (no further than its declared length) or an image.
+#[derive(Clone, Copy)]
+enum UriUse {
+    Buffer { length: u64 },
+    Image,
+}
+
+/// Whether a relative path leaves the folder it is relative to (absolute, or `..` climbing
+/// above it).
+fn leaves_folder(relative: &Path) -> bool {
+    let mut depth = 0usize;
+    for component in relative.components() {
+        match component {
+            Component::Normal(_) => depth += 1,
+            Component::CurDir => {}
+            Component::ParentDir if depth == 0 => return true,
+            Component::ParentDir => depth -= 1,
+            Component::RootDir | Component::Prefix(_) => return true,
+        }
+    }
+    false
+}
+
+/// Reads a URI a glTF file names: a `data:` URI or a path relative to the file, inside its
+/// folder, read within the bounds of its use (see the module docs).
+fn read_uri(base: &Path, uri: &str, usage: UriUse) -> Result<(Vec<u8>, String), String> {
     if uri.starts_with("data:") {
         return decode_data_uri(uri).map(|bytes| (bytes, "an embedded data: URI".to_owned()));
     }
@@ -312,10 +356,19 @@ fn read_uri(base: &Path, uri: &str) -> Result<(Vec<u8>, String), String> {
         ));
     }
     let decoded = String::from_utf8_lossy(&percent_decode(uri)).into_owned();
+    if leaves_folder(Path::new(&decoded)) {
+        return Err(format!(
+            "{uri} lies outside the model's folder; aa-lab reads only files in the folder of \
+             the glTF file and below it"
+        ));
+    }
     let path = base.join(decoded);
-    std::fs::read(&path)
-        .map(|bytes| (bytes, path.display().to_string()))
-        .map_err(|e| format!("cannot read {}: {e}", path.display()))
+    let bytes = match usage {
+        UriUse::Buffer { length } => files::read_head(&path, length, "a glTF buffer"),
+        UriUse::Image => files::read_bounded(&path, MAX_IMAGE_FILE_BYTES, "a texture"),
+    }
+    .map_err(|e| e.to_string())?;
+    Ok((bytes, path.display().to_string()))
 }
 
 /// Every buffer's bytes, checked against its declared length.
@@ -333,6 +386,13 @@ fn load_buffers(
         .buffers()
         .map(|buffer| {
             let name = describe("buffer", buffer.index(), buffer.name());
+            let length = buffer.length() as u64;
+            if length > MAX_BUFFER_BYTES {
+                return Err(invalid(format!(
+                    "{name} declares {length} bytes, more than the {MAX_BUFFER_BYTES} bytes \
+                     aa-lab reads for a glTF buffer"
+                )));
+            }
             let (data, from) = match buffer.source() {
                 gltf::buffer::Source::Bin => (
                     blob.take().ok_or_else(|| {
@@ -342,9 +402,8 @@ fn load_buffers(
                     })?,
                     "the GLB binary chunk".to_owned(),
                 ),
-                gltf::buffer::Source::Uri(uri) => {
-                    read_uri(base, uri).map_err(|e| invalid(format!("{name}: {e}")))?
-                }
+                gltf::buffer::Source::Uri(uri) => read_uri(base, uri, UriUse::Buffer { length })
+                    .map_err(|e| invalid(format!("{name}: {e}")))?,
             };
             if data.len() < buffer.length() {
                 return Err(invalid(format!(
@@ -422,6 +481,11 @@ struct Loader<'a> {
     skipped_modes: Vec<String>,
     blended: Vec<String>,
     warnings: Vec<String>,
+    /// Vertices and indices of the meshes so far (see [`MAX_SCENE_VERTICES`]).
+    scene_vertices: usize,
+    scene_indices: usize,
+    /// Nodes visited so far (see [`MAX_NODE_VISITS`]).
+    node_visits: usize,
 }
 
 /// A perspective camera placed by a node.
@@ -468,6 +532,13 @@ impl Loader<'_> {
         depth: usize,
     ) -> Result<(), GltfError> {
         let name = describe("node", node.index(), node.name());
+        self.node_visits += 1;
+        if self.node_visits > MAX_NODE_VISITS {
+            return Err(self.invalid(format!(
+                "walking the node hierarchy reached {name} after {MAX_NODE_VISITS} nodes (nodes \
+                 that are the children of several parents multiply the hierarchy)"
+            )));
+        }
         if depth > MAX_NODE_DEPTH {
             return Err(self.invalid(format!(
                 "{name} is nested more than {MAX_NODE_DEPTH} levels deep (a cycle in the node \
@@ -577,13 +648,19 @@ impl Loader<'_> {
         let size = component_size(ty);
         let element = size * components;
         let count = accessor.count();
+        if count.saturating_mul(components) > MAX_ACCESSOR_VALUES {
+            return Err(self.invalid(format!(
+                "{what} has {count} elements, more than the {MAX_ACCESSOR_VALUES} values \
+                 aa-lab reads from one accessor"
+            )));
+        }
         let normalized = accessor.normalized();
         let decode = |bytes: &[u8], out: &mut Vec<f64>| {
             for c in 0..components {
                 out.push(component(&bytes[c * size..], ty, normalized));
             }
         };
-        let mut values = Vec::with_capacity(count.saturating_mul(components).min(1 << 28));
+        let mut values = Vec::with_capacity(count * components);
         match accessor.view() {
             Some(view) => {
                 let stride = view.stride().unwrap_or(element);
@@ -593,7 +670,7 @@ impl Loader<'_> {
                     decode(&bytes[i * stride..], &mut values);
                 }
             }
-            None => values.resize(count.saturating_mul(components), 0.0),
+            None => values.resize(count * components, 0.0),
         }
         if let Some(sparse) = accessor.sparse() {
             let indices = sparse.indices();
@@ -660,6 +737,7 @@ impl Loader<'_> {
         let positions = primitive
             .get(&gltf::Semantic::Positions)
             .ok_or_else(|| self.invalid(format!("{name} has no POSITION attribute")))?;
+        self.check_size(&name, positions.count(), 0)?;
         let positions = self.read(&positions, 3, &format!("{name} POSITION"))?;
         let vertex_count = positions.len() / 3;
         let positions: Vec<Vec3> = positions
@@ -757,6 +835,9 @@ impl Loader<'_> {
             }
             None => flat_shaded(&world_positions, &uvs, &indices),
         };
+        self.check_size(&name, vertices.len(), indices.len())?;
+        self.scene_vertices += vertices.len();
+        self.scene_indices += indices.len();
         self.meshes.push(Mesh {
             name,
             vertices,
@@ -764,6 +845,21 @@ impl Loader<'_> {
             material,
             spin: None,
         });
+        Ok(())
+    }
+
+    /// Refuses a mesh of `vertices` and `indices` that would take the scene past
+    /// [`MAX_SCENE_VERTICES`] (or three times as many indices).
+    fn check_size(&self, name: &str, vertices: usize, indices: usize) -> Result<(), GltfError> {
+        let vertex_total = self.scene_vertices.saturating_add(vertices);
+        let index_total = self.scene_indices.saturating_add(indices);
+        if vertex_total > MAX_SCENE_VERTICES || index_total > 3 * MAX_SCENE_VERTICES {
+            return Err(self.invalid(format!(
+                "{name} takes the scene to {vertex_total} vertices and {index_total} indices, \
+                 more than the {MAX_SCENE_VERTICES} vertices (and three times as many indices) \
+                 aa-lab loads (meshes used by several nodes count once per use)"
+            )));
+        }
         Ok(())
     }
 
@@ -834,7 +930,7 @@ impl Loader<'_> {
                 .view_bytes(&view)
                 .map(|bytes| (bytes.to_vec(), format!("buffer view {}", view.index())))
                 .map_err(|e| e.to_string()),
-            gltf::image::Source::Uri { uri, .. } => read_uri(self.base, uri),
+            gltf::image::Source::Uri { uri, .. } => read_uri(self.base, uri, UriUse::Image),
         }
         .and_then(|(bytes, from)| {
             image::load_from_memory(&bytes)
@@ -949,6 +1045,15 @@ mod tests {
         assert_eq!(decode_data_uri("data:,a%20b").as_deref(), Ok(&b"a b"[..]));
         assert!(decode_data_uri("data:;base64,@@@").is_err());
         assert!(decode_data_uri("data:nocomma").is_err());
+    }
+
+    #[test]
+    fn uris_outside_the_folder_are_recognised() {
+        assert!(!leaves_folder(Path::new("a.bin")));
+        assert!(!leaves_folder(Path::new("./textures/../a.png")));
+        assert!(leaves_folder(Path::new("../a.png")));
+        assert!(leaves_folder(Path::new("textures/../../a.png")));
+        assert!(leaves_folder(Path::new("/dev/zero")));
     }
 
     #[test]

@@ -8,7 +8,9 @@
 //!
 //! [`program`] checks the file with naga before any GPU object exists, so errors name the
 //! user's file, line and column; the pipeline is then built inside an error scope so that a
-//! backend's refusal is an error of this technique, never a panic.
+//! backend's refusal is an error of this technique, never a panic. All of it runs on a thread
+//! of its own ([`build`]), so a shader the driver takes minutes to compile stalls neither the
+//! viewer's other techniques nor the command line past `--build-timeout`.
 //!
 //! Input: the shared 1x render (the one No AA shows) when the code never calls `aa_motion`,
 //! otherwise a 1x render with motion vectors at a zero jitter offset (the same image, plus
@@ -21,6 +23,7 @@
 //! parameter names and help texts are `&'static str` throughout aa-lab: a user technique's
 //! are interned (each distinct string is kept once for the life of the process).
 
+pub mod build;
 pub mod program;
 pub mod watch;
 
@@ -38,6 +41,7 @@ use crate::gpu::fullscreen::{FragmentDesc, Fullscreen};
 use crate::gpu::{COLOR_FORMAT, Gpu};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
+pub use build::{BuildWait, PendingBuild};
 pub use program::{LoadError, OverrideType, Program};
 
 /// The prefix of user technique ids.
@@ -135,8 +139,15 @@ pub fn display_name(id: &str) -> String {
     format!("{stem} (user)")
 }
 
-/// Loads, checks and builds the user technique of an id (`user:PATH`).
+/// Loads, checks and builds the user technique of an id (`user:PATH`) on a thread of its own,
+/// waiting for it as [`build::set_build_wait`] last said (see [`build`]).
 pub fn create(gpu: &Gpu, id: &str) -> Result<Box<dyn Technique>, LoadError> {
+    let path = path_of(id).unwrap_or(Path::new(id));
+    PendingBuild::start(gpu, interned_id(path)?).wait(build::build_wait())
+}
+
+/// Loads, checks and builds the user technique of an id on this thread.
+fn build_here(gpu: &Gpu, id: &str) -> Result<Box<dyn Technique>, LoadError> {
     let path = path_of(id).unwrap_or(Path::new(id));
     let canonical = id_for(path)?;
     let program = program::load(Path::new(&canonical[PREFIX.len()..]))?;
