@@ -11,7 +11,7 @@
 //!   the frame is twice the clip's size, so sides above 4096 (8192 doubled, H.264's largest
 //!   level) are refused.
 //!
-//! Both use BT.709 limited range and a high, constant quality (H.264 CRF 18, VP9 CRF 20:
+//! Both use BT.709 limited range and a high, constant quality (H.264 CRF 18, VP9 CRF 16:
 //! clip edges stay sharp, and a 48-frame full-frame grid stays near 20 MB); the exact
 //! ffmpeg arguments are [`ffmpeg_arguments`]. The video is written to the output's temporary
 //! file ([`crate::files::PendingFile`]) and moved into place when ffmpeg succeeds.
@@ -166,7 +166,7 @@ pub fn ffmpeg_arguments(
                 "-profile:v",
                 "1",
                 "-crf",
-                "20",
+                "16",
                 "-b:v",
                 "0",
                 "-deadline",
