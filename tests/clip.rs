@@ -32,7 +32,7 @@ fn clips_are_deterministic_apngs_with_their_record() {
         std::fs::read(dir.path().join("b.json")).expect("record")
     );
 
-    let chunks = aa_lab::export::animation::png_chunks(&bytes).expect("a PNG chunk stream");
+    let chunks = aa_lab::export::png::png_chunks(&bytes).expect("a PNG chunk stream");
     let actl = chunks
         .iter()
         .find(|(kind, _)| kind == b"acTL")

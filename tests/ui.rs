@@ -507,7 +507,7 @@ fn a_recorded_clip_plays_every_pane_in_lockstep_and_exports_an_animation() {
         .find(|p| p.extension().is_some_and(|e| e == "png"))
         .expect("an animation");
     let bytes = std::fs::read(animation).expect("the animation");
-    let chunks = aa_lab::export::animation::png_chunks(&bytes).expect("a PNG");
+    let chunks = aa_lab::export::png::png_chunks(&bytes).expect("a PNG");
     let (_, actl) = chunks
         .iter()
         .find(|(kind, _)| kind == b"acTL")

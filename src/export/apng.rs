@@ -14,8 +14,9 @@
 
 use std::io::{self, Read, Write};
 
-use super::animation::{Change, png_chunks};
+use super::frame_change::Change;
 use super::png::RECORD_KEYWORD;
+use super::png::png_chunks;
 
 /// How hard the frames are compressed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]

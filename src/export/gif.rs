@@ -9,7 +9,7 @@
 
 use std::io::{self, Read, Write};
 
-use super::animation::Change;
+use super::frame_change::Change;
 
 /// NeuQuant's sampling speed (1 best to 30 fastest): 10 is the `gif` crate's compromise.
 const QUANTISER_SPEED: i32 = 10;

@@ -7,6 +7,7 @@ pub mod apng;
 pub mod charts;
 pub mod clip;
 pub mod clip_writer;
+pub mod frame_change;
 pub mod gif;
 pub mod heatmap;
 pub mod html;

@@ -152,6 +152,22 @@ pub fn read_image(path: &Path) -> Result<image::RgbaImage, ExportError> {
     read_image_limited(path, MAX_IMAGE_PIXELS, "aa-lab")
 }
 
+/// The chunks of a PNG file in order (type and data), for checking an animation's structure;
+/// `None` when the bytes are not a well-formed PNG chunk stream.
+pub fn png_chunks(bytes: &[u8]) -> Option<Vec<([u8; 4], &[u8])>> {
+    const SIGNATURE: [u8; 8] = [137, 80, 78, 71, 13, 10, 26, 10];
+    let mut rest = bytes.strip_prefix(&SIGNATURE[..])?;
+    let mut chunks = Vec::new();
+    while !rest.is_empty() {
+        let length = u32::from_be_bytes(rest.get(..4)?.try_into().ok()?) as usize;
+        let kind: [u8; 4] = rest.get(4..8)?.try_into().ok()?;
+        let data = rest.get(8..8 + length)?;
+        chunks.push((kind, data));
+        rest = rest.get(8 + length + 4..)?;
+    }
+    Some(chunks)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
