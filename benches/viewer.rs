@@ -28,7 +28,7 @@
 //! `cargo bench --bench viewer -- [--seconds S] [--scenes a,b] [--size WxH] [--out file.json]`
 //! (`--size 1920x1080` for the GPU target, which is stated at that size); with
 //! `--features profile` it also prints where the UI frame's time goes (puffin scopes).
-//! The figures in the README come from this benchmark.
+//! The viewer figures in `docs/gpu-figures.md` come from this benchmark.
 
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};

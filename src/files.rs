@@ -10,8 +10,13 @@
 //!
 //! # Writing, and the overwrite policy
 //! Every output is written to a temporary file in the destination's folder and renamed into
-//! place ([`write_atomic`]), so a failed write (a full disk, a killed process) leaves at most a
-//! hidden temporary file behind, never a truncated output or a destroyed earlier file.
+//! place ([`write_atomic`], [`PendingFile`]), so a failed write (a full disk, a killed process)
+//! never leaves a truncated output or a destroyed earlier file. The temporary file is removed
+//! when the write fails or is abandoned (the [`PendingFile`] is dropped), and, through a
+//! registry of the temporary files that exist, when the process is interrupted
+//! ([`remove_temporaries_and_exit`], which the command line's SIGINT/SIGTERM handler calls);
+//! only a process killed outright (SIGKILL, a power cut) leaves one behind. Scratch space for
+//! a large output ([`anonymous_scratch`]) has no name at all.
 //!
 //! One policy for every command ([`Overwrite`]): the command line never replaces an existing
 //! file unless `--force` is given, and never writes over one of the command's own inputs, even
@@ -23,6 +28,7 @@ use std::fs::File;
 use std::io::{self, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// Errors of reading a user's file or writing an output.
 #[derive(Debug, thiserror::Error)]
@@ -107,6 +113,10 @@ fn kind_of(metadata: &std::fs::Metadata) -> &'static str {
         "not a regular file"
     }
 }
+
+/// Largest image file read (compressed size on disk): images, textures and the images a
+/// scene file names.
+pub const MAX_IMAGE_FILE_BYTES: u64 = 1 << 30;
 
 /// Checks that `path` is a regular file (following links) of at most `limit` bytes and
 /// returns its size. `what` names its purpose in the error.
@@ -250,6 +260,144 @@ fn temporary_path(path: &Path) -> PathBuf {
     ))
 }
 
+/// The temporary files of outputs being written ([`PendingFile`]), so that an interrupted
+/// process can remove them ([`remove_temporaries_and_exit`]). A file is created and
+/// registered, and moved into place and unregistered, under the lock: an interruption sees
+/// every temporary file that exists, and never one half moved into place.
+static LIVE_TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn live_temporaries() -> MutexGuard<'static, Vec<PathBuf>> {
+    LIVE_TEMPORARIES
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Removes the temporary file of every output being written and ends the process with `code`
+/// (what the command line's SIGINT/SIGTERM handler does): nothing half written is left
+/// behind, and no existing output is touched. Holds the registry's lock until the process has
+/// ended, so no output is moved into place meanwhile.
+pub fn remove_temporaries_and_exit(code: i32) -> ! {
+    let live = live_temporaries();
+    for temporary in live.iter() {
+        let _ = std::fs::remove_file(temporary);
+    }
+    std::process::exit(code)
+}
+
+/// An output being written (see the module docs): the bytes go to a hidden temporary file in
+/// the destination's folder, which [`PendingFile::commit`] flushes to disk and moves into
+/// place. Dropped without a commit (an error, a cancelled export, an unwinding panic), it
+/// removes the temporary file; an interrupted process removes it too
+/// ([`remove_temporaries_and_exit`]).
+pub struct PendingFile {
+    path: PathBuf,
+    temporary: PathBuf,
+    force: bool,
+    existed: bool,
+    writer: BufWriter<File>,
+}
+
+impl PendingFile {
+    /// Checks `path` against `policy` and creates its temporary file.
+    pub fn create(path: &Path, policy: &Overwrite) -> Result<Self, FileError> {
+        let existed = policy.check(path)?;
+        let temporary = temporary_path(path);
+        let file = {
+            let mut live = live_temporaries();
+            let file = File::options()
+                .write(true)
+                .create_new(true)
+                .open(&temporary)
+                .map_err(|source| FileError::Write {
+                    path: path.to_owned(),
+                    source,
+                })?;
+            live.push(temporary.clone());
+            file
+        };
+        Ok(Self {
+            path: path.to_owned(),
+            temporary,
+            force: policy.force,
+            existed,
+            writer: BufWriter::new(file),
+        })
+    }
+
+    /// The destination.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The temporary file (for a program that writes the contents itself, as ffmpeg does;
+    /// [`PendingFile::commit`] then flushes it to disk and moves it into place).
+    pub fn temporary_path(&self) -> &Path {
+        &self.temporary
+    }
+
+    /// Where the contents go.
+    pub fn writer(&mut self) -> &mut BufWriter<File> {
+        &mut self.writer
+    }
+
+    /// The error of this output for a failed write.
+    pub fn write_error(&self, source: io::Error) -> FileError {
+        FileError::Write {
+            path: self.path.clone(),
+            source,
+        }
+    }
+
+    /// Flushes the contents to disk and moves them to the destination (replacing a file there
+    /// only under `--force`); returns whether an existing file was replaced.
+    pub fn commit(mut self) -> Result<bool, FileError> {
+        let synced = self
+            .writer
+            .flush()
+            .and_then(|()| self.writer.get_ref().sync_all());
+        if let Err(source) = synced {
+            return Err(self.write_error(source));
+        }
+        let mut live = live_temporaries();
+        let placed = if self.force {
+            std::fs::rename(&self.temporary, &self.path)
+        } else {
+            // A hard link fails when the name is taken, even if the file appeared after the check.
+            match std::fs::hard_link(&self.temporary, &self.path) {
+                Ok(()) => std::fs::remove_file(&self.temporary),
+                Err(err) if err.kind() == io::ErrorKind::AlreadyExists => {
+                    drop(live);
+                    return Err(FileError::Exists {
+                        path: self.path.clone(),
+                    });
+                }
+                // File systems without hard links: the check above is all there is.
+                Err(_) => std::fs::rename(&self.temporary, &self.path),
+            }
+        };
+        match placed {
+            Ok(()) => {
+                live.retain(|t| *t != self.temporary);
+                Ok(self.existed)
+            }
+            Err(source) => {
+                drop(live);
+                Err(self.write_error(source))
+            }
+        }
+    }
+}
+
+impl Drop for PendingFile {
+    fn drop(&mut self) {
+        let mut live = live_temporaries();
+        if let Some(index) = live.iter().position(|t| *t == self.temporary) {
+            let _ = std::fs::remove_file(&self.temporary);
+            live.swap_remove(index);
+        }
+    }
+}
+
 /// Writes a file atomically under `policy`: `fill` writes the contents to a temporary file in
 /// the same folder, which is flushed to disk and then moved to `path` (see the module docs).
 /// Returns whether an existing file was replaced.
@@ -258,49 +406,30 @@ pub fn write_atomic(
     policy: &Overwrite,
     fill: impl FnOnce(&mut dyn Write) -> io::Result<()>,
 ) -> Result<bool, FileError> {
-    let existed = policy.check(path)?;
-    let temporary = temporary_path(path);
-    let write_error = |source| FileError::Write {
-        path: path.to_owned(),
+    let mut pending = PendingFile::create(path, policy)?;
+    if let Err(source) = fill(pending.writer()) {
+        return Err(pending.write_error(source));
+    }
+    pending.commit()
+}
+
+/// A scratch file in the folder of `beside` (the same file system as the output it helps
+/// to write) whose name is removed as soon as it is created: it lives only as long as the
+/// returned handle, and nothing of it is left behind however the process ends.
+pub fn anonymous_scratch(beside: &Path) -> Result<File, FileError> {
+    let path = temporary_path(beside);
+    let error = |source| FileError::Write {
+        path: beside.to_owned(),
         source,
     };
-    let result = (|| {
-        let file = File::options()
-            .write(true)
-            .create_new(true)
-            .open(&temporary)?;
-        let mut writer = BufWriter::new(file);
-        fill(&mut writer)?;
-        let file = writer
-            .into_inner()
-            .map_err(io::IntoInnerError::into_error)?;
-        file.sync_all()
-    })();
-    if let Err(source) = result {
-        let _ = std::fs::remove_file(&temporary);
-        return Err(write_error(source));
-    }
-    let placed = if policy.force {
-        std::fs::rename(&temporary, path)
-    } else {
-        // A hard link fails when the name is taken, even if the file appeared after the check.
-        match std::fs::hard_link(&temporary, path) {
-            Ok(()) => std::fs::remove_file(&temporary),
-            Err(err) if err.kind() == io::ErrorKind::AlreadyExists => {
-                let _ = std::fs::remove_file(&temporary);
-                return Err(FileError::Exists {
-                    path: path.to_owned(),
-                });
-            }
-            // File systems without hard links: the check above is all there is.
-            Err(_) => std::fs::rename(&temporary, path),
-        }
-    };
-    if let Err(source) = placed {
-        let _ = std::fs::remove_file(&temporary);
-        return Err(write_error(source));
-    }
-    Ok(existed)
+    let file = File::options()
+        .read(true)
+        .write(true)
+        .create_new(true)
+        .open(&path)
+        .map_err(error)?;
+    std::fs::remove_file(&path).map_err(error)?;
+    Ok(file)
 }
 
 /// [`write_atomic`] of bytes already in memory.
@@ -356,6 +485,31 @@ mod tests {
         assert!(err.to_string().contains("disk full"), "{err}");
         assert_eq!(std::fs::read(&path).unwrap(), b"precious");
         assert!(leftovers(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn a_pending_file_dropped_without_commit_leaves_nothing_and_keeps_the_old_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("clip.png");
+        std::fs::write(&path, b"precious").unwrap();
+        let mut pending = PendingFile::create(&path, &Overwrite::new(true)).unwrap();
+        pending.writer().write_all(b"half a clip").unwrap();
+        pending.writer().flush().unwrap();
+        assert_eq!(
+            leftovers(dir.path()).len(),
+            1,
+            "the temporary file exists meanwhile"
+        );
+        let scratch = anonymous_scratch(&path).unwrap();
+        drop(pending);
+        assert!(
+            leftovers(dir.path()).is_empty(),
+            "{:?}",
+            leftovers(dir.path())
+        );
+        assert_eq!(std::fs::read(&path).unwrap(), b"precious");
+        drop(scratch);
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
     }
 
     #[test]

@@ -8,6 +8,7 @@
 //!   techniques, with timings and memory reports;
 //! - [`aa`]: the registry and one folder per technique, with what they share in `aa::common`;
 //! - [`spec`]: reproducible render descriptions and the headless runner;
+//! - [`bench`]: the measurements `bench` takes, as library types;
 //! - [`metrics`]: SSIM, PSNR, MAE, FLIP (CPU and GPU), flicker, chart ground truth, timing
 //!   summaries;
 //! - [`export`]: PNG files with their render record;
@@ -19,6 +20,7 @@
 
 pub mod aa;
 pub mod app;
+pub mod bench;
 pub mod cli;
 pub mod export;
 pub mod files;

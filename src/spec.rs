@@ -41,6 +41,24 @@ impl TechniqueSpec {
             source_hash: technique.source_hash(),
         }
     }
+
+    /// Creates the technique this entry records, with its settings, refusing a user technique
+    /// whose file changed since the record was made.
+    pub fn create(&self, gpu: &Gpu) -> Result<Box<dyn aa::Technique>, TechniqueError> {
+        let mut technique = aa::create(gpu, &self.id)?;
+        if let (Some(recorded), Some(current)) = (&self.source_hash, technique.source_hash())
+            && *recorded != current
+        {
+            return Err(TechniqueError::SourceChanged {
+                path: aa::user::path_of(&self.id)
+                    .map_or_else(|| self.id.clone(), |p| p.display().to_string()),
+                recorded: recorded.clone(),
+                current,
+            });
+        }
+        aa::apply_param_map(technique.as_mut(), &self.settings)?;
+        Ok(technique)
+    }
 }
 
 /// Everything that determines a render.
@@ -281,7 +299,7 @@ pub fn build_graph(gpu: &Gpu, scene: &Scene, spec: &RenderSpec) -> Result<FrameG
     }
     let mut graph = FrameGraph::new(gpu.clone(), scene);
     for t in &spec.techniques {
-        graph.add(aa::create_recorded(gpu, t)?);
+        graph.add(t.create(gpu)?);
     }
     Ok(graph)
 }

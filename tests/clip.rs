@@ -5,28 +5,8 @@
 
 mod common;
 
-use common::{fails_with, stderr};
+use common::{clip, fails_with, stderr};
 use std::path::Path;
-
-fn clip(out: &Path, extra: &[&str]) -> std::process::Output {
-    let mut args = vec![
-        "clip",
-        "--scene",
-        "chart",
-        "--size",
-        "64x48",
-        "--frames",
-        "4",
-        "--warmup",
-        "2",
-        "--technique",
-        "none,fxaa,taa,msaa4",
-        "--out",
-        out.to_str().expect("utf-8"),
-    ];
-    args.extend_from_slice(extra);
-    common::aa_lab(&args)
-}
 
 fn be32(bytes: &[u8]) -> u32 {
     u32::from_be_bytes(bytes[..4].try_into().expect("4 bytes"))
@@ -117,6 +97,170 @@ fn a_gif_path_writes_a_looping_gif_of_the_full_frame_grid() {
     assert_eq!(json["format"], "gif");
     assert_eq!(json["motion"], "still");
     assert!(json["region"].is_null());
+}
+
+/// The hidden temporary files aa-lab writes outputs to, in `dir`.
+fn temporaries(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .expect("readable folder")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .filter(|name| name.contains("aa-lab-tmp"))
+        .collect()
+}
+
+#[test]
+fn sigterm_mid_encode_removes_the_temporary_file_and_keeps_the_old_output() {
+    let _gpu = common::gpu();
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("clip.png");
+    std::fs::write(&out, b"an earlier clip").expect("written");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_aa-lab"))
+        .args([
+            "clip", "--scene", "chart", "--size", "96x64", "--frames", "600", "--warmup", "0",
+        ])
+        .args(["--technique", "none,fxaa", "--force", "--out"])
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("aa-lab runs");
+    // The temporary file appears with the first frame encoded; the clip is far from done then.
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    while temporaries(dir.path()).is_empty() {
+        if let Some(status) = child.try_wait().expect("waitable") {
+            panic!("aa-lab clip ended ({status}) before the test saw its temporary file");
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "no temporary file after 120 s"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let killed = std::process::Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(killed.success());
+    let status = child.wait().expect("aa-lab ends");
+    assert_eq!(
+        status.code(),
+        Some(128 + 15),
+        "exit status of a SIGTERM: {status}"
+    );
+    assert_eq!(
+        temporaries(dir.path()),
+        Vec::<String>::new(),
+        "temporary file left behind"
+    );
+    assert_eq!(std::fs::read(&out).expect("kept"), b"an earlier clip");
+    assert!(!dir.path().join("clip.json").exists());
+}
+
+#[test]
+fn an_unknown_extension_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for name in ["clip.mp3", "clip", "clip.json"] {
+        let out = dir.path().join(name);
+        let args = [
+            "clip",
+            "--scene",
+            "chart",
+            "--size",
+            "64x48",
+            "--out",
+            out.to_str().expect("utf-8"),
+        ];
+        fails_with(&args, &[name, aa_lab::export::clip_writer::FORMATS]);
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).expect("folder").count(), 0);
+}
+
+/// Frames of a video decoded by ffmpeg as RGBA8, `size` pixels each.
+fn decoded_video(path: &Path, size: (u32, u32)) -> Vec<image::RgbaImage> {
+    let out = std::process::Command::new("ffmpeg")
+        .args(["-v", "error", "-i"])
+        .arg(path)
+        .args(["-f", "rawvideo", "-pix_fmt", "rgba", "-"])
+        .output()
+        .expect("ffmpeg runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out.stdout
+        .chunks_exact(size.0 as usize * size.1 as usize * 4)
+        .map(|frame| image::RgbaImage::from_raw(size.0, size.1, frame.to_vec()).expect("frame"))
+        .collect()
+}
+
+#[test]
+fn videos_show_the_same_pixels_as_the_apng() {
+    let _gpu = common::gpu();
+    assert!(
+        std::process::Command::new("ffmpeg")
+            .arg("-version")
+            .output()
+            .is_ok(),
+        "ffmpeg is not installed (Debian: apt-get install ffmpeg; .ci/run installs it)"
+    );
+    let dir = tempfile::tempdir().expect("temp dir");
+    let region = ["--region", "8,8,32,24", "--zoom", "3"];
+    let apng = dir.path().join("clip.png");
+    let out = clip(&apng, &region);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let bytes = std::fs::read(&apng).expect("written");
+    let decoder = image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes)).expect("png");
+    let frames: Vec<image::RgbaImage> =
+        image::AnimationDecoder::into_frames(decoder.apng().expect("apng"))
+            .map(|f| f.expect("frame").into_buffer())
+            .collect();
+    let (width, height) = frames[0].dimensions();
+    std::fs::remove_file(dir.path().join("clip.json")).expect("removed");
+    for (name, scale, magic) in [
+        ("clip.webm", 1, &[0x1a, 0x45, 0xdf, 0xa3][..]),
+        ("clip.mp4", 2, b"ftyp"),
+    ] {
+        let path = dir.path().join(name);
+        let out = clip(&path, &region);
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+        let video = std::fs::read(&path).expect("written");
+        assert!(
+            video.windows(magic.len()).take(16).any(|w| w == magic),
+            "{name}: not the container"
+        );
+        let padded = ((width + width % 2) * scale, (height + height % 2) * scale);
+        let decoded = decoded_video(&path, padded);
+        assert_eq!(decoded.len(), frames.len(), "{name}: every frame");
+        for (number, (video, apng)) in decoded.iter().zip(&frames).enumerate() {
+            // Each clip pixel is a scale x scale block of the video; compare its top-left.
+            let mut total = 0u64;
+            let mut worst = 0u8;
+            for (x, y, p) in apng.enumerate_pixels() {
+                let q = video.get_pixel(x * scale, y * scale);
+                for c in 0..3 {
+                    let d = p[c].abs_diff(q[c]);
+                    total += u64::from(d);
+                    worst = worst.max(d);
+                }
+            }
+            let mean = total as f64 / f64::from(width * height * 3);
+            assert!(
+                mean < 2.0,
+                "{name} frame {number}: mean difference {mean:.2} levels"
+            );
+            assert!(
+                worst < 48,
+                "{name} frame {number}: a channel {worst} levels off"
+            );
+        }
+        let json: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(dir.path().join("clip.json")).expect("record beside"),
+        )
+        .expect("JSON");
+        assert_eq!(json["format"], name.trim_start_matches("clip."));
+        std::fs::remove_file(dir.path().join("clip.json")).expect("removed");
+    }
 }
 
 #[test]

@@ -144,3 +144,101 @@ fn a_technique_renders_the_same_alone_and_among_others() {
         );
     }
 }
+
+/// Bytes of the textures wgpu's backend holds on the test device (dev-dependency feature
+/// `counters`; each test opens a device of its own, so no other test shows here). The
+/// texture count is not used: the Vulkan backend counts destructions but not every creation.
+fn texture_bytes_held(gpu: &Gpu) -> isize {
+    gpu.device.get_internal_counters().hal.texture_memory.read()
+}
+
+/// The memory report's scene inputs are exactly what the graph pools, and the total is the
+/// scene, those inputs (each once) and every technique's own memory, idle ones included.
+fn assert_report_is_what_is_held(graph: &aa_lab::graph::FrameGraph) {
+    let report = graph.memory_report();
+    let mut seen = Vec::new();
+    let mut listed_inputs = 0;
+    for t in &report.techniques {
+        if let Some(input) = &t.input
+            && !seen.contains(input)
+        {
+            seen.push(input.clone());
+            listed_inputs += t.input_bytes();
+        }
+    }
+    assert_eq!(
+        listed_inputs,
+        graph.pooled_input_bytes(),
+        "{}",
+        report.table()
+    );
+    let own: u64 = report
+        .techniques
+        .iter()
+        .chain(&report.idle)
+        .map(|t| t.own_bytes())
+        .sum();
+    assert_eq!(report.total_bytes, report.scene_bytes + listed_inputs + own);
+}
+
+/// A technique switched off gives its scene input back (MSAA 4x's multisampled targets are
+/// released at the next frame, on the device as in the report), what it still owns is
+/// reported apart as idle, and a technique that keeps an earlier image keeps its input.
+#[test]
+fn switching_a_technique_off_releases_its_scene_input_and_the_report_shows_what_is_held() {
+    let gpu = common::gpu();
+    let scene = source::load("hairball", &SceneOptions::default()).expect("built-in scene loads");
+    let ids = [aa::none::ID, "msaa4", aa::taa::ID];
+    let techniques = ids
+        .iter()
+        .map(|id| common::technique(&gpu, id, &[]))
+        .collect();
+    let mut graph = common::graph(&gpu, &scene, techniques);
+    let frame = |n| FrameInfo {
+        camera: common::camera(&scene, n, (96, 64)),
+        reset_history: n == 0,
+    };
+    graph.render(&frame(0), FrameScope::All).expect("renders");
+    graph.finish();
+    assert_report_is_what_is_held(&graph);
+    let before = graph.memory_report();
+    let msaa = before.techniques.iter().find(|t| t.technique == "msaa4");
+    let msaa = msaa.expect("MSAA 4x in the report");
+    let msaa_input_bytes = msaa.input_bytes();
+    assert!(msaa_input_bytes > 0 && msaa.input_shared_with == ["msaa4"]);
+    let held_before = texture_bytes_held(&gpu);
+
+    // Kept (not running, its image from the last frame on screen): nothing is released.
+    graph.slots_mut()[1].enabled = false;
+    graph.slots_mut()[1].kept = true;
+    graph.render(&frame(1), FrameScope::All).expect("renders");
+    graph.finish();
+    assert_eq!(texture_bytes_held(&gpu), held_before);
+    assert_report_is_what_is_held(&graph);
+    let kept = graph.memory_report();
+    assert_eq!(kept.total_bytes, before.total_bytes);
+    assert!(kept.techniques.iter().any(|t| t.technique == "msaa4"));
+
+    // Switched off: its input goes, its own targets are listed as idle.
+    graph.slots_mut()[1].kept = false;
+    graph.render(&frame(2), FrameScope::All).expect("renders");
+    graph.finish();
+    let released = held_before - texture_bytes_held(&gpu);
+    assert!(
+        released >= 0 && released as u64 >= msaa_input_bytes,
+        "{released} bytes released on the device, {msaa_input_bytes} in the report"
+    );
+    assert_report_is_what_is_held(&graph);
+    let after = graph.memory_report();
+    assert_eq!(after.total_bytes, before.total_bytes - msaa_input_bytes);
+    assert!(after.techniques.iter().all(|t| t.technique != "msaa4"));
+    assert_eq!(after.idle.len(), 1);
+    assert_eq!(after.idle[0].technique, "msaa4");
+
+    // And back on: the same figures as before.
+    graph.slots_mut()[1].enabled = true;
+    graph.render(&frame(3), FrameScope::All).expect("renders");
+    graph.finish();
+    assert_eq!(graph.memory_report().total_bytes, before.total_bytes);
+    assert_eq!(texture_bytes_held(&gpu), held_before);
+}

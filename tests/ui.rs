@@ -527,6 +527,16 @@ fn a_recorded_clip_plays_every_pane_in_lockstep_and_exports_an_animation() {
     .expect("JSON");
     assert_eq!(record["techniques"].as_array().map(Vec::len), Some(4));
     assert_eq!(record["recipe"]["frames"], FRAMES);
+    // And the comparison page: every frame embedded, the record at the end.
+    let page = std::fs::read_to_string(animation.with_extension("html")).expect("the page");
+    assert_eq!(
+        page.matches("F.push(\"data:image/png;base64,").count(),
+        FRAMES
+    );
+    assert!(
+        page.contains("const RECORD = "),
+        "the page carries the record"
+    );
 
     // Back to the live view: the engine renders again.
     harness.get_by_label("Live").click();

@@ -18,19 +18,20 @@ pub mod cmaa2;
 pub mod common;
 pub mod floor;
 pub mod fxaa;
+pub mod info;
 pub mod mlaa;
 pub mod msaa;
 pub mod none;
 pub mod registry;
 pub mod smaa;
-pub mod smaa_4x;
 pub mod ssaa;
 pub mod taa;
 pub mod user;
 
 pub use crate::graph::params::{self, Named, Param, ParamError, ParamKind, ParamMap, ParamValue};
 pub use crate::graph::technique::{DebugView, FrameInfo, SceneInput, Technique};
-pub use registry::{TechniqueInfo, registry};
+pub use info::TechniqueInfo;
+pub use registry::registry;
 
 use crate::gpu::Gpu;
 
@@ -111,27 +112,6 @@ pub fn param_map(technique: &dyn Technique) -> ParamMap {
         .into_iter()
         .map(|p| (p.key.to_owned(), p.value))
         .collect()
-}
-
-/// Creates the technique of a record's entry with its settings, refusing a user technique
-/// whose file changed since the record was made.
-pub fn create_recorded(
-    gpu: &Gpu,
-    spec: &crate::spec::TechniqueSpec,
-) -> Result<Box<dyn Technique>, TechniqueError> {
-    let mut technique = create(gpu, &spec.id)?;
-    if let (Some(recorded), Some(current)) = (&spec.source_hash, technique.source_hash())
-        && *recorded != current
-    {
-        return Err(TechniqueError::SourceChanged {
-            path: user::path_of(&spec.id)
-                .map_or_else(|| spec.id.clone(), |p| p.display().to_string()),
-            recorded: recorded.clone(),
-            current,
-        });
-    }
-    apply_param_map(technique.as_mut(), &spec.settings)?;
-    Ok(technique)
 }
 
 /// Restores settings from a map (sidecar form); every key must be known and valid.

@@ -4,11 +4,10 @@
 //!
 //! Why not egui's textured rectangles: egui's shader interpolates a vertex colour, samples
 //! through a sampler, multiplies and blends, which is cheap on a GPU but not on a software
-//! rasteriser. Measured on lavapipe with egui_kittest (a 1280x720 image filling a 1900x1000
-//! window): 47.5 ms per paint through egui's image path against 10.5 ms through this callback,
-//! of which ~8 ms is the harness's fixed cost (readback of the window). A viewer that shows four
-//! technique images and a magnifier paints that many pixels every frame, so the paint decided
-//! the UI's frame time on software adapters; on a GPU both paths cost nothing measurable.
+//! rasteriser, where a full-window image cost several times as much through egui's image path
+//! as through this callback (figures: `docs/viewer.md`). A viewer that shows four technique
+//! images and a magnifier paints that many pixels every frame, so the paint decided the UI's
+//! frame time on software adapters; on a GPU both paths cost nothing measurable.
 //!
 //! The callback maps each framebuffer pixel to a texel from the image's placement on screen
 //! (rectangle in physical pixels and the UV rectangle shown), so crops (magnifier), cropped
@@ -115,9 +114,8 @@ impl Uploader {
 
     /// Starts the copies of the uploads made so far on the display queue now, from the calling
     /// thread, where there are any (the zero-copy display makes none). Left alone, they wait
-    /// for the window's next paint, whose submit carries them and waits for them: on lavapipe
-    /// the first paint after the first published frame took 200-890 ms with them and 58-66 ms
-    /// without; later a frame's four 1280x720 uploads take ~1 ms (p90 7 ms).
+    /// for the window's next paint, whose submit carries them and waits for them, which made
+    /// that paint far slower on lavapipe (figures: `docs/viewer.md`).
     pub fn flush(&self) {
         if self.unflushed.swap(false, Ordering::AcqRel) {
             self.queue.submit(std::iter::empty());
@@ -445,7 +443,7 @@ pub fn paint(painter: &egui::Painter, texture: &Arc<DisplayTexture>, rect: Rect,
 
 /// [`paint`] with a pixel grid: the first screen row and column of every texel after the
 /// first darkened by `darken` (0..1), for magnified views. Drawn by the same pass: as egui
-/// lines, a lens of 30x30 texels in five panes cost ~20 ms a frame on a software rasteriser.
+/// lines, the grid of a large lens was a large part of a frame on a software rasteriser.
 pub fn paint_with_grid(
     painter: &egui::Painter,
     texture: &Arc<DisplayTexture>,

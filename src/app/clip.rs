@@ -8,8 +8,8 @@
 //! by at most one clip frame, so a paint that comes late (a UI frame longer than the clip's
 //! period) shows the next frame rather than the one after it. The time it fell behind is kept,
 //! up to [`MAX_LAG_FRAMES`], and the following paints catch up with the clock: when UI frames
-//! jitter around the clip's period (on a software rasteriser, 25-40 ms for a 33 ms clip
-//! period), a short paint makes up for a long one and the clip keeps its rate. Skipped frames
+//! jitter around the clip's period (as they do on a software rasteriser), a short paint makes
+//! up for a long one and the clip keeps its rate. Skipped frames
 //! would change what is being judged (a flicker between two frames can vanish when every other
 //! frame is dropped); when the window paints more slowly than the clip's rate all along, the
 //! clip plays every frame more slowly, and the clip bar says at what rate it is shown
@@ -641,7 +641,7 @@ pub fn clip_bar(
             }
         }
         if !recording {
-            if ui.button("Export…").on_hover_text("Write the clip as a looping animated PNG (or GIF) with its record").clicked() {
+            if ui.button("Export…").on_hover_text("Write the clip as a looping animated PNG and a self-contained HTML comparison page, with its record").clicked() {
                 action = Some(ClipAction::Export);
             }
             if ui.button("Discard").clicked() {
@@ -798,8 +798,8 @@ impl Workspace {
         if clip.recording_now() {
             // While it records, the clip shows its newest frame; each recorded frame wakes the
             // UI. (Looping over the frames so far would repaint without pause and, on a
-            // software rasteriser, take the CPU the recording needs: 42 s instead of 21 s for
-            // 48 frames of hairball here.) Playback starts when the recording ends.
+            // software rasteriser, take the CPU the recording needs, doubling its time; see
+            // docs/viewer.md.) Playback starts when the recording ends.
             clip.player.show_newest(frames);
             return;
         }

@@ -18,12 +18,11 @@
 //!   still, through a frame that only reads.
 //! - *Readback* (software adapters): the render thread has a device of its own; every output
 //!   is read back and uploaded by the render thread to a texture on eframe's device, drawn the
-//!   same way; the magnifier, metrics and export use the read-back pixels as they are.
-//!   Measured with the viewer benchmark on lavapipe (atrium, four techniques at 1280x720,
-//!   camera orbiting): readback 146 ms UI frame median and 135 ms until a layout change
-//!   shows, native 263 ms and 457 ms. Work on one queue runs
-//!   in order, so on a software rasteriser the window's paint waits behind the engine's frame
-//!   on a shared queue, while the copies cost a few milliseconds of a CPU that renders anyway.
+//!   same way; the magnifier, metrics and export use the read-back pixels as they are. Work
+//!   on one queue runs in order, so on a software rasteriser the window's paint would wait
+//!   behind the engine's frame on a shared queue, while the copies cost a few milliseconds of
+//!   a CPU that renders anyway: the read-back path measured much faster there (figures:
+//!   `docs/viewer.md`).
 //!
 //! One engine frame is in flight at a time; the camera keeps moving meanwhile and the next
 //! frame renders where it has got to.
@@ -1000,15 +999,7 @@ impl Engine {
             self.gpu_stats.add(timings);
         }
         if let Some(report) = frame.memory {
-            // A partial frame knows the inputs of the techniques that ran in it only.
-            let mut ran: Vec<&str> = flight.running.iter().map(|&i| self.entries[i].id).collect();
-            if flight.reference.is_some() {
-                ran.push(REFERENCE_ID);
-            }
-            self.memory = Some(match &self.memory {
-                Some(previous) if !flight.complete => previous.updated_by(report, &ran),
-                _ => report,
-            });
+            self.memory = Some(report);
         }
         if flight.complete {
             self.scene_renders = frame.scene_renders;
@@ -1191,11 +1182,8 @@ impl Engine {
                 restart,
                 budget: self.reference_budget(),
             }),
-            memory_of: if plan.run.is_empty() {
-                Vec::new()
-            } else {
-                (0..states.len()).filter(|&i| states[i].enabled).collect()
-            },
+            on: (0..states.len()).filter(|&i| states[i].enabled).collect(),
+            report_memory: !plan.run.is_empty(),
             delay: self.frame_delay,
         };
         if !self.send(Command::Render(request)) {

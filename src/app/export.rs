@@ -7,6 +7,11 @@
 //!
 //! The frames are the engine's published CPU copies (the bytes on screen); a worker thread
 //! encodes and writes the files, so the window keeps running while a large export is written.
+//! A clip is composed frame by frame into a streamed animation (compressed on every core,
+//! [`crate::export::animation`]) and a self-contained HTML comparison page
+//! ([`crate::export::html`]). The job reports its progress (the toolbar shows it with the
+//! time left) and can be cancelled; closing the viewer cancels it and waits for it, and either
+//! way the temporary file it was writing is removed.
 //!
 //! Exports are workspace commands ([`Workspace::start_export`], [`Workspace::export_clip`],
 //! [`Workspace::copy_sheet`], ...): the menu bar, the toolbar, the clip bar, the magnifier and
@@ -14,12 +19,16 @@
 //! are the workspace's too; export has no panel of its own.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, mpsc};
+use std::time::Instant;
 
 use super::clip::ClipRecipe;
 use super::difference::lens_heatmap;
 use super::magnifier::{Source, crop};
 use super::workspace::{DialogPurpose, Level, Workspace};
+use crate::export::animation::{AnimationFormat, AnimationOptions, AnimationStream};
+use crate::export::html::HtmlPage;
 use crate::export::sheet::{self, Cell, Row};
 use crate::export::write_png;
 use crate::files::{self, Overwrite};
@@ -55,10 +64,46 @@ struct Plan {
     sheet: Option<image::RgbaImage>,
 }
 
+/// How far the running export is (items written of all), shared with its thread, and the
+/// request to cancel it.
+#[derive(Default)]
+pub struct ExportProgress {
+    done: AtomicUsize,
+    total: AtomicUsize,
+    cancelled: AtomicBool,
+}
+
+impl ExportProgress {
+    fn set_total(&self, total: usize) {
+        self.total.store(total, Ordering::Relaxed);
+    }
+
+    fn advance(&self) {
+        self.done.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Whether the export was asked to stop; the job checks between items and returns
+    /// [`CANCELLED`] (dropping what it was writing removes the temporary file).
+    fn cancelled(&self) -> bool {
+        self.cancelled.load(Ordering::Relaxed)
+    }
+}
+
+/// The error a cancelled export returns.
+const CANCELLED: &str = "export cancelled";
+
+/// A running export.
+struct ExportJob {
+    result: mpsc::Receiver<Result<Vec<PathBuf>, String>>,
+    progress: Arc<ExportProgress>,
+    started: Instant,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
 /// Export jobs and the export-folder dialog.
 #[derive(Default)]
 pub struct ExportState {
-    job: Option<mpsc::Receiver<Result<Vec<PathBuf>, String>>>,
+    job: Option<ExportJob>,
     /// Files written by the last export.
     pub last: Vec<PathBuf>,
 }
@@ -69,12 +114,38 @@ impl ExportState {
         self.job.is_some()
     }
 
+    /// The running export's progress: `Exporting 12/48 frames, about 5 s left`.
+    pub fn status(&self) -> Option<String> {
+        let job = self.job.as_ref()?;
+        let done = job.progress.done.load(Ordering::Relaxed);
+        let total = job.progress.total.load(Ordering::Relaxed);
+        if job.progress.cancelled() {
+            return Some("Cancelling export…".to_owned());
+        }
+        if total == 0 {
+            return Some("Exporting…".to_owned());
+        }
+        let elapsed = job.started.elapsed().as_secs_f64();
+        let left = (done > 0).then(|| elapsed / done as f64 * (total - done.min(total)) as f64);
+        Some(match left {
+            Some(left) => format!("Exporting {done}/{total}, about {left:.0} s left"),
+            None => format!("Exporting 0/{total}…"),
+        })
+    }
+
+    /// Asks the running export to stop: it removes what it was writing.
+    pub fn cancel(&self) {
+        if let Some(job) = &self.job {
+            job.progress.cancelled.store(true, Ordering::Relaxed);
+        }
+    }
+
     /// Collects a finished export; returns notices for the user.
     pub fn poll(&mut self) -> Vec<(Level, String)> {
-        let Some(receiver) = &self.job else {
+        let Some(job) = &self.job else {
             return Vec::new();
         };
-        let notice = match receiver.try_recv() {
+        let notice = match job.result.try_recv() {
             Ok(Ok(paths)) => {
                 let dir = paths
                     .first()
@@ -87,6 +158,10 @@ impl ExportState {
                 self.last = paths;
                 notice
             }
+            Ok(Err(err)) if err == CANCELLED => (
+                Level::Info,
+                "Export cancelled: the file being written was removed".to_owned(),
+            ),
             Ok(Err(err)) => (Level::Error, err),
             Err(mpsc::TryRecvError::Empty) => return Vec::new(),
             Err(mpsc::TryRecvError::Disconnected) => (
@@ -99,28 +174,51 @@ impl ExportState {
     }
 }
 
+impl Drop for ExportState {
+    /// Closing the viewer mid-export cancels it and waits for its thread, which removes the
+    /// temporary file it was writing (it stops within a frame).
+    fn drop(&mut self) {
+        self.cancel();
+        if let Some(thread) = self.job.as_mut().and_then(|job| job.thread.take()) {
+            let _ = thread.join();
+        }
+    }
+}
+
 /// Runs `job` (composing, encoding and writing files) on a thread of its own.
 fn in_background(
-    job: impl FnOnce() -> Result<Vec<PathBuf>, String> + Send + 'static,
-) -> mpsc::Receiver<Result<Vec<PathBuf>, String>> {
-    let (sender, receiver) = mpsc::channel();
+    job: impl FnOnce(&ExportProgress) -> Result<Vec<PathBuf>, String> + Send + 'static,
+) -> ExportJob {
+    let (sender, result) = mpsc::channel();
+    let progress = Arc::new(ExportProgress::default());
     let spawned = std::thread::Builder::new()
         .name("aa-lab export".to_owned())
         .spawn({
             let sender = sender.clone();
+            let progress = Arc::clone(&progress);
             move || {
-                let _ = sender.send(job());
+                let _ = sender.send(job(&progress));
             }
         });
-    if let Err(err) = spawned {
-        let _ = sender.send(Err(format!("export failed: cannot start a thread: {err}")));
+    let thread = match spawned {
+        Ok(thread) => Some(thread),
+        Err(err) => {
+            let _ = sender.send(Err(format!("export failed: cannot start a thread: {err}")));
+            None
+        }
+    };
+    ExportJob {
+        result,
+        progress,
+        started: Instant::now(),
+        thread,
     }
-    receiver
 }
 
 /// Writes the PNGs, the sheet and the sidecar under the first free stem.
-fn write_files(plan: &Plan) -> Result<Vec<PathBuf>, String> {
+fn write_files(plan: &Plan, progress: &ExportProgress) -> Result<Vec<PathBuf>, String> {
     let images = &plan.images;
+    progress.set_total(images.len() + usize::from(plan.sheet.is_some()));
     std::fs::create_dir_all(&plan.dir).map_err(|e| {
         format!(
             "cannot create the export folder {}: {e}",
@@ -137,9 +235,13 @@ fn write_files(plan: &Plan) -> Result<Vec<PathBuf>, String> {
     let policy = Overwrite::new(false);
     let mut written = Vec::new();
     for (suffix, image) in images {
+        if progress.cancelled() {
+            return Err(CANCELLED.to_owned());
+        }
         let path = plan.dir.join(format!("{stem}-{suffix}.png"));
         write_png(&path, image, Some(&plan.record), &policy).map_err(|e| e.to_string())?;
         written.push(path);
+        progress.advance();
     }
     if let Some(sheet) = &plan.sheet {
         let path = plan.dir.join(format!("{stem}-magnifier.png"));
@@ -183,46 +285,90 @@ struct ClipExportTechnique {
     scores: TemporalScores,
 }
 
-/// Composes the clip's frames and writes the animation and its record under the first free
-/// `stem` in `dir`.
-fn write_clip(
-    dir: &Path,
-    stem: &str,
-    layout: &crate::export::clip::Layout,
+/// What a clip export writes.
+struct ClipPlan {
+    dir: PathBuf,
+    stem: String,
+    layout: crate::export::clip::Layout,
     region: Option<sheet::Rect>,
-    frames: &[Vec<Arc<image::RgbaImage>>],
+    /// Pixels of every frame's panes, in pane order (the reference last).
+    frames: Vec<Vec<Arc<image::RgbaImage>>>,
     fps: u16,
-    record: &str,
-) -> Result<Vec<PathBuf>, String> {
-    let composed = frames
-        .iter()
-        .enumerate()
-        .map(|(n, panes)| {
-            let crops: Vec<image::RgbaImage> = panes
-                .iter()
-                .map(|image| match region {
-                    Some(r) => {
-                        image::imageops::crop_imm(image.as_ref(), r.x, r.y, r.width, r.height)
-                            .to_image()
-                    }
-                    None => image.as_ref().clone(),
-                })
-                .collect();
-            let refs: Vec<&image::RgbaImage> = crops.iter().collect();
-            layout.compose(n, frames.len(), &refs)
-        })
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| format!("clip export: {e}"))?;
+    record: String,
+}
+
+/// Composes the clip's frames one after the other into a streamed animated PNG and writes it
+/// and its record under the first free stem in the export folder.
+fn write_clip(plan: &ClipPlan, progress: &ExportProgress) -> Result<Vec<PathBuf>, String> {
+    let ClipPlan {
+        dir,
+        stem,
+        layout,
+        region,
+        frames,
+        fps,
+        record,
+    } = plan;
+    let (dir, region, fps) = (dir.as_path(), *region, *fps);
     std::fs::create_dir_all(dir)
         .map_err(|e| format!("cannot create the export folder {}: {e}", dir.display()))?;
-    let stem = free_stem(dir, stem, &[".png".to_owned(), ".json".to_owned()]);
+    let suffixes = [".png", ".json", ".html"].map(str::to_owned);
+    let stem = free_stem(dir, stem, &suffixes);
     let policy = Overwrite::new(false);
     let animation = dir.join(format!("{stem}.png"));
-    crate::export::animation::write_apng(&animation, &composed, fps, Some(record), &policy)
+    let page_path = dir.join(format!("{stem}.html"));
+    let options = AnimationOptions::new(AnimationFormat::Apng, fps);
+    let labels: Vec<String> = layout.panes.iter().map(|p| p.label.clone()).collect();
+    progress.set_total(frames.len());
+    let mut stream = None;
+    let mut page = None;
+    for (n, panes) in frames.iter().enumerate() {
+        if progress.cancelled() {
+            return Err(CANCELLED.to_owned());
+        }
+        let crops: Vec<image::RgbaImage> = panes
+            .iter()
+            .map(|image| match region {
+                Some(r) => image::imageops::crop_imm(image.as_ref(), r.x, r.y, r.width, r.height)
+                    .to_image(),
+                None => image.as_ref().clone(),
+            })
+            .collect();
+        let refs: Vec<&image::RgbaImage> = crops.iter().collect();
+        let page = match &mut page {
+            Some(page) => page,
+            None => page.insert(
+                HtmlPage::create(
+                    &page_path,
+                    &policy,
+                    &layout.title,
+                    &labels,
+                    refs.first().map_or((1, 1), |c| c.dimensions()),
+                    fps,
+                    layout.zoom,
+                )
+                .map_err(|e| e.to_string())?,
+            ),
+        };
+        page.push(&refs).map_err(|e| e.to_string())?;
+        let composed = layout
+            .compose(n, frames.len(), &refs)
+            .map_err(|e| format!("clip export: {e}"))?;
+        AnimationStream::push_or_start(&mut stream, &animation, &policy, options, composed)
+            .map_err(|e| e.to_string())?;
+        progress.advance();
+    }
+    let (Some(stream), Some(page)) = (stream, page) else {
+        return Err("clip export: the clip has no frame".to_owned());
+    };
+    stream
+        .finish(None, Some(record))
         .map_err(|e| e.to_string())?;
     let sidecar = dir.join(format!("{stem}.json"));
     files::write_bytes(&sidecar, &policy, record.as_bytes()).map_err(|e| e.to_string())?;
-    Ok(vec![animation, sidecar])
+    let record: serde_json::Value = serde_json::from_str(record).map_err(|e| e.to_string())?;
+    page.finish(&record).map_err(|e| e.to_string())?;
+    Ok(vec![animation, sidecar, page_path])
 }
 
 impl Workspace {
@@ -389,12 +535,13 @@ impl Workspace {
                 .then(|| self.magnifier_sheet())
                 .flatten(),
         };
-        self.export.job = Some(in_background(move || write_files(&plan)));
+        self.export.job = Some(in_background(move |progress| write_files(&plan, progress)));
     }
 
     /// Exports the clip as a looping animated PNG of the magnifier's panes (the lens region,
     /// zoomed as the magnifier shows it; whole frames in a grid when the magnifier is closed)
-    /// with its temporal figures, and the clip's record beside it, into the export folder.
+    /// with its temporal figures, the clip's record beside it and a self-contained HTML
+    /// comparison page of the same panes, into the export folder.
     pub(super) fn export_clip(&mut self) {
         if self.export.running() {
             return;
@@ -517,11 +664,16 @@ impl Workspace {
             self.notify(Level::Error, "clip export: the record could not be written");
             return;
         };
-        let dir = self.settings.export_dir.clone();
-        let stem = format!("{scene}-clip");
-        self.export.job = Some(in_background(move || {
-            write_clip(&dir, &stem, &layout, region, &frames, fps, &text)
-        }));
+        let plan = ClipPlan {
+            dir: self.settings.export_dir.clone(),
+            stem: format!("{scene}-clip"),
+            layout,
+            region,
+            frames,
+            fps,
+            record: text,
+        };
+        self.export.job = Some(in_background(move |progress| write_clip(&plan, progress)));
     }
 
     /// Copies the magnifier sheet to the clipboard.

@@ -7,9 +7,8 @@
 use egui::RichText;
 
 use super::image_set::IMAGE_IDS;
-use super::metrics_panel::{number, number_weak};
 use super::quality;
-use super::style::{self, SLOT_COLORS, SLOT_LETTERS};
+use super::style::{self, SLOT_COLORS, SLOT_LETTERS, number, number_weak};
 use super::workspace::Workspace;
 
 /// What the reference of an image set is, for tooltips.

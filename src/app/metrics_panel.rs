@@ -16,23 +16,8 @@ use super::engine::ReferenceState;
 use super::image_panel;
 use super::quality;
 use super::reference::REFERENCE_ID;
-use super::style::{self, ACCENT, SLOT_COLORS, SLOT_LETTERS};
+use super::style::{self, ACCENT, SLOT_COLORS, SLOT_LETTERS, number, number_weak};
 use super::workspace::Workspace;
-
-/// A right-aligned monospace number cell with a tooltip.
-pub(super) fn number(ui: &mut egui::Ui, text: String, tip: &str) {
-    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-        ui.label(RichText::new(text).monospace()).on_hover_text(tip);
-    });
-}
-
-/// A right-aligned greyed cell standing for a missing number, with why as its tooltip.
-pub(super) fn number_weak(ui: &mut egui::Ui, text: &str, tip: &str) {
-    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-        ui.label(RichText::new(text).monospace().weak())
-            .on_hover_text(tip);
-    });
-}
 
 /// The panel. See the module docs.
 pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
@@ -356,11 +341,29 @@ fn memory_section(ui: &mut egui::Ui, ws: &mut Workspace) {
             ui.strong("total");
             number(
                 ui,
-                style::mib(memory.total_bytes.saturating_sub(reference_bytes)),
-                "Everything the enabled techniques use, shared scene inputs counted once, scene included (the viewer's reference not included).",
+                style::mib(
+                    memory
+                        .total_bytes
+                        .saturating_sub(reference_bytes + memory.idle_bytes()),
+                ),
+                "Everything the enabled techniques use, shared scene inputs counted once, scene included (the viewer's reference and switched-off techniques not included).",
             );
             ui.label("");
             ui.end_row();
+            if !memory.idle.is_empty() {
+                let ids: Vec<&str> = memory.idle.iter().map(|t| t.technique.as_str()).collect();
+                ui.weak("switched off");
+                number(
+                    ui,
+                    style::mib(memory.idle_bytes()),
+                    &format!(
+                        "Still allocated by techniques switched off (their private targets and last output, kept so that switching one back on is instant; they read no scene input): {}.",
+                        ids.join(", ")
+                    ),
+                );
+                ui.label("");
+                ui.end_row();
+            }
             if reference_bytes > 0 {
                 ui.weak("reference (viewer)");
                 number(

@@ -337,7 +337,16 @@ pub(super) fn toolbar(ui: &mut egui::Ui, ws: &mut Workspace, help_open: &mut boo
                     .response
                     .on_hover_text("Render resolution");
                 ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                    let label = if ws.export.running() { "Exporting…" } else { "Export" };
+                    let status = ws.export.status();
+                    if status.is_some()
+                        && ui
+                            .button("Cancel")
+                            .on_hover_text("Stop the export; the file being written is removed")
+                            .clicked()
+                    {
+                        ws.export.cancel();
+                    }
+                    let label = status.unwrap_or_else(|| "Export".to_owned());
                     if ui
                         .add_enabled(!ws.export.running(), Button::new(label))
                         .on_hover_text(shortcut_hint(

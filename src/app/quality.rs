@@ -6,8 +6,8 @@
 //! compute shaders ([`GpuMetrics`]) on a device of their own on the engine's adapter, so that
 //! they neither wait for nor delay the frames on the engine's queue (on the CPU path of the
 //! library if that device cannot be created). FLIP runs on the CPU ([`flip::flip_map`]); it
-//! takes about 0.6 s per technique at 1280x720 on a 2-core machine, so it has its own worker
-//! and a slower pace.
+//! takes most of a second per technique at 1280x720 on a small machine, so it has its own
+//! worker and a slower pace.
 //!
 //! **When.** Both run on background [`Worker`]s, one job at a time, from the newest images:
 //! at once when a technique has no valid figures yet or the reference has just converged;

@@ -5,12 +5,10 @@
 //! are in the idle scheduling class ([`super::worker::lower_priority`]), and they keep every core
 //! busy. Linux then stops looking for a free core when it wakes a thread (its scan for an idle
 //! CPU is skipped when the cache domain is fully used), so the window's rasteriser threads wake
-//! on the core they last ran on, which is often the same one: both then share one core in 4 ms
-//! slices while the other core runs the idle-class engine, and the load balancer does not move
-//! one of them within a paint. Measured with `perf sched` in the viewer benchmark (hairball,
-//! 1280x720, camera orbiting): the slow paints (~45 ms against ~23 ms) were exactly those with
-//! both window threads on one core. With one CPU each, the UI frame's p95 went from 48–51 ms to
-//! 32–35 ms in the same session, the engine's frame rate unchanged.
+//! on the core they last ran on, which is often the same one: both then take turns on one core
+//! while the other core runs the idle-class engine, and the load balancer does not move one of
+//! them within a paint. `perf sched` in the viewer benchmark showed the slow paints were
+//! exactly those; with one CPU each they are gone (figures: `docs/viewer.md`).
 //!
 //! The threads are found by name (llvmpipe names its rasteriser threads `llvmpipe-N`), among
 //! the threads that are not idle-class (the background devices' threads are), and thread `N`

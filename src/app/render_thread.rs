@@ -104,12 +104,12 @@ pub struct FramePlan {
     pub debug: Vec<usize>,
     /// The reference's part, if it renders.
     pub reference: Option<ReferenceRequest>,
-    /// Registry indices whose memory is reported after this frame (empty: no report): every
-    /// technique the user has on, whether it renders in this frame or kept its output from
-    /// an earlier one (a technique added to a still view renders alone, and the others'
-    /// resources still exist). The report knows the scene inputs of this frame's techniques
-    /// only; the engine merges it into its last one (`MemoryReport::updated_by`).
-    pub memory_of: Vec<usize>,
+    /// Registry indices of every technique the user has on, whether it renders in this frame
+    /// or keeps its output from an earlier one (a technique added to a still view renders
+    /// alone): the graph keeps their scene inputs and releases the others'.
+    pub on: Vec<usize>,
+    /// Whether the memory report (of everything the graph holds) comes back with the frame.
+    pub report_memory: bool,
     /// Test hook: the thread waits this long before rendering (a deliberately slow frame).
     pub delay: Duration,
 }
@@ -661,7 +661,7 @@ impl RenderState {
             };
             if number < job.warmup {
                 // Warm-up: the temporal techniques' history only, nothing read.
-                self.enable(&job.run, false);
+                self.enable(&job.run, &job.run, false);
                 self.graph.render(&frame, FrameScope::TemporalOnly)?;
                 self.graph.finish();
                 continue;
@@ -677,7 +677,8 @@ impl RenderState {
                     restart: true,
                     budget: self.reference_samples,
                 }),
-                memory_of: Vec::new(),
+                on: job.run.clone(),
+                report_memory: false,
                 delay: Duration::ZERO,
             };
             let result = self.render(&plan)?;
@@ -728,16 +729,23 @@ impl RenderState {
         })
     }
 
-    /// Switches on exactly the slots of `run` (and the reference when `reference`).
-    fn enable(&mut self, run: &[usize], reference: bool) {
-        let running: Vec<usize> = run
-            .iter()
-            .filter_map(|&index| self.slots.get(index).copied().flatten())
-            .collect();
+    /// Runs exactly the slots of `run` (and the reference when `reference`) and keeps those
+    /// of `on` (and the reference, which keeps accumulating across frames).
+    fn enable(&mut self, run: &[usize], on: &[usize], reference: bool) {
+        let slots_of = |indices: &[usize]| -> Vec<usize> {
+            indices
+                .iter()
+                .filter_map(|&index| self.slots.get(index).copied().flatten())
+                .collect()
+        };
+        let (running, kept) = (slots_of(run), slots_of(on));
         for (slot, state) in self.graph.slots_mut().iter_mut().enumerate() {
             state.enabled = running.contains(&slot);
+            state.kept = kept.contains(&slot);
         }
-        self.graph.slots_mut()[self.reference_slot].enabled = reference;
+        let reference_slot = &mut self.graph.slots_mut()[self.reference_slot];
+        reference_slot.enabled = reference;
+        reference_slot.kept = true;
     }
 
     fn configure(&mut self, index: usize, change: SettingsChange) -> Option<Event> {
@@ -769,7 +777,7 @@ impl RenderState {
             .iter()
             .filter_map(|&index| Some((index, self.slots.get(index).copied().flatten()?)))
             .collect();
-        self.enable(&plan.run, plan.reference.is_some());
+        self.enable(&plan.run, &plan.on, plan.reference.is_some());
         let before = self.reference.lock().progress;
         if let Some(request) = plan.reference {
             let mut control = self.reference.lock();
@@ -795,12 +803,7 @@ impl RenderState {
             Some(_) => after.samples.saturating_sub(before.samples),
             None => 0,
         };
-        let memory = (!plan.memory_of.is_empty()).then(|| {
-            self.enable(&plan.memory_of, plan.reference.is_some());
-            let report = self.graph.memory_report();
-            self.enable(&plan.run, plan.reference.is_some());
-            report
-        });
+        let memory = plan.report_memory.then(|| self.graph.memory_report());
         let scene_renders = self
             .graph
             .scene_renders_last_frame()

@@ -180,6 +180,21 @@ pub fn mib(bytes: u64) -> String {
     format!("{:.1} MiB", bytes as f64 / (1024.0 * 1024.0))
 }
 
+/// A right-aligned monospace number cell with a tooltip.
+pub(super) fn number(ui: &mut egui::Ui, text: String, tip: &str) {
+    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+        ui.label(RichText::new(text).monospace()).on_hover_text(tip);
+    });
+}
+
+/// A right-aligned greyed cell standing for a missing number, with why as its tooltip.
+pub(super) fn number_weak(ui: &mut egui::Ui, text: &str, tip: &str) {
+    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+        ui.label(RichText::new(text).monospace().weak())
+            .on_hover_text(tip);
+    });
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

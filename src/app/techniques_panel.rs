@@ -318,8 +318,8 @@ fn technique_settings(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str) {
 
 /// What "Add technique from file" does, for its tooltips.
 pub(super) const USER_TECHNIQUE_HINT: &str = "Run your own post-process pass, written in WGSL, beside the \
-     built-in techniques, with the same metrics and exports (README: \"Your own technique in \
-     WGSL\"); it is rebuilt whenever the file changes";
+     built-in techniques, with the same metrics and exports (docs/user-techniques.md in \
+     aa-lab's repository); it is rebuilt whenever the file changes";
 
 /// A user technique file's error (compiler message with file, line and column), in its row.
 fn file_error(ui: &mut egui::Ui, text: &str) {

@@ -27,6 +27,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use super::render::{configured_specs, parse_size, set_flags, technique_ids};
 use crate::aa::floor::{COPY_FLOOR_ID, CopyFloor};
 use crate::aa::{self, FrameInfo, Named, ParamValue, SceneInput};
+use crate::bench::TimingSamples;
 use crate::export::heatmap::{HeatmapStyle, write_heatmap};
 use crate::export::report::{
     self, BenchReport, BenchSettings, InputReport, Invocations, MemorySummary, PassReport,
@@ -35,7 +36,7 @@ use crate::export::report::{
 use crate::export::write_png;
 use crate::files::{self, Overwrite};
 use crate::gpu::{Gpu, read_texture_rgba8};
-use crate::graph::{FrameGraph, FrameScope, FrameStatistics, FrameTimings};
+use crate::graph::{FrameGraph, FrameScope, FrameStatistics, MemoryReport};
 use crate::metrics::coverage::chart_truth;
 use crate::metrics::stability::MovingEdgeError;
 use crate::metrics::temporal::{ChangeMeter, SlowTrack, flicker_ratio};
@@ -203,140 +204,25 @@ pub(super) fn reference_spec(gpu: &Gpu) -> anyhow::Result<TechniqueSpec> {
     Ok(TechniqueSpec::of(ssaa.as_ref()))
 }
 
-/// Per-frame samples of one technique.
-#[derive(Default)]
-struct TechniqueSamples {
-    input_label: Option<String>,
-    post_process: bool,
-    own: Vec<f64>,
-    input: Vec<f64>,
-    /// Per pass label, in first-seen order: passes per frame and ms per frame.
-    passes: Vec<(String, usize, Vec<f64>)>,
+/// A technique's quality against the reference and, on `chart`, against the exact coverage.
+type QualityScores = (String, Comparison, Option<Comparison>);
+
+/// What the timing phase of a run leaves for its report.
+struct Timed {
+    samples: TimingSamples,
+    /// Per technique: its change meter over the flicker frames and their luma.
+    meters: Vec<(String, ChangeMeter, Vec<Plane>)>,
+    statistics: Option<FrameStatistics>,
+    memory: MemoryReport,
+    scene_renders: usize,
+    /// Each technique's scene input, for techniques whose timings never showed it.
+    slot_info: Vec<(String, Option<SceneInput>)>,
 }
 
-/// Per-frame samples of one shared input, keyed by label and users.
-struct InputSamples {
-    label: String,
-    users: Vec<String>,
-    ms: Vec<f64>,
-    invocations: Option<u64>,
-}
-
-/// Everything the timing loop collects.
-struct TimingSamples {
-    techniques: Vec<(String, TechniqueSamples)>,
-    inputs: Vec<InputSamples>,
-    frame: Vec<f64>,
-    floor: Vec<f64>,
-}
-
-impl TimingSamples {
-    fn new(ids: &[&'static str]) -> Self {
-        Self {
-            techniques: ids
-                .iter()
-                .map(|id| ((*id).to_owned(), TechniqueSamples::default()))
-                .collect(),
-            inputs: Vec::new(),
-            frame: Vec::new(),
-            floor: Vec::new(),
-        }
-    }
-
-    /// Adds one frame: `inputs` are the graph's scene inputs in render order.
-    fn add(&mut self, timings: &FrameTimings, inputs: &[(SceneInput, Vec<&'static str>)]) {
-        let input_ms: Vec<f64> = timings
-            .passes
-            .iter()
-            .filter(|p| p.technique().is_none())
-            .map(|p| p.ms)
-            .collect();
-        self.frame.push(
-            timings
-                .passes
-                .iter()
-                .filter(|p| p.technique() != Some(COPY_FLOOR_ID))
-                .map(|p| p.ms)
-                .sum(),
-        );
-        self.floor.push(timings.technique_ms(COPY_FLOOR_ID));
-        for (n, (input, readers)) in inputs.iter().enumerate() {
-            let ms = input_ms.get(n).copied().unwrap_or(f64::NAN);
-            let users: Vec<String> = readers
-                .iter()
-                .filter(|u| **u != COPY_FLOOR_ID)
-                .map(|u| (*u).to_owned())
-                .collect();
-            let label = input.label();
-            match self
-                .inputs
-                .iter_mut()
-                .find(|i| i.label == label && i.users == users)
-            {
-                Some(existing) => existing.ms.push(ms),
-                None => self.inputs.push(InputSamples {
-                    label,
-                    users,
-                    ms: vec![ms],
-                    invocations: None,
-                }),
-            }
-            for user in readers {
-                if let Some((_, t)) = self.techniques.iter_mut().find(|(id, _)| id == user) {
-                    t.input.push(ms);
-                    t.input_label = Some(input.label());
-                    t.post_process = input.sample_count() == 1;
-                }
-            }
-        }
-        for (id, samples) in &mut self.techniques {
-            samples.own.push(timings.technique_ms(id));
-            let mut frame_passes: Vec<(String, usize, f64)> = Vec::new();
-            for pass in timings.technique_passes(id) {
-                match frame_passes.iter_mut().find(|(l, _, _)| *l == pass.label) {
-                    Some(entry) => {
-                        entry.1 += 1;
-                        entry.2 += pass.ms;
-                    }
-                    None => frame_passes.push((pass.label.clone(), 1, pass.ms)),
-                }
-            }
-            for (label, count, ms) in frame_passes {
-                match samples.passes.iter_mut().find(|(l, _, _)| *l == label) {
-                    Some(entry) => entry.2.push(ms),
-                    None => samples.passes.push((label, count, vec![ms])),
-                }
-            }
-        }
-    }
-
-    /// Records the statistics frame's invocations on the shared inputs.
-    fn add_statistics(
-        &mut self,
-        statistics: &FrameStatistics,
-        inputs: &[(SceneInput, Vec<&'static str>)],
-    ) {
-        let counts: Vec<u64> = statistics
-            .passes
-            .iter()
-            .filter(|p| p.technique().is_none())
-            .map(|p| p.fragment_invocations)
-            .collect();
-        for ((input, users), count) in inputs.iter().zip(counts) {
-            let users: Vec<String> = users
-                .iter()
-                .filter(|u| **u != COPY_FLOOR_ID)
-                .map(|u| (*u).to_owned())
-                .collect();
-            if let Some(i) = self
-                .inputs
-                .iter_mut()
-                .find(|i| i.label == input.label() && i.users == users)
-            {
-                i.invocations = Some(count);
-            }
-        }
-    }
+/// The reference's change over the flicker frames, and each technique's ghosting meter.
+struct Flicker {
+    reference: ChangeMeter,
+    ghosts: Vec<MovingEdgeError>,
 }
 
 /// The progress bar of the whole bench.
@@ -453,9 +339,70 @@ impl Bench<'_> {
         } else {
             0
         };
+        let timed = self.time(run, &scene, &spec, &track, flicker_frames)?;
+        let flicker = self.reference_flicker(
+            run,
+            &scene,
+            &reference_spec,
+            &track,
+            flicker_frames,
+            &timed.meters,
+        )?;
+        // 4. Quality on the scene's own camera path.
+        let scores = if self.quality {
+            self.quality(run, &scene, &spec, &reference_spec)?
+        } else {
+            Vec::new()
+        };
+        let floor_ms = Summary::of(&timed.samples.floor);
+        let techniques = self.technique_reports(run, &timed, &scores, &flicker, floor_ms.median);
+        let floor_bytes = timed
+            .memory
+            .techniques
+            .iter()
+            .find(|m| m.technique == COPY_FLOOR_ID)
+            .map_or(0, |m| m.own_bytes());
+        Ok(RunReport {
+            // Model files get a hash of their path, so two `sponza.obj` never share files.
+            scene: super::render::output_stem(&scene.name, &run.scene),
+            density: run.density,
+            triangles: scene.triangle_count(),
+            width: run.size.0,
+            height: run.size.1,
+            spec,
+            reference_spec,
+            scene_renders_per_frame: timed.scene_renders,
+            frame_ms: Summary::of(&timed.samples.frame),
+            floor_ms,
+            inputs: timed
+                .samples
+                .inputs
+                .iter()
+                .map(|i| InputReport {
+                    label: i.label.clone(),
+                    users: i.users.clone(),
+                    ms: Summary::of(&i.ms),
+                    fragment_invocations: i.invocations,
+                })
+                .collect(),
+            techniques,
+            reference_change: flicker.reference.mean_change(),
+            memory_total_bytes: timed.memory.total_bytes - floor_bytes,
+        })
+    }
 
-        // 1. Timing along the slow track, with the copy floor alongside.
-        let mut graph = spec::build_graph(self.gpu, &scene, &spec)?;
+    /// Steps 1 and 2 (module docs): the timed frames along the slow track with the copy
+    /// floor alongside, the last ones read into the change meters, then one statistics frame.
+    fn time(
+        &self,
+        run: &RunPlan,
+        scene: &Scene,
+        spec: &RenderSpec,
+        track: &SlowTrack,
+        flicker_frames: u32,
+    ) -> anyhow::Result<Timed> {
+        let args = self.args;
+        let mut graph = spec::build_graph(self.gpu, scene, spec)?;
         graph.add(Box::new(CopyFloor::new(self.gpu)));
         let ids: Vec<&'static str> = graph
             .slots()
@@ -534,16 +481,36 @@ impl Bench<'_> {
                 (s.technique.id().to_owned(), s.technique.scene_input(&info))
             })
             .collect();
-        drop(graph);
+        Ok(Timed {
+            samples,
+            meters,
+            statistics,
+            memory,
+            scene_renders,
+            slot_info,
+        })
+    }
 
-        // 3. The reference over the flicker frames, and each technique's error where it moved.
+    /// Step 3 (module docs): the reference over the flicker frames, and each technique's error
+    /// where the reference moved.
+    fn reference_flicker(
+        &self,
+        run: &RunPlan,
+        scene: &Scene,
+        reference_spec: &RenderSpec,
+        track: &SlowTrack,
+        flicker_frames: u32,
+        meters: &[(String, ChangeMeter, Vec<Plane>)],
+    ) -> anyhow::Result<Flicker> {
+        let total_frames = u64::from(self.args.warmup) + u64::from(self.args.frames);
+        let flicker_from = total_frames - u64::from(flicker_frames);
         let mut reference_meter = ChangeMeter::new();
         let mut ghosts: Vec<MovingEdgeError> =
             meters.iter().map(|_| MovingEdgeError::new()).collect();
         let mut reference_previous: Option<Plane> = None;
         if flicker_frames > 0 {
             self.message(run, "reference for flicker");
-            let mut reference = spec::build_graph(self.gpu, &scene, &reference_spec)?;
+            let mut reference = spec::build_graph(self.gpu, scene, reference_spec)?;
             for frame in flicker_from..total_frames {
                 let info = FrameInfo {
                     camera: track.camera(frame),
@@ -569,21 +536,36 @@ impl Bench<'_> {
             }
         }
 
-        // 4. Quality on the scene's own camera path.
-        let scores = if self.quality {
-            self.quality(run, &scene, &spec, &reference_spec)?
-        } else {
-            Vec::new()
-        };
+        Ok(Flicker {
+            reference: reference_meter,
+            ghosts,
+        })
+    }
 
+    /// Each technique's report from the run's measurements.
+    fn technique_reports(
+        &self,
+        run: &RunPlan,
+        timed: &Timed,
+        scores: &[QualityScores],
+        flicker: &Flicker,
+        floor_median_ms: f64,
+    ) -> Vec<TechniqueReport> {
+        let Timed {
+            samples,
+            meters,
+            statistics,
+            memory,
+            slot_info,
+            ..
+        } = timed;
         let none_total = samples
             .techniques
             .iter()
             .find(|(id, _)| id == aa::none::ID)
             .map(|(_, s)| Summary::of(&sum_samples(&s.own, &s.input)).median);
-        let floor_ms = Summary::of(&samples.floor);
         let pixels = f64::from(run.size.0) * f64::from(run.size.1);
-        let techniques = samples
+        samples
             .techniques
             .iter()
             .zip(&self.techniques)
@@ -627,7 +609,7 @@ impl Bench<'_> {
                     .map_or((None, None), |(_, q, t)| (Some(*q), *t));
                 let index = meters.iter().position(|(m, _, _)| m == id);
                 let meter = index.map(|i| &meters[i].1);
-                let ghosting = index.and_then(|i| ghosts[i].ghosting());
+                let ghosting = index.and_then(|i| flicker.ghosts[i].ghosting());
                 TechniqueReport {
                     id: id.clone(),
                     name: aa::registry::display_name(id),
@@ -653,50 +635,19 @@ impl Bench<'_> {
                     own_ms: own,
                     input_ms: Summary::of(&s.input),
                     relative_to_none: none_total.filter(|n| *n > 0.0).map(|n| total.median / n),
-                    floor_multiple: (post_process && floor_ms.median > 0.0)
-                        .then(|| own.median / floor_ms.median),
+                    floor_multiple: (post_process && floor_median_ms > 0.0)
+                        .then(|| own.median / floor_median_ms),
                     total_ms: total,
                     memory,
                     fragment_invocations: invocations,
                     quality,
                     truth,
                     mean_change: meter.and_then(ChangeMeter::mean_change),
-                    flicker_ratio: meter.and_then(|m| flicker_ratio(m, &reference_meter)),
+                    flicker_ratio: meter.and_then(|m| flicker_ratio(m, &flicker.reference)),
                     ghosting,
                 }
             })
-            .collect();
-        let floor_bytes = memory
-            .techniques
-            .iter()
-            .find(|m| m.technique == COPY_FLOOR_ID)
-            .map_or(0, |m| m.own_bytes());
-        Ok(RunReport {
-            // Model files get a hash of their path, so two `sponza.obj` never share files.
-            scene: super::render::output_stem(&scene.name, &run.scene),
-            density: run.density,
-            triangles: scene.triangle_count(),
-            width: run.size.0,
-            height: run.size.1,
-            spec,
-            reference_spec,
-            scene_renders_per_frame: scene_renders,
-            frame_ms: Summary::of(&samples.frame),
-            floor_ms,
-            inputs: samples
-                .inputs
-                .iter()
-                .map(|i| InputReport {
-                    label: i.label.clone(),
-                    users: i.users.clone(),
-                    ms: Summary::of(&i.ms),
-                    fragment_invocations: i.invocations,
-                })
-                .collect(),
-            techniques,
-            reference_change: reference_meter.mean_change(),
-            memory_total_bytes: memory.total_bytes - floor_bytes,
-        })
+            .collect()
     }
 
     /// Renders the quality frame of every technique and the reference and scores them; on the
@@ -707,7 +658,7 @@ impl Bench<'_> {
         scene: &Scene,
         spec: &RenderSpec,
         reference_spec: &RenderSpec,
-    ) -> anyhow::Result<Vec<(String, Comparison, Option<Comparison>)>> {
+    ) -> anyhow::Result<Vec<QualityScores>> {
         self.message(run, "quality frame");
         let base = self.bar.position();
         let progress = |done: u64, _total: u64| self.bar.set_position(base + done);

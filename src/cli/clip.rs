@@ -1,13 +1,22 @@
 //! `aa-lab clip`: renders a camera motion ([`Motion`]) through several techniques and the
 //! supersampled reference, frame after frame through one frame graph (temporal techniques run
-//! with their real history, after `--warmup` frames to fill it), and writes a looping animation
-//! of the labelled, nearest-neighbour zoomed panes side by side (the magnifier's layout; a
-//! full-frame grid without `--region`) plus `<out>.json`: the full recipe and, per technique,
-//! the temporal figures of [`crate::metrics::stability`] over the whole frame and, with a
-//! region, over the region alone (the captions show those: what the animation shows).
+//! with their real history, after `--warmup` frames to fill it), and writes the labelled,
+//! nearest-neighbour zoomed panes side by side (the magnifier's layout; a full-frame grid
+//! without `--region`) as a looping animation or a video ([`ClipFormat`], by the extension,
+//! refused before any work when aa-lab cannot write it), plus `<out>.json`: the full recipe
+//! and, per technique, the temporal figures of [`crate::metrics::stability`] over the whole
+//! frame and, with a region, over the region alone (the captions show those: what the
+//! animation shows). `--html` adds a self-contained comparison page ([`HtmlPage`]).
+//!
+//! Every frame goes to the encoder as it renders ([`ClipWriter`]), which compresses it on a
+//! pool of threads while the next frames render: memory holds a few frames, whatever the
+//! clip's length. The captions' figures are known only after the last frame, so frames are
+//! composed with empty captions as they render and the first frame is composed again with the
+//! figures at the end: later frames are stored as changes from the first, and captions never
+//! change (see [`crate::export::animation`]).
 //!
 //! The output is a pure function of the command line (and the adapter): no timestamps, so the
-//! same command writes the same bytes.
+//! same command writes the same bytes, whatever `--threads`.
 
 use std::path::{Path, PathBuf};
 
@@ -20,13 +29,17 @@ use super::render::{
     technique_specs,
 };
 use crate::aa::FrameInfo;
-use crate::export::animation::{self, AnimationFormat};
+use crate::export::animation::{self, AnimationFormat, AnimationOptions};
+use crate::export::apng::Compression;
 use crate::export::clip::{self, Definitions};
-use crate::export::sheet::Rect;
+use crate::export::clip_writer::{ClipFormat, ClipWriter};
+use crate::export::html::HtmlPage;
+use crate::export::sheet::{self, Rect};
 use crate::files;
 use crate::gpu::{Gpu, read_texture_rgba8};
-use crate::graph::FrameScope;
+use crate::graph::{FrameGraph, FrameScope};
 use crate::metrics::stability::{ClipMetrics, TemporalScores};
+use crate::scene::Scene;
 use crate::scene::motion::{DEFAULT_SPEED_PX, Motion};
 use crate::spec::{self, RenderSpec, TechniqueSpec};
 
@@ -34,8 +47,6 @@ use crate::spec::{self, RenderSpec, TechniqueSpec};
 pub const MAX_CLIP_FRAMES: u32 = 600;
 /// Most warm-up frames before a clip.
 pub const MAX_WARMUP_FRAMES: u32 = 1000;
-/// Most pixels of all panes of all frames held in memory before encoding (1 GiB of RGBA).
-pub const MAX_CLIP_PIXELS: u64 = 1 << 28;
 /// Largest zoom.
 pub const MAX_ZOOM: u32 = 64;
 /// Fastest `--speed`, pixels per frame.
@@ -78,10 +89,23 @@ pub struct ClipArgs {
     /// Playback rate of the animation, frames per second (1 to 100).
     #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u16).range(1..=100))]
     pub fps: u16,
-    /// Output animation: animated PNG, or GIF when the name ends in .gif; the record and
-    /// figures go beside it with the extension .json.
+    /// Output: animated PNG (.png, .apng), GIF (.gif), or video a browser plays through the
+    /// system's ffmpeg: MP4 (.mp4, H.264 4:2:0, every pixel doubled) or WebM (.webm, VP9
+    /// 4:4:4); the record and figures go beside it with the extension .json.
     #[arg(long, short, default_value = "clip.png")]
     pub out: PathBuf,
+    /// Compression of the animated PNG: fast (fdeflate), or best (zlib's best level: smaller,
+    /// several times slower).
+    #[arg(long, value_enum, default_value_t = Compression::Fast)]
+    pub compression: Compression,
+    /// Also write <out>.html: one self-contained page that plays the panes in lockstep, with a
+    /// wipe between any two, a synchronised zoom, the figures and the recipe (keep it small
+    /// with --region: every frame is embedded losslessly).
+    #[arg(long)]
+    pub html: bool,
+    /// Threads compressing frames while the next ones render (default: one per core).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
     /// Replace existing output files (without it, aa-lab never replaces a file).
     #[arg(long)]
     pub force: bool,
@@ -126,8 +150,8 @@ pub struct ClipRecord {
     pub region: Option<Rect>,
     /// Zoom of the panes.
     pub zoom: u32,
-    /// Container of the animation.
-    pub format: AnimationFormat,
+    /// Format of the clip: apng, gif, mp4 or webm.
+    pub format: ClipFormat,
     /// How the figures are computed.
     pub definitions: Definitions,
     /// Share of pixels of the frame pairs where the reference moved (the ghosting mask).
@@ -170,8 +194,227 @@ fn json_path(out: &Path) -> PathBuf {
     out.with_extension("json")
 }
 
-/// Runs `aa-lab clip`.
-pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
+/// `<out>` with the extension `.html`.
+fn html_path(out: &Path) -> PathBuf {
+    out.with_extension("html")
+}
+
+/// What the render loop needs besides the graph: the motion, the pane rectangle and the
+/// animation being written.
+struct Recording<'a> {
+    args: &'a ClipArgs,
+    gpu: &'a Gpu,
+    scene: &'a Scene,
+    pane: Rect,
+    region: Option<Rect>,
+    /// The layout with the figures' captions left empty: every frame is composed with it as
+    /// it renders, and the first is composed again with the figures at the end.
+    pending_layout: clip::Layout,
+    format: ClipFormat,
+    options: AnimationOptions,
+    policy: &'a files::Overwrite,
+}
+
+/// The figures of a recorded clip, and the first frame's panes (composed again with them).
+struct Recorded {
+    writer: ClipWriter,
+    page: Option<HtmlPage>,
+    metrics: ClipMetrics,
+    region_metrics: Option<ClipMetrics>,
+    first_crops: Vec<image::RgbaImage>,
+}
+
+/// The progress bar of a clip: frames rendered (warm-up included) with an ETA.
+fn progress_bar(total: u64) -> ProgressBar {
+    let bar = ProgressBar::new(total);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] [{bar:32}] {pos}/{len} frames, eta {eta}  {msg}",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> "),
+    );
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    bar
+}
+
+/// Renders the warm-up and the clip through `graph`, scores every clip frame and hands its
+/// composed panes to the encoder as it renders (the encoder compresses while the next frames
+/// render).
+fn record(
+    rec: &Recording,
+    graph: &mut FrameGraph,
+    mut page: Option<HtmlPage>,
+) -> anyhow::Result<Recorded> {
+    let args = rec.args;
+    let techniques = graph.slots().len().saturating_sub(1);
+    let total = u64::from(args.warmup) + u64::from(args.frames);
+    let bar = progress_bar(total);
+    let mut metrics = ClipMetrics::new(techniques);
+    let mut region_metrics = rec.region.map(|_| ClipMetrics::new(techniques));
+    let mut writer: Option<ClipWriter> = None;
+    let mut first_crops = Vec::new();
+    for frame in 0..total {
+        let warming = frame < u64::from(args.warmup);
+        let encoded = writer.as_mut().map_or(0, ClipWriter::written);
+        bar.set_message(format!(
+            "{} {}: {}",
+            rec.scene.name,
+            args.motion,
+            if warming {
+                "warm-up".to_owned()
+            } else {
+                format!("clip, {encoded} encoded")
+            }
+        ));
+        let info = FrameInfo {
+            camera: args
+                .motion
+                .camera(&rec.scene.camera, args.scene.size, args.speed, frame),
+            reset_history: frame == 0,
+        };
+        let scope = if warming {
+            FrameScope::TemporalOnly
+        } else {
+            FrameScope::All
+        };
+        graph.render(&info, scope)?;
+        graph.finish();
+        if !warming {
+            let images = graph
+                .slots()
+                .iter()
+                .map(|slot| {
+                    let output = slot
+                        .output()
+                        .with_context(|| format!("{} produced no image", slot.technique.label()))?;
+                    Ok(read_texture_rgba8(rec.gpu, output)?)
+                })
+                .collect::<anyhow::Result<Vec<_>>>()?;
+            let (reference_image, technique_images) = images
+                .split_last()
+                .context("the clip has no reference pane")?;
+            let refs: Vec<&image::RgbaImage> = technique_images.iter().collect();
+            metrics.push(reference_image, &refs)?;
+            let pane = rec.pane;
+            let cropped: Vec<image::RgbaImage> = images
+                .iter()
+                .map(|image| {
+                    image::imageops::crop_imm(image, pane.x, pane.y, pane.width, pane.height)
+                        .to_image()
+                })
+                .collect();
+            drop(images);
+            if let (Some(region_metrics), Some((reference_crop, technique_crops))) =
+                (&mut region_metrics, cropped.split_last())
+            {
+                let refs: Vec<&image::RgbaImage> = technique_crops.iter().collect();
+                region_metrics.push(reference_crop, &refs)?;
+            }
+            let number = (frame - u64::from(args.warmup)) as usize;
+            let refs: Vec<&image::RgbaImage> = cropped.iter().collect();
+            if let Some(page) = &mut page {
+                page.push(&refs)?;
+            }
+            let composed = rec
+                .pending_layout
+                .compose(number, args.frames as usize, &refs)?;
+            ClipWriter::push_or_start(
+                &mut writer,
+                &args.out,
+                rec.policy,
+                rec.format,
+                rec.options,
+                composed,
+            )?;
+            if number == 0 {
+                first_crops = cropped;
+            }
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(Recorded {
+        writer: writer.context("the clip has no frame")?,
+        page,
+        metrics,
+        region_metrics,
+        first_crops,
+    })
+}
+
+/// The layout of every frame, with the captions left empty (the figures come at the end).
+fn pending_layout(
+    args: &ClipArgs,
+    scene: &str,
+    adapter: &str,
+    labels: &[String],
+    region: Option<Rect>,
+    zoom: u32,
+) -> clip::Layout {
+    let motion_text = if args.motion.uses_speed() {
+        format!("{} {} px/frame", args.motion, args.speed)
+    } else {
+        args.motion.to_string()
+    };
+    clip::Layout {
+        title: format!("aa-lab clip: {scene}, {motion_text}"),
+        scene: scene.to_owned(),
+        region,
+        zoom,
+        footer: format!(
+            "captions: temporal instability / ghosting (luma levels); {} on {adapter}",
+            spec::build_id(),
+        ),
+        panes: labels
+            .iter()
+            .map(|label| clip::Pane {
+                label: label.clone(),
+                caption: String::new(),
+            })
+            .collect(),
+    }
+}
+
+/// Captions every pane of `layout` with its figures, fitted to `width` pixels: the
+/// techniques' `scores`, then the reference's mean change.
+fn show_figures(
+    layout: &mut clip::Layout,
+    scores: &[TemporalScores],
+    reference_change: Option<f64>,
+    width: u32,
+) {
+    for (pane, scores) in layout.panes.iter_mut().zip(scores) {
+        pane.caption = clip::fit(&[clip::caption(scores), clip::short_caption(scores)], width);
+    }
+    if let Some(reference_pane) = layout.panes.last_mut() {
+        reference_pane.caption = clip::reference_caption(reference_change, width);
+    }
+}
+
+/// Every technique's figures for the record, in pane order.
+fn technique_figures(
+    ids: &[String],
+    labels: &[String],
+    scores: &[TemporalScores],
+    region_scores: Option<&[TemporalScores]>,
+) -> Vec<ClipTechnique> {
+    ids.iter()
+        .zip(labels)
+        .zip(scores)
+        .enumerate()
+        .map(|(i, ((id, label), scores))| ClipTechnique {
+            id: id.clone(),
+            label: label.clone(),
+            scores: *scores,
+            region: region_scores.and_then(|r| r.get(i).copied()),
+        })
+        .collect()
+}
+
+/// Checks the arguments that need no GPU; returns the region, the zoom and the format.
+fn check_args(args: &ClipArgs) -> anyhow::Result<(Option<Rect>, u32, ClipFormat)> {
+    let format = ClipFormat::of_path(&args.out)?;
     if args.scene.camera.camera_motion != CameraMotion::Orbit {
         bail!(
             "clip moves the camera with --motion (orbit, pan, dolly, still), not --camera-motion"
@@ -192,14 +435,13 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         .map(|text| parse_region(text, args.scene.size))
         .transpose()?;
     let zoom = args.zoom.unwrap_or(if region.is_some() { 4 } else { 1 });
-    let format = AnimationFormat::of_path(&args.out);
+    Ok((region, zoom, format))
+}
+
+/// Runs `aa-lab clip`.
+pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
+    let (region, zoom, format) = check_args(args)?;
     let json = json_path(&args.out);
-    if json == args.out {
-        bail!(
-            "--out {}: the animation needs another extension than .json (the record goes there)",
-            args.out.display()
-        );
-    }
 
     let gpu = Gpu::headless()?;
     let max_side = gpu.caps.max_texture_dimension_2d;
@@ -213,32 +455,28 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     }
     let techniques = technique_specs(&gpu, &args.techniques)?;
     let reference = reference_spec(&gpu)?;
-    let panes = techniques.len() + 1;
     let pane = region.unwrap_or(Rect {
         x: 0,
         y: 0,
         width: args.scene.size.0,
         height: args.scene.size.1,
     });
-    clip::check(panes, region.is_some(), (pane.width, pane.height), zoom)?;
-    let pixels = u64::from(args.frames)
-        * panes as u64
-        * u64::from(pane.width)
-        * u64::from(pane.height)
-        * u64::from(zoom).pow(2);
-    if pixels > MAX_CLIP_PIXELS {
-        bail!(
-            "{} frames of {panes} panes of {}x{} pixels (zoom {zoom}) are {pixels} pixels; a clip holds at most {MAX_CLIP_PIXELS} (use fewer frames, a smaller --region or --zoom, or fewer techniques)",
-            args.frames,
-            pane.width * zoom,
-            pane.height * zoom
-        );
-    }
+    clip::check(
+        techniques.len() + 1,
+        region.is_some(),
+        (pane.width, pane.height),
+        zoom,
+    )?;
 
     let mut spec = spec_for_scene(&args.scene, u64::from(args.warmup), techniques.clone());
     spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
     let policy = output_policy(args.force, None, &spec);
-    policy.check_all([args.out.as_path(), json.as_path()])?;
+    let html = args.html.then(|| html_path(&args.out));
+    policy.check_all(
+        [args.out.as_path(), json.as_path()]
+            .into_iter()
+            .chain(html.as_deref()),
+    )?;
     let mut scene = load_scene(&spec, args.scene.strict)?;
     args.scene.camera.apply(&mut spec, &mut scene)?;
 
@@ -254,121 +492,56 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         .iter()
         .map(|s| s.technique.id().to_owned())
         .collect();
-
-    let total = u64::from(args.warmup) + u64::from(args.frames);
-    let bar = ProgressBar::new(total);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] [{bar:32}] {pos}/{len} frames, eta {eta}  {msg}",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar())
-        .progress_chars("=> "),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    let mut metrics = ClipMetrics::new(techniques.len());
-    let mut region_metrics = region.map(|_| ClipMetrics::new(techniques.len()));
-    // Per frame, per pane: the unzoomed crop.
-    let mut crops: Vec<Vec<image::RgbaImage>> = Vec::new();
-    for frame in 0..total {
-        let warming = frame < u64::from(args.warmup);
-        bar.set_message(format!(
-            "{} {}: {}",
-            scene.name,
-            args.motion,
-            if warming { "warm-up" } else { "clip" }
-        ));
-        let info = FrameInfo {
-            camera: args
-                .motion
-                .camera(&scene.camera, args.scene.size, args.speed, frame),
-            reset_history: frame == 0,
-        };
-        let scope = if warming {
-            FrameScope::TemporalOnly
-        } else {
-            FrameScope::All
-        };
-        graph.render(&info, scope)?;
-        graph.finish();
-        if !warming {
-            let images = graph
-                .slots()
-                .iter()
-                .map(|slot| {
-                    let output = slot
-                        .output()
-                        .with_context(|| format!("{} produced no image", slot.technique.label()))?;
-                    Ok(read_texture_rgba8(&gpu, output)?)
-                })
-                .collect::<anyhow::Result<Vec<_>>>()?;
-            let (reference_image, technique_images) = images
-                .split_last()
-                .context("the clip has no reference pane")?;
-            let refs: Vec<&image::RgbaImage> = technique_images.iter().collect();
-            metrics.push(reference_image, &refs)?;
-            let cropped: Vec<image::RgbaImage> = images
-                .iter()
-                .map(|image| {
-                    image::imageops::crop_imm(image, pane.x, pane.y, pane.width, pane.height)
-                        .to_image()
-                })
-                .collect();
-            if let (Some(region_metrics), Some((reference_crop, technique_crops))) =
-                (&mut region_metrics, cropped.split_last())
-            {
-                let refs: Vec<&image::RgbaImage> = technique_crops.iter().collect();
-                region_metrics.push(reference_crop, &refs)?;
-            }
-            crops.push(cropped);
-        }
-        bar.inc(1);
+    let adapter = spec.adapter.clone().unwrap_or_default();
+    let mut layout = pending_layout(args, &scene.name, &adapter, &labels, region, zoom);
+    if let Some(parent) = args.out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent)
+            .with_context(|| format!("cannot create directory {}", parent.display()))?;
     }
-    bar.finish_and_clear();
+    let recording = Recording {
+        args,
+        gpu: &gpu,
+        scene: &scene,
+        pane,
+        region,
+        pending_layout: layout.clone(),
+        format,
+        options: AnimationOptions {
+            format: AnimationFormat::Apng,
+            fps: args.fps,
+            compression: args.compression,
+            threads: args
+                .threads
+                .map_or_else(animation::default_threads, |t| t as usize),
+        },
+        policy: &policy,
+    };
+    let page = html
+        .as_deref()
+        .map(|path| {
+            let size = (pane.width, pane.height);
+            HtmlPage::create(path, &policy, &layout.title, &labels, size, args.fps, zoom)
+        })
+        .transpose()?;
+    let started = std::time::Instant::now();
+    let recorded = record(&recording, &mut graph, page)?;
+    let rendered = started.elapsed();
     drop(graph);
 
+    let metrics = &recorded.metrics;
     let scores = metrics.scores();
-    let region_scores = region_metrics.as_ref().map(ClipMetrics::scores);
+    let region_scores = recorded.region_metrics.as_ref().map(ClipMetrics::scores);
     // The captions give the figures of what the animation shows.
-    let shown_metrics = region_metrics.as_ref().unwrap_or(&metrics);
+    let shown_metrics = recorded.region_metrics.as_ref().unwrap_or(metrics);
     let shown_scores = region_scores.as_ref().unwrap_or(&scores);
-    let width = pane.width * zoom;
-    let mut panes: Vec<clip::Pane> = labels
-        .iter()
-        .zip(shown_scores)
-        .map(|(label, scores)| clip::Pane {
-            label: label.clone(),
-            caption: clip::fit(&[clip::caption(scores), clip::short_caption(scores)], width),
-        })
-        .collect();
-    panes.push(clip::Pane {
-        label: labels.last().cloned().unwrap_or_default(),
-        caption: clip::reference_caption(shown_metrics.reference().mean_change(), width),
-    });
-    let motion_text = if args.motion.uses_speed() {
-        format!("{} {} px/frame", args.motion, args.speed)
-    } else {
-        args.motion.to_string()
-    };
-    let layout = clip::Layout {
-        title: format!("aa-lab clip: {}, {motion_text}", scene.name),
-        scene: scene.name.clone(),
-        region,
-        zoom,
-        footer: format!(
-            "captions: temporal instability / ghosting (luma levels); {} on {}",
-            spec::build_id(),
-            spec.adapter.clone().unwrap_or_default()
-        ),
-        panes,
-    };
-    let frames = crops
-        .iter()
-        .enumerate()
-        .map(|(n, panes_of_frame)| {
-            let refs: Vec<&image::RgbaImage> = panes_of_frame.iter().collect();
-            layout.compose(n, crops.len(), &refs)
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    show_figures(
+        &mut layout,
+        shown_scores,
+        shown_metrics.reference().mean_change(),
+        pane.width * zoom,
+    );
+    let first_refs: Vec<&image::RgbaImage> = recorded.first_crops.iter().collect();
+    let first = layout.compose(0, args.frames as usize, &first_refs)?;
 
     let record = ClipRecord {
         schema: SCHEMA,
@@ -385,38 +558,35 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         definitions: clip::Definitions::over(
             "every pixel of the whole frame, frames warmup..warmup+frames; `region` figures and the captions: the --region pixels only".to_owned(),
         ),
-        region_reference_mean_change: region_metrics
+        region_reference_mean_change: recorded
+            .region_metrics
             .as_ref()
             .and_then(|m| m.reference().mean_change()),
         moving_fraction: metrics.moving_fraction(),
         reference_mean_change: metrics.reference().mean_change(),
-        techniques: ids
-            .iter()
-            .zip(&labels)
-            .zip(&scores)
-            .enumerate()
-            .map(|(i, ((id, label), scores))| ClipTechnique {
-                id: id.clone(),
-                label: label.clone(),
-                scores: *scores,
-                region: region_scores.as_ref().and_then(|r| r.get(i).copied()),
-            })
-            .collect(),
+        techniques: technique_figures(&ids, &labels, &scores, region_scores.as_deref()),
     };
     let text = serde_json::to_string_pretty(&record)? + "\n";
-    if let Some(parent) = args.out.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent)
-            .with_context(|| format!("cannot create directory {}", parent.display()))?;
+    if matches!(format, ClipFormat::Video(_)) {
+        eprintln!("encoding {} with ffmpeg…", args.out.display());
     }
-    let replaced = match format {
-        AnimationFormat::Apng => {
-            animation::write_apng(&args.out, &frames, args.fps, Some(&text), &policy)?
-        }
-        AnimationFormat::Gif => animation::write_gif(&args.out, &frames, args.fps, &policy)?,
-    };
+    let replaced = recorded
+        .writer
+        .finish(Some(&first), Some(&text), sheet::BACKGROUND_RGBA)?;
+    eprintln!(
+        "rendered {} frames ({} of warm-up), compressing the clip's as they came, in {:.1} s; then {:.1} s to finish the file",
+        u64::from(args.warmup) + u64::from(args.frames),
+        args.warmup,
+        rendered.as_secs_f64(),
+        (started.elapsed() - rendered).as_secs_f64()
+    );
     println!("{}", files::wrote_line(&args.out, replaced));
     let replaced = files::write_bytes(&json, &policy, text.as_bytes())?;
     println!("{}", files::wrote_line(&json, replaced));
+    if let (Some(page), Some(path)) = (recorded.page, &html) {
+        let replaced = page.finish(&serde_json::to_value(&record)?)?;
+        println!("{}", files::wrote_line(path, replaced));
+    }
     print_table(&record);
     Ok(())
 }

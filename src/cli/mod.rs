@@ -90,6 +90,23 @@ pub enum Command {
     },
 }
 
+/// Makes SIGINT, SIGTERM and SIGHUP remove the temporary files of the outputs being written
+/// before the process ends (with 128 + the signal's number, as the shell reports a signal),
+/// so an interrupted export leaves nothing behind and touches no existing output (see
+/// [`crate::files::remove_temporaries_and_exit`]). A thread of its own waits for the signals.
+pub fn remove_temporaries_on_interrupt() -> std::io::Result<()> {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])?;
+    std::thread::Builder::new()
+        .name("aa-lab signals".to_owned())
+        .spawn(move || {
+            if let Some(signal) = signals.forever().next() {
+                crate::files::remove_temporaries_and_exit(128 + signal);
+            }
+        })?;
+    Ok(())
+}
+
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     let techniques = match &cli.command {

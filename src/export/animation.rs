@@ -1,14 +1,30 @@
-//! Looping animations of equally sized RGBA8 frames: animated PNG (lossless; when every frame
-//! is opaque, frames after the first hold only the pixels that changed, every frame a full
-//! `fcTL` + `IDAT`/`fdAT` image, `acTL` with `num_plays = 0`, i.e. forever, and the record in an
-//! `aa-lab` text chunk like every PNG aa-lab writes) or GIF (256 colours per frame, quantised
-//! with NeuQuant; loops forever). Both encoders are deterministic: the same frames give the
-//! same bytes. Files are written atomically under the caller's overwrite policy.
+//! Looping animations of equally sized RGBA8 frames, streamed: [`AnimationStream`] takes the
+//! frames as they are rendered, works out each frame's change from the one before (the
+//! bounding box of the pixels that differ; unchanged pixels transparent) and has it compressed
+//! on a pool of worker threads while the next frames render, then writes the compressed frames
+//! in order to an anonymous scratch file. Memory holds a few frames whatever the clip's length,
+//! and the compression runs on every core.
+//!
+//! Two containers: animated PNG (lossless, [`super::apng`]) and GIF (256 colours per frame,
+//! [`super::gif`]); both loop forever. The first frame is compressed last, by
+//! [`AnimationStream::finish`], which may replace it with a final version: a clip's captions
+//! hold figures over the whole clip, known only after its last frame, and they lie in pixels
+//! no later frame changes, so later frames, stored as changes, show them from the first.
+//!
+//! The output is written atomically under the caller's overwrite policy
+//! ([`crate::files::PendingFile`]): an error, a cancel or an interruption leaves no file
+//! behind. The encoding is deterministic: the same frames and settings give the same bytes,
+//! whatever the number of threads.
 
-use std::path::Path;
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::{self, BufWriter, Seek, Write};
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, mpsc};
 
-use super::png::RECORD_KEYWORD;
-use crate::files::{self, Overwrite};
+use super::apng::{self, ApngFrame, ApngSequence, Compression};
+use super::gif::{self as gif_format, GifFrame};
+use crate::files::{self, Overwrite, PendingFile};
 
 /// Errors of writing an animation.
 #[derive(Debug, thiserror::Error)]
@@ -29,7 +45,7 @@ pub enum AnimationError {
     },
 }
 
-/// Which container an output path asks for: GIF for a `.gif` extension (any case), else APNG.
+/// The container of an animation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum AnimationFormat {
@@ -39,132 +55,383 @@ pub enum AnimationFormat {
     Gif,
 }
 
-impl AnimationFormat {
-    /// The format of an output path.
-    pub fn of_path(path: &Path) -> Self {
-        if path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
-        {
-            Self::Gif
-        } else {
-            Self::Apng
+/// How an animation is written.
+#[derive(Clone, Copy, Debug)]
+pub struct AnimationOptions {
+    /// Container.
+    pub format: AnimationFormat,
+    /// Playback rate, frames per second.
+    pub fps: u16,
+    /// Compression level of APNG frames.
+    pub compression: Compression,
+    /// Worker threads compressing frames (at least 1).
+    pub threads: usize,
+}
+
+impl AnimationOptions {
+    /// `format` at `fps` frames per second, fast compression on every core.
+    pub fn new(format: AnimationFormat, fps: u16) -> Self {
+        Self {
+            format,
+            fps,
+            compression: Compression::Fast,
+            threads: default_threads(),
         }
     }
 }
 
-fn check_frames(frames: &[image::RgbaImage]) -> Result<(u32, u32), AnimationError> {
-    let size = frames.first().ok_or(AnimationError::Frames)?.dimensions();
-    if size.0 == 0 || size.1 == 0 || frames.iter().any(|f| f.dimensions() != size) {
-        return Err(AnimationError::Frames);
-    }
-    Ok(size)
+/// The number of cores, the default number of encoding threads.
+pub fn default_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, usize::from)
 }
 
-/// Writes `frames` as a looping animated PNG at `fps` frames per second, with `record` in an
-/// `aa-lab` text chunk; returns whether an existing file was replaced.
-pub fn write_apng(
-    path: &Path,
-    frames: &[image::RgbaImage],
-    fps: u16,
-    record: Option<&str>,
-    policy: &Overwrite,
-) -> Result<bool, AnimationError> {
-    let (width, height) = check_frames(frames)?;
-    let count = u32::try_from(frames.len()).map_err(|_| AnimationError::Frames)?;
-    let invalid = |e: ::png::EncodingError| std::io::Error::other(e.to_string());
-    // Opaque frames (every aa-lab sheet) after the first are stored as the changes only: the
-    // bounding box of the pixels that differ from the previous frame, unchanged pixels
-    // transparent, blended over the previous frame.
-    let opaque = frames.iter().all(|f| f.pixels().all(|p| p[3] == 255));
-    Ok(files::write_atomic(path, policy, |out| {
-        let mut encoder = ::png::Encoder::new(out, width, height);
-        encoder.set_color(::png::ColorType::Rgba);
-        encoder.set_depth(::png::BitDepth::Eight);
-        encoder.set_source_srgb(::png::SrgbRenderingIntent::Perceptual);
-        encoder.set_compression(::png::Compression::High);
-        encoder.set_animated(count, 0).map_err(invalid)?;
-        encoder.set_frame_delay(1, fps.max(1)).map_err(invalid)?;
-        if let Some(record) = record {
-            encoder
-                .add_itxt_chunk(RECORD_KEYWORD.to_owned(), record.to_owned())
-                .map_err(invalid)?;
-        }
-        let mut writer = encoder.write_header().map_err(invalid)?;
-        let mut previous: Option<&image::RgbaImage> = None;
-        for frame in frames {
-            match previous.filter(|_| opaque) {
-                None => writer.write_image_data(frame.as_raw()).map_err(invalid)?,
-                Some(before) => {
-                    let (x, y, w, h) = changed_box(before, frame);
-                    let mut data = Vec::with_capacity(w as usize * h as usize * 4);
-                    for py in y..y + h {
-                        for px in x..x + w {
-                            let now = frame.get_pixel(px, py);
-                            if now == before.get_pixel(px, py) {
-                                data.extend_from_slice(&[0, 0, 0, 0]);
-                            } else {
-                                data.extend_from_slice(&now.0);
-                            }
-                        }
-                    }
-                    writer.reset_frame_position().map_err(invalid)?;
-                    writer.set_frame_dimension(w, h).map_err(invalid)?;
-                    writer.set_frame_position(x, y).map_err(invalid)?;
-                    writer.set_blend_op(::png::BlendOp::Over).map_err(invalid)?;
-                    writer.write_image_data(&data).map_err(invalid)?;
-                }
+/// The pixels of a frame that changed from the one before: their bounding box (x, y, width,
+/// height) and its RGBA8 pixels, unchanged ones transparent black.
+pub struct Change {
+    /// The bounding box.
+    pub rect: (u32, u32, u32, u32),
+    /// Its pixels, row by row.
+    pub pixels: Vec<u8>,
+}
+
+impl Change {
+    /// The change from `before` to `now` (images of one size); a transparent 1x1 pixel at the
+    /// origin when nothing changed.
+    pub fn between(before: &image::RgbaImage, now: &image::RgbaImage) -> Self {
+        let rect = changed_box(before, now);
+        let (x, y, width, height) = rect;
+        let row = now.width() as usize * 4;
+        let mut pixels = Vec::with_capacity(width as usize * height as usize * 4);
+        for py in y..y + height {
+            let start = py as usize * row + x as usize * 4;
+            let end = start + width as usize * 4;
+            let (old, new) = (&before.as_raw()[start..end], &now.as_raw()[start..end]);
+            for (o, n) in old.chunks_exact(4).zip(new.chunks_exact(4)) {
+                pixels.extend_from_slice(if o == n { &[0, 0, 0, 0] } else { n });
             }
-            previous = Some(frame);
         }
-        writer.finish().map_err(invalid)
-    })?)
+        Self { rect, pixels }
+    }
 }
 
 /// The smallest rectangle (x, y, width, height) holding every pixel that differs between two
 /// images of one size; a 1x1 rectangle at the origin when none does.
 fn changed_box(a: &image::RgbaImage, b: &image::RgbaImage) -> (u32, u32, u32, u32) {
-    let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
-    for (x, y, p) in b.enumerate_pixels() {
-        if a.get_pixel(x, y) != p {
-            x0 = x0.min(x);
-            y0 = y0.min(y);
-            x1 = x1.max(x);
-            y1 = y1.max(y);
+    let row = (a.width() as usize * 4).max(1);
+    let rows = a
+        .as_raw()
+        .chunks_exact(row)
+        .zip(b.as_raw().chunks_exact(row));
+    let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
+    for (y, (ra, rb)) in rows.enumerate() {
+        if ra == rb {
+            continue;
         }
+        let pixels = || ra.chunks_exact(4).zip(rb.chunks_exact(4));
+        let first = pixels().position(|(p, q)| p != q).unwrap_or(0);
+        let last = pixels().rposition(|(p, q)| p != q).unwrap_or(first);
+        x0 = x0.min(first);
+        x1 = x1.max(last);
+        y0 = y0.min(y);
+        y1 = y;
     }
-    if x0 == u32::MAX {
+    if x0 == usize::MAX {
         (0, 0, 1, 1)
     } else {
-        (x0, y0, x1 - x0 + 1, y1 - y0 + 1)
+        let side = |v: usize| u32::try_from(v).unwrap_or(u32::MAX);
+        (side(x0), side(y0), side(x1 - x0 + 1), side(y1 - y0 + 1))
     }
 }
 
-/// Writes `frames` as a looping GIF at about `fps` frames per second (GIF delays are whole
-/// hundredths of a second); returns whether an existing file was replaced.
-pub fn write_gif(
-    path: &Path,
-    frames: &[image::RgbaImage],
-    fps: u16,
-    policy: &Overwrite,
-) -> Result<bool, AnimationError> {
-    use image::codecs::gif::{GifEncoder, Repeat};
-    let (width, height) = check_frames(frames)?;
-    if width > u32::from(u16::MAX) || height > u32::from(u16::MAX) {
-        return Err(AnimationError::TooLargeForGif { width, height });
+/// A compressed frame after the first, in either container.
+enum EncodedFrame {
+    Apng(ApngFrame),
+    Gif(Box<GifFrame>),
+}
+
+type Outcome = (usize, io::Result<EncodedFrame>);
+
+/// An animation being written (see the module docs).
+pub struct AnimationStream {
+    path: PathBuf,
+    /// The output; `None` while writing an intermediate animation ([`AnimationStream::intermediate`]).
+    output: Option<PendingFile>,
+    scratch: BufWriter<File>,
+    options: AnimationOptions,
+    size: (u32, u32),
+    pool: rayon::ThreadPool,
+    sender: mpsc::Sender<Outcome>,
+    results: mpsc::Receiver<Outcome>,
+    first: Option<Arc<image::RgbaImage>>,
+    previous: Option<Arc<image::RgbaImage>>,
+    /// Compressed frames waiting for their predecessors.
+    ready: BTreeMap<usize, EncodedFrame>,
+    pushed: usize,
+    written: usize,
+    sequence: ApngSequence,
+}
+
+impl AnimationStream {
+    /// Starts writing `path` (checked against `policy` now) for frames of `size` pixels.
+    pub fn create(
+        path: &Path,
+        policy: &Overwrite,
+        size: (u32, u32),
+        options: AnimationOptions,
+    ) -> Result<Self, AnimationError> {
+        Self::start(path, Some(policy), size, options)
     }
-    let invalid = |e: image::ImageError| std::io::Error::other(e.to_string());
-    let delay = image::Delay::from_numer_denom_ms(1000, u32::from(fps.max(1)));
-    Ok(files::write_atomic(path, policy, |out| {
-        let mut encoder = GifEncoder::new_with_speed(out, 10);
-        encoder.set_repeat(Repeat::Infinite).map_err(invalid)?;
-        for frame in frames {
-            encoder
-                .encode_frame(image::Frame::from_parts(frame.clone(), 0, 0, delay))
-                .map_err(invalid)?;
+
+    /// Starts an animated PNG that is no output of its own but the lossless intermediate of
+    /// one (a video): [`AnimationStream::finish_intermediate`] returns it as an anonymous
+    /// scratch file in the folder of `beside`.
+    pub fn intermediate(
+        beside: &Path,
+        size: (u32, u32),
+        threads: usize,
+    ) -> Result<Self, AnimationError> {
+        let options = AnimationOptions {
+            threads,
+            ..AnimationOptions::new(AnimationFormat::Apng, 30)
+        };
+        Self::start(beside, None, size, options)
+    }
+
+    fn start(
+        path: &Path,
+        policy: Option<&Overwrite>,
+        size: (u32, u32),
+        options: AnimationOptions,
+    ) -> Result<Self, AnimationError> {
+        if size.0 == 0 || size.1 == 0 {
+            return Err(AnimationError::Frames);
+        }
+        let limit = u32::from(u16::MAX);
+        if options.format == AnimationFormat::Gif && (size.0 > limit || size.1 > limit) {
+            return Err(AnimationError::TooLargeForGif {
+                width: size.0,
+                height: size.1,
+            });
+        }
+        let output = policy
+            .map(|policy| PendingFile::create(path, policy))
+            .transpose()?;
+        let scratch = BufWriter::new(files::anonymous_scratch(path)?);
+        let path = path.to_owned();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(options.threads.max(1))
+            .thread_name(|i| format!("aa-lab encoder {i}"))
+            .build()
+            .map_err(|e| write_error(&path, io::Error::other(e.to_string())))?;
+        let (sender, results) = mpsc::channel();
+        Ok(Self {
+            path,
+            output,
+            scratch,
+            options,
+            size,
+            pool,
+            sender,
+            results,
+            first: None,
+            previous: None,
+            ready: BTreeMap::new(),
+            pushed: 0,
+            written: 0,
+            sequence: ApngSequence::default(),
+        })
+    }
+
+    /// Hands `frame` to `stream`, first starting it (sized by this first frame) when there
+    /// is none yet.
+    pub fn push_or_start(
+        stream: &mut Option<Self>,
+        path: &Path,
+        policy: &Overwrite,
+        options: AnimationOptions,
+        frame: image::RgbaImage,
+    ) -> Result<(), AnimationError> {
+        match stream {
+            Some(stream) => stream.push(frame),
+            None => stream
+                .insert(Self::create(path, policy, frame.dimensions(), options)?)
+                .push(frame),
+        }
+    }
+
+    /// Frames handed over so far.
+    pub fn pushed(&self) -> usize {
+        self.pushed
+    }
+
+    /// Frames compressed and written so far.
+    pub fn written(&self) -> usize {
+        self.written
+    }
+
+    /// Hands over the next frame; blocks while more frames than the workers can take are
+    /// being compressed.
+    pub fn push(&mut self, frame: image::RgbaImage) -> Result<(), AnimationError> {
+        if frame.dimensions() != self.size {
+            return Err(AnimationError::Frames);
+        }
+        let frame = Arc::new(frame);
+        let index = self.pushed;
+        match self.previous.replace(Arc::clone(&frame)) {
+            None => {
+                self.first = Some(frame);
+                self.written = 1;
+            }
+            Some(previous) => {
+                let sender = self.sender.clone();
+                let options = self.options;
+                self.pool.spawn(move || {
+                    let change = Change::between(&previous, &frame);
+                    drop((previous, frame));
+                    let encoded = match options.format {
+                        AnimationFormat::Apng => apng::encode_change(&change, options.compression)
+                            .map(EncodedFrame::Apng),
+                        AnimationFormat::Gif => gif_format::encode_change(change, options.fps)
+                            .map(|f| EncodedFrame::Gif(Box::new(f))),
+                    };
+                    let _ = sender.send((index, encoded));
+                });
+            }
+        }
+        self.pushed += 1;
+        let in_flight_limit = self.pool.current_num_threads();
+        while self.pushed - self.written > in_flight_limit {
+            self.collect(true)?;
+        }
+        self.collect(false)
+    }
+
+    /// Takes finished frames (waiting for one when `wait`) and writes those whose turn it is.
+    fn collect(&mut self, wait: bool) -> Result<(), AnimationError> {
+        let mut next = if wait {
+            let stopped = || io::Error::other("an encoding thread stopped");
+            Some(
+                self.results
+                    .recv()
+                    .map_err(|_| write_error(&self.path, stopped()))?,
+            )
+        } else {
+            self.results.try_recv().ok()
+        };
+        while let Some((index, encoded)) = next {
+            let encoded = encoded.map_err(|e| write_error(&self.path, e))?;
+            self.ready.insert(index, encoded);
+            next = self.results.try_recv().ok();
+        }
+        while let Some(frame) = self.ready.remove(&self.written) {
+            let written = match &frame {
+                EncodedFrame::Apng(frame) => {
+                    self.sequence
+                        .write_frame(&mut self.scratch, frame, self.options.fps)
+                }
+                EncodedFrame::Gif(frame) => {
+                    gif_format::write_frame(&mut self.scratch, frame, self.size)
+                }
+            };
+            written.map_err(|e| write_error(&self.path, e))?;
+            self.written += 1;
         }
         Ok(())
-    })?)
+    }
+
+    /// Waits for every frame, writes the file (an APNG with `record` in its text chunk) and
+    /// moves it into place; returns whether an existing file was replaced. `final_first`
+    /// replaces the first frame; it may differ from the frame pushed first only in pixels that
+    /// no later frame changes (a clip's captions), as later frames are stored as changes.
+    pub fn finish(
+        mut self,
+        final_first: Option<&image::RgbaImage>,
+        record: Option<&str>,
+    ) -> Result<bool, AnimationError> {
+        let mut output = self.output.take().ok_or(AnimationError::Frames)?;
+        self.assemble(output.writer(), final_first, record)?;
+        Ok(output.commit()?)
+    }
+
+    /// [`AnimationStream::finish`] of an [`AnimationStream::intermediate`]: the animated PNG,
+    /// in an anonymous scratch file, rewound.
+    pub fn finish_intermediate(
+        mut self,
+        final_first: Option<&image::RgbaImage>,
+    ) -> Result<File, AnimationError> {
+        let mut out = BufWriter::new(files::anonymous_scratch(&self.path)?);
+        self.assemble(&mut out, final_first, None)?;
+        let mut file = out
+            .into_inner()
+            .map_err(|e| write_error(&self.path, e.into_error()))?;
+        file.rewind().map_err(|e| write_error(&self.path, e))?;
+        Ok(file)
+    }
+
+    /// Waits for every frame and writes the whole file to `out`.
+    fn assemble(
+        &mut self,
+        out: &mut BufWriter<File>,
+        final_first: Option<&image::RgbaImage>,
+        record: Option<&str>,
+    ) -> Result<(), AnimationError> {
+        while self.written < self.pushed {
+            self.collect(true)?;
+        }
+        let pushed_first = self.first.take().ok_or(AnimationError::Frames)?;
+        let first = match final_first {
+            Some(frame) if frame.dimensions() != self.size => return Err(AnimationError::Frames),
+            Some(frame) => frame,
+            None => pushed_first.as_ref(),
+        };
+        let frames = u32::try_from(self.pushed).map_err(|_| AnimationError::Frames)?;
+        let options = self.options;
+        let assembled = (|| {
+            self.scratch.flush()?;
+            let scratch = self.scratch.get_mut();
+            scratch.rewind()?;
+            match options.format {
+                AnimationFormat::Apng => apng::assemble(
+                    out,
+                    first,
+                    frames,
+                    options.fps,
+                    options.compression,
+                    record,
+                    scratch,
+                ),
+                AnimationFormat::Gif => gif_format::assemble(out, first, options.fps, scratch),
+            }
+        })();
+        assembled.map_err(|e| write_error(&self.path, e))?;
+        Ok(())
+    }
+}
+
+fn write_error(path: &Path, source: io::Error) -> AnimationError {
+    files::FileError::Write {
+        path: path.to_owned(),
+        source,
+    }
+    .into()
+}
+
+/// Writes `frames` (at least one, all of one size) through an [`AnimationStream`]; returns
+/// whether an existing file was replaced.
+pub fn write_animation(
+    path: &Path,
+    frames: impl IntoIterator<Item = image::RgbaImage>,
+    options: AnimationOptions,
+    record: Option<&str>,
+    policy: &Overwrite,
+) -> Result<bool, AnimationError> {
+    let mut frames = frames.into_iter().peekable();
+    let size = frames.peek().ok_or(AnimationError::Frames)?.dimensions();
+    let mut stream = AnimationStream::create(path, policy, size, options)?;
+    for frame in frames {
+        stream.push(frame)?;
+    }
+    stream.finish(None, record)
 }
 
 /// The chunks of a PNG file in order (type and data), for checking an animation's structure;
@@ -203,11 +470,36 @@ mod tests {
             .collect()
     }
 
+    fn options(format: AnimationFormat, threads: usize) -> AnimationOptions {
+        AnimationOptions {
+            threads,
+            ..AnimationOptions::new(format, 30)
+        }
+    }
+
+    fn decoded_apng(bytes: &[u8]) -> Vec<image::RgbaImage> {
+        let decoder = image::codecs::png::PngDecoder::new(std::io::Cursor::new(bytes)).unwrap();
+        image::AnimationDecoder::into_frames(decoder.apng().unwrap())
+            .collect_frames()
+            .unwrap()
+            .into_iter()
+            .map(image::Frame::into_buffer)
+            .collect()
+    }
+
     #[test]
     fn apng_loops_forever_with_one_control_chunk_per_frame() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("a.png");
-        write_apng(&path, &frames(4), 30, Some("{}"), &Overwrite::new(false)).unwrap();
+        let policy = Overwrite::new(false);
+        write_animation(
+            &path,
+            frames(4),
+            options(AnimationFormat::Apng, 2),
+            Some("{}"),
+            &policy,
+        )
+        .unwrap();
         let bytes = std::fs::read(&path).unwrap();
         let chunks = png_chunks(&bytes).unwrap();
         let actl = chunks.iter().find(|(k, _)| k == b"acTL").unwrap().1;
@@ -231,34 +523,101 @@ mod tests {
             }
         }
         assert!(sequence > 4, "frames after the first are fdAT chunks");
-        // Decodes back to the same frames.
-        let decoder = image::codecs::png::PngDecoder::new(std::io::Cursor::new(&bytes)).unwrap();
-        let decoded: Vec<_> = image::AnimationDecoder::into_frames(decoder.apng().unwrap())
-            .collect_frames()
+        assert_eq!(
+            decoded_apng(&bytes),
+            frames(4),
+            "decodes back to the same frames"
+        );
+        // The same bytes whatever the number of threads, and no scratch file left.
+        for threads in [1, 3] {
+            let other = dir.path().join(format!("t{threads}.png"));
+            write_animation(
+                &other,
+                frames(4),
+                options(AnimationFormat::Apng, threads),
+                Some("{}"),
+                &policy,
+            )
             .unwrap();
-        assert_eq!(decoded.len(), 4);
-        for (d, f) in decoded.iter().zip(frames(4)) {
-            assert_eq!(d.buffer(), &f);
+            assert!(std::fs::read(&other).unwrap() == bytes, "{threads} threads");
+        }
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 3);
+    }
+
+    /// Frames whose bottom-right pixel (a "caption") never changes while the rest does.
+    fn captioned(n: u8, caption: u8) -> Vec<image::RgbaImage> {
+        frames(n)
+            .into_iter()
+            .map(|mut frame| {
+                frame.put_pixel(4, 0, image::Rgba([caption, caption, 0, 255]));
+                frame
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_final_first_frame_shows_its_unchanging_pixels_in_every_frame() {
+        let dir = tempfile::tempdir().unwrap();
+        for format in [AnimationFormat::Apng, AnimationFormat::Gif] {
+            let path = dir.path().join(format!("a.{format:?}"));
+            let mut stream =
+                AnimationStream::create(&path, &Overwrite::new(false), (5, 3), options(format, 2))
+                    .unwrap();
+            for frame in captioned(5, 0) {
+                stream.push(frame).unwrap();
+            }
+            assert_eq!(stream.pushed(), 5);
+            let final_frames = captioned(5, 200);
+            stream.finish(Some(&final_frames[0]), None).unwrap();
+            let bytes = std::fs::read(&path).unwrap();
+            let decoded = match format {
+                AnimationFormat::Apng => decoded_apng(&bytes),
+                AnimationFormat::Gif => {
+                    let decoder =
+                        image::codecs::gif::GifDecoder::new(std::io::Cursor::new(&bytes)).unwrap();
+                    image::AnimationDecoder::into_frames(decoder)
+                        .collect_frames()
+                        .unwrap()
+                        .into_iter()
+                        .map(image::Frame::into_buffer)
+                        .collect()
+                }
+            };
+            assert_eq!(decoded, final_frames, "{format:?}");
         }
     }
 
     #[test]
-    fn gif_and_format_by_extension() {
-        assert_eq!(
-            AnimationFormat::of_path(Path::new("x/clip.GIF")),
-            AnimationFormat::Gif
-        );
-        assert_eq!(
-            AnimationFormat::of_path(Path::new("clip.png")),
-            AnimationFormat::Apng
-        );
+    fn an_abandoned_stream_leaves_nothing_behind() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.png");
+        std::fs::write(&path, b"earlier clip").unwrap();
+        let mut stream = AnimationStream::create(
+            &path,
+            &Overwrite::new(true),
+            (5, 3),
+            options(AnimationFormat::Apng, 2),
+        )
+        .unwrap();
+        for frame in frames(3) {
+            stream.push(frame).unwrap();
+        }
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
+        drop(stream);
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        assert_eq!(std::fs::read(&path).unwrap(), b"earlier clip");
+    }
+
+    #[test]
+    fn gifs_loop_and_need_frames() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("a.gif");
-        write_gif(&path, &frames(2), 25, &Overwrite::new(false)).unwrap();
+        let gif = options(AnimationFormat::Gif, 2);
+        write_animation(&path, frames(2), gif, None, &Overwrite::new(false)).unwrap();
         let bytes = std::fs::read(&path).unwrap();
         assert!(bytes.starts_with(b"GIF89a"));
         assert!(matches!(
-            write_gif(&path, &[], 25, &Overwrite::new(true)),
+            write_animation(&path, Vec::new(), gif, None, &Overwrite::new(true)),
             Err(AnimationError::Frames)
         ));
     }

@@ -16,9 +16,6 @@ pub const RECORD_KEYWORD: &str = "aa-lab";
 /// Largest render record read from a PNG (records are a few kilobytes of JSON).
 pub const MAX_RECORD_BYTES: usize = 4 << 20;
 
-/// Largest image file read (compressed size on disk).
-pub const MAX_IMAGE_FILE_BYTES: u64 = 1 << 30;
-
 /// Errors of writing or reading exported files.
 #[derive(Debug, thiserror::Error)]
 pub enum ExportError {
@@ -85,7 +82,7 @@ pub fn read_record(path: &Path) -> Result<Option<String>, ExportError> {
         path: path.to_owned(),
         reason,
     };
-    files::check_regular(path, MAX_IMAGE_FILE_BYTES, "an image")?;
+    files::check_regular(path, files::MAX_IMAGE_FILE_BYTES, "an image")?;
     let file = std::fs::File::open(path).map_err(|e| read(e.to_string()))?;
     let decoder = ::png::Decoder::new(std::io::BufReader::new(file));
     let reader = decoder.read_info().map_err(|e| read(e.to_string()))?;
@@ -120,7 +117,7 @@ pub fn read_image_limited(
         path: path.to_owned(),
         reason,
     };
-    files::check_regular(path, MAX_IMAGE_FILE_BYTES, "an image")?;
+    files::check_regular(path, files::MAX_IMAGE_FILE_BYTES, "an image")?;
     let reader = image::ImageReader::open(path)
         .and_then(image::ImageReader::with_guessed_format)
         .map_err(|e| read(e.to_string()))?;

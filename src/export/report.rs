@@ -367,6 +367,17 @@ Each technique is a point (GPU ms \
 /// Renders the report as Markdown.
 pub fn markdown(report: &BenchReport) -> String {
     let mut out = String::new();
+    intro_markdown(&mut out, report);
+    cost_markdown(&mut out, report);
+    if report.settings.quality {
+        quality_markdown(&mut out, report);
+    }
+    work_markdown(&mut out, report);
+    out
+}
+
+/// The report's heading: the command, build and adapter, and what the numbers mean.
+fn intro_markdown(out: &mut String, report: &BenchReport) {
     let s = &report.settings;
     let _ = writeln!(out, "# aa-lab bench report\n");
     let _ = writeln!(
@@ -415,11 +426,14 @@ pub fn markdown(report: &BenchReport) -> String {
     out.push_str(
         "- **Fragment invocations** come from pipeline-statistics queries (one extra, untimed frame).\n\n",
     );
+}
 
+/// GPU time per technique, relative to No AA and to the copy floor, and of the shared scene renders.
+fn cost_markdown(out: &mut String, report: &BenchReport) {
     out.push_str("## GPU time per frame, technique alone (ms, median)\n\nThe shape of the thesis' figures 4.3 and 4.4 (there: FPS on a Galaxy S8).\n\n");
-    run_by_technique_table(&mut out, report, |_, t| fmt_ms(t.total_ms.median));
+    run_by_technique_table(out, report, |_, t| fmt_ms(t.total_ms.median));
     out.push_str("## Cost relative to No AA (total / No AA total)\n\n");
-    run_by_technique_table(&mut out, report, |_, t| opt(t.relative_to_none, 2));
+    run_by_technique_table(out, report, |_, t| opt(t.relative_to_none, 2));
     out.push_str("## Post-process passes as multiples of the full-screen copy floor\n\n");
     let _ = writeln!(
         out,
@@ -479,55 +493,57 @@ pub fn markdown(report: &BenchReport) -> String {
         );
     }
     out.push('\n');
-    if s.quality {
-        out.push_str("## SSIM against the 64-sample SSAA reference\n\nThe shape of the thesis' figures 4.7 and 4.8 (there: against a 16-sample reference).\n\n");
-        run_by_technique_table(&mut out, report, |_, t| opt(t.quality.map(|q| q.ssim), 4));
-        tradeoff_markdown(&mut out, report);
-        out.push_str("## FLIP (mean error, lower is better)\n\n");
-        run_by_technique_table(&mut out, report, |_, t| opt(t.quality.map(|q| q.flip), 4));
-        out.push_str("## PSNR (dB) / MAE (0..255)\n\n");
-        run_by_technique_table(&mut out, report, |_, t| {
+}
+
+/// Image quality against the reference and the analytic truth, flicker and ghosting.
+fn quality_markdown(out: &mut String, report: &BenchReport) {
+    out.push_str("## SSIM against the 64-sample SSAA reference\n\nThe shape of the thesis' figures 4.7 and 4.8 (there: against a 16-sample reference).\n\n");
+    run_by_technique_table(out, report, |_, t| opt(t.quality.map(|q| q.ssim), 4));
+    tradeoff_markdown(out, report);
+    out.push_str("## FLIP (mean error, lower is better)\n\n");
+    run_by_technique_table(out, report, |_, t| opt(t.quality.map(|q| q.flip), 4));
+    out.push_str("## PSNR (dB) / MAE (0..255)\n\n");
+    run_by_technique_table(out, report, |_, t| {
+        format!(
+            "{} / {}",
+            opt(t.quality.map(|q| q.psnr), 2),
+            opt(t.quality.map(|q| q.mae), 2)
+        )
+    });
+    if report
+        .runs
+        .iter()
+        .any(|r| r.techniques.iter().any(|t| t.truth.is_some()))
+    {
+        out.push_str("## Against the analytic ground truth (chart test elements): SSIM / FLIP\n\n");
+        run_by_technique_table(out, report, |_, t| {
             format!(
                 "{} / {}",
-                opt(t.quality.map(|q| q.psnr), 2),
-                opt(t.quality.map(|q| q.mae), 2)
+                opt(t.truth.map(|q| q.ssim), 4),
+                opt(t.truth.map(|q| q.flip), 4)
             )
         });
-        if report
-            .runs
-            .iter()
-            .any(|r| r.techniques.iter().any(|t| t.truth.is_some()))
-        {
-            out.push_str(
-                "## Against the analytic ground truth (chart test elements): SSIM / FLIP\n\n",
-            );
-            run_by_technique_table(&mut out, report, |_, t| {
-                format!(
-                    "{} / {}",
-                    opt(t.truth.map(|q| q.ssim), 4),
-                    opt(t.truth.map(|q| q.flip), 4)
-                )
-            });
-        }
-        out.push_str(
-            "## Temporal stability: flicker ratio (technique change / reference change)\n\n",
-        );
-        run_by_technique_table(&mut out, report, |_, t| opt(t.flicker_ratio, 2));
-        out.push_str(
-            "## Ghosting: luma error at moving edges (levels of 0..255, where the reference changed by more than 8 between frames)\n\n",
-        );
-        run_by_technique_table(&mut out, report, |_, t| opt(t.ghosting, 1));
     }
+    out.push_str("## Temporal stability: flicker ratio (technique change / reference change)\n\n");
+    run_by_technique_table(out, report, |_, t| opt(t.flicker_ratio, 2));
+    out.push_str(
+        "## Ghosting: luma error at moving edges (levels of 0..255, where the reference changed by more than 8 between frames)\n\n",
+    );
+    run_by_technique_table(out, report, |_, t| opt(t.ghosting, 1));
+}
+
+/// Shading work, memory, the scaling sweeps and every pass in detail.
+fn work_markdown(out: &mut String, report: &BenchReport) {
     out.push_str("## Shading work: fragment-shader invocations per output pixel (input + own passes)\n\nThe counterpart of the thesis' figure 4.5 (fragment instructions per frame).\n\n");
-    run_by_technique_table(&mut out, report, |_, t| {
+    run_by_technique_table(out, report, |_, t| {
         opt(t.fragment_invocations.map(|f| f.per_pixel), 2)
     });
     out.push_str("## Memory to run alone (MiB: input targets, private resources, output)\n\n");
-    run_by_technique_table(&mut out, report, |_, t| {
+    run_by_technique_table(out, report, |_, t| {
         t.memory
             .map_or_else(|| "-".to_owned(), |m| mib(m.standalone_bytes))
     });
-    scaling_markdown(&mut out, report);
+    scaling_markdown(out, report);
     out.push_str("## Per-pass detail\n\n");
     for run in &report.runs {
         let _ = writeln!(
@@ -551,7 +567,6 @@ pub fn markdown(report: &BenchReport) -> String {
         }
         out.push('\n');
     }
-    out
 }
 
 /// One point of a scaling curve.

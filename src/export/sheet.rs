@@ -140,6 +140,8 @@ pub struct Sheet {
 }
 
 const BACKGROUND: [u8; 3] = [24, 25, 30];
+/// The background colour as an opaque RGBA8 pixel (what pads a video's odd sides).
+pub const BACKGROUND_RGBA: [u8; 4] = [BACKGROUND[0], BACKGROUND[1], BACKGROUND[2], 255];
 const FRAME: [u8; 3] = [70, 72, 80];
 const TEXT: [u8; 3] = [232, 232, 236];
 const DIM_TEXT: [u8; 3] = [150, 152, 160];

@@ -6,8 +6,8 @@
 //! **Uniforms never steer control flow on their own.** Mesa's lavapipe (22.x, the driver of
 //! CI and of machines without a GPU) specialises a shader on the uniforms that alone decide an
 //! `if` condition or a loop bound ("inline uniforms"), compiles that variant at every draw and
-//! never frees it: TAA's `if params.trust.x > 0.0 { .. }` grew the process by 1.1 MB per frame
-//! until LLVM ran out of section memory. So a condition made of uniforms only is written as a
+//! never frees it, so the process grows every frame until LLVM runs out of section memory
+//! (figures: `docs/gpu-figures.md`). So a condition made of uniforms only is written as a
 //! `select`/`mix`, a loop runs to a constant bound and tests the uniform inside, a uniform
 //! test is combined with `&`/`|` rather than `&&`/`||` (which naga lowers to an `if` on the
 //! uniform operand alone), and a setting that changes which code runs is an `override`
@@ -15,12 +15,12 @@
 //! a varying or the pixel position are not affected. `tests/long_runs.rs` renders hundreds of
 //! frames of every technique and fails on growth.
 //!
-//! **Per-pixel values are named, not kept in function-local arrays.** NVIDIA's compiler (driver
-//! 580 on an H200) kept TAA's small local arrays (the 3x3 colours, the Catmull-Rom taps and
-//! weights, the nearest-surface candidates, each filled and read in a loop) in memory: the
-//! resolve took 3.5 ms at 1920x1080, and 1.5 ms once they became named values (structs,
-//! straight-line code). lavapipe's LLVM keeps both forms in registers, so only a GPU shows
-//! the difference.
+//! **Per-pixel values are named, not kept in function-local arrays.** NVIDIA's compiler kept
+//! TAA's small local arrays (the 3x3 colours, the Catmull-Rom taps and weights, the
+//! nearest-surface candidates, each filled and read in a loop) in memory, which more than
+//! doubled the resolve's cost; named values (structs, straight-line code) stay in registers.
+//! lavapipe's LLVM keeps both forms in registers, so only a GPU shows the difference (figures:
+//! `docs/techniques/taa.md`).
 
 /// A WGSL file compiled into the binary: its path from the repository root and its text.
 /// Shared shaders are listed in [`SHADERS`]; a technique lists its own in its folder and

@@ -1,6 +1,9 @@
 //! GPU memory accounting: every texture and buffer a technique owns or reads, with format,
 //! size and bytes. Scene inputs shared by several techniques are listed with each of them but
-//! counted once in the total, as the frame graph allocates them once.
+//! counted once in the total, as the frame graph allocates them once. The report covers
+//! everything the graph holds: the techniques that are on (running this frame or keeping an
+//! earlier image), the scene inputs they read (the graph pools no others), and, apart, what
+//! techniques switched off still own, so its total is what is allocated.
 
 use super::SceneInput;
 use crate::scene::renderer::SceneTargets;
@@ -103,9 +106,12 @@ impl TechniqueMemory {
 pub struct MemoryReport {
     /// Per technique.
     pub techniques: Vec<TechniqueMemory>,
+    /// Techniques switched off that still own resources (their pipelines' targets and last
+    /// output, kept for a quick switch back); they read no scene input.
+    pub idle: Vec<TechniqueMemory>,
     /// The uploaded scene (geometry, textures with mips).
     pub scene_bytes: u64,
-    /// Everything, shared inputs counted once, scene included.
+    /// Everything, shared inputs counted once, scene and idle techniques included.
     pub total_bytes: u64,
 }
 
@@ -117,7 +123,7 @@ impl MemoryReport {
     ) -> Self {
         let techniques: Vec<TechniqueMemory> = slots
             .iter()
-            .filter(|s| s.enabled && s.output.is_some())
+            .filter(|s| s.held() && s.output.is_some())
             .map(|slot| {
                 let id = slot.technique.id();
                 let input = inputs.iter().find(|(_, users, _)| users.contains(&id));
@@ -142,61 +148,41 @@ impl MemoryReport {
             .flat_map(|(i, _, t)| MemoryItem::of_targets(i, t))
             .map(|i| i.bytes)
             .sum();
-        let own_total: u64 = techniques.iter().map(TechniqueMemory::own_bytes).sum();
+        let idle: Vec<TechniqueMemory> = slots
+            .iter()
+            .filter(|s| !s.held())
+            .map(|slot| {
+                let id = slot.technique.id();
+                TechniqueMemory {
+                    technique: id.to_owned(),
+                    input: None,
+                    input_shared_with: Vec::new(),
+                    input_items: Vec::new(),
+                    private_items: slot.technique.memory(),
+                    output: slot
+                        .output
+                        .as_ref()
+                        .map(|o| MemoryItem::texture(format!("{id} output"), o)),
+                }
+            })
+            .filter(|t| t.own_bytes() > 0)
+            .collect();
+        let own_total: u64 = techniques
+            .iter()
+            .chain(&idle)
+            .map(TechniqueMemory::own_bytes)
+            .sum();
         Self {
             total_bytes: inputs_total + own_total + scene_bytes,
             techniques,
+            idle,
             scene_bytes,
         }
     }
 
-    /// This report brought up to date by `newer`, the report of a frame in which only the
-    /// techniques `ran` rendered (the others kept their images). Such a frame knows only the
-    /// scene inputs it rendered, so the techniques that did not run keep their entries from
-    /// this report (their inputs still exist); those that ran, and any this report lacks, take
-    /// `newer`'s; techniques `newer` does not list (switched off) are dropped. Which
-    /// techniques share each input and the total (each input once) are worked out anew.
-    pub fn updated_by(&self, newer: MemoryReport, ran: &[&str]) -> MemoryReport {
-        let mut techniques: Vec<TechniqueMemory> = newer
-            .techniques
-            .into_iter()
-            .map(|entry| {
-                let kept = self
-                    .techniques
-                    .iter()
-                    .find(|t| t.technique == entry.technique);
-                match kept {
-                    Some(old) if !ran.contains(&entry.technique.as_str()) => old.clone(),
-                    _ => entry,
-                }
-            })
-            .collect();
-        let readers: Vec<(Option<String>, String)> = techniques
-            .iter()
-            .map(|t| (t.input.clone(), t.technique.clone()))
-            .collect();
-        for t in &mut techniques {
-            t.input_shared_with = readers
-                .iter()
-                .filter(|(input, _)| input.is_some() && *input == t.input)
-                .map(|(_, id)| id.clone())
-                .collect();
-        }
-        let mut inputs_total = 0;
-        for (n, t) in techniques.iter().enumerate() {
-            let first_reader = techniques[..n]
-                .iter()
-                .all(|earlier| earlier.input.is_none() || earlier.input != t.input);
-            if first_reader {
-                inputs_total += t.input_bytes();
-            }
-        }
-        let own_total: u64 = techniques.iter().map(TechniqueMemory::own_bytes).sum();
-        MemoryReport {
-            total_bytes: inputs_total + own_total + newer.scene_bytes,
-            techniques,
-            scene_bytes: newer.scene_bytes,
-        }
+    /// Bytes that switched-off techniques still own.
+    pub fn idle_bytes(&self) -> u64 {
+        self.idle.iter().map(TechniqueMemory::own_bytes).sum()
     }
 
     /// A plain-text table (what `aa-lab render --memory` prints).
@@ -237,78 +223,19 @@ impl MemoryReport {
                 );
             }
         }
+        if !self.idle.is_empty() {
+            let ids: Vec<&str> = self.idle.iter().map(|t| t.technique.as_str()).collect();
+            out += &format!(
+                "switched off, still allocated: {:.2} MiB ({})\n",
+                mib(self.idle_bytes()),
+                ids.join(", ")
+            );
+        }
         out += &format!(
             "scene geometry and textures: {:.2} MiB\ntotal (shared inputs once): {:.2} MiB\n",
             mib(self.scene_bytes),
             mib(self.total_bytes)
         );
         out
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn item(label: &str, bytes: u64) -> MemoryItem {
-        MemoryItem {
-            label: label.to_owned(),
-            format: "Rgba8Unorm".to_owned(),
-            width: 1,
-            height: 1,
-            samples: 1,
-            mips: 1,
-            bytes,
-        }
-    }
-
-    fn entry(id: &str, input: Option<(&str, u64)>, own: u64) -> TechniqueMemory {
-        TechniqueMemory {
-            technique: id.to_owned(),
-            input: input.map(|(label, _)| label.to_owned()),
-            input_shared_with: Vec::new(),
-            input_items: input.map_or_else(Vec::new, |(label, bytes)| vec![item(label, bytes)]),
-            private_items: Vec::new(),
-            output: Some(item("output", own)),
-        }
-    }
-
-    /// A report over a 1000-byte scene (its total is not read: the merge works it out anew).
-    fn report(techniques: Vec<TechniqueMemory>) -> MemoryReport {
-        MemoryReport {
-            techniques,
-            scene_bytes: 1000,
-            total_bytes: 0,
-        }
-    }
-
-    #[test]
-    fn a_partial_frame_updates_what_ran_and_keeps_the_others_inputs() {
-        let scene = Some(("scene 1x", 100));
-        let complete = report(vec![
-            entry("none", scene, 10),
-            entry("fxaa", scene, 20),
-            entry("msaa4", Some(("scene msaa4", 400)), 30),
-        ]);
-        // TAA switched on and MSAA 4x off on a still view: only TAA renders, and the frame
-        // knows no input of the others.
-        let partial = report(vec![
-            entry("none", None, 10),
-            entry("fxaa", None, 20),
-            entry("taa", Some(("scene 1x jittered", 150)), 50),
-        ]);
-        let merged = complete.updated_by(partial, &["taa"]);
-        let ids: Vec<&str> = merged
-            .techniques
-            .iter()
-            .map(|t| t.technique.as_str())
-            .collect();
-        assert_eq!(ids, ["none", "fxaa", "taa"]);
-        let none = &merged.techniques[0];
-        assert_eq!(none.input.as_deref(), Some("scene 1x"));
-        assert_eq!(none.input_shared_with, ["none", "fxaa"]);
-        assert_eq!(none.standalone_bytes(), 110);
-        assert_eq!(merged.techniques[2].input_shared_with, ["taa"]);
-        assert_eq!(merged.total_bytes, 1000 + 100 + 150 + 10 + 20 + 50);
     }
 }

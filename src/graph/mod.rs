@@ -58,7 +58,18 @@ pub struct Slot {
     pub technique: Box<dyn Technique>,
     /// Whether it runs this frame.
     pub enabled: bool,
+    /// Whether it is switched on although it may not run this frame (it keeps the image of an
+    /// earlier frame, as the viewer's still techniques do): its scene input stays pooled and
+    /// the memory report lists it with that input. An enabled slot is always kept.
+    pub kept: bool,
     output: Option<wgpu::Texture>,
+}
+
+impl Slot {
+    /// Whether the graph holds this slot's scene input and reports it as on.
+    fn held(&self) -> bool {
+        self.enabled || (self.kept && self.output.is_some())
+    }
 }
 
 impl Slot {
@@ -211,6 +222,17 @@ impl PassContext<'_> {
     }
 }
 
+/// A distinct scene input of a frame: which pooled target holds it, and whether a technique
+/// that runs in the frame reads it (it is rendered then; otherwise it holds an earlier
+/// frame's render for a technique that keeps its image).
+struct PooledInput {
+    input: SceneInput,
+    desc: TargetDesc,
+    /// Index among the pooled targets of `desc`.
+    index: usize,
+    rendered: bool,
+}
+
 /// The frame graph. See the module docs.
 pub struct FrameGraph {
     gpu: Gpu,
@@ -219,7 +241,7 @@ pub struct FrameGraph {
     fullscreen: Fullscreen,
     profiler: wgpu_profiler::GpuProfiler,
     input_pool: HashMap<TargetDesc, Vec<SceneTargets>>,
-    inputs_used: Vec<(SceneInput, TargetDesc, usize)>,
+    inputs_used: Vec<PooledInput>,
     /// Per slot, the index into `inputs_used` it read last frame.
     slot_inputs: Vec<Option<usize>>,
     size: (u32, u32),
@@ -299,6 +321,7 @@ impl FrameGraph {
         self.slots.push(Slot {
             technique,
             enabled: true,
+            kept: false,
             output: None,
         });
         self.slots.len() - 1
@@ -438,43 +461,50 @@ impl FrameGraph {
             })
             .collect();
 
-        // 1. Distinct inputs, each assigned a pooled target of its description.
+        // 1. Distinct inputs of every held technique (those that run and those that keep an
+        // earlier image), each assigned a pooled target of its description; the pool keeps
+        // nothing else, so what it holds is what the memory report lists.
         let mut wanted: Vec<Option<SceneInput>> = vec![None; self.slots.len()];
         self.inputs_used.clear();
-        for &i in &active {
-            let input = self.slots[i].technique.scene_input(frame);
+        for (i, slot) in self.slots.iter().enumerate().filter(|(_, s)| s.held()) {
+            let input = slot.technique.scene_input(frame);
             wanted[i] = input;
             if let Some(input) = input
-                && !self.inputs_used.iter().any(|(used, _, _)| *used == input)
+                && !self.inputs_used.iter().any(|used| used.input == input)
             {
                 let desc = TargetDesc {
                     size,
                     sample_count: input.sample_count(),
                     motion: input.motion(),
                 };
-                let index = self
-                    .inputs_used
-                    .iter()
-                    .filter(|(_, d, _)| *d == desc)
-                    .count();
-                self.inputs_used.push((input, desc, index));
+                let index = self.inputs_used.iter().filter(|u| u.desc == desc).count();
+                self.inputs_used.push(PooledInput {
+                    input,
+                    desc,
+                    index,
+                    rendered: false,
+                });
             }
         }
-        for (input, desc, index) in &self.inputs_used {
-            let pool = self.input_pool.entry(*desc).or_default();
-            while pool.len() <= *index {
-                let label = input.label();
-                pool.push(SceneTargets::new(&self.gpu, &label, *desc));
+        self.slot_inputs = wanted
+            .iter()
+            .map(|w| w.and_then(|input| self.inputs_used.iter().position(|u| u.input == input)))
+            .collect();
+        for &i in &active {
+            if let Some(n) = self.slot_inputs[i] {
+                self.inputs_used[n].rendered = true;
             }
         }
+        self.pool_inputs();
 
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("frame"),
         });
         self.scene_renders = 0;
         self.statistics.begin_frame(&device);
-        // 2. One scene render per distinct input.
-        for (input, desc, index) in &self.inputs_used {
+        // 2. One scene render per distinct input a running technique reads.
+        for used in self.inputs_used.iter().filter(|u| u.rendered) {
+            let (input, desc, index) = (&used.input, &used.desc, &used.index);
             let targets = &self.input_pool[desc][*index];
             if let (Some(image), SceneInput::Shared1x) = (&self.image_input, input) {
                 crate::gpu::write_rgba8(&self.gpu, &targets.color, image);
@@ -498,25 +528,15 @@ impl FrameGraph {
             self.profiler.end_query(&mut encoder, query);
             self.scene_renders += 1;
         }
-        // 3. Every technique's passes.
-        self.slot_inputs = wanted
-            .iter()
-            .map(|w| {
-                w.and_then(|input| {
-                    self.inputs_used
-                        .iter()
-                        .position(|(used, _, _)| *used == input)
-                })
-            })
-            .collect();
+        // 3. Every running technique's passes.
         for &i in &active {
             let slot = &mut self.slots[i];
             let output = slot
                 .output
                 .get_or_insert_with(|| Self::output_texture(&self.gpu, slot.technique.id(), size));
             let input = self.slot_inputs[i].and_then(|n| {
-                let (_, desc, index) = &self.inputs_used[n];
-                self.input_pool.get(desc)?.get(*index)
+                let used = &self.inputs_used[n];
+                self.input_pool.get(&used.desc)?.get(used.index)
             });
             let mut ctx = PassContext {
                 gpu: &self.gpu,
@@ -566,13 +586,46 @@ impl FrameGraph {
         self.collect_timings();
     }
 
-    /// Scene inputs of the last frame with the ids of the techniques that read them.
-    fn input_users(&self) -> Vec<(SceneInput, Vec<&'static str>, &SceneTargets)> {
+    /// Grows the pool to every input of `inputs_used` and releases the targets no held
+    /// technique reads (a technique switched off, a sample count no longer asked for).
+    fn pool_inputs(&mut self) {
+        for used in &self.inputs_used {
+            let pool = self.input_pool.entry(used.desc).or_default();
+            while pool.len() <= used.index {
+                pool.push(SceneTargets::new(&self.gpu, &used.input.label(), used.desc));
+            }
+        }
+        let inputs_used = &self.inputs_used;
+        self.input_pool.retain(|desc, pool| {
+            pool.truncate(inputs_used.iter().filter(|u| u.desc == *desc).count());
+            !pool.is_empty()
+        });
+    }
+
+    /// Bytes of every scene-input target the graph holds (what the memory report counts as
+    /// inputs, each once).
+    pub fn pooled_input_bytes(&self) -> u64 {
+        self.input_pool
+            .values()
+            .flatten()
+            .flat_map(SceneTargets::textures)
+            .map(|(_, texture)| gpu::texture_bytes(texture))
+            .sum()
+    }
+
+    /// Scene inputs the held techniques read in the last frame, with the ids of their readers
+    /// and, when `rendered_only`, only those rendered in it.
+    fn input_users(
+        &self,
+        rendered_only: bool,
+    ) -> Vec<(SceneInput, Vec<&'static str>, &SceneTargets)> {
         self.inputs_used
             .iter()
             .enumerate()
-            .filter_map(|(n, (input, desc, index))| {
-                let targets = self.input_pool.get(desc)?.get(*index)?;
+            .filter(|(_, used)| used.rendered || !rendered_only)
+            .filter_map(|(n, used)| {
+                let input = &used.input;
+                let targets = self.input_pool.get(&used.desc)?.get(used.index)?;
                 let users = self
                     .slots
                     .iter()
@@ -589,16 +642,17 @@ impl FrameGraph {
     /// of their passes among the frame's non-technique passes in timings and statistics), each
     /// with the ids of the techniques that read it.
     pub fn scene_inputs_last_frame(&self) -> Vec<(SceneInput, Vec<&'static str>)> {
-        self.input_users()
+        self.input_users(true)
             .into_iter()
             .map(|(input, users, _)| (input, users))
             .collect()
     }
 
-    /// The memory report of the last frame: every technique's private resources and output,
-    /// the scene inputs it reads (shared ones counted once in the total), and the scene itself.
+    /// The memory report of the last frame: every held technique's private resources and
+    /// output, the scene inputs it reads (shared ones counted once in the total), the scene
+    /// itself, and what switched-off techniques still hold.
     pub fn memory_report(&self) -> MemoryReport {
-        let inputs = self.input_users();
+        let inputs = self.input_users(false);
         MemoryReport::build(&self.slots, &inputs, self.scene.memory_bytes())
     }
 }

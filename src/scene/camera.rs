@@ -12,7 +12,102 @@
 
 use glam::{Mat4, Vec2, Vec3};
 
-use super::CameraRig;
+/// The deterministic camera path of a scene: an orbit about the vertical axis through `target`.
+///
+/// In a render record every field may be left out and takes its [`Default`] value.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct CameraRig {
+    /// Point the camera looks at and orbits around.
+    pub target: Vec3,
+    /// Distance from the target.
+    pub distance: f32,
+    /// Azimuth at frame 0, in degrees (0 looks down -Z).
+    pub yaw_degrees: f32,
+    /// Elevation in degrees (positive looks down on the target).
+    pub pitch_degrees: f32,
+    /// Vertical field of view in degrees.
+    pub fov_y_degrees: f32,
+    /// Near clip distance.
+    pub near: f32,
+    /// Far clip distance.
+    pub far: f32,
+    /// Auto-rotation speed about the vertical axis, degrees per frame (0 for a still camera).
+    pub orbit_degrees_per_frame: f32,
+}
+
+impl Default for CameraRig {
+    fn default() -> Self {
+        Self {
+            target: Vec3::ZERO,
+            distance: 5.0,
+            yaw_degrees: 0.0,
+            pitch_degrees: 15.0,
+            fov_y_degrees: 45.0,
+            near: 0.05,
+            far: 100.0,
+            orbit_degrees_per_frame: 0.5,
+        }
+    }
+}
+
+impl CameraRig {
+    /// This rig with its frame-0 pose replaced by `pose` (the far plane and the orbit speed
+    /// stay): motions then start where the camera is now.
+    pub fn starting_at(&self, pose: OrbitPose) -> Self {
+        Self {
+            target: pose.target,
+            distance: pose.distance,
+            yaw_degrees: pose.yaw_degrees,
+            pitch_degrees: pose.pitch_degrees,
+            fov_y_degrees: pose.fov_y_degrees,
+            near: pose.near,
+            ..*self
+        }
+    }
+
+    /// A rig whose frame 0 looks from `eye` at `look_at` (turning about `look_at` at
+    /// `orbit_degrees_per_frame`); `None` when the two points coincide or are not finite.
+    pub fn looking_at(
+        eye: Vec3,
+        look_at: Vec3,
+        fov_y_degrees: f32,
+        near: f32,
+        orbit_degrees_per_frame: f32,
+    ) -> Option<Self> {
+        let (distance, yaw_degrees, pitch_degrees) = orbit_angles(eye, look_at)?;
+        Some(Self {
+            target: look_at,
+            distance,
+            yaw_degrees,
+            pitch_degrees,
+            fov_y_degrees,
+            near,
+            far: Self::default().far.max(distance * 100.0),
+            orbit_degrees_per_frame,
+        })
+    }
+}
+
+/// Distance, yaw and pitch (degrees) of an orbit about `target` that puts the camera at
+/// `eye`; pitch is kept within ±89.9° so the view never looks straight up or down (where the
+/// orbit's up vector is undefined). `None` when the points coincide or are not finite.
+pub fn orbit_angles(eye: Vec3, target: Vec3) -> Option<(f32, f32, f32)> {
+    let offset = eye - target;
+    let distance = offset.length();
+    if !distance.is_finite() || distance <= f32::EPSILON * target.abs().max_element().max(1.0) {
+        return None;
+    }
+    let dir = offset / distance;
+    let pitch = dir
+        .y
+        .clamp(-1.0, 1.0)
+        .asin()
+        .to_degrees()
+        .clamp(-89.9, 89.9);
+    let yaw = dir.x.atan2(dir.z).to_degrees();
+    Some((distance, yaw, pitch))
+}
 
 /// Where the camera is: an orbit about a target.
 ///
@@ -46,7 +141,7 @@ impl OrbitPose {
     /// A pose at `eye` looking at `target`; `None` when the points coincide or are not
     /// finite.
     pub fn looking_at(eye: Vec3, target: Vec3, fov_y_degrees: f32, near: f32) -> Option<Self> {
-        let (distance, yaw_degrees, pitch_degrees) = super::model::orbit_angles(eye, target)?;
+        let (distance, yaw_degrees, pitch_degrees) = orbit_angles(eye, target)?;
         Some(Self {
             target,
             distance,
@@ -235,6 +330,18 @@ impl FrameCamera {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn looking_at_reproduces_eye_and_target() {
+        let eye = Vec3::new(3.0, 2.0, -1.0);
+        let look_at = Vec3::new(-1.0, 0.5, 2.0);
+        let rig = CameraRig::looking_at(eye, look_at, 60.0, 0.01, 0.0).expect("distinct points");
+        let pose = OrbitPose::at_frame(&rig, 0);
+        assert!((pose.eye() - eye).length() < 1e-4, "{}", pose.eye());
+        assert_eq!(pose.target, look_at);
+        assert!(CameraRig::looking_at(eye, eye, 60.0, 0.01, 0.0).is_none());
+        assert!(CameraRig::looking_at(Vec3::NAN, eye, 60.0, 0.01, 0.0).is_none());
+    }
 
     fn project(m: Mat4, p: Vec3, size: Vec2) -> Vec2 {
         let clip = m * p.extend(1.0);

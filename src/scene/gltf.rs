@@ -59,11 +59,11 @@ use std::path::{Component, Path, PathBuf};
 use base64::Engine as _;
 use glam::{Mat3, Mat4, Vec3};
 
-use crate::export::png::MAX_IMAGE_FILE_BYTES;
-use crate::files::{self, FileError};
+use crate::files::{self, FileError, MAX_IMAGE_FILE_BYTES};
 
+use super::framing::{bounding_sphere, framed_camera};
 use super::model::{Filter, SceneView, TextureSampler, Wrap};
-use super::obj::{bounding_sphere, checker_image, framed_camera};
+use super::obj::mtl::checker_image;
 use super::{AlphaMode, CameraRig, DirectionalLight, Material, Mesh, Scene, TextureImage, Vertex};
 
 /// Extensions this loader implements (a file may require these).

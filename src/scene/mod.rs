@@ -3,6 +3,7 @@
 //! the targets a technique asks for.
 
 pub mod camera;
+pub mod framing;
 pub mod gltf;
 pub mod interior;
 pub mod model;
@@ -12,8 +13,9 @@ pub mod procedural;
 pub mod renderer;
 pub mod source;
 
+pub use camera::CameraRig;
 pub use model::{
-    AlphaMode, CameraRig, DirectionalLight, Filter, Material, Mesh, Scene, SceneView, Spin,
-    TextureImage, TextureSampler, Vertex, Wrap,
+    AlphaMode, DirectionalLight, Filter, Material, Mesh, Scene, SceneView, Spin, TextureImage,
+    TextureSampler, Vertex, Wrap,
 };
 pub use motion::Motion;

@@ -266,3 +266,25 @@ pub fn aa_lab(args: &[&str]) -> std::process::Output {
         .output()
         .expect("the aa-lab binary runs")
 }
+
+/// Runs `aa-lab clip` on a tiny chart (64x48, 4 frames after 2 of warm-up, No AA, FXAA, TAA
+/// and MSAA 4x besides the reference) into `out`, with `extra` arguments.
+pub fn clip(out: &std::path::Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "clip",
+        "--scene",
+        "chart",
+        "--size",
+        "64x48",
+        "--frames",
+        "4",
+        "--warmup",
+        "2",
+        "--technique",
+        "none,fxaa,taa,msaa4",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ];
+    args.extend_from_slice(extra);
+    aa_lab(&args)
+}

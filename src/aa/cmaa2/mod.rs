@@ -22,22 +22,24 @@
 //!    counts three times a corner blend, as Intel's 1.5 to 0.5), encoded to sRGB, and its sums
 //!    are cleared for the next frame; every other pixel keeps its exact bytes. Intel applies
 //!    with an indirect dispatch over a list of the blended pixels into a storage view of the
-//!    output; here the output is sRGB, which cannot be a storage texture, and the first
-//!    version's stand-in, a copy plus an indirect draw of one point per blended pixel, cost
-//!    as much as this pass on the chart and 2.3 to 2.7 times as much on hairball and atrium
-//!    (lavapipe, 640x360), where most pixels get a blend.
+//!    output; here the output is sRGB, which cannot be a storage texture, and one fullscreen
+//!    pass through its encoded view is cheaper than drawing the blended pixels one by one
+//!    wherever most pixels get a blend.
 //!
 //! Settings ([`settings`]): Intel's quality presets `low`/`medium`/`high`/`ultra` (edge
 //! threshold 0.15/0.10/0.07/0.05), extra sharpness, luma or colour edges. Debug views: `edges`
 //! and `blends` (which pixels changed, by which kind of blend, and how much).
+//!
+//! Measurements and what was tried: `docs/techniques/cmaa2.md`.
 
 pub mod settings;
 
 pub use settings::{Cmaa2Settings, EdgeDetection, Quality};
 
+use crate::aa::common::pass;
 use crate::aa::common::{debug_texture, encoded_view};
+use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
-use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, Technique};
 use crate::gpu::shader::Shader;
 use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
@@ -216,12 +218,7 @@ impl Cmaa2 {
         };
         Self {
             settings,
-            uniform: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("cmaa2 params"),
-                size: std::mem::size_of::<settings::Cmaa2Uniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            uniform: pass::uniform_buffer::<settings::Cmaa2Uniform>(device, "cmaa2 params"),
             edges: compute_pass(
                 device,
                 &module,
@@ -288,7 +285,7 @@ impl Cmaa2 {
 }
 
 impl Technique for Cmaa2 {
-    crate::aa::common::shared_1x_post_process!(ID);
+    crate::aa::common::shared_1x_post_process!(INFO);
 
     fn encode(
         &mut self,

@@ -9,20 +9,22 @@
 //! the parameter methods of a technique whose settings are `Tunable`.
 
 pub mod color;
+pub mod morphology;
+pub mod pass;
 pub mod sampling;
 
 /// Writes, inside an `impl Technique` block, the methods that every post-process of the shared
-/// one-sample render spells the same way: `id` (the technique's constant, the argument),
-/// `label` (its registry name), `color_only` (true: it reads colour alone) and `scene_input`
+/// one-sample render spells the same way: `id` and `label` (the id and name of the technique's
+/// registry entry, the argument), `color_only` (true: it reads colour alone) and `scene_input`
 /// (the shared 1x render, every frame).
 macro_rules! shared_1x_post_process {
-    ($id:path) => {
+    ($info:path) => {
         fn id(&self) -> &'static str {
-            $id
+            $info.id
         }
 
         fn label(&self) -> String {
-            $crate::aa::registry::display_name($id)
+            $info.name.to_owned()
         }
 
         fn color_only(&self) -> bool {
@@ -39,11 +41,11 @@ pub(crate) use shared_1x_post_process;
 /// Writes, inside an `impl Technique` block, the parameter methods of a technique whose
 /// settings (the field named by the argument) are [`Tunable`](crate::graph::params::Tunable):
 /// `params`, `set_param`, `presets` and `apply_preset` forward to them under the technique's id.
+/// With `then METHOD`, a change is made on a copy of the settings, which is handed to
+/// `self.METHOD(settings)` (TAA's `set_settings`, which also restarts the history).
 macro_rules! tunable_settings {
     ($field:ident) => {
-        fn params(&self) -> Vec<$crate::aa::Param> {
-            $crate::graph::params::Tunable::params(&self.$field)
-        }
+        $crate::aa::common::tunable_settings!(@read $field);
 
         fn set_param(
             &mut self,
@@ -54,13 +56,39 @@ macro_rules! tunable_settings {
             $crate::graph::params::Tunable::set_param(&mut self.$field, id, key, value)
         }
 
-        fn presets(&self) -> &'static [&'static str] {
-            $crate::graph::params::Tunable::preset_names(&self.$field)
-        }
-
         fn apply_preset(&mut self, name: &str) -> Result<(), $crate::aa::ParamError> {
             let id = self.id();
             $crate::graph::params::Tunable::apply_preset_named(&mut self.$field, id, name)
+        }
+    };
+    ($field:ident, then $apply:ident) => {
+        $crate::aa::common::tunable_settings!(@read $field);
+
+        fn set_param(
+            &mut self,
+            key: &str,
+            value: &$crate::aa::ParamValue,
+        ) -> Result<(), $crate::aa::ParamError> {
+            let (id, mut settings) = (self.id(), self.$field.clone());
+            $crate::graph::params::Tunable::set_param(&mut settings, id, key, value)?;
+            self.$apply(settings);
+            Ok(())
+        }
+
+        fn apply_preset(&mut self, name: &str) -> Result<(), $crate::aa::ParamError> {
+            let (id, mut settings) = (self.id(), self.$field.clone());
+            $crate::graph::params::Tunable::apply_preset_named(&mut settings, id, name)?;
+            self.$apply(settings);
+            Ok(())
+        }
+    };
+    (@read $field:ident) => {
+        fn params(&self) -> Vec<$crate::aa::Param> {
+            $crate::graph::params::Tunable::params(&self.$field)
+        }
+
+        fn presets(&self) -> &'static [&'static str] {
+            $crate::graph::params::Tunable::preset_names(&self.$field)
         }
     };
 }

@@ -43,7 +43,7 @@ impl Technique for CopyFloor {
     }
 
     fn label(&self) -> String {
-        crate::aa::registry::display_name(self.id())
+        COPY_FLOOR_ID.to_owned()
     }
 
     fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {

@@ -2,18 +2,16 @@
 //! one fullscreen pass over the shared one-sample render that finds luma edges, walks along
 //! each edge to its ends and blends across it by how far the pixel is from the nearer end.
 //!
-//! The pass (`fxaa.wgsl` in this folder) makes every luma test on the sRGB-encoded values (read through
-//! an `Rgba8Unorm` view; BT.601 weights, or the green channel), as the thresholds are tuned for
-//! perceptual LDR values, but blends in linear light, as Lottes intended for sRGB targets: the
+//! The pass (`fxaa.wgsl` in this folder) makes every luma test on the sRGB-encoded values (read
+//! through an `Rgba8Unorm` view; BT.601 weights, or the green channel), as the thresholds are tuned
+//! for perceptual LDR values, but blends in linear light, as Lottes intended for sRGB targets: the
 //! final bilinear read goes through the sRGB view, whose texels the sampler decodes before
-//! filtering, and is encoded again on output. (Blending the encoded values, as this pass did
-//! before, left a half-covered black/white pixel at 100/255 where the reference has 179.)
-//! The sub-pixel amount, a softening Lottes tuned on encoded values, moves the read by the linear
-//! fraction that moves the encoded luma that far up from the darker side of the edge: read as a
-//! linear fraction alone it lifted every black pixel beside a straight black/white edge to
-//! 63/255 (5% of the light) where the encoded blend gives 13/255, which cost more than half of
-//! the gain on near-vertical edges; read from each pixel's own side, bright pixels gave up more
-//! light than dark ones gained (sub-pixel geometry lost 11% of its light, and FLIP rose).
+//! filtering, and is encoded again on output (blending encoded values leaves half-covered pixels
+//! far too dark). The sub-pixel amount, a softening Lottes tuned on encoded values, moves the read
+//! by the linear fraction that moves the encoded luma that far up from the darker side of the edge,
+//! the same for both pixels of a pair, so the pair trades the same light both ways: read as a
+//! linear fraction alone it over-brightens dark pixels beside an edge, and read from each pixel's
+//! own side it loses the light of sub-pixel geometry.
 //! Settings:
 //! - `quality`: Lottes' presets 10-15 (few steps, a long last step: medium dither), 20-29 (more,
 //!   shorter steps: less dither) and 39 (twelve short steps, no dither); the search step list
@@ -28,16 +26,18 @@
 //! Debug view `edges`: the luma, with the pixels FXAA treats as edges coloured by orientation.
 //!
 //! Folder: `mod.rs` (the technique, its registry entry, passes and debug view), `settings.rs`
-//! (quality presets, thresholds, named presets) and `fxaa.wgsl`.
+//! (quality presets, thresholds, named presets) and `fxaa.wgsl`. Measurements behind the linear
+//! blend and the sub-pixel amount, and what was tried: `docs/techniques/fxaa.md`.
 
 pub mod settings;
 
 pub use settings::{FxaaSettings, MAX_STEPS, Preset, Quality};
 
 use crate::aa::common::color::LumaSource;
+use crate::aa::common::pass;
 use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, debug_texture, encoded_view};
+use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
-use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
@@ -108,12 +108,7 @@ impl Fxaa {
             settings,
             module: WGSL.module(device),
             sampler: bilinear_clamp_sampler(device, "fxaa bilinear"),
-            uniform: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("fxaa params"),
-                size: std::mem::size_of::<FxaaUniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            uniform: pass::uniform_buffer::<FxaaUniform>(device, "fxaa params"),
             device: device.clone(),
             pipelines: PipelineCache::default(),
             debug_enabled: false,
@@ -191,7 +186,7 @@ impl Fxaa {
 }
 
 impl Technique for Fxaa {
-    crate::aa::common::shared_1x_post_process!(ID);
+    crate::aa::common::shared_1x_post_process!(INFO);
 
     fn encode(
         &mut self,

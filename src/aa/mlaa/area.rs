@@ -29,7 +29,7 @@
 
 use std::sync::OnceLock;
 
-use crate::aa::smaa::lut::{Crossing, polyline_area};
+use crate::aa::common::morphology::{Crossing, polyline_area};
 
 /// The longest distance to a run end the table holds (the search reads at most this far).
 pub const MAX_DISTANCE: u32 = 32;

@@ -18,6 +18,8 @@
 //! that cannot tell which of the two last pixels ends the run, and a blend towards all four
 //! neighbours at once. Settings and presets: [`settings`]. Debug views: the edges and the
 //! blending weights.
+//!
+//! Figures: `docs/techniques/mlaa.md`.
 
 pub mod area;
 pub mod settings;
@@ -26,13 +28,13 @@ use wgpu::util::DeviceExt;
 
 pub use settings::{EdgeMode, MlaaSettings, PipelineKey, Preset};
 
-use crate::aa::common::{bilinear_clamp_sampler, view_as};
-use crate::aa::params::Named;
-use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
-use crate::aa::smaa::pipeline::{
-    self, Binding, EdgeDebugViews, EdgeTargets, MorphologicalDesc, MorphologicalPipelines, Vertex,
-    bind_group, edge_and_weight_passes,
+use crate::aa::common::morphology::{
+    EdgeDebugViews, EdgeTargets, MorphologicalDesc, MorphologicalPipelines, edge_and_weight_passes,
 };
+use crate::aa::common::pass::{self, Binding, Vertex, bind_group};
+use crate::aa::common::{bilinear_clamp_sampler, view_as};
+use crate::aa::info::{TechniqueInfo, needs_encoded_views};
+use crate::aa::params::Named;
 use crate::aa::{DebugView, Technique};
 use crate::gpu::shader::Shader;
 use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
@@ -101,7 +103,7 @@ impl Mlaa {
         let device = &gpu.device;
         let vertex = Vertex::new(device);
         let module = WGSL.module(device);
-        let debug_layout = pipeline::layout(device, "mlaa debug", &[(7, Binding::Texture)]);
+        let debug_layout = pass::layout(device, "mlaa debug", &[(7, Binding::Texture)]);
         let debug_pipelines = vertex.debug_pipelines(device, &module, &debug_layout);
         let area = device.create_texture_with_data(
             &gpu.queue,
@@ -118,12 +120,12 @@ impl Mlaa {
         Self {
             settings: MlaaSettings::default(),
             sampler: bilinear_clamp_sampler(device, "mlaa bilinear"),
-            edge_layout: pipeline::layout(
+            edge_layout: pass::layout(
                 device,
                 "mlaa edges",
                 &[(0, Binding::Uniform), (1, Binding::Texture)],
             ),
-            weight_layout: pipeline::layout(
+            weight_layout: pass::layout(
                 device,
                 "mlaa weights",
                 &[
@@ -133,7 +135,7 @@ impl Mlaa {
                     (4, Binding::Sampler),
                 ],
             ),
-            blend_layout: pipeline::layout(
+            blend_layout: pass::layout(
                 device,
                 "mlaa blend",
                 &[
@@ -143,12 +145,7 @@ impl Mlaa {
                     (6, Binding::Texture),
                 ],
             ),
-            uniform: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("mlaa params"),
-                size: std::mem::size_of::<Params>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            uniform: pass::uniform_buffer::<Params>(device, "mlaa params"),
             debug_pipelines,
             area,
             vertex,
@@ -208,7 +205,7 @@ impl Mlaa {
 }
 
 impl Technique for Mlaa {
-    crate::aa::common::shared_1x_post_process!(ID);
+    crate::aa::common::shared_1x_post_process!(INFO);
 
     fn encode(
         &mut self,

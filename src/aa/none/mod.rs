@@ -2,7 +2,7 @@
 //! compared with, and its scene render is the one FXAA and SMAA 1x post-process.
 
 use crate::aa::Technique;
-use crate::aa::registry::{TechniqueInfo, anywhere};
+use crate::aa::info::{TechniqueInfo, anywhere};
 use crate::graph::PassContext;
 use crate::scene::renderer::SceneTargets;
 
@@ -25,7 +25,7 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
 pub struct NoAa;
 
 impl Technique for NoAa {
-    crate::aa::common::shared_1x_post_process!(ID);
+    crate::aa::common::shared_1x_post_process!(INFO);
 
     fn encode(
         &mut self,

@@ -2,56 +2,41 @@
 //! opaque binary blobs) once per process and cached.
 //!
 //! # Area table (160 x 560, two channels)
-//! For an edge run found by the blending-weight pass, the table answers "how much of the
-//! current pixel is covered by the colour across the edge" (channel 0) and "how much of the
-//! pixel across the edge is covered by the current pixel's colour" (channel 1). It holds seven
-//! 80-row sub-tables, one per sub-sample offset (SMAA 1x uses offset 0; the temporal and
-//! multisample modes use the others, see [`subsample_indices`]).
+//! For an edge run found by the blending-weight pass, the table answers how much of the current
+//! pixel the colour across the edge covers (channel 0) and how much of the pixel across the edge
+//! the current pixel's colour covers (channel 1). It holds seven 80-row sub-tables, one per
+//! sub-sample offset (SMAA 1x uses offset 0; the temporal and multisample modes use the others,
+//! see [`subsample_indices`]).
 //!
-//! **Orthogonal part** (x 0..80 of each sub-table). An edge run is described in a frame along
-//! the edge: x runs from 0 at the run's start to `d = left + right + 1` at its end, the current
-//! pixel covers `[left, left + 1]`, y = 0 is the edge, negative y lies in the current pixel's
-//! row and positive y across the edge. Each end has crossing edges on the current side, the
-//! opposite side, both or neither ([`Crossing`]); the run is revectorised into a line through
-//! the middle of the crossing edge, halfway between the samples of the two pixels there:
-//! height -1/2 or +1/2 at x = 0 or d, both moved by the sub-sample offset (across by `o`,
-//! along by `-o`: the sub-tables assume samples on the `\` diagonal through the pixel
-//! centre, where the 2x MSAA pattern and the T2x jitter put them). An L (one crossing) goes from that end to the middle of the run
-//! `(d/2, 0)`; a Z (crossings on opposite sides) is one line from end to end (its middle is
-//! off the edge by the offset); a U (same side) is two halves meeting in the middle, rounded
-//! for short runs; a junction (both sides) turns the other end into a Z, or cancels the run.
-//! Runs without crossings are never filtered, so pixel-aligned edges stay sharp. The area between the line and y = 0 over the pixel is integrated exactly,
-//! the part below the edge into channel 0, above into channel 1. The 16 crossing combinations
-//! occupy 16 x 16 cells of a 5 x 5 grid at cell `(3 * current + opposite)` for the start (x)
-//! and the end (y); inside a cell texel `(i, j)` holds distances `(i^2, j^2)`, so that
-//! bilinear filtering at `sqrt(distance)` covers distances up to 225 pixels with 16 texels.
-//!
-//! **Diagonal part** (x 80..160, five sub-tables). A 45-degree staircase whose pixels have
-//! both a left and a top edge (or mirrored: a top edge and a right edge) is described in the
-//! rotated frame `u = x - y`, `v = x + y` of the `/` case, with y down and the current pixel
-//! `[0,1] x [0,1]`: the staircase zig-zags between v = 0 and v = 1 and its unbiased line is
-//! v = 1/2. The run spans `near` pixels down-left and `far` pixels up-right of the current
-//! one. Each end either stops ([`DiagonalEnd::Open`], also used when the end was not found),
-//! continues vertically or horizontally (the line of the next run is one step away, so the
-//! line bends to pass through the middle of the step, exactly as an orthogonal L), or both.
-//! The areas of the current pixel (white side, v below the line) and of the pixel above it
-//! (black side) are measured by brute force with 30 x 30 samples per pixel (samples exactly on
-//! the line count half). Cells are 20 x 20 (distances 0..19, linear), in a 4 x 4 grid at
-//! `(near end, far end)`.
+//! - **Orthogonal part** (x 0..80 of each sub-table): the run is revectorised into a line
+//!   through the middle of the crossing edges at its ends ([`Crossing`]), moved by the
+//!   sub-sample offset: an L goes from its crossed end to the middle of the run, a Z is one
+//!   line end to end, a U two halves meeting in the middle (rounded for short runs); runs
+//!   without crossings are never filtered, so pixel-aligned edges stay sharp. The area between
+//!   the line and the edge over each pixel is integrated exactly ([`ortho_area`]). The 16
+//!   crossing combinations occupy 16 x 16 cells of a 5 x 5 grid at cell `3 * current +
+//!   opposite`; texel `(i, j)` of a cell holds distances `(i^2, j^2)`, so bilinear filtering at
+//!   `sqrt(distance)` covers distances up to 225 pixels with 16 texels.
+//! - **Diagonal part** (x 80..160, five sub-tables): 45-degree staircases, in a frame rotated
+//!   so that the staircase zig-zags about the line v = 1/2; each end stops ([`DiagonalEnd`]),
+//!   continues vertically or horizontally (the line bends through the middle of the step, as an
+//!   orthogonal L does), or both. Areas are measured by brute force with 30 x 30 samples per
+//!   pixel ([`diag_area`]); cells are 20 x 20 (distances 0..19, linear) in a 4 x 4 grid at
+//!   `(near end, far end)`.
 //!
 //! # Search table (64 x 16, one channel)
-//! The orthogonal search in the blending-weight pass reads edges two pixels at a time with a
-//! bilinear fetch placed a quarter pixel towards the far pixel and an eighth of a pixel across
-//! the edge, so that the four edges it covers (near and far pixel, current and opposite row)
-//! get weights 21, 7, 3 and 1 out of 32 and every combination gives a distinct value. When the
-//! search stops, the table decodes the last fetch of both channels (followed edges and
-//! crossing edges) into how many of those two pixels still belong to the run (0, 1 or 2,
-//! stored as 127 per pixel). Texel `(crossing index, 32 - edge index)` holds the backward
-//! search, `(33 + crossing index, 32 - edge index)` the forward search, where an index is the
-//! fetched value times 32. Rows for edge indices below 17 are dropped: they all mean "the near
-//! pixel has no edge" and hold zero, which is what the shader returns for a texel off the table.
+//! The orthogonal search reads edges two pixels at a time with a bilinear fetch placed so that
+//! the four edges it covers get distinct weights (21, 7, 3 and 1 out of 32). When the search
+//! stops, the table decodes the last fetch of both channels (followed and crossing edges) into
+//! how many of those two pixels still belong to the run (0, 1 or 2, stored as 127 per pixel;
+//! [`search_texel`] gives where each answer lives). Rows that all mean "the near pixel has no
+//! edge" are dropped; the shader reads zero for a texel off the table.
+//!
+//! The full geometry, step by step: `docs/techniques/smaa.md`.
 
 use std::sync::OnceLock;
+
+use crate::aa::common::morphology::{Crossing, polyline_area};
 
 /// Size of the area table in texels.
 pub const AREA_SIZE: (u32, u32) = (160, 560);
@@ -87,63 +72,6 @@ const SMOOTH_MAX_DISTANCE: f32 = 32.0;
 /// Search table value of one extra pixel.
 pub const SEARCH_UNIT: u8 = 127;
 
-/// Crossing edges at one end of an orthogonal edge run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Crossing {
-    /// No crossing edge: the run ends flat (or was not searched to its end).
-    None,
-    /// A crossing edge in the current pixel's row: the outline turns towards the current side.
-    Current,
-    /// A crossing edge in the row across the edge.
-    Opposite,
-    /// Crossing edges on both sides: a junction.
-    Both,
-}
-
-impl Crossing {
-    /// Every value, in cell order of the current-side bit then the opposite-side bit.
-    pub const ALL: [Self; 4] = [Self::None, Self::Current, Self::Opposite, Self::Both];
-
-    /// The crossing from the two edges the shader reads.
-    pub fn from_edges(current: bool, opposite: bool) -> Self {
-        match (current, opposite) {
-            (false, false) => Self::None,
-            (true, false) => Self::Current,
-            (false, true) => Self::Opposite,
-            (true, true) => Self::Both,
-        }
-    }
-
-    /// Cell index along one axis of the orthogonal part: `3 * current + opposite`.
-    pub fn cell(self) -> u32 {
-        match self {
-            Self::None => 0,
-            Self::Opposite => 1,
-            Self::Current => 3,
-            Self::Both => 4,
-        }
-    }
-
-    /// Height of the revectorised line at this end, for single-sided crossings (MLAA's
-    /// table uses it too, with no offset).
-    pub(crate) fn height(self, offset: f32) -> Option<f32> {
-        match self {
-            Self::Current => Some(-0.5 + offset),
-            Self::Opposite => Some(0.5 + offset),
-            Self::None | Self::Both => None,
-        }
-    }
-
-    /// The other side.
-    fn flipped(self) -> Self {
-        match self {
-            Self::Current => Self::Opposite,
-            Self::Opposite => Self::Current,
-            other => other,
-        }
-    }
-}
-
 /// How a diagonal run continues past one of its ends.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DiagonalEnd {
@@ -175,37 +103,6 @@ impl DiagonalEnd {
             Self::Both => 3,
         }
     }
-}
-
-/// Area between y = 0 and a polyline over `[x0, x1]`: (below, above). The polyline
-/// contributes nothing outside its own x range. MLAA's table integrates its lines with it.
-pub(crate) fn polyline_area(points: &[(f32, f32)], x0: f32, x1: f32) -> [f32; 2] {
-    let mut area = [0.0f32; 2];
-    let mut add = |xa: f32, ya: f32, xb: f32, yb: f32| {
-        let trapezoid = (xb - xa) * (ya + yb) * 0.5;
-        if trapezoid < 0.0 {
-            area[0] -= trapezoid;
-        } else {
-            area[1] += trapezoid;
-        }
-    };
-    for pair in points.windows(2) {
-        let ((ax, ay), (bx, by)) = (pair[0], pair[1]);
-        let (lo, hi) = (ax.max(x0), bx.min(x1));
-        if hi <= lo {
-            continue;
-        }
-        let at = |x: f32| ay + (by - ay) * (x - ax) / (bx - ax);
-        let (ylo, yhi) = (at(lo), at(hi));
-        if ylo * yhi < 0.0 {
-            let zero = lo + (hi - lo) * ylo / (ylo - yhi);
-            add(lo, ylo, zero, 0.0);
-            add(zero, 0.0, hi, yhi);
-        } else {
-            add(lo, ylo, hi, yhi);
-        }
-    }
-    area
 }
 
 /// Rounds the sharp tip of a short U: small areas are raised towards `sqrt(2a) / 2`, less

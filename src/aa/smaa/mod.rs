@@ -12,25 +12,27 @@
 //!   the previous frame through motion vectors ([`temporal`]);
 //! - `smaa-s2x`: per sample of a two-sample render, averaged ([`multisample`]).
 //!
-//! SMAA 4x, S2x and T2x combined, is `aa::smaa_4x`, built from these parts.
+//! SMAA 4x, S2x and T2x combined, is a technique of its own ([`x4`]) built from these parts.
 //!
 //! The lookup tables are generated at first use from their rules ([`lut`]); the settings,
 //! presets and parameters live in [`settings`]; [`pipeline`] has the wgpu helpers; the WGSL
 //! is `smaa.wgsl` (the three SMAA passes, debug views) and `smaa_modes.wgsl` (T2x, S2x) here. Only edge
 //! pixels run the blending-weight pass: the edge pass marks them in a stencil buffer that the
 //! weight pass tests. Debug views: the edges and the blending weights.
+//!
+//! Figures on lavapipe and a GPU, and the lookup tables in full: `docs/techniques/smaa.md`.
 
 pub mod lut;
 pub mod multisample;
 pub mod passes;
-pub mod pipeline;
 pub mod settings;
 pub mod temporal;
+pub mod x4;
 
 pub use settings::{EdgeMode, Preset, SmaaSettings};
 
+use crate::aa::info::{FULL_SET_HINT, TechniqueInfo, needs_encoded_views};
 use crate::aa::params::{Named, Param, ParamError, ParamValue, Tunable};
-use crate::aa::registry::{FULL_SET_HINT, TechniqueInfo, needs_encoded_views};
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
 use crate::gpu::{Capabilities, Gpu};
@@ -132,10 +134,15 @@ pub enum Mode {
 impl Mode {
     /// The technique id.
     pub fn id(self) -> &'static str {
+        self.info().id
+    }
+
+    /// The mode's registry entry.
+    pub fn info(self) -> &'static TechniqueInfo {
         match self {
-            Self::X1 => ID_1X,
-            Self::T2x => ID_T2X,
-            Self::S2x => ID_S2X,
+            Self::X1 => &INFOS[0],
+            Self::T2x => &INFOS[1],
+            Self::S2x => &INFOS[2],
         }
     }
 }
@@ -190,7 +197,7 @@ impl Technique for Smaa {
     }
 
     fn label(&self) -> String {
-        crate::aa::registry::display_name(self.id())
+        self.mode.info().name.to_owned()
     }
 
     fn scene_input(&self, frame: &FrameInfo) -> Option<SceneInput> {

@@ -15,9 +15,9 @@
 use glam::Vec2;
 
 use super::passes::{Input, SmaaPasses};
-use super::pipeline::{self, Binding, PassDesc, Stencil, bind_group, cleared};
 use super::settings::SmaaSettings;
 use crate::aa::SceneInput;
+use crate::aa::common::pass::{self, Binding, PassDesc, Stencil, bind_group, cleared};
 use crate::aa::common::sampling::standard_msaa_positions;
 use crate::aa::common::view_as;
 use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Capabilities};
@@ -81,7 +81,7 @@ pub struct Multisample {
 impl Multisample {
     /// Builds the extraction and averaging pipelines for the adapter's path.
     pub fn new(device: &wgpu::Device, caps: &Capabilities, passes: &SmaaPasses) -> Self {
-        let extract_layout = pipeline::layout(
+        let extract_layout = pass::layout(
             device,
             "smaa s2x extract",
             &[
@@ -89,7 +89,7 @@ impl Multisample {
                 (6, Binding::MultisampledDepth),
             ],
         );
-        let average_layout = pipeline::layout(
+        let average_layout = pass::layout(
             device,
             "smaa s2x average",
             &[(7, Binding::Texture), (8, Binding::Texture)],
@@ -209,7 +209,7 @@ impl Multisample {
         if self.targets.as_ref().is_none_or(|t| t.size != size) {
             let device = &ctx.gpu.device;
             let result = |i: usize| {
-                pipeline::target(
+                pass::target(
                     device,
                     &format!("smaa s2x sample {i}"),
                     size,

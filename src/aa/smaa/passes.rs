@@ -11,11 +11,11 @@
 
 use glam::Vec2;
 
-use super::pipeline::{
-    self, Binding, EdgeDebugViews, EdgeTargets, LutTextures, MorphologicalDesc,
-    MorphologicalPipelines, PassDesc, Stencil, Vertex, bind_group, edge_and_weight_passes,
-};
 use super::settings::{EdgeMode, PipelineKey, SmaaSettings};
+use crate::aa::common::morphology::{
+    EdgeDebugViews, EdgeTargets, MorphologicalDesc, MorphologicalPipelines, edge_and_weight_passes,
+};
+use crate::aa::common::pass::{self, Binding, PassDesc, Stencil, Vertex, bind_group};
 use crate::aa::common::{bilinear_clamp_sampler, view_as};
 use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu, MOTION_FORMAT};
 use crate::graph::{MemoryItem, PassContext};
@@ -99,13 +99,13 @@ impl SmaaPasses {
     /// Compiles the shaders and uploads the lookup tables (generated on first use).
     pub fn new(gpu: &Gpu) -> Self {
         let device = &gpu.device;
-        let no_motion = pipeline::target(device, "smaa no motion", (1, 1), MOTION_FORMAT, &[]);
+        let no_motion = pass::target(device, "smaa no motion", (1, 1), MOTION_FORMAT, &[]);
         Self {
             vertex: Vertex::new(device),
             module: super::WGSL.module(device),
             modes_module: super::MODES_WGSL.module(device),
             sampler: bilinear_clamp_sampler(device, "smaa bilinear"),
-            edge_layout: pipeline::layout(
+            edge_layout: pass::layout(
                 device,
                 "smaa edges",
                 &[
@@ -114,7 +114,7 @@ impl SmaaPasses {
                     (2, Binding::Depth),
                 ],
             ),
-            weight_layout: pipeline::layout(
+            weight_layout: pass::layout(
                 device,
                 "smaa weights",
                 &[
@@ -125,7 +125,7 @@ impl SmaaPasses {
                     (6, Binding::Sampler),
                 ],
             ),
-            blend_layout: pipeline::layout(
+            blend_layout: pass::layout(
                 device,
                 "smaa blend",
                 &[
@@ -208,12 +208,7 @@ impl SmaaPasses {
     fn uniform_slot(&mut self, slot: usize) -> &wgpu::Buffer {
         while self.uniforms.len() <= slot {
             self.uniforms
-                .push(self.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("smaa params"),
-                    size: std::mem::size_of::<Params>() as u64,
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                }));
+                .push(pass::uniform_buffer::<Params>(&self.device, "smaa params"));
         }
         &self.uniforms[slot]
     }
@@ -311,7 +306,7 @@ impl SmaaPasses {
     pub fn encode_debug(&mut self, ctx: &mut PassContext<'_>) {
         let Some(targets) = &self.targets else { return };
         let debug = self.debug.get_or_insert_with(|| {
-            let layout = pipeline::layout(&self.device, "smaa debug", &[(9, Binding::Texture)]);
+            let layout = pass::layout(&self.device, "smaa debug", &[(9, Binding::Texture)]);
             DebugViews {
                 pipelines: self
                     .vertex
@@ -347,5 +342,62 @@ impl SmaaPasses {
                 .map(|u| MemoryItem::buffer(format!("{id} params"), u)),
         );
         items
+    }
+}
+
+/// The lookup tables on the GPU.
+pub struct LutTextures {
+    /// Area table, Rg8Unorm, sampled bilinearly.
+    pub area: wgpu::Texture,
+    /// Search table, R8Unorm, loaded texel by texel.
+    pub search: wgpu::Texture,
+}
+
+impl LutTextures {
+    /// Uploads the (cached) generated tables.
+    pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        let tables = super::lut::tables();
+        let upload = |label: &str,
+                      size: (u32, u32),
+                      format: wgpu::TextureFormat,
+                      texel: u32,
+                      data: &[u8]| {
+            let texture = crate::gpu::texture_2d(
+                device,
+                &crate::gpu::Texture2d::new(
+                    label,
+                    size,
+                    format,
+                    wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                ),
+            );
+            queue.write_texture(
+                texture.as_image_copy(),
+                data,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(size.0 * texel),
+                    rows_per_image: Some(size.1),
+                },
+                texture.size(),
+            );
+            texture
+        };
+        Self {
+            area: upload(
+                "smaa area table",
+                super::lut::AREA_SIZE,
+                wgpu::TextureFormat::Rg8Unorm,
+                2,
+                &tables.area,
+            ),
+            search: upload(
+                "smaa search table",
+                super::lut::SEARCH_SIZE,
+                wgpu::TextureFormat::R8Unorm,
+                1,
+                &tables.search,
+            ),
+        }
     }
 }

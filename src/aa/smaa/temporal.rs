@@ -12,8 +12,8 @@
 use glam::Vec2;
 
 use super::passes::{Input, SmaaPasses};
-use super::pipeline::{self, Binding, PassDesc, Stencil, bind_group};
 use super::settings::SmaaSettings;
+use crate::aa::common::pass::{self, Binding, PassDesc, Stencil, bind_group};
 use crate::gpu::COLOR_FORMAT;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
@@ -65,7 +65,7 @@ pub struct Temporal {
 impl Temporal {
     /// Builds the resolve pipeline.
     pub fn new(device: &wgpu::Device, passes: &SmaaPasses) -> Self {
-        let layout = pipeline::layout(
+        let layout = pass::layout(
             device,
             "smaa t2x resolve",
             &[
@@ -91,12 +91,7 @@ impl Temporal {
         Self {
             layout,
             pipeline,
-            params: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("smaa t2x resolve params"),
-                size: std::mem::size_of::<ResolveParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            params: pass::uniform_buffer::<ResolveParams>(device, "smaa t2x resolve params"),
             history: None,
         }
     }
@@ -155,8 +150,8 @@ impl Temporal {
             _ => History {
                 size,
                 settings: *settings,
-                current: pipeline::target(&device, "smaa t2x current", size, COLOR_FORMAT, &[]),
-                previous: pipeline::target(&device, "smaa t2x previous", size, COLOR_FORMAT, &[]),
+                current: pass::target(&device, "smaa t2x current", size, COLOR_FORMAT, &[]),
+                previous: pass::target(&device, "smaa t2x previous", size, COLOR_FORMAT, &[]),
                 valid: false,
             },
         };

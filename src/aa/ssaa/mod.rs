@@ -16,6 +16,8 @@
 //! prefix covers the pixel evenly) and resolves the partial sum divided by the weight
 //! accumulated so far. A 64-sample `grid` pattern with the box filter gives the same samples as
 //! the ordered 8 x 8 reference.
+//!
+//! Figures: `docs/techniques/ssaa.md`.
 
 use glam::{UVec2, Vec2};
 use wgpu::util::DeviceExt;
@@ -24,9 +26,10 @@ pub mod settings;
 
 pub use settings::{MAX_FACTOR, MAX_SAMPLES, Mode, SsaaSettings};
 
+use crate::aa::common::pass;
 use crate::aa::common::sampling::{Filter, Pattern, accumulation_weights};
+use crate::aa::info::{TechniqueInfo, anywhere};
 use crate::aa::params::{Named, Param, ParamError, ParamValue, as_i64, as_named};
-use crate::aa::registry::{TechniqueInfo, anywhere};
 use crate::aa::{FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
@@ -228,12 +231,7 @@ impl Ssaa {
         };
         let targets = SceneTargets::new(ctx.gpu, "ssaa tile", desc);
         let tiles = plan.tiles().len() as u64;
-        let params = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("ssaa tile origins"),
-            size: tiles * SLOT,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let params = pass::uniform_buffer_of_size(device, "ssaa tile origins", tiles * SLOT);
         let tile_view = targets.color.create_view(&Default::default());
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ssaa downsample"),

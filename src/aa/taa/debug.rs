@@ -5,6 +5,7 @@
 use glam::Vec2;
 
 use super::jitter_offset;
+use crate::aa::common::pass;
 use crate::aa::common::{debug_texture, encoded_view};
 use crate::gpu::COLOR_FORMAT_ENCODED_VIEW;
 use crate::gpu::fullscreen::FragmentDesc;
@@ -60,12 +61,7 @@ impl TaaDebug {
             rejection: debug_texture(device, "taa rejection", size),
             velocity: debug_texture(device, "taa velocity", size),
             jitter: debug_texture(device, "taa jitter", size),
-            uniform: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("taa debug params"),
-                size: std::mem::size_of::<DebugUniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            uniform: pass::uniform_buffer::<DebugUniform>(device, "taa debug params"),
             velocity_pipeline: pipeline("fs_velocity"),
             jitter_pipeline: pipeline("fs_jitter"),
         }

@@ -7,86 +7,46 @@
 //! shifted by the next offset of a Halton(2,3) sequence of 8 or 16 samples, so over a cycle
 //! every pixel is sampled at that many places, and textures get a negative mip bias (-1.5 by
 //! default: -1/2 log2 of the 8 samples the history averages, so textures come out as sharp as
-//! in a supersampled image). The resolve (`taa.wgsl` in this folder, one fullscreen pass with two
-//! targets) reprojects the history with the renderer's motion vectors (camera and object
-//! motion, without jitter; taken from the nearest surface among the pixel and its
-//! neighbours), rectifies it against the current neighbourhood's colours (clamp, YCoCg clip or
-//! variance clip) and blends it with the current sample, writing the output and the next
-//! history (ping-pong Rgba16Float textures, linear colour).
+//! in a supersampled image). The resolve (`taa.wgsl` in this folder, one fullscreen pass with
+//! two targets) reprojects the history with the renderer's motion vectors (camera and object
+//! motion, without jitter; taken from the nearest surface among the pixel and its neighbours),
+//! rectifies it against the current neighbourhood's colours (clamp, YCoCg clip or variance
+//! clip) and blends it with the current sample, writing the output and the next history
+//! (ping-pong Rgba16Float textures, linear colour). The default makes 11 texture reads per
+//! pixel: the colour neighbourhood is shared within each 2x2 quad of fragments through the fine
+//! derivatives, depths come in two gathers, and the shader keeps no function-local arrays,
+//! which a GPU's compiler may keep in memory (see `gpu/shader.rs`).
 //!
-//! What each read earns (SSIM against the 64-sample reference at 640x360, orbit frames 16 and 40,
-//! measured when the defaults were chosen): the nearest-surface velocity is worth .02 on hairball
-//! (thin strands smear with their own motion), so it stays, searched over the two 2x2 blocks that
-//! share the pixel along its main diagonal (the pixel, its 4 direct neighbours and 2 diagonal
-//! ones), read with two depth gathers instead of the pixel and its 4 diagonal neighbours' five
-//! loads: the same cost on lavapipe, and .0013 / .0008 better on hairball (.8544 / .8510) and .0004
-//! on atrium; the 5-pixel cross bounds the history as well as the 3x3 block (within .0003) with 4
-//! fewer colours (1 fewer load, below); the 4 texel loads that kept the Catmull-Rom result within
-//! its bilinear footprint, and a separate bilinear read of the history's speed, are dropped (the
-//! rectification removes the overshoot). The colours are shared within each 2x2 quad of fragments:
-//! a fragment loads its own colour and its neighbours outside the quad, and takes the ones inside
-//! from its quad partners' loads through the fine derivatives (the same values, so the same image,
-//! for 3 loads of the cross instead of 5: about 0.3x a copy less on lavapipe, where each load also
-//! decodes sRGB in software). The default resolve makes 11 texture reads per pixel (3 colour loads,
-//! 2 depth gathers, 1 motion, 5 history taps) where it made 29. The Catmull-Rom filter's 4 extra
-//! bilinear taps are about a fifth of its cost on lavapipe (12.2-12.6x a full-screen copy at
-//! 1920x1080, 9.5-9.7x with a bilinear history), where each tap filters in software (reading the
-//! history is about 40% of the resolve's time there: 41 of 98 ms at 1920x1080 on hairball); the
-//! same filter from its 12 texels by loads costs more still. On an H200 the resolve costs 5.2x a
-//! copy (no function-local arrays: see `gpu/shader.rs`). A bilinear history (`lean` preset, 7
-//! reads) is as good on hairball, but where the velocity tolerance trusts it, its blur spreads a
-//! slow object into its background a little every frame and leaves a faint ghost (13/255 on the
-//! spinning object of `tests/fxaa_taa.rs`; a smaller tolerance does not remove it, none loses
-//! hairball's thin strands), and atrium's textures come out .02 softer (FLIP .053 against .036).
-//! Under motion the current frame's share rises with how much the read between texels blurs the
-//! history (`resample_feedback`), none on whole-pixel motion.
-//!
-//! Under motion the current frame's share is not only the pixel's point sample but
-//! (`current_filter` `gaussian`, the default) the colour neighbourhood's samples weighed by a
-//! Gaussian of their distance from the pixel centre, with the variance of the pixel's
+//! Under motion the history is resampled between pixels every frame, which softens it, so the
+//! current frame's share rises with how much that read blurs it (`resample_feedback`; none on
+//! whole-pixel motion), and the current frame then contributes (`current_filter` `gaussian`,
+//! the default) its colour neighbourhood weighed by a Gaussian with the variance of the pixel's
 //! one-pixel box: an estimate of the pixel's area average, as the 64-sample reference computes
-//! it, from reads the rectification box makes anyway. It is mixed in as far as reading the
-//! history between texels blurs it (the measure that raises the current weight): where the
-//! history stays sharp (still camera, whole-pixel motion) the accumulated point samples
-//! converge to the box average exactly, and the Gaussian would only blur pixel-aligned edges
-//! (always on, the still chart's error doubled to twice No AA's); where the history is
-//! resampled every frame it never converges and the current frame's point-sample noise
-//! dominates, above all on sub-pixel geometry. Hairball's SSIM rose from .8461 / .8433 to
-//! .8531 / .8502 at frames 16 / 40 (MSAA 4x .8526 / .8513), FLIP fell on both scenes (hairball
-//! .0415 -> .0408, atrium .0378 -> .0365) and atrium's SSIM moved .9397 -> .9388. Narrower
-//! Gaussians lose hairball's gain, wider ones soften atrium (always on: a = 8 .8531 / .9393,
-//! a = 6 .8542 / .9383, a = 4 .8549 / .9341, Unreal's Blackman-Harris fit a = 2.29 .8510 /
-//! .9196, hairball / atrium at frame 16).
+//! it, from reads the rectification makes anyway. A sharp history converges to that average
+//! on its own, so the Gaussian is mixed in only as far as the history is blurred.
+//!
+//! Thin geometry: a line thinner than a pixel is hit by only some of the jitter positions, and
+//! clamping the history to the neighbourhood of a frame that missed it would cut the line out
+//! again and again. Colour cannot tell such a line from a ghost, but motion can: a ghost
+//! appears where an occluder slides over a background of another speed, while a missed line
+//! moves with the surfaces around it. So the history keeps the speed it was written with (its
+//! alpha) and rectification eases off as the pixel's speed matches it (`velocity_tolerance`;
+//! after the velocity weighting of Jimenez et al.'s SMAA T2x). Karis' 1 / (1 + luminance)
+//! weighting is off by default (the `karis` preset turns it on): on display-range colours it
+//! makes thin dark lines too dark once they are kept.
 //!
 //! The history is dropped when the frame asks for it (camera cut, scene change, first frame),
-//! when the camera does not continue the previous frame (an unflagged cut: the frame's
-//! previous pose is not the pose the history was made with, or frames were skipped), when
-//! the size changes and when a setting changes, so frame N of a sequence depends only on
-//! frames 0..=N since the last reset. The jitter offset is a function of the frame number, which
-//! keeps headless renders reproducible. Structural options (history filter, rectification,
-//! luminance weighting, velocity dilation, debug output) are override constants with one cached
-//! pipeline each; the weights are uniforms.
+//! when the camera does not continue the previous frame (its previous pose is not the one the
+//! history was made with, or frames were skipped), when the size changes and when a setting
+//! changes, so frame N of a sequence depends only on frames 0..=N since the last reset; the
+//! jitter offset is a function of the frame number, which keeps headless renders reproducible.
+//! Structural options (history filter, rectification, luminance weighting, velocity dilation,
+//! debug output) are override constants with one cached pipeline each; the weights are
+//! uniforms. Debug views: `velocity` (motion vectors), `rejection` (where the history was
+//! rectified or dropped) and `jitter` (the sample pattern inside one pixel).
 //!
-//! Thin geometry under motion. A line thinner than a pixel is hit by only some of the jitter
-//! positions, so the current 3x3 neighbourhood of a frame that missed it holds no trace of it,
-//! and clamping or clipping the history to that neighbourhood cuts the line out of the history
-//! again and again (a railing's balusters came out faint and broken, a quarter of their ink
-//! gone even on a still camera, and under the orbit TAA was further from the 64-sample
-//! reference than No AA). Colour alone cannot tell such a line from a ghost, but motion can: a
-//! ghost appears where an occluder slides over its background, whose speed differs from the
-//! occluder's, while a missed line moves with the surfaces around it. So the history keeps the
-//! speed it was written with (its alpha) and rectification is eased off in proportion as the
-//! speed of the pixel now matches it (`velocity_tolerance`: the change of speed, in pixels per
-//! frame, at which it applies in full; the idea follows the velocity weighting of Jimenez et
-//! al.'s SMAA T2x). Under motion the history is resampled between pixels every frame, which
-//! softens it, so the current frame's share rises with the speed (`motion_weight` at one pixel
-//! per frame and faster, or with the blur of the read). Karis'
-//! 1 / (1 + luminance) weighting is off by default (the `karis` preset turns it on): on
-//! display-range colours it gives dark samples up to twice the weight of light ones and makes
-//! thin dark lines a quarter too dark once they are kept.
-//!
-//! Debug views: `velocity` (motion vectors), `rejection` (where the history was rectified or
-//! dropped) and `jitter` (the sample pattern inside one pixel).
+//! What each read earns, the costs on lavapipe and on a GPU, and what was tried:
+//! `docs/techniques/taa.md`.
 
 mod debug;
 pub mod settings;
@@ -98,10 +58,11 @@ pub use settings::{
 
 use glam::Vec2;
 
+use crate::aa::common::pass;
 use crate::aa::common::sampling::halton;
 use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, encoded_view};
-use crate::aa::params::{Named, Param, ParamError, ParamValue, Tunable};
-use crate::aa::registry::{TechniqueInfo, needs_encoded_views};
+use crate::aa::info::{TechniqueInfo, needs_encoded_views};
+use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
@@ -315,12 +276,7 @@ impl Taa {
             settings,
             module: WGSL.module(device),
             sampler: bilinear_clamp_sampler(device, "taa history"),
-            uniform: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("taa params"),
-                size: std::mem::size_of::<TaaUniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            uniform: pass::uniform_buffer::<TaaUniform>(device, "taa params"),
             layout,
             pipeline_layout,
             device: device.clone(),
@@ -393,7 +349,7 @@ impl Technique for Taa {
     }
 
     fn label(&self) -> String {
-        crate::aa::registry::display_name(self.id())
+        INFO.name.to_owned()
     }
 
     fn scene_input(&self, frame: &FrameInfo) -> Option<SceneInput> {
@@ -537,27 +493,7 @@ impl Technique for Taa {
         items
     }
 
-    fn params(&self) -> Vec<Param> {
-        self.settings.params()
-    }
-
-    fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
-        let mut settings = self.settings;
-        settings.set_param(ID, key, value)?;
-        self.set_settings(settings);
-        Ok(())
-    }
-
-    fn presets(&self) -> &'static [&'static str] {
-        self.settings.preset_names()
-    }
-
-    fn apply_preset(&mut self, name: &str) -> Result<(), ParamError> {
-        let mut settings = self.settings;
-        settings.apply_preset_named(ID, name)?;
-        self.set_settings(settings);
-        Ok(())
-    }
+    crate::aa::common::tunable_settings!(settings, then set_settings);
 
     fn set_debug_views(&mut self, enabled: bool) {
         self.debug_enabled = enabled;

@@ -1,6 +1,6 @@
 //! User techniques: a post-process pass written by the user in WGSL, run beside the built-in
 //! techniques on the same frame (`--technique user:PATH.wgsl`, the viewer's "Add technique
-//! from file"). The contract (README, "Your own technique in WGSL"): the file defines
+//! from file"). The contract (`docs/user-techniques.md`): the file defines
 //! `fn aa_main(pixel: vec2<u32>, uv: vec2<f32>) -> vec4<f32>` returning the pixel's linear
 //! colour; aa-lab places its prelude (`prelude.wgsl`: `aa_load`, `aa_sample`, `aa_depth`,
 //! `aa_motion`, `aa_size`, `aa_frame`) before the file and the fragment entry point
@@ -36,6 +36,7 @@ use glam::Vec2;
 
 use super::params::{Param, ParamError, ParamKind, ParamValue, as_bool, as_f32, as_i64};
 use super::{FrameInfo, SceneInput, Technique};
+use crate::aa::common::pass;
 use crate::gpu::fullscreen::{FragmentDesc, Fullscreen};
 use crate::gpu::{COLOR_FORMAT, Gpu};
 use crate::graph::{MemoryItem, PassContext};
@@ -290,12 +291,7 @@ impl UserTechnique {
             pipeline_layout,
             pipeline,
             sampler: crate::aa::common::bilinear_clamp_sampler(device, "user technique bilinear"),
-            uniform: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("user technique frame"),
-                size: std::mem::size_of::<FrameUniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            uniform: pass::uniform_buffer::<FrameUniform>(device, "user technique frame"),
             no_motion: crate::gpu::texture_2d(
                 device,
                 &crate::gpu::Texture2d::new(

@@ -16,7 +16,8 @@ pub const PRELUDE: Shader = crate::wgsl!("src/aa/user/prelude.wgsl");
 pub const EPILOGUE: Shader = crate::wgsl!("src/aa/user/epilogue.wgsl");
 /// The fragment entry point defined by [`EPILOGUE`].
 pub const ENTRY_POINT: &str = "aa_fragment";
-/// The function the contract asks the user's file to define, as the README states it.
+/// The function the contract asks the user's file to define, as `docs/user-techniques.md`
+/// states it.
 pub const CONTRACT: &str = "fn aa_main(pixel: vec2<u32>, uv: vec2<f32>) -> vec4<f32>";
 /// Largest user technique file aa-lab reads.
 pub const MAX_SOURCE_BYTES: u64 = 1 << 20;

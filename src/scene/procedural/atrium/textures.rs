@@ -22,7 +22,7 @@ pub(super) const LARGE: u32 = 1024;
 pub(super) const SMALL: u32 = 512;
 
 /// Every atrium texture, in the order the materials index them, painted in parallel (each
-/// is independent and costs 5 to 40 ms).
+/// is independent and takes tens of milliseconds).
 pub(super) fn all(seed: u64) -> Vec<TextureImage> {
     let painters: [fn(u64) -> TextureImage; 8] = [
         marble_tiles,

@@ -1,4 +1,4 @@
-// SMAA 4x's one pass of its own (aa::smaa_4x): on adapters with 2x MSAA the technique renders
+// SMAA 4x's one pass of its own (aa::smaa::x4): on adapters with 2x MSAA the technique renders
 // its jittered two-sample frame itself, and fs_extract_motion copies the motion vectors of the
 // first sample into a single-sample target for the SMAA blend (speed in alpha) and the
 // temporal resolve. Both samples of a pixel belong to the same surface almost everywhere, and

@@ -14,18 +14,20 @@
 //! jittered 1x renders at the samples' positions, as SMAA S2x falls back
 //! ([`S2xPath::Renders`]); [`Technique::path_note`] says which.
 //!
-//! Built from the SMAA module's parts: its passes, S2x's sample copy and average, T2x's
+//! Built from the parts of the SMAA family's folder: its passes, S2x's sample copy and average, T2x's
 //! resolve, settings and presets (`low` .. `ultra`, with T2x's velocity weighting and mip
 //! bias). Debug views: edges and blending weights of the first sample.
+//!
+//! Figures: `docs/techniques/smaa.md`.
 
 use glam::Vec2;
 
-use crate::aa::registry::TechniqueInfo;
-use crate::aa::smaa::multisample::{Multisample, S2xPath, sample_offsets};
-use crate::aa::smaa::passes::{Input, SmaaPasses};
-use crate::aa::smaa::pipeline::{self, Binding, PassDesc, Stencil, bind_group, cleared};
-use crate::aa::smaa::temporal::{ResolveFrame, Temporal};
-use crate::aa::smaa::{SmaaSettings, s2x_availability};
+use super::multisample::{Multisample, S2xPath, sample_offsets};
+use super::passes::{Input, SmaaPasses};
+use super::temporal::{ResolveFrame, Temporal};
+use super::{SmaaSettings, s2x_availability};
+use crate::aa::common::pass::{self, Binding, PassDesc, Stencil, bind_group, cleared};
+use crate::aa::info::TechniqueInfo;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
 use crate::gpu::{Gpu, MOTION_FORMAT};
@@ -36,7 +38,7 @@ use crate::scene::renderer::{RasterOptions, SceneTargets, TargetDesc};
 pub const ID: &str = "smaa-4x";
 
 /// The first sample's motion vectors copied out of the jittered 2x render.
-const WGSL: Shader = crate::wgsl!("src/aa/smaa_4x/smaa_4x.wgsl");
+const WGSL: Shader = crate::wgsl!("src/aa/smaa/smaa_4x.wgsl");
 
 /// The registry entry.
 pub const INFO: TechniqueInfo = TechniqueInfo {
@@ -90,7 +92,7 @@ impl Targets {
                 },
             )
         };
-        let target = |label: &str, format| pipeline::target(&gpu.device, label, size, format, &[]);
+        let target = |label: &str, format| pass::target(&gpu.device, label, size, format, &[]);
         Self {
             size,
             multisampled: msaa.then(|| scene("smaa 4x scene 2x", 2, true)),
@@ -124,7 +126,7 @@ impl Smaa4x {
     pub fn new(gpu: &Gpu) -> Self {
         let device = &gpu.device;
         let passes = SmaaPasses::new(gpu);
-        let extract_motion_layout = pipeline::layout(
+        let extract_motion_layout = pass::layout(
             device,
             "smaa 4x extract motion",
             &[(0, Binding::MultisampledTexture)],
@@ -195,7 +197,7 @@ impl Technique for Smaa4x {
     }
 
     fn label(&self) -> String {
-        crate::aa::registry::display_name(self.id())
+        INFO.name.to_owned()
     }
 
     /// SMAA 4x renders the scene itself: jittered and, where it can, multisampled.
@@ -341,7 +343,7 @@ impl Technique for Smaa4x {
         Some(format!(
             "{samples}; the samples shift by 1/8 pixel each frame and the temporal resolve mixes \
              two frames (4 sample positions); {}",
-            super::smaa::settings_note(&self.settings)
+            super::settings_note(&self.settings)
         ))
     }
 }

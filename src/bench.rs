@@ -1,0 +1,158 @@
+//! The measurement side of `aa-lab bench`, as library types the command line and the viewer
+//! can both drive: [`TimingSamples`] gathers, frame by frame, each technique's GPU time (its
+//! own passes, pass by pass, and the scene input it reads), each shared scene input's time and
+//! readers, the whole frame and the copy floor every post-process pass is compared with, and
+//! the fragment invocations of a statistics frame; `cli::bench` summarises them into the report.
+
+use crate::aa::SceneInput;
+use crate::aa::floor::COPY_FLOOR_ID;
+use crate::graph::{FrameStatistics, FrameTimings};
+
+/// Per-frame samples of one technique.
+#[derive(Default)]
+pub struct TechniqueSamples {
+    /// Label of the scene input it reads, once a frame has shown it.
+    pub input_label: Option<String>,
+    /// Whether that input is a one-sample render (the technique is a post-process pass).
+    pub post_process: bool,
+    /// Milliseconds of its own passes, per frame.
+    pub own: Vec<f64>,
+    /// Milliseconds of the scene input it reads, per frame.
+    pub input: Vec<f64>,
+    /// Per pass label, in first-seen order: passes per frame and ms per frame.
+    pub passes: Vec<(String, usize, Vec<f64>)>,
+}
+
+/// Per-frame samples of one shared input, keyed by label and users.
+pub struct InputSamples {
+    /// The input's label.
+    pub label: String,
+    /// The techniques that read it.
+    pub users: Vec<String>,
+    /// Milliseconds of its render, per frame.
+    pub ms: Vec<f64>,
+    /// Fragment-shader invocations of its render (from the statistics frame).
+    pub invocations: Option<u64>,
+}
+
+/// Everything the timing loop collects.
+pub struct TimingSamples {
+    /// Per technique id, in the order asked for.
+    pub techniques: Vec<(String, TechniqueSamples)>,
+    /// Per distinct (input, readers), in first-seen order.
+    pub inputs: Vec<InputSamples>,
+    /// Milliseconds of the whole frame (the copy floor left out), per frame.
+    pub frame: Vec<f64>,
+    /// Milliseconds of the copy floor, per frame.
+    pub floor: Vec<f64>,
+}
+
+impl TimingSamples {
+    /// No samples yet, for the techniques `ids`.
+    pub fn new(ids: &[&'static str]) -> Self {
+        Self {
+            techniques: ids
+                .iter()
+                .map(|id| ((*id).to_owned(), TechniqueSamples::default()))
+                .collect(),
+            inputs: Vec::new(),
+            frame: Vec::new(),
+            floor: Vec::new(),
+        }
+    }
+
+    /// Adds one frame: `inputs` are the graph's scene inputs in render order.
+    pub fn add(&mut self, timings: &FrameTimings, inputs: &[(SceneInput, Vec<&'static str>)]) {
+        let input_ms: Vec<f64> = timings
+            .passes
+            .iter()
+            .filter(|p| p.technique().is_none())
+            .map(|p| p.ms)
+            .collect();
+        self.frame.push(
+            timings
+                .passes
+                .iter()
+                .filter(|p| p.technique() != Some(COPY_FLOOR_ID))
+                .map(|p| p.ms)
+                .sum(),
+        );
+        self.floor.push(timings.technique_ms(COPY_FLOOR_ID));
+        for (n, (input, readers)) in inputs.iter().enumerate() {
+            let ms = input_ms.get(n).copied().unwrap_or(f64::NAN);
+            let users: Vec<String> = readers
+                .iter()
+                .filter(|u| **u != COPY_FLOOR_ID)
+                .map(|u| (*u).to_owned())
+                .collect();
+            let label = input.label();
+            match self
+                .inputs
+                .iter_mut()
+                .find(|i| i.label == label && i.users == users)
+            {
+                Some(existing) => existing.ms.push(ms),
+                None => self.inputs.push(InputSamples {
+                    label,
+                    users,
+                    ms: vec![ms],
+                    invocations: None,
+                }),
+            }
+            for user in readers {
+                if let Some((_, t)) = self.techniques.iter_mut().find(|(id, _)| id == user) {
+                    t.input.push(ms);
+                    t.input_label = Some(input.label());
+                    t.post_process = input.sample_count() == 1;
+                }
+            }
+        }
+        for (id, samples) in &mut self.techniques {
+            samples.own.push(timings.technique_ms(id));
+            let mut frame_passes: Vec<(String, usize, f64)> = Vec::new();
+            for pass in timings.technique_passes(id) {
+                match frame_passes.iter_mut().find(|(l, _, _)| *l == pass.label) {
+                    Some(entry) => {
+                        entry.1 += 1;
+                        entry.2 += pass.ms;
+                    }
+                    None => frame_passes.push((pass.label.clone(), 1, pass.ms)),
+                }
+            }
+            for (label, count, ms) in frame_passes {
+                match samples.passes.iter_mut().find(|(l, _, _)| *l == label) {
+                    Some(entry) => entry.2.push(ms),
+                    None => samples.passes.push((label, count, vec![ms])),
+                }
+            }
+        }
+    }
+
+    /// Records the statistics frame's invocations on the shared inputs.
+    pub fn add_statistics(
+        &mut self,
+        statistics: &FrameStatistics,
+        inputs: &[(SceneInput, Vec<&'static str>)],
+    ) {
+        let counts: Vec<u64> = statistics
+            .passes
+            .iter()
+            .filter(|p| p.technique().is_none())
+            .map(|p| p.fragment_invocations)
+            .collect();
+        for ((input, users), count) in inputs.iter().zip(counts) {
+            let users: Vec<String> = users
+                .iter()
+                .filter(|u| **u != COPY_FLOOR_ID)
+                .map(|u| (*u).to_owned())
+                .collect();
+            if let Some(i) = self
+                .inputs
+                .iter_mut()
+                .find(|i| i.label == input.label() && i.users == users)
+            {
+                i.invocations = Some(count);
+            }
+        }
+    }
+}
