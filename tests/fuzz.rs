@@ -242,8 +242,34 @@ fn text(g: &mut Gen, least: usize, spread: usize, line: fn(&mut Gen) -> String) 
     }
 }
 
+/// Judges one load of a fuzz case: a panic, an undrawable scene or an empty error fails the
+/// test (naming the case through `describe`); returns whether the scene loaded.
+pub(crate) fn judge_load<E: std::fmt::Display>(
+    loader: &str,
+    result: std::thread::Result<Result<aa_lab::scene::Scene, E>>,
+    describe: impl Fn() -> String,
+) -> bool {
+    match result {
+        Err(_) => panic!("{loader} panicked on {}", describe()),
+        Ok(Ok(scene)) => {
+            if let Err(problem) = check_scene(&scene) {
+                panic!("{problem} after loading {}", describe());
+            }
+            true
+        }
+        Ok(Err(err)) => {
+            assert!(
+                !err.to_string().is_empty(),
+                "empty error for {}",
+                describe()
+            );
+            false
+        }
+    }
+}
+
 /// A loaded scene is drawable: every index in range, every position finite.
-pub(crate) fn check_scene(scene: &aa_lab::scene::Scene) -> Result<(), String> {
+fn check_scene(scene: &aa_lab::scene::Scene) -> Result<(), String> {
     for mesh in &scene.meshes {
         if let Some(bad) = mesh
             .indices
@@ -299,22 +325,10 @@ fn obj_and_mtl_loading_never_panics() {
                 String::from_utf8_lossy(&mtl_text)
             )
         };
-        match result {
-            Err(_) => panic!("load_obj panicked on {}", describe()),
-            Ok(Ok(scene)) => {
-                loaded += 1;
-                if let Err(problem) = check_scene(&scene) {
-                    panic!("{problem} after loading {}", describe());
-                }
-            }
-            Ok(Err(err)) => {
-                refused += 1;
-                assert!(
-                    !err.to_string().is_empty(),
-                    "empty error for {}",
-                    describe()
-                );
-            }
+        if judge_load("load_obj", result, describe) {
+            loaded += 1;
+        } else {
+            refused += 1;
         }
     }
     eprintln!("OBJ/MTL fuzz: {loaded} loaded, {refused} refused, no panic");
