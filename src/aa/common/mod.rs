@@ -41,54 +41,43 @@ pub(crate) use shared_1x_post_process;
 /// Writes, inside an `impl Technique` block, the parameter methods of a technique whose
 /// settings (the field named by the argument) are [`Tunable`](crate::graph::params::Tunable):
 /// `params`, `set_param`, `presets` and `apply_preset` forward to them under the technique's id.
-/// With `then METHOD`, a change is made on a copy of the settings, which is handed to
-/// `self.METHOD(settings)` (TAA's `set_settings`, which also restarts the history).
+/// A change is made on a copy of the settings, so a rejected one changes nothing; the copy
+/// replaces the field, or with `then METHOD` is handed to `self.METHOD(settings)` (TAA's
+/// `set_settings`, which also restarts the history).
 macro_rules! tunable_settings {
     ($field:ident) => {
-        $crate::aa::common::tunable_settings!(@read $field);
-
-        fn set_param(
-            &mut self,
-            key: &str,
-            value: &$crate::aa::ParamValue,
-        ) -> Result<(), $crate::aa::ParamError> {
-            let id = self.id();
-            $crate::graph::params::Tunable::set_param(&mut self.$field, id, key, value)
-        }
-
-        fn apply_preset(&mut self, name: &str) -> Result<(), $crate::aa::ParamError> {
-            let id = self.id();
-            $crate::graph::params::Tunable::apply_preset_named(&mut self.$field, id, name)
-        }
+        $crate::aa::common::tunable_settings!(@methods $field, |this, settings| this.$field = settings);
     };
     ($field:ident, then $apply:ident) => {
-        $crate::aa::common::tunable_settings!(@read $field);
-
-        fn set_param(
-            &mut self,
-            key: &str,
-            value: &$crate::aa::ParamValue,
-        ) -> Result<(), $crate::aa::ParamError> {
-            let (id, mut settings) = (self.id(), self.$field.clone());
-            $crate::graph::params::Tunable::set_param(&mut settings, id, key, value)?;
-            self.$apply(settings);
-            Ok(())
-        }
-
-        fn apply_preset(&mut self, name: &str) -> Result<(), $crate::aa::ParamError> {
-            let (id, mut settings) = (self.id(), self.$field.clone());
-            $crate::graph::params::Tunable::apply_preset_named(&mut settings, id, name)?;
-            self.$apply(settings);
-            Ok(())
-        }
+        $crate::aa::common::tunable_settings!(@methods $field, |this, settings| this.$apply(settings));
     };
-    (@read $field:ident) => {
+    (@methods $field:ident, |$this:ident, $settings:ident| $store:expr) => {
         fn params(&self) -> Vec<$crate::aa::Param> {
             $crate::graph::params::Tunable::params(&self.$field)
         }
 
         fn presets(&self) -> &'static [&'static str] {
             $crate::graph::params::Tunable::preset_names(&self.$field)
+        }
+
+        fn set_param(
+            &mut self,
+            key: &str,
+            value: &$crate::aa::ParamValue,
+        ) -> Result<(), $crate::aa::ParamError> {
+            let (id, mut $settings) = (self.id(), self.$field.clone());
+            $crate::graph::params::Tunable::set_param(&mut $settings, id, key, value)?;
+            let $this = self;
+            $store;
+            Ok(())
+        }
+
+        fn apply_preset(&mut self, name: &str) -> Result<(), $crate::aa::ParamError> {
+            let (id, mut $settings) = (self.id(), self.$field.clone());
+            $crate::graph::params::Tunable::apply_preset_named(&mut $settings, id, name)?;
+            let $this = self;
+            $store;
+            Ok(())
         }
     };
 }
