@@ -828,7 +828,11 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         serde_json::to_string_pretty(&report)?.as_bytes(),
     )?;
     println!("{}", files::wrote_line(&json, replaced));
-    let replaced = files::write_bytes(&md, &policy, report::markdown(&report).as_bytes())?;
+    let replaced = files::write_bytes(
+        &md,
+        &policy,
+        crate::export::report_markdown::markdown(&report).as_bytes(),
+    )?;
     println!("{}", files::wrote_line(&md, replaced));
     let charts = report::write_charts(&report, &args.out, &policy)?;
     for chart in charts {

@@ -13,6 +13,7 @@ pub mod heatmap;
 pub mod html;
 pub mod png;
 pub mod report;
+pub mod report_markdown;
 pub mod sheet;
 pub mod text;
 pub mod video;
