@@ -299,24 +299,15 @@ impl Technique for Smaa {
     }
 
     fn debug_views(&self) -> Vec<DebugView<'_>> {
-        let Some((edges, weights)) = self.passes.debug_textures().filter(|_| self.debug_enabled)
-        else {
-            return Vec::new();
-        };
-        vec![
-            DebugView {
-                name: "edges",
-                description: "Edges SMAA found (S2x: first sample): red on a pixel's left side, green on its top \
+        self.passes.debug_views(
+            self.debug_enabled,
+            [
+                "Edges SMAA found (S2x: first sample): red on a pixel's left side, green on its top \
                               side, yellow both.",
-                texture: edges,
-            },
-            DebugView {
-                name: "weights",
-                description: "Blending weights (S2x: first sample): red blends across the pixel's top edge, green \
+                "Blending weights (S2x: first sample): red blends across the pixel's top edge, green \
                               across its left edge, brighter is more (doubled).",
-                texture: weights,
-            },
-        ]
+            ],
+        )
     }
 
     fn path_note(&self) -> Option<String> {

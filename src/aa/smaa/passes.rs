@@ -12,6 +12,7 @@
 use glam::Vec2;
 
 use super::settings::{EdgeMode, PipelineKey, SmaaSettings};
+use crate::aa::DebugView;
 use crate::aa::common::morphology::{
     EdgeDebugViews, EdgeTargets, MorphologicalDesc, MorphologicalPipelines, edge_and_weight_passes,
 };
@@ -317,11 +318,28 @@ impl SmaaPasses {
         debug.views.encode(ctx, targets, &debug.pipelines, 9);
     }
 
-    /// The debug views, when they have been rendered: (edges, weights).
-    pub fn debug_textures(&self) -> Option<(&wgpu::Texture, &wgpu::Texture)> {
-        self.debug
-            .as_ref()
-            .map(|d| (&d.views.edges, &d.views.weights))
+    /// The edges and blending-weights debug views, when `enabled` and rendered, with the
+    /// technique's descriptions of them.
+    pub fn debug_views(
+        &self,
+        enabled: bool,
+        [edges, weights]: [&'static str; 2],
+    ) -> Vec<DebugView<'_>> {
+        let Some(debug) = self.debug.as_ref().filter(|_| enabled) else {
+            return Vec::new();
+        };
+        vec![
+            DebugView {
+                name: "edges",
+                description: edges,
+                texture: &debug.views.edges,
+            },
+            DebugView {
+                name: "weights",
+                description: weights,
+                texture: &debug.views.weights,
+            },
+        ]
     }
 
     /// Memory of the targets, tables and uniforms, labelled with the technique id.

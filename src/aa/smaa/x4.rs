@@ -312,25 +312,16 @@ impl Technique for Smaa4x {
     }
 
     fn debug_views(&self) -> Vec<DebugView<'_>> {
-        let Some((edges, weights)) = self.passes.debug_textures().filter(|_| self.debug_enabled)
-        else {
-            return Vec::new();
-        };
-        vec![
-            DebugView {
-                name: "edges",
-                description: "Edges SMAA found in this frame's first sample: red on a pixel's left \
+        self.passes.debug_views(
+            self.debug_enabled,
+            [
+                "Edges SMAA found in this frame's first sample: red on a pixel's left \
                               side, green on its top side, yellow both.",
-                texture: edges,
-            },
-            DebugView {
-                name: "weights",
-                description: "Blending weights of this frame's first sample: red blends across the \
+                "Blending weights of this frame's first sample: red blends across the \
                               pixel's top edge, green across its left edge, brighter is more \
                               (doubled).",
-                texture: weights,
-            },
-        ]
+            ],
+        )
     }
 
     fn path_note(&self) -> Option<String> {
