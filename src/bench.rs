@@ -2,11 +2,75 @@
 //! can both drive: [`TimingSamples`] gathers, frame by frame, each technique's GPU time (its
 //! own passes, pass by pass, and the scene input it reads), each shared scene input's time and
 //! readers, the whole frame and the copy floor every post-process pass is compared with, and
-//! the fragment invocations of a statistics frame; `cli::bench` summarises them into the report.
+//! the fragment invocations of a statistics frame; [`Timed`] and [`Flicker`] are what a run's
+//! phases leave for its report, [`reference_spec`] the 64-sample reference both `bench` and
+//! `clip` score against. `cli::bench` drives the phases and summarises them into the report.
 
-use crate::aa::SceneInput;
 use crate::aa::floor::COPY_FLOOR_ID;
-use crate::graph::{FrameStatistics, FrameTimings};
+use crate::aa::{self, Named, ParamValue, SceneInput, TechniqueError};
+use crate::gpu::Gpu;
+use crate::graph::{FrameStatistics, FrameTimings, MemoryReport};
+use crate::metrics::stability::MovingEdgeError;
+use crate::metrics::temporal::ChangeMeter;
+use crate::metrics::{Comparison, Plane};
+use crate::spec::TechniqueSpec;
+
+/// Camera motion per frame of the timing and flicker track, pixels.
+pub const TRACK_STEP_PX: f32 = 0.25;
+/// Ordered-grid factor of the reference: 8 x 8 = 64 samples per pixel.
+pub const REFERENCE_FACTOR: u32 = 8;
+
+/// The reference: SSAA, ordered grid, 8 x 8 (`bench` and `clip`).
+pub fn reference_spec(gpu: &Gpu) -> Result<TechniqueSpec, TechniqueError> {
+    let mut ssaa = aa::create(gpu, aa::ssaa::ID)?;
+    aa::set_param(
+        ssaa.as_mut(),
+        "mode",
+        ParamValue::Choice(aa::ssaa::Mode::Ordered.name().into()),
+    )?;
+    aa::set_param(
+        ssaa.as_mut(),
+        "factor",
+        ParamValue::Int(i64::from(REFERENCE_FACTOR)),
+    )?;
+    Ok(TechniqueSpec::of(ssaa.as_ref()))
+}
+
+/// A technique's quality against the reference and, on `chart`, against the exact coverage.
+pub type QualityScores = (String, Comparison, Option<Comparison>);
+
+/// What the timing phase of a run leaves for its report.
+pub struct Timed {
+    /// The timed frames' GPU times.
+    pub samples: TimingSamples,
+    /// Per technique: its change meter over the flicker frames and their luma.
+    pub meters: Vec<(String, ChangeMeter, Vec<Plane>)>,
+    /// Fragment invocations of the statistics frame, when the adapter counts them.
+    pub statistics: Option<FrameStatistics>,
+    /// The graph's memory after the timed frames.
+    pub memory: MemoryReport,
+    /// Scene renders per frame.
+    pub scene_renders: usize,
+    /// Each technique's scene input, for techniques whose timings never showed it.
+    pub slot_info: Vec<(String, Option<SceneInput>)>,
+}
+
+/// The reference's change over the flicker frames, and each technique's ghosting meter.
+pub struct Flicker {
+    /// The reference's change meter.
+    pub reference: ChangeMeter,
+    /// Each technique's error at moving edges, in the order of [`Timed::meters`].
+    pub ghosts: Vec<MovingEdgeError>,
+}
+
+/// Per-frame sums of two sample series (a technique's own passes and its input); `a` when
+/// `b` is empty.
+pub fn sum_samples(a: &[f64], b: &[f64]) -> Vec<f64> {
+    if b.is_empty() {
+        return a.to_vec();
+    }
+    a.iter().zip(b).map(|(x, y)| x + y).collect()
+}
 
 /// Per-frame samples of one technique.
 #[derive(Default)]

@@ -18,7 +18,7 @@
 //!    what `aa-lab render --from <run>.spec.json` reproduces) and of the reference, scored
 //!    with every metric.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, bail};
@@ -26,8 +26,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::render::{configured_specs, parse_size, set_flags, technique_ids};
 use crate::aa::floor::{COPY_FLOOR_ID, CopyFloor};
-use crate::aa::{self, FrameInfo, Named, ParamValue, SceneInput};
-use crate::bench::TimingSamples;
+use crate::aa::{self, FrameInfo, SceneInput};
+use crate::bench::{
+    Flicker, QualityScores, TRACK_STEP_PX, Timed, TimingSamples, reference_spec, sum_samples,
+};
 use crate::export::heatmap::{HeatmapStyle, write_heatmap};
 use crate::export::report::{
     self, BenchReport, BenchSettings, InputReport, Invocations, MemorySummary, PassReport,
@@ -36,7 +38,7 @@ use crate::export::report::{
 use crate::export::write_png;
 use crate::files::{self, Overwrite};
 use crate::gpu::{Gpu, read_texture_rgba8};
-use crate::graph::{FrameGraph, FrameScope, FrameStatistics, MemoryReport};
+use crate::graph::{FrameGraph, FrameScope};
 use crate::metrics::coverage::chart_truth;
 use crate::metrics::stability::MovingEdgeError;
 use crate::metrics::temporal::{ChangeMeter, SlowTrack, flicker_ratio};
@@ -51,10 +53,6 @@ pub const RESOLUTION_SWEEP: [(u32, u32); 4] =
     [(1280, 720), (1920, 1080), (2560, 1440), (3840, 2160)];
 /// Hairball densities of `--sweep density`: about 100k to 2.1M triangles.
 pub const DENSITY_SWEEP: [f32; 5] = [0.34, 1.0, 2.0, 4.0, 7.0];
-/// Camera motion per frame of the timing and flicker track, pixels.
-pub const TRACK_STEP_PX: f32 = 0.25;
-/// Ordered-grid factor of the reference: 8 x 8 = 64 samples per pixel.
-pub const REFERENCE_FACTOR: u32 = 8;
 
 /// What a sweep varies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -186,43 +184,6 @@ fn plan(args: &BenchArgs) -> anyhow::Result<Vec<RunPlan>> {
         }
     }
     Ok(runs)
-}
-
-/// The reference: SSAA, ordered grid, 8 x 8 (`bench` and `clip`).
-pub(super) fn reference_spec(gpu: &Gpu) -> anyhow::Result<TechniqueSpec> {
-    let mut ssaa = aa::create(gpu, aa::ssaa::ID)?;
-    aa::set_param(
-        ssaa.as_mut(),
-        "mode",
-        ParamValue::Choice(aa::ssaa::Mode::Ordered.name().into()),
-    )?;
-    aa::set_param(
-        ssaa.as_mut(),
-        "factor",
-        ParamValue::Int(i64::from(REFERENCE_FACTOR)),
-    )?;
-    Ok(TechniqueSpec::of(ssaa.as_ref()))
-}
-
-/// A technique's quality against the reference and, on `chart`, against the exact coverage.
-type QualityScores = (String, Comparison, Option<Comparison>);
-
-/// What the timing phase of a run leaves for its report.
-struct Timed {
-    samples: TimingSamples,
-    /// Per technique: its change meter over the flicker frames and their luma.
-    meters: Vec<(String, ChangeMeter, Vec<Plane>)>,
-    statistics: Option<FrameStatistics>,
-    memory: MemoryReport,
-    scene_renders: usize,
-    /// Each technique's scene input, for techniques whose timings never showed it.
-    slot_info: Vec<(String, Option<SceneInput>)>,
-}
-
-/// The reference's change over the flicker frames, and each technique's ghosting meter.
-struct Flicker {
-    reference: ChangeMeter,
-    ghosts: Vec<MovingEdgeError>,
 }
 
 /// The progress bar of the whole bench.
@@ -737,25 +698,6 @@ impl Bench<'_> {
     }
 }
 
-fn sum_samples(a: &[f64], b: &[f64]) -> Vec<f64> {
-    if b.is_empty() {
-        return a.to_vec();
-    }
-    a.iter().zip(b).map(|(x, y)| x + y).collect()
-}
-
-fn write_sidecars(out: &Path, run: &RunReport, policy: &Overwrite) -> anyhow::Result<()> {
-    for (suffix, spec) in [("spec", &run.spec), ("reference.spec", &run.reference_spec)] {
-        let path = out.join(format!("{}.{suffix}.json", run.key()));
-        files::write_bytes(
-            &path,
-            policy,
-            serde_json::to_string_pretty(spec)?.as_bytes(),
-        )?;
-    }
-    Ok(())
-}
-
 /// Runs `aa-lab bench`.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let started = Instant::now();
@@ -791,7 +733,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let mut reports = Vec::new();
     for run in &runs {
         let report = bench.run(run)?;
-        write_sidecars(&args.out, &report, &policy)?;
+        report.write_sidecars(&args.out, &policy)?;
         reports.push(report);
     }
     bench.bar.finish_and_clear();

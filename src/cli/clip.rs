@@ -23,12 +23,12 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::bench::reference_spec;
 use super::render::{
     CameraMotion, SceneSource, TechniqueArgs, load_scene, output_policy, spec_for_scene,
     technique_specs,
 };
 use crate::aa::FrameInfo;
+use crate::bench::reference_spec;
 use crate::export::animation::{self, AnimationFormat, AnimationOptions};
 use crate::export::apng::Compression;
 use crate::export::clip::{self, Definitions};

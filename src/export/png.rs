@@ -22,6 +22,15 @@ pub enum ExportError {
     /// The file could not be read or written, or the overwrite policy refused it.
     #[error(transparent)]
     File(#[from] FileError),
+    /// A record could not be serialised.
+    #[error("cannot write the record {}: {source}", path.display())]
+    Record {
+        /// The record's path.
+        path: PathBuf,
+        /// serde_json's error.
+        #[source]
+        source: serde_json::Error,
+    },
     /// The file could not be read or decoded.
     #[error("cannot read {}: {reason}", path.display())]
     Read {

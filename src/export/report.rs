@@ -10,12 +10,13 @@
 
 use std::path::{Path, PathBuf};
 
+use super::ExportError;
 use super::charts::{
     BarChart, BarLayout, BarSeries, ChartError, Line, LineChart, TradeoffChart, TradeoffPoint,
     draw_bars, draw_lines, draw_tradeoff,
 };
 use crate::aa::{self, ParamMap};
-use crate::files::Overwrite;
+use crate::files::{self, Overwrite};
 use crate::gpu::Capabilities;
 use crate::metrics::{Comparison, Summary};
 use crate::spec::RenderSpec;
@@ -212,6 +213,23 @@ impl RunReport {
     /// The technique with an id.
     pub fn technique(&self, id: &str) -> Option<&TechniqueReport> {
         self.techniques.iter().find(|t| t.id == id)
+    }
+
+    /// Writes the run's two records into `dir` (`<key>.spec.json`, `<key>.reference.spec.json`),
+    /// which `aa-lab render --from` reproduces.
+    pub fn write_sidecars(&self, dir: &Path, policy: &Overwrite) -> Result<(), ExportError> {
+        for (suffix, spec) in [
+            ("spec", &self.spec),
+            ("reference.spec", &self.reference_spec),
+        ] {
+            let path = dir.join(format!("{}.{suffix}.json", self.key()));
+            let json = serde_json::to_vec_pretty(spec).map_err(|source| ExportError::Record {
+                path: path.clone(),
+                source,
+            })?;
+            files::write_bytes(&path, policy, &json)?;
+        }
+        Ok(())
     }
 }
 
