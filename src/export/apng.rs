@@ -15,8 +15,7 @@
 use std::io::{self, Read, Write};
 
 use super::frame_change::Change;
-use super::png::RECORD_KEYWORD;
-use super::png::png_chunks;
+use super::png::{PNG_SIGNATURE, encode_rgba8, png_chunks};
 
 /// How hard the frames are compressed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
@@ -49,7 +48,7 @@ pub struct ApngFrame {
 /// Compresses a frame's change (see the module docs).
 pub fn encode_change(change: &Change, compression: Compression) -> io::Result<ApngFrame> {
     let (_, _, width, height) = change.rect;
-    let png = encode_rgba(&change.pixels, (width, height), compression, None)?;
+    let png = encoded(&change.pixels, (width, height), compression, None)?;
     let chunks = png_chunks(&png).ok_or_else(|| io::Error::other("malformed PNG"))?;
     let zlib = chunks
         .into_iter()
@@ -107,7 +106,7 @@ pub fn assemble(
     record: Option<&str>,
     later: &mut impl Read,
 ) -> io::Result<()> {
-    let png = encode_rgba(first.as_raw(), first.dimensions(), compression, record)?;
+    let png = encoded(first.as_raw(), first.dimensions(), compression, record)?;
     let chunks = png_chunks(&png).ok_or_else(|| io::Error::other("malformed PNG"))?;
     out.write_all(&PNG_SIGNATURE)?;
     let mut animation_started = false;
@@ -130,7 +129,6 @@ pub fn assemble(
     write_chunk(out, *b"IEND", &[])
 }
 
-const PNG_SIGNATURE: [u8; 8] = [137, 80, 78, 71, 13, 10, 26, 10];
 const BLEND_SOURCE: u8 = 0;
 const BLEND_OVER: u8 = 1;
 
@@ -163,26 +161,14 @@ fn frame_control(
     data
 }
 
-fn encode_rgba(
+/// A PNG of its own for a frame, in memory (its `IDAT` payload becomes the frame's data).
+fn encoded(
     pixels: &[u8],
-    (width, height): (u32, u32),
+    size: (u32, u32),
     compression: Compression,
     record: Option<&str>,
 ) -> io::Result<Vec<u8>> {
-    let invalid = |e: ::png::EncodingError| io::Error::other(e.to_string());
     let mut bytes = Vec::new();
-    let mut encoder = ::png::Encoder::new(&mut bytes, width, height);
-    encoder.set_color(::png::ColorType::Rgba);
-    encoder.set_depth(::png::BitDepth::Eight);
-    encoder.set_source_srgb(::png::SrgbRenderingIntent::Perceptual);
-    encoder.set_compression(compression.png());
-    if let Some(record) = record {
-        encoder
-            .add_itxt_chunk(RECORD_KEYWORD.to_owned(), record.to_owned())
-            .map_err(invalid)?;
-    }
-    let mut writer = encoder.write_header().map_err(invalid)?;
-    writer.write_image_data(pixels).map_err(invalid)?;
-    writer.finish().map_err(invalid)?;
+    encode_rgba8(&mut bytes, pixels, size, Some(compression.png()), record)?;
     Ok(bytes)
 }

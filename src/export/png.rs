@@ -67,22 +67,38 @@ pub fn write_png(
     record: Option<&str>,
     policy: &Overwrite,
 ) -> Result<bool, ExportError> {
-    let invalid = |e: ::png::EncodingError| std::io::Error::other(e.to_string());
     let replaced = files::write_atomic(path, policy, |out| {
-        let mut encoder = ::png::Encoder::new(out, image.width(), image.height());
-        encoder.set_color(::png::ColorType::Rgba);
-        encoder.set_depth(::png::BitDepth::Eight);
-        encoder.set_source_srgb(::png::SrgbRenderingIntent::Perceptual);
-        if let Some(record) = record {
-            encoder
-                .add_itxt_chunk(RECORD_KEYWORD.to_owned(), record.to_owned())
-                .map_err(invalid)?;
-        }
-        let mut writer = encoder.write_header().map_err(invalid)?;
-        writer.write_image_data(image.as_raw()).map_err(invalid)?;
-        writer.finish().map_err(invalid)
+        encode_rgba8(out, image.as_raw(), image.dimensions(), None, record)
     })?;
     Ok(replaced)
+}
+
+/// Encodes sRGB-encoded RGBA8 `pixels` of `size` as a PNG into `out`, with `record` in an
+/// `aa-lab` text chunk; `compression` `None` keeps the `png` crate's default level. Every PNG
+/// aa-lab writes, still images and animation frames alike, is encoded here.
+pub(crate) fn encode_rgba8(
+    out: impl std::io::Write,
+    pixels: &[u8],
+    (width, height): (u32, u32),
+    compression: Option<::png::Compression>,
+    record: Option<&str>,
+) -> std::io::Result<()> {
+    let invalid = |e: ::png::EncodingError| std::io::Error::other(e.to_string());
+    let mut encoder = ::png::Encoder::new(out, width, height);
+    encoder.set_color(::png::ColorType::Rgba);
+    encoder.set_depth(::png::BitDepth::Eight);
+    encoder.set_source_srgb(::png::SrgbRenderingIntent::Perceptual);
+    if let Some(compression) = compression {
+        encoder.set_compression(compression);
+    }
+    if let Some(record) = record {
+        encoder
+            .add_itxt_chunk(RECORD_KEYWORD.to_owned(), record.to_owned())
+            .map_err(invalid)?;
+    }
+    let mut writer = encoder.write_header().map_err(invalid)?;
+    writer.write_image_data(pixels).map_err(invalid)?;
+    writer.finish().map_err(invalid)
 }
 
 /// Reads the `aa-lab` record of a PNG written by [`write_png`], if it has one.
@@ -161,11 +177,13 @@ pub fn read_image(path: &Path) -> Result<image::RgbaImage, ExportError> {
     read_image_limited(path, MAX_IMAGE_PIXELS, "aa-lab")
 }
 
+/// The eight bytes every PNG file starts with.
+pub(crate) const PNG_SIGNATURE: [u8; 8] = [137, 80, 78, 71, 13, 10, 26, 10];
+
 /// The chunks of a PNG file in order (type and data), for checking an animation's structure;
 /// `None` when the bytes are not a well-formed PNG chunk stream.
 pub fn png_chunks(bytes: &[u8]) -> Option<Vec<([u8; 4], &[u8])>> {
-    const SIGNATURE: [u8; 8] = [137, 80, 78, 71, 13, 10, 26, 10];
-    let mut rest = bytes.strip_prefix(&SIGNATURE[..])?;
+    let mut rest = bytes.strip_prefix(&PNG_SIGNATURE[..])?;
     let mut chunks = Vec::new();
     while !rest.is_empty() {
         let length = u32::from_be_bytes(rest.get(..4)?.try_into().ok()?) as usize;
