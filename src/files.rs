@@ -145,16 +145,8 @@ pub fn check_regular(path: &Path, limit: u64, what: &'static str) -> Result<u64,
 /// Reads a whole regular file of at most `limit` bytes (see the module docs).
 pub fn read_bounded(path: &Path, limit: u64, what: &'static str) -> Result<Vec<u8>, FileError> {
     let size = check_regular(path, limit, what)?;
-    let read_error = |source| FileError::Read {
-        path: path.to_owned(),
-        source,
-    };
-    let file = File::open(path).map_err(read_error)?;
-    let mut bytes = Vec::with_capacity(usize::try_from(size).unwrap_or(0));
     // The file may grow between the check and the read: never take more than the limit.
-    file.take(limit.saturating_add(1))
-        .read_to_end(&mut bytes)
-        .map_err(read_error)?;
+    let bytes = read_at_most(path, limit.saturating_add(1), size)?;
     if bytes.len() as u64 > limit {
         return Err(FileError::TooLarge {
             path: path.to_owned(),
@@ -170,12 +162,18 @@ pub fn read_bounded(path: &Path, limit: u64, what: &'static str) -> Result<Vec<u
 /// the file is never read. `what` names its purpose in the error.
 pub fn read_head(path: &Path, length: u64, what: &'static str) -> Result<Vec<u8>, FileError> {
     check_regular(path, u64::MAX, what)?;
+    read_at_most(path, length, 0)
+}
+
+/// Reads at most `length` bytes from the start of `path` (already checked to be a regular
+/// file), reserving `expected` bytes up front.
+fn read_at_most(path: &Path, length: u64, expected: u64) -> Result<Vec<u8>, FileError> {
     let read_error = |source| FileError::Read {
         path: path.to_owned(),
         source,
     };
     let file = File::open(path).map_err(read_error)?;
-    let mut bytes = Vec::new();
+    let mut bytes = Vec::with_capacity(usize::try_from(expected.min(length)).unwrap_or(0));
     file.take(length)
         .read_to_end(&mut bytes)
         .map_err(read_error)?;
