@@ -70,9 +70,7 @@ impl Slot {
     fn held(&self) -> bool {
         self.enabled || (self.kept && self.output.is_some())
     }
-}
 
-impl Slot {
     /// The technique's latest output, when it has rendered at the current size.
     pub fn output(&self) -> Option<&wgpu::Texture> {
         self.output.as_ref()
