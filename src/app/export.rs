@@ -27,7 +27,8 @@ use super::clip::ClipRecipe;
 use super::difference::lens_heatmap;
 use super::magnifier::{Source, crop};
 use super::workspace::{DialogPurpose, Level, Workspace};
-use crate::export::animation::{AnimationFormat, AnimationOptions, AnimationStream};
+use crate::export::animation::{AnimationFormat, AnimationOptions};
+use crate::export::clip_writer::{ClipFormat, ClipWriter};
 use crate::export::html::HtmlPage;
 use crate::export::sheet::{self, Cell, Row};
 use crate::export::write_png;
@@ -354,15 +355,17 @@ fn write_clip(plan: &ClipPlan, progress: &ExportProgress) -> Result<Vec<PathBuf>
         let composed = layout
             .compose(n, frames.len(), &refs)
             .map_err(|e| format!("clip export: {e}"))?;
-        AnimationStream::push_or_start(&mut stream, &animation, &policy, options, composed)
+        let apng = ClipFormat::Animation(AnimationFormat::Apng);
+        ClipWriter::push_or_start(&mut stream, &animation, &policy, apng, options, composed)
             .map_err(|e| e.to_string())?;
         progress.advance();
     }
     let (Some(stream), Some(page)) = (stream, page) else {
         return Err("clip export: the clip has no frame".to_owned());
     };
+    // An animation has no odd sides to pad: the background is a video's alone.
     stream
-        .finish(None, Some(record))
+        .finish(None, Some(record), [0; 4])
         .map_err(|e| e.to_string())?;
     let sidecar = dir.join(format!("{stem}.json"));
     files::write_bytes(&sidecar, &policy, record.as_bytes()).map_err(|e| e.to_string())?;

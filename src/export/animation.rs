@@ -185,23 +185,6 @@ impl AnimationStream {
         })
     }
 
-    /// Hands `frame` to `stream`, first starting it (sized by this first frame) when there
-    /// is none yet.
-    pub fn push_or_start(
-        stream: &mut Option<Self>,
-        path: &Path,
-        policy: &Overwrite,
-        options: AnimationOptions,
-        frame: image::RgbaImage,
-    ) -> Result<(), AnimationError> {
-        match stream {
-            Some(stream) => stream.push(frame),
-            None => stream
-                .insert(Self::create(path, policy, frame.dimensions(), options)?)
-                .push(frame),
-        }
-    }
-
     /// Frames handed over so far.
     pub fn pushed(&self) -> usize {
         self.pushed
