@@ -9,6 +9,7 @@
 //! - [`aa`]: the registry and one folder per technique, with what they share in `aa::common`;
 //! - [`spec`]: reproducible render descriptions and the headless runner;
 //! - [`bench`]: the measurements `bench` takes, as library types;
+//! - [`clip_recorder`]: the loop that records a clip, for `clip` and the viewer alike;
 //! - [`metrics`]: SSIM, PSNR, MAE, FLIP (CPU and GPU), flicker, chart ground truth, timing
 //!   summaries;
 //! - [`export`]: PNG files with their render record;
@@ -22,6 +23,7 @@ pub mod aa;
 pub mod app;
 pub mod bench;
 pub mod cli;
+pub mod clip_recorder;
 pub mod export;
 pub mod files;
 pub mod gpu;

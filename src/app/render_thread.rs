@@ -24,6 +24,7 @@ use std::sync::{Arc, mpsc};
 use std::time::Duration;
 
 use crate::aa::user::PendingBuild;
+use crate::clip_recorder::{ClipFrames, ClipRecorder, FrameImages, ScoredFrame};
 
 use super::blit::{DisplayTexture, Uploader};
 use super::reference::{ProgressiveReference, SharedControl};
@@ -34,7 +35,7 @@ use crate::gpu::{Gpu, GpuError};
 use crate::graph::params::Param;
 use crate::graph::{FrameGraph, FrameInfo, FrameScope, FrameTimings, MemoryReport};
 use crate::metrics::Plane;
-use crate::metrics::stability::{ClipMetrics, TemporalScores};
+use crate::metrics::stability::TemporalScores;
 use crate::scene::Scene;
 use crate::scene::camera::FrameCamera;
 
@@ -642,90 +643,29 @@ impl RenderState {
         recorded
     }
 
-    /// Renders `job`, sending each recorded frame through `send`, and scores it.
+    /// Renders `job` with the library's [`ClipRecorder`], sending each recorded frame through
+    /// `send`, and scores it.
     fn record_clip_frames(
         &mut self,
         job: &ClipJob,
         send: &dyn Fn(Event),
     ) -> Result<ClipSummary, RenderError> {
-        let mut metrics = job.reference.map(|_| ClipMetrics::new(job.run.len()));
-        let mut complete = true;
-        for (number, camera) in job.cameras.iter().enumerate() {
-            if job.cancel.load(Ordering::Relaxed) {
-                complete = false;
-                break;
-            }
-            let frame = FrameInfo {
-                camera: *camera,
-                reset_history: number == 0,
-            };
-            if number < job.warmup {
-                // Warm-up: the temporal techniques' history only, nothing read.
-                self.enable(&job.run, &job.run, false);
-                self.graph.render(&frame, FrameScope::TemporalOnly)?;
-                self.graph.finish();
-                continue;
-            }
-            let plan = FramePlan {
-                frame,
-                run: job.run.clone(),
-                read: job.run.clone(),
-                // Every frame needs textures of its own: the outputs' are overwritten.
-                textures: false,
-                debug: Vec::new(),
-                reference: job.reference.map(|_| ReferenceRequest {
-                    restart: true,
-                    budget: self.reference_samples,
-                }),
-                on: job.run.clone(),
-                report_memory: false,
-                delay: Duration::ZERO,
-            };
-            let result = self.render(&plan)?;
-            let outputs: Vec<(usize, RenderedImage)> = result
-                .outputs
-                .into_iter()
-                .filter_map(|(index, output)| {
-                    let texture = output.display?;
-                    let pixels = output.pixels?;
-                    Some((index, RenderedImage { pixels, texture }))
-                })
-                .collect();
-            let reference = result.reference.map(|(_, image)| image);
-            if let (Some(metrics), Some(reference)) = (&mut metrics, &reference) {
-                let images: Vec<&image::RgbaImage> =
-                    outputs.iter().map(|(_, image)| &image.pixels).collect();
-                if metrics.push(&reference.pixels, &images).is_err() {
-                    // A technique that produced no image this frame: no figures.
-                    *metrics = ClipMetrics::new(0);
-                }
-            }
-            send(Event::ClipFrame { outputs, reference });
-        }
-        let reference_change = metrics.as_ref().and_then(|m| m.reference().mean_change());
-        let instability_maps = metrics
-            .as_ref()
-            .zip(reference_change)
-            .and_then(|(m, change)| {
-                (change > 0.0)
-                    .then(|| {
-                        (0..job.run.len())
-                            .map(|i| {
-                                let mut map = m.technique(i)?.change_map()?;
-                                map.data.iter_mut().for_each(|v| *v /= change as f32);
-                                Some(map)
-                            })
-                            .collect::<Option<Vec<Plane>>>()
-                    })
-                    .flatten()
-            });
+        let recorder = ClipRecorder::new(
+            job.cameras.clone(),
+            job.warmup,
+            job.run.len(),
+            job.reference.is_some(),
+        );
+        let clip = recorder.record(&mut ViewerClipFrames {
+            state: self,
+            job,
+            send,
+        })?;
         Ok(ClipSummary {
-            complete,
-            reference_change,
-            instability_maps,
-            scores: metrics
-                .map(|m| m.scores())
-                .filter(|scores| scores.len() == job.run.len()),
+            complete: clip.complete,
+            reference_change: clip.reference_change(),
+            instability_maps: clip.instability_maps(),
+            scores: clip.scores(),
         })
     }
 
@@ -855,6 +795,90 @@ impl RenderState {
             Vec::new(),
             !plan.textures,
         )
+    }
+}
+
+/// A clip frame as the viewer shows it: the techniques' images and the reference's.
+struct ShownClipFrame {
+    outputs: Vec<(usize, RenderedImage)>,
+    reference: Option<RenderedImage>,
+}
+
+impl ScoredFrame for ShownClipFrame {
+    fn whole(&self) -> FrameImages<'_> {
+        FrameImages {
+            techniques: self
+                .outputs
+                .iter()
+                .map(|(_, image)| &image.pixels)
+                .collect(),
+            reference: self.reference.as_ref().map(|image| &image.pixels),
+        }
+    }
+}
+
+/// The render thread's side of the recorder: renders a job's frames through the thread's
+/// graph and readback belt, and sends every recorded frame to the UI.
+struct ViewerClipFrames<'a> {
+    state: &'a mut RenderState,
+    job: &'a ClipJob,
+    send: &'a dyn Fn(Event),
+}
+
+impl ClipFrames for ViewerClipFrames<'_> {
+    type Frame = ShownClipFrame;
+    type Error = RenderError;
+
+    fn cancelled(&self) -> bool {
+        self.job.cancel.load(Ordering::Relaxed)
+    }
+
+    fn warm_up(&mut self, frame: &FrameInfo) -> Result<(), RenderError> {
+        let run = &self.job.run;
+        self.state.enable(run, run, false);
+        self.state.graph.render(frame, FrameScope::TemporalOnly)?;
+        self.state.graph.finish();
+        Ok(())
+    }
+
+    fn capture(&mut self, frame: &FrameInfo) -> Result<ShownClipFrame, RenderError> {
+        let job = self.job;
+        let plan = FramePlan {
+            frame: *frame,
+            run: job.run.clone(),
+            read: job.run.clone(),
+            // Every frame needs textures of its own: the outputs' are overwritten.
+            textures: false,
+            debug: Vec::new(),
+            reference: job.reference.map(|_| ReferenceRequest {
+                restart: true,
+                budget: self.state.reference_samples,
+            }),
+            on: job.run.clone(),
+            report_memory: false,
+            delay: Duration::ZERO,
+        };
+        let result = self.state.render(&plan)?;
+        Ok(ShownClipFrame {
+            outputs: result
+                .outputs
+                .into_iter()
+                .filter_map(|(index, output)| {
+                    let texture = output.display?;
+                    let pixels = output.pixels?;
+                    Some((index, RenderedImage { pixels, texture }))
+                })
+                .collect(),
+            reference: result.reference.map(|(_, image)| image),
+        })
+    }
+
+    fn deliver(&mut self, _number: usize, frame: ShownClipFrame) -> Result<(), RenderError> {
+        (self.send)(Event::ClipFrame {
+            outputs: frame.outputs,
+            reference: frame.reference,
+        });
+        Ok(())
     }
 }
 

@@ -29,6 +29,7 @@ use super::render::{
 };
 use crate::aa::FrameInfo;
 use crate::bench::reference_spec;
+use crate::clip_recorder::{ClipFrames, ClipRecorder, FrameImages, ScoredFrame};
 use crate::export::animation::{self, AnimationFormat, AnimationOptions};
 use crate::export::apng::Compression;
 use crate::export::clip::{self, Definitions};
@@ -199,13 +200,12 @@ fn html_path(out: &Path) -> PathBuf {
     out.with_extension("html")
 }
 
-/// What the render loop needs besides the graph: the motion, the pane rectangle and the
-/// animation being written.
+/// What the render loop needs besides the graph: the motion, the region and the animation
+/// being written.
 struct Recording<'a> {
     args: &'a ClipArgs,
     gpu: &'a Gpu,
     scene: &'a Scene,
-    pane: Rect,
     region: Option<Rect>,
     /// The layout with the figures' captions left empty: every frame is composed with it as
     /// it renders, and the first is composed again with the figures at the end.
@@ -238,108 +238,166 @@ fn progress_bar(total: u64) -> ProgressBar {
     bar
 }
 
-/// Renders the warm-up and the clip through `graph`, scores every clip frame and hands its
-/// composed panes to the encoder as it renders (the encoder compresses while the next frames
-/// render).
+/// A clip frame as the command line reads it: every pane's whole image (the reference's
+/// last) and, with a region, the panes cropped to it.
+struct PaneImages {
+    whole: Vec<image::RgbaImage>,
+    crops: Option<Vec<image::RgbaImage>>,
+}
+
+/// Techniques' images and the reference's (the last pane).
+fn split_reference(images: &[image::RgbaImage]) -> FrameImages<'_> {
+    let (reference, techniques) = match images.split_last() {
+        Some((reference, techniques)) => (Some(reference), techniques),
+        None => (None, images),
+    };
+    FrameImages {
+        techniques: techniques.iter().collect(),
+        reference,
+    }
+}
+
+impl ScoredFrame for PaneImages {
+    fn whole(&self) -> FrameImages<'_> {
+        split_reference(&self.whole)
+    }
+
+    fn region(&self) -> Option<FrameImages<'_>> {
+        self.crops.as_deref().map(split_reference)
+    }
+}
+
+/// The command line's side of the recorder: renders through `graph`, reads every output
+/// back, shows progress, and hands each frame's composed panes to the encoder (which
+/// compresses while the next frames render) and to the HTML page.
+struct CliFrames<'a> {
+    rec: &'a Recording<'a>,
+    graph: &'a mut FrameGraph,
+    bar: ProgressBar,
+    writer: Option<ClipWriter>,
+    page: Option<HtmlPage>,
+    first_crops: Vec<image::RgbaImage>,
+}
+
+impl CliFrames<'_> {
+    /// Says what the next frame is, then renders it with `scope`.
+    fn render(&mut self, frame: &FrameInfo, scope: FrameScope) -> anyhow::Result<()> {
+        let args = self.rec.args;
+        let phase = if scope == FrameScope::TemporalOnly {
+            "warm-up".to_owned()
+        } else {
+            let encoded = self.writer.as_mut().map_or(0, ClipWriter::written);
+            format!("clip, {encoded} encoded")
+        };
+        self.bar
+            .set_message(format!("{} {}: {phase}", self.rec.scene.name, args.motion));
+        self.graph.render(frame, scope)?;
+        self.graph.finish();
+        self.bar.inc(1);
+        Ok(())
+    }
+}
+
+impl ClipFrames for CliFrames<'_> {
+    type Frame = PaneImages;
+    type Error = anyhow::Error;
+
+    fn warm_up(&mut self, frame: &FrameInfo) -> anyhow::Result<()> {
+        self.render(frame, FrameScope::TemporalOnly)
+    }
+
+    fn capture(&mut self, frame: &FrameInfo) -> anyhow::Result<PaneImages> {
+        self.render(frame, FrameScope::All)?;
+        let whole = self
+            .graph
+            .slots()
+            .iter()
+            .map(|slot| {
+                let output = slot
+                    .output()
+                    .with_context(|| format!("{} produced no image", slot.technique.label()))?;
+                Ok(read_texture_rgba8(self.rec.gpu, output)?)
+            })
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let crops = self.rec.region.map(|region| {
+            whole
+                .iter()
+                .map(|image| {
+                    image::imageops::crop_imm(
+                        image,
+                        region.x,
+                        region.y,
+                        region.width,
+                        region.height,
+                    )
+                    .to_image()
+                })
+                .collect()
+        });
+        Ok(PaneImages { whole, crops })
+    }
+
+    fn deliver(&mut self, number: usize, frame: PaneImages) -> anyhow::Result<()> {
+        let panes = frame.crops.unwrap_or(frame.whole);
+        let refs: Vec<&image::RgbaImage> = panes.iter().collect();
+        if let Some(page) = &mut self.page {
+            page.push(&refs)?;
+        }
+        let rec = self.rec;
+        let composed = rec
+            .pending_layout
+            .compose(number, rec.args.frames as usize, &refs)?;
+        ClipWriter::push_or_start(
+            &mut self.writer,
+            &rec.args.out,
+            rec.policy,
+            rec.format,
+            rec.options,
+            composed,
+        )?;
+        if number == 0 {
+            self.first_crops = panes;
+        }
+        Ok(())
+    }
+}
+
+/// Renders the warm-up and the clip through `graph` with the library's [`ClipRecorder`],
+/// scoring every clip frame, and encodes the frames as they come.
 fn record(
     rec: &Recording,
     graph: &mut FrameGraph,
-    mut page: Option<HtmlPage>,
+    page: Option<HtmlPage>,
 ) -> anyhow::Result<Recorded> {
     let args = rec.args;
-    let techniques = graph.slots().len().saturating_sub(1);
     let total = u64::from(args.warmup) + u64::from(args.frames);
-    let bar = progress_bar(total);
-    let mut metrics = ClipMetrics::new(techniques);
-    let mut region_metrics = rec.region.map(|_| ClipMetrics::new(techniques));
-    let mut writer: Option<ClipWriter> = None;
-    let mut first_crops = Vec::new();
-    for frame in 0..total {
-        let warming = frame < u64::from(args.warmup);
-        let encoded = writer.as_mut().map_or(0, ClipWriter::written);
-        bar.set_message(format!(
-            "{} {}: {}",
-            rec.scene.name,
-            args.motion,
-            if warming {
-                "warm-up".to_owned()
-            } else {
-                format!("clip, {encoded} encoded")
-            }
-        ));
-        let info = FrameInfo {
-            camera: args
-                .motion
-                .camera(&rec.scene.camera, args.scene.size, args.speed, frame),
-            reset_history: frame == 0,
-        };
-        let scope = if warming {
-            FrameScope::TemporalOnly
-        } else {
-            FrameScope::All
-        };
-        graph.render(&info, scope)?;
-        graph.finish();
-        if !warming {
-            let images = graph
-                .slots()
-                .iter()
-                .map(|slot| {
-                    let output = slot
-                        .output()
-                        .with_context(|| format!("{} produced no image", slot.technique.label()))?;
-                    Ok(read_texture_rgba8(rec.gpu, output)?)
-                })
-                .collect::<anyhow::Result<Vec<_>>>()?;
-            let (reference_image, technique_images) = images
-                .split_last()
-                .context("the clip has no reference pane")?;
-            let refs: Vec<&image::RgbaImage> = technique_images.iter().collect();
-            metrics.push(reference_image, &refs)?;
-            let pane = rec.pane;
-            let cropped: Vec<image::RgbaImage> = images
-                .iter()
-                .map(|image| {
-                    image::imageops::crop_imm(image, pane.x, pane.y, pane.width, pane.height)
-                        .to_image()
-                })
-                .collect();
-            drop(images);
-            if let (Some(region_metrics), Some((reference_crop, technique_crops))) =
-                (&mut region_metrics, cropped.split_last())
-            {
-                let refs: Vec<&image::RgbaImage> = technique_crops.iter().collect();
-                region_metrics.push(reference_crop, &refs)?;
-            }
-            let number = (frame - u64::from(args.warmup)) as usize;
-            let refs: Vec<&image::RgbaImage> = cropped.iter().collect();
-            if let Some(page) = &mut page {
-                page.push(&refs)?;
-            }
-            let composed = rec
-                .pending_layout
-                .compose(number, args.frames as usize, &refs)?;
-            ClipWriter::push_or_start(
-                &mut writer,
-                &args.out,
-                rec.policy,
-                rec.format,
-                rec.options,
-                composed,
-            )?;
-            if number == 0 {
-                first_crops = cropped;
-            }
-        }
-        bar.inc(1);
-    }
-    bar.finish_and_clear();
-    Ok(Recorded {
-        writer: writer.context("the clip has no frame")?,
+    let cameras = (0..total)
+        .map(|frame| {
+            args.motion
+                .camera(&rec.scene.camera, args.scene.size, args.speed, frame)
+        })
+        .collect();
+    let techniques = graph.slots().len().saturating_sub(1);
+    let recorder = ClipRecorder::new(cameras, args.warmup as usize, techniques, true);
+    let mut frames = CliFrames {
+        rec,
+        graph,
+        bar: progress_bar(total),
+        writer: None,
         page,
-        metrics,
-        region_metrics,
-        first_crops,
+        first_crops: Vec::new(),
+    };
+    let clip = recorder.record(&mut frames)?;
+    frames.bar.finish_and_clear();
+    if let Some(err) = clip.score_error {
+        return Err(err).context("the clip's figures could not be computed");
+    }
+    Ok(Recorded {
+        writer: frames.writer.context("the clip has no frame")?,
+        page: frames.page,
+        metrics: clip.metrics.context("the clip has no figures")?,
+        region_metrics: clip.region_metrics,
+        first_crops: frames.first_crops,
     })
 }
 
@@ -502,7 +560,6 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         args,
         gpu: &gpu,
         scene: &scene,
-        pane,
         region,
         pending_layout: layout.clone(),
         format,

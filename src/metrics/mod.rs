@@ -54,6 +54,9 @@ pub enum MetricsError {
         /// Height.
         height: u32,
     },
+    /// A frame of a clip scored against the reference came without the reference's image.
+    #[error("a clip frame came without the reference image it is scored against")]
+    NoReference,
     /// A clip frame came with another number of technique images than the metrics measure.
     #[error("a clip frame has {got} technique images but {expected} techniques are measured")]
     FrameCount {
