@@ -1,19 +1,22 @@
-//! The measurement side of `aa-lab bench`, as library types the command line and the viewer
-//! can both drive: [`TimingSamples`] gathers, frame by frame, each technique's GPU time (its
-//! own passes, pass by pass, and the scene input it reads), each shared scene input's time and
-//! readers, the whole frame and the copy floor every post-process pass is compared with, and
-//! the fragment invocations of a statistics frame; [`Timed`] and [`Flicker`] are what a run's
-//! phases leave for its report, [`reference_spec`] the 64-sample reference both `bench` and
-//! `clip` score against. `cli::bench` drives the phases and summarises them into the report.
+//! The bench as a library the command line and the viewer both drive: [`BenchRunner`] measures
+//! a run (a scene at a size) and summarises it into its report; [`TimingSamples`] gathers,
+//! frame by frame, each technique's GPU time (its own passes, pass by pass, and the scene
+//! input it reads), each shared scene input's time and readers, the whole frame and the copy
+//! floor every post-process pass is compared with, and the fragment invocations of a
+//! statistics frame; [`reference_spec`] is the 64-sample reference both `bench` and `clip`
+//! score against. `cli::bench` plans the runs (sizes, sweeps), loads the scenes and writes
+//! the reports.
 
 use crate::aa::floor::COPY_FLOOR_ID;
 use crate::aa::{self, Named, ParamValue, SceneInput, TechniqueError};
 use crate::gpu::Gpu;
-use crate::graph::{FrameStatistics, FrameTimings, MemoryReport};
-use crate::metrics::stability::MovingEdgeError;
-use crate::metrics::temporal::ChangeMeter;
-use crate::metrics::{Comparison, Plane};
+use crate::graph::{FrameStatistics, FrameTimings};
+use crate::metrics::Comparison;
 use crate::spec::TechniqueSpec;
+
+mod runner;
+
+pub use runner::{BenchError, BenchOptions, BenchProgress, BenchRunner, ImageOutput, RunPlan};
 
 /// Camera motion per frame of the timing and flicker track, pixels.
 pub const TRACK_STEP_PX: f32 = 0.25;
@@ -38,30 +41,6 @@ pub fn reference_spec(gpu: &Gpu) -> Result<TechniqueSpec, TechniqueError> {
 
 /// A technique's quality against the reference and, on `chart`, against the exact coverage.
 pub type QualityScores = (String, Comparison, Option<Comparison>);
-
-/// What the timing phase of a run leaves for its report.
-pub struct Timed {
-    /// The timed frames' GPU times.
-    pub samples: TimingSamples,
-    /// Per technique: its change meter over the flicker frames and their luma.
-    pub meters: Vec<(String, ChangeMeter, Vec<Plane>)>,
-    /// Fragment invocations of the statistics frame, when the adapter counts them.
-    pub statistics: Option<FrameStatistics>,
-    /// The graph's memory after the timed frames.
-    pub memory: MemoryReport,
-    /// Scene renders per frame.
-    pub scene_renders: usize,
-    /// Each technique's scene input, for techniques whose timings never showed it.
-    pub slot_info: Vec<(String, Option<SceneInput>)>,
-}
-
-/// The reference's change over the flicker frames, and each technique's ghosting meter.
-pub struct Flicker {
-    /// The reference's change meter.
-    pub reference: ChangeMeter,
-    /// Each technique's error at moving edges, in the order of [`Timed::meters`].
-    pub ghosts: Vec<MovingEdgeError>,
-}
 
 /// Per-frame sums of two sample series (a technique's own passes and its input); `a` when
 /// `b` is empty.
