@@ -444,9 +444,38 @@ pub fn wrote_line(path: &Path, replaced: bool) -> String {
     )
 }
 
+/// The first name `stem`, `stem-2`, `stem-3`... for which none of the set's files exist.
+pub fn free_stem(dir: &Path, stem: &str, suffixes: &[String]) -> String {
+    (1..)
+        .map(|n| {
+            if n == 1 {
+                stem.to_owned()
+            } else {
+                format!("{stem}-{n}")
+            }
+        })
+        .find(|candidate| {
+            suffixes
+                .iter()
+                .all(|s| !dir.join(format!("{candidate}{s}")).exists())
+        })
+        .unwrap_or_else(|| stem.to_owned())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn free_stem_never_reuses_a_taken_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let suffixes = vec!["-none.png".to_owned(), ".json".to_owned()];
+        assert_eq!(free_stem(dir.path(), "atrium-f3", &suffixes), "atrium-f3");
+        std::fs::write(dir.path().join("atrium-f3.json"), "{}").unwrap();
+        assert_eq!(free_stem(dir.path(), "atrium-f3", &suffixes), "atrium-f3-2");
+        std::fs::write(dir.path().join("atrium-f3-2-none.png"), "").unwrap();
+        assert_eq!(free_stem(dir.path(), "atrium-f3", &suffixes), "atrium-f3-3");
+    }
 
     fn leftovers(dir: &Path) -> Vec<String> {
         std::fs::read_dir(dir)

@@ -546,6 +546,64 @@ fn a_recorded_clip_plays_every_pane_in_lockstep_and_exports_an_animation() {
 }
 
 /// The answers file once it holds `trials` answers.
+/// The metrics panel's bench measures the compared techniques as `aa-lab bench` does and
+/// writes its report into a new folder of the export folder; the panel shows the figures.
+#[test]
+fn the_viewer_benches_the_compared_techniques_into_a_report() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut harness = viewer("chart");
+    harness.state_mut().set_export_dir(dir.path().to_path_buf());
+    let compared = harness.state().compared();
+    // The section is below the fold: scroll to it (the scroll animates over a few frames).
+    harness.get_by_label("Run bench").scroll_to_me();
+    for _ in 0..30 {
+        harness.step();
+    }
+    harness.get_by_label("Run bench").click();
+    harness.step();
+    wait(&mut harness, "the bench", |app| {
+        let notice = last_notice(app);
+        notice.starts_with("Bench report written to") || notice.starts_with("Bench:")
+    });
+    let notice = last_notice(harness.state());
+    assert!(notice.starts_with("Bench report written to"), "{notice}");
+    let folders: Vec<PathBuf> = std::fs::read_dir(dir.path())
+        .expect("the export folder")
+        .map(|entry| entry.expect("an entry").path())
+        .collect();
+    assert_eq!(folders.len(), 1, "one report folder: {folders:?}");
+    let folder = &folders[0];
+    assert!(name(folder).starts_with("bench-chart-"), "{folder:?}");
+    assert!(folder.join("report.md").is_file());
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(folder.join("report.json")).expect("report.json"))
+            .expect("a JSON report");
+    let run = &report["runs"][0];
+    let ids: Vec<&str> = run["techniques"]
+        .as_array()
+        .expect("techniques")
+        .iter()
+        .map(|t| t["id"].as_str().expect("an id"))
+        .collect();
+    assert_eq!(ids, compared, "the compared techniques, in order");
+    for technique in run["techniques"].as_array().expect("techniques") {
+        let ssim = technique["quality"]["ssim"].as_f64().expect("an SSIM");
+        assert!(ssim > 0.5 && ssim <= 1.0, "{technique}");
+        assert!(technique["total_ms"]["median"].as_f64().expect("a time") > 0.0);
+    }
+    // The run's records reproduce it: `render --from` reads them.
+    let key = run["scene"].as_str().expect("the scene").to_owned()
+        + &format!("-{}x{}", run["width"], run["height"]);
+    let spec: RenderSpec = serde_json::from_slice(
+        &std::fs::read(folder.join(format!("{key}.spec.json"))).expect("the run's record"),
+    )
+    .expect("a render record");
+    assert_eq!(spec.techniques.len(), compared.len());
+    assert!(spec.rig.is_some(), "the viewer's camera is recorded");
+    // The panel shows the figures.
+    harness.get_by_label("GPU ms");
+}
+
 fn blind_answers(harness: &mut Harness<'_, AaLabApp>, trials: usize) -> serde_json::Value {
     let path = harness
         .state()

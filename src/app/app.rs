@@ -12,6 +12,7 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use super::bench::BenchFeature;
 use super::blind;
 use super::camera::CameraController;
 use super::clip;
@@ -59,6 +60,8 @@ pub struct AaLabApp {
     /// The panels that keep state of their own (the others are functions).
     viewport: ViewportPanel,
     magnifier: MagnifierPanel,
+    /// The bench of the compared techniques (the metrics panel's section).
+    bench: BenchFeature,
     /// The help overlay is open.
     help_open: bool,
     /// The side panels are hidden.
@@ -139,6 +142,7 @@ impl AaLabApp {
             ws,
             viewport: ViewportPanel::default(),
             magnifier: MagnifierPanel::default(),
+            bench: BenchFeature::default(),
             help_open: false,
             panels_hidden: false,
             engine_frames: 0,
@@ -456,8 +460,8 @@ impl AaLabApp {
         let size = self.ws.render_size;
         let want_reference = self.reference_wanted();
         let want_pixels = self.pixels_wanted();
-        // The engine stays idle while images are shown.
-        let idle = self.ws.images.is_open();
+        // The engine stays idle while images are shown, and while a bench times its frames.
+        let idle = self.ws.images.is_open() || self.bench.running();
         let Some(engine) = &mut self.ws.engine else {
             return false;
         };
@@ -531,6 +535,9 @@ impl eframe::App for AaLabApp {
             self.styled = true;
         }
         self.ws.poll_background(&ctx);
+        if let Some((level, text)) = self.bench.poll() {
+            self.ws.notify(level, text);
+        }
         self.ws.blind_keys(&ctx);
         let flying =
             self.ws.camera.mode == super::camera::CameraMode::Fly && !self.ws.images.is_open();
@@ -582,7 +589,7 @@ impl eframe::App for AaLabApp {
             techniques_panel::ui(ui, &mut self.ws);
         }
         if show_side && !blind && self.ws.settings.show_metrics {
-            metrics_panel::ui(ui, &mut self.ws);
+            metrics_panel::ui(ui, &mut self.ws, &mut self.bench);
         }
         if self.ws.settings.show_magnifier {
             self.magnifier

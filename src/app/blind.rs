@@ -645,7 +645,7 @@ impl Workspace {
             self.scene.as_ref().map_or("scene", |s| s.name.as_str())
         };
         let dir = self.settings.export_dir.clone();
-        let stem = super::export::free_stem(&dir, &format!("{scene}-blind"), &[".json".to_owned()]);
+        let stem = crate::files::free_stem(&dir, &format!("{scene}-blind"), &[".json".to_owned()]);
         let path = dir.join(format!("{stem}.json"));
         let adapter = format!("{} ({})", self.gpu.caps.adapter_name, self.gpu.caps.backend);
         match self.blind.start(techniques, seed, path, adapter, ctx) {

@@ -735,14 +735,7 @@ impl Workspace {
             } else {
                 Vec::new()
             },
-            techniques: ids
-                .iter()
-                .map(|id| crate::spec::TechniqueSpec {
-                    id: (*id).to_owned(),
-                    settings: engine.param_map(id),
-                    source_hash: engine.source_hash(id),
-                })
-                .collect(),
+            techniques: ids.iter().map(|id| engine.technique_spec(id)).collect(),
             reference_samples: settings.reference.then_some(settings.reference_samples),
             adapter: format!("{} ({})", engine.caps().adapter_name, engine.caps().backend),
             build: crate::spec::build_id(),

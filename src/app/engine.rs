@@ -630,6 +630,15 @@ impl Engine {
             .collect()
     }
 
+    /// A technique with its current settings, as records keep it.
+    pub fn technique_spec(&self, id: &str) -> crate::spec::TechniqueSpec {
+        crate::spec::TechniqueSpec {
+            id: id.to_owned(),
+            settings: self.param_map(id),
+            source_hash: self.source_hash(id),
+        }
+    }
+
     /// Sends a settings change and marks the technique for re-rendering.
     fn configure(&mut self, index: usize, change: SettingsChange) {
         self.send(Command::Configure(index, change));

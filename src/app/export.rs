@@ -18,7 +18,7 @@
 //! the shortcuts start them, so the running job and the last files written ([`ExportState`])
 //! are the workspace's too; export has no panel of its own.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, mpsc};
 use std::time::Instant;
@@ -34,25 +34,7 @@ use crate::export::sheet::{self, Cell, Row};
 use crate::export::write_png;
 use crate::files::{self, Overwrite};
 use crate::metrics::stability::TemporalScores;
-use crate::spec::{RenderSpec, TechniqueSpec};
-
-/// The first name `stem`, `stem-2`, `stem-3`... for which none of the set's files exist.
-pub fn free_stem(dir: &Path, stem: &str, suffixes: &[String]) -> String {
-    (1..)
-        .map(|n| {
-            if n == 1 {
-                stem.to_owned()
-            } else {
-                format!("{stem}-{n}")
-            }
-        })
-        .find(|candidate| {
-            suffixes
-                .iter()
-                .all(|s| !dir.join(format!("{candidate}{s}")).exists())
-        })
-        .unwrap_or_else(|| stem.to_owned())
-}
+use crate::spec::RenderSpec;
 
 /// What an export writes.
 struct Plan {
@@ -231,7 +213,7 @@ fn write_files(plan: &Plan, progress: &ExportProgress) -> Result<Vec<PathBuf>, S
     if plan.sheet.is_some() {
         suffixes.push("-magnifier.png".to_owned());
     }
-    let stem = free_stem(&plan.dir, &plan.stem, &suffixes);
+    let stem = files::free_stem(&plan.dir, &plan.stem, &suffixes);
     // The stem is free; never replacing anything also guards against a file appearing meanwhile.
     let policy = Overwrite::new(false);
     let mut written = Vec::new();
@@ -314,7 +296,7 @@ fn write_clip(plan: &ClipPlan, progress: &ExportProgress) -> Result<Vec<PathBuf>
     std::fs::create_dir_all(dir)
         .map_err(|e| format!("cannot create the export folder {}: {e}", dir.display()))?;
     let suffixes = [".png", ".json", ".html"].map(str::to_owned);
-    let stem = free_stem(dir, stem, &suffixes);
+    let stem = files::free_stem(dir, stem, &suffixes);
     let policy = Overwrite::new(false);
     let animation = dir.join(format!("{stem}.png"));
     let page_path = dir.join(format!("{stem}.html"));
@@ -384,11 +366,7 @@ impl Workspace {
             .entries()
             .iter()
             .filter(|e| e.enabled && engine.output(e.id).is_some())
-            .map(|e| TechniqueSpec {
-                id: e.id.to_owned(),
-                settings: engine.param_map(e.id),
-                source_hash: engine.source_hash(e.id),
-            })
+            .map(|e| engine.technique_spec(e.id))
             .collect();
         Some(RenderSpec {
             scene: scene.spec.clone(),
@@ -718,21 +696,5 @@ impl Workspace {
     pub(super) fn use_export_dir(&mut self, dir: PathBuf) {
         self.notify(Level::Info, format!("Exports go to {}", dir.display()));
         self.settings.export_dir = dir;
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn free_stem_never_reuses_a_taken_name() {
-        let dir = tempfile::tempdir().unwrap();
-        let suffixes = vec!["-none.png".to_owned(), ".json".to_owned()];
-        assert_eq!(free_stem(dir.path(), "atrium-f3", &suffixes), "atrium-f3");
-        std::fs::write(dir.path().join("atrium-f3.json"), "{}").unwrap();
-        assert_eq!(free_stem(dir.path(), "atrium-f3", &suffixes), "atrium-f3-2");
-        std::fs::write(dir.path().join("atrium-f3-2-none.png"), "").unwrap();
-        assert_eq!(free_stem(dir.path(), "atrium-f3", &suffixes), "atrium-f3-3");
     }
 }

@@ -12,6 +12,7 @@ use std::time::Duration;
 use egui::RichText;
 use egui_plot::{Legend, Line, Plot};
 
+use super::bench::{BenchFeature, BenchRequest};
 use super::engine::ReferenceState;
 use super::image_panel;
 use super::quality;
@@ -20,7 +21,7 @@ use super::style::{self, ACCENT, SLOT_COLORS, SLOT_LETTERS, number, number_weak}
 use super::workspace::Workspace;
 
 /// The panel. See the module docs.
-pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
+pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace, bench: &mut BenchFeature) {
     profiling::function_scope!();
     egui::Panel::right("metrics")
         .resizable(true)
@@ -46,8 +47,34 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
                     ui.separator();
                     clip_section(ui, ws);
                 }
+                ui.separator();
+                if let Some((level, text)) = bench.ui(ui, || bench_request(ws)) {
+                    ws.notify(level, text);
+                }
             });
         });
+}
+
+/// What a bench of the compared techniques measures: the loaded scene from the current view,
+/// at the render size.
+fn bench_request(ws: &Workspace) -> Result<BenchRequest, String> {
+    let (Some(engine), Some(scene)) = (&ws.engine, &ws.scene) else {
+        return Err("Load a scene to bench.".to_owned());
+    };
+    let ids = ws.compared();
+    if ids.is_empty() {
+        return Err("Switch on a technique to bench it.".to_owned());
+    }
+    if ws.render_size.0 == 0 || ws.render_size.1 == 0 {
+        return Err("The viewport has no size to bench at.".to_owned());
+    }
+    Ok(BenchRequest {
+        scene: scene.spec.clone(),
+        rig: *ws.camera.rig(),
+        size: ws.render_size,
+        techniques: ids.iter().map(|id| engine.technique_spec(id)).collect(),
+        export_dir: ws.settings.export_dir.clone(),
+    })
 }
 
 fn performance_section(ui: &mut egui::Ui, ws: &mut Workspace) {

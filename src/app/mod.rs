@@ -40,6 +40,7 @@
 // `app.rs` holds the `eframe::App`, as the module layout of the design names it.
 #[allow(clippy::module_inception)]
 mod app;
+mod bench;
 mod blind;
 mod blit;
 mod camera;

@@ -72,6 +72,9 @@ pub enum BenchError {
     /// The reference rendered nothing.
     #[error("the reference produced no image")]
     NoReferenceImage,
+    /// The front end stopped the bench ([`BenchProgress::cancelled`]).
+    #[error("the bench was cancelled")]
+    Cancelled,
 }
 
 /// One run to measure: a scene (built-in name or model path) at a density and a size.
@@ -91,6 +94,12 @@ pub trait BenchProgress {
     fn phase(&self, run: &RunPlan, phase: &str);
     /// `steps` more of the run's [`BenchOptions::steps_per_run`] are done.
     fn advance(&self, steps: u64);
+
+    /// Whether the bench should stop: the runner looks before every frame and phase, and
+    /// ends the run with [`BenchError::Cancelled`].
+    fn cancelled(&self) -> bool {
+        false
+    }
 }
 
 /// Where the quality frame's images and FLIP heatmaps go, when they are kept.
@@ -285,6 +294,14 @@ impl BenchRunner<'_> {
         }
     }
 
+    /// [`BenchError::Cancelled`] once the front end asks the bench to stop.
+    fn stop_if_cancelled(&self) -> Result<(), BenchError> {
+        if self.progress.cancelled() {
+            return Err(BenchError::Cancelled);
+        }
+        Ok(())
+    }
+
     /// The render records of `run`: the techniques' and the reference's, at the quality
     /// frame of the scene's own camera path. A front end may set their camera (`rig`,
     /// `camera`) before [`BenchRunner::run`].
@@ -386,6 +403,7 @@ impl BenchRunner<'_> {
         let total_frames = options.total_frames();
         let flicker_from = total_frames - u64::from(flicker_frames);
         for frame in 0..total_frames {
+            self.stop_if_cancelled()?;
             self.progress.phase(
                 run,
                 if frame < u64::from(options.warmup) {
@@ -477,6 +495,7 @@ impl BenchRunner<'_> {
             self.progress.phase(run, "reference for flicker");
             let mut reference = spec::build_graph(self.gpu, scene, reference_spec)?;
             for frame in flicker_from..total_frames {
+                self.stop_if_cancelled()?;
                 let info = FrameInfo {
                     camera: track.camera(frame),
                     reset_history: frame == flicker_from,
@@ -624,6 +643,7 @@ impl BenchRunner<'_> {
         spec: &RenderSpec,
         reference_spec: &RenderSpec,
     ) -> Result<Vec<QualityScores>, BenchError> {
+        self.stop_if_cancelled()?;
         self.progress.phase(run, "quality frame");
         let reported = std::cell::Cell::new(0);
         let progress = |done: u64, _total: u64| {
@@ -639,6 +659,7 @@ impl BenchRunner<'_> {
         let output = spec::run(self.gpu, scene, spec, &options)?;
         self.progress
             .advance((spec.frame + 1).saturating_sub(reported.get()));
+        self.stop_if_cancelled()?;
         self.progress.phase(run, "reference frame");
         let reference = spec::run(self.gpu, scene, reference_spec, &RunOptions::default())?;
         self.progress.advance(1);
