@@ -24,7 +24,6 @@ use std::sync::{Arc, mpsc};
 use std::time::Duration;
 
 use crate::aa::user::PendingBuild;
-use crate::clip_recorder::{ClipFrames, ClipRecorder, FrameImages, ScoredFrame};
 
 use super::blit::{DisplayTexture, Uploader};
 use super::reference::{ProgressiveReference, SharedControl};
@@ -38,6 +37,13 @@ use crate::metrics::Plane;
 use crate::metrics::stability::TemporalScores;
 use crate::scene::Scene;
 use crate::scene::camera::FrameCamera;
+
+mod clip;
+mod tickets;
+mod users;
+
+pub use clip::{ClipJob, ClipSummary};
+use tickets::Tickets;
 
 /// What the UI mirrors of a technique's settings.
 #[derive(Clone, Debug)]
@@ -113,37 +119,6 @@ pub struct FramePlan {
     pub report_memory: bool,
     /// Test hook: the thread waits this long before rendering (a deliberately slow frame).
     pub delay: Duration,
-}
-
-/// A clip to record: every camera in turn through the same techniques (temporal ones with
-/// their real history), each frame read back and uploaded for display. The thread renders it
-/// in one go, answering [`Event::ClipFrame`] per recorded frame and [`Event::ClipEnd`] at the
-/// end; commands sent meanwhile wait.
-pub struct ClipJob {
-    /// Warm-up cameras first (rendered for the history only), then the clip's.
-    pub cameras: Vec<FrameCamera>,
-    /// How many of `cameras` are warm-up.
-    pub warmup: usize,
-    /// Registry indices of the techniques.
-    pub run: Vec<usize>,
-    /// Render the reference, complete, with every recorded frame, at this many samples per
-    /// pixel.
-    pub reference: Option<u32>,
-    /// Set by the UI to stop after the frame being rendered.
-    pub cancel: Arc<AtomicBool>,
-}
-
-/// How a clip ended.
-pub struct ClipSummary {
-    /// Every frame was recorded (not cancelled).
-    pub complete: bool,
-    /// Temporal figures per technique of the job, when it rendered the reference.
-    pub scores: Option<Vec<TemporalScores>>,
-    /// The reference's mean luma change per pixel and frame.
-    pub reference_change: Option<f64>,
-    /// Per technique of the job, with the reference: each pixel's mean luma change over the
-    /// reference's mean change of the whole frame (the instability map).
-    pub instability_maps: Option<Vec<Plane>>,
 }
 
 /// A finished image: the pixels (sRGB-encoded RGBA8) and the same bytes on eframe's device.
@@ -523,100 +498,6 @@ impl RenderState {
         }
     }
 
-    /// Adds the user technique of `path` at the next registry index (with its error, when it
-    /// does not build), or rebuilds it when it was added before.
-    fn add_user(&mut self, path: &std::path::Path, send: &dyn Fn(Event)) {
-        let id = match aa::user::interned_id(path) {
-            Ok(id) => id,
-            Err(err) => return send(Event::UserRefused(err.to_string())),
-        };
-        let index = match self.user_ids.iter().find(|(_, known)| *known == id) {
-            Some(&(index, _)) => index,
-            None => {
-                let index = self.slots.len();
-                self.slots.push(None);
-                self.user_ids.push((index, id));
-                index
-            }
-        };
-        // (Again after a removal.)
-        self.watcher
-            .watch(index, aa::user::path_of(id).unwrap_or(path));
-        send(self.build_user(index, id));
-    }
-
-    /// Starts building the user technique at `index` from its file (see the module docs).
-    fn build_user(&mut self, index: usize, id: &'static str) -> Event {
-        self.builds.retain(|(building, _)| *building != index);
-        self.builds
-            .push((index, PendingBuild::start(&self.gpu, id)));
-        Event::UserBuilding {
-            index,
-            id,
-            name: aa::user::display_name(id),
-        }
-    }
-
-    /// Installs the user techniques whose builds finished, keeping the settings of the builds
-    /// they replace where they still apply.
-    fn finish_user_builds(&mut self, send: &dyn Fn(Event)) {
-        let mut finished = Vec::new();
-        self.builds.retain(|(index, build)| match build.finished() {
-            Some(result) => {
-                finished.push((*index, build.id(), result));
-                false
-            }
-            None => true,
-        });
-        for (index, id, result) in finished {
-            send(self.install_user(index, id, result));
-        }
-    }
-
-    /// Puts a finished build of the user technique at `index` in the graph.
-    fn install_user(
-        &mut self,
-        index: usize,
-        id: &'static str,
-        result: aa::user::build::BuildResult,
-    ) -> Event {
-        let result = result.map_err(|e| e.to_string());
-        let result = result.map(|mut technique| {
-            if let Some(slot) = self.slots[index] {
-                let previous = aa::param_map(self.graph.slots()[slot].technique.as_ref());
-                for (key, value) in previous {
-                    // A setting the new file no longer has (or ranges differently) is dropped.
-                    let _ = aa::set_param(technique.as_mut(), &key, value);
-                }
-            }
-            let settings = TechniqueSettings::of(technique.as_ref());
-            match self.slots[index] {
-                Some(slot) => self.graph.slots_mut()[slot].technique = technique,
-                None => {
-                    let slot = self.graph.add(technique);
-                    self.graph.slots_mut()[slot].enabled = false;
-                    self.slots[index] = Some(slot);
-                }
-            }
-            settings
-        });
-        Event::UserTechnique {
-            index,
-            id,
-            name: aa::user::display_name(id),
-            result,
-        }
-    }
-
-    /// Rebuilds the user techniques whose files changed (looked at about once a second).
-    fn reload_user_techniques(&mut self, send: &dyn Fn(Event)) {
-        for index in self.watcher.changed(std::time::Instant::now()) {
-            if let Some(&(_, id)) = self.user_ids.iter().find(|(i, _)| *i == index) {
-                send(self.build_user(index, id));
-            }
-        }
-    }
-
     /// Replaces the reference with one of `samples` samples per pixel.
     fn set_reference_samples(&mut self, samples: u32) {
         if samples != self.reference_samples {
@@ -625,48 +506,6 @@ impl RenderState {
             self.reference = control;
             self.reference_samples = samples;
         }
-    }
-
-    /// Renders `job`, sending each recorded frame through `send`, and scores it (the viewer's
-    /// reference comes back afterwards).
-    fn record_clip(
-        &mut self,
-        job: &ClipJob,
-        send: &dyn Fn(Event),
-    ) -> Result<ClipSummary, RenderError> {
-        let live_samples = self.reference_samples;
-        if let Some(samples) = job.reference {
-            self.set_reference_samples(samples);
-        }
-        let recorded = self.record_clip_frames(job, send);
-        self.set_reference_samples(live_samples);
-        recorded
-    }
-
-    /// Renders `job` with the library's [`ClipRecorder`], sending each recorded frame through
-    /// `send`, and scores it.
-    fn record_clip_frames(
-        &mut self,
-        job: &ClipJob,
-        send: &dyn Fn(Event),
-    ) -> Result<ClipSummary, RenderError> {
-        let recorder = ClipRecorder::new(
-            job.cameras.clone(),
-            job.warmup,
-            job.run.len(),
-            job.reference.is_some(),
-        );
-        let clip = recorder.record(&mut ViewerClipFrames {
-            state: self,
-            job,
-            send,
-        })?;
-        Ok(ClipSummary {
-            complete: clip.complete,
-            reference_change: clip.reference_change(),
-            instability_maps: clip.instability_maps(),
-            scores: clip.scores(),
-        })
     }
 
     /// Runs exactly the slots of `run` (and the reference when `reference`) and keeps those
@@ -796,212 +635,4 @@ impl RenderState {
             !plan.textures,
         )
     }
-}
-
-/// A clip frame as the viewer shows it: the techniques' images and the reference's.
-struct ShownClipFrame {
-    outputs: Vec<(usize, RenderedImage)>,
-    reference: Option<RenderedImage>,
-}
-
-impl ScoredFrame for ShownClipFrame {
-    fn whole(&self) -> FrameImages<'_> {
-        FrameImages {
-            techniques: self
-                .outputs
-                .iter()
-                .map(|(_, image)| &image.pixels)
-                .collect(),
-            reference: self.reference.as_ref().map(|image| &image.pixels),
-        }
-    }
-}
-
-/// The render thread's side of the recorder: renders a job's frames through the thread's
-/// graph and readback belt, and sends every recorded frame to the UI.
-struct ViewerClipFrames<'a> {
-    state: &'a mut RenderState,
-    job: &'a ClipJob,
-    send: &'a dyn Fn(Event),
-}
-
-impl ClipFrames for ViewerClipFrames<'_> {
-    type Frame = ShownClipFrame;
-    type Error = RenderError;
-
-    fn cancelled(&self) -> bool {
-        self.job.cancel.load(Ordering::Relaxed)
-    }
-
-    fn warm_up(&mut self, frame: &FrameInfo) -> Result<(), RenderError> {
-        let run = &self.job.run;
-        self.state.enable(run, run, false);
-        self.state.graph.render(frame, FrameScope::TemporalOnly)?;
-        self.state.graph.finish();
-        Ok(())
-    }
-
-    fn capture(&mut self, frame: &FrameInfo) -> Result<ShownClipFrame, RenderError> {
-        let job = self.job;
-        let plan = FramePlan {
-            frame: *frame,
-            run: job.run.clone(),
-            read: job.run.clone(),
-            // Every frame needs textures of its own: the outputs' are overwritten.
-            textures: false,
-            debug: Vec::new(),
-            reference: job.reference.map(|_| ReferenceRequest {
-                restart: true,
-                budget: self.state.reference_samples,
-            }),
-            on: job.run.clone(),
-            report_memory: false,
-            delay: Duration::ZERO,
-        };
-        let result = self.state.render(&plan)?;
-        Ok(ShownClipFrame {
-            outputs: result
-                .outputs
-                .into_iter()
-                .filter_map(|(index, output)| {
-                    let texture = output.display?;
-                    let pixels = output.pixels?;
-                    Some((index, RenderedImage { pixels, texture }))
-                })
-                .collect(),
-            reference: result.reference.map(|(_, image)| image),
-        })
-    }
-
-    fn deliver(&mut self, _number: usize, frame: ShownClipFrame) -> Result<(), RenderError> {
-        (self.send)(Event::ClipFrame {
-            outputs: frame.outputs,
-            reference: frame.reference,
-        });
-        Ok(())
-    }
-}
-
-/// The readback copies of one frame.
-struct Tickets {
-    outputs: Vec<(usize, Ticket)>,
-    debug: Vec<(usize, &'static str, &'static str, Ticket)>,
-    reference: Option<Ticket>,
-}
-
-impl Tickets {
-    /// Records a copy of every output that rendered, the debug views the plan asks for and
-    /// the reference.
-    fn record(
-        belt: &mut ReadbackBelt,
-        encoder: &mut wgpu::CommandEncoder,
-        slots: &[crate::graph::Slot],
-        plan: &FramePlan,
-        slot_of: &[Option<usize>],
-        reference_slot: usize,
-    ) -> Result<Self, ReadbackError> {
-        let mut copy =
-            |texture: &wgpu::Texture| belt.copy_texture(encoder, texture, Region::whole(texture));
-        let mut tickets = Self {
-            outputs: Vec::new(),
-            debug: Vec::new(),
-            reference: None,
-        };
-        let slot = |index: usize| Some(&slots[slot_of.get(index).copied().flatten()?]);
-        for &index in &plan.read {
-            if let Some(texture) = slot(index).and_then(|s| s.output()) {
-                tickets.outputs.push((index, copy(texture)?));
-            }
-        }
-        for &index in &plan.debug {
-            if let Some(slot) = slot(index) {
-                for view in slot.technique.debug_views() {
-                    if view.texture.usage().contains(wgpu::TextureUsages::COPY_SRC) {
-                        tickets.debug.push((
-                            index,
-                            view.name,
-                            view.description,
-                            copy(view.texture)?,
-                        ));
-                    }
-                }
-            }
-        }
-        if plan.reference.is_some()
-            && let Some(texture) = slots[reference_slot].output()
-        {
-            tickets.reference = Some(copy(texture)?);
-        }
-        Ok(tickets)
-    }
-
-    /// Waits for the copies, uploads the images for display and builds the frame's result
-    /// (without the graph's figures). `textures` are outputs shown from their own texture;
-    /// other read-back outputs are uploaded when `shown_as_is` (the read-back display), and
-    /// only their pixels kept otherwise (the native display reading a still frame's pixels).
-    fn take(
-        self,
-        pending: PendingReadback,
-        uploader: &Uploader,
-        reference_progress: Progress,
-        textures: Vec<(usize, wgpu::Texture)>,
-        shown_as_is: bool,
-    ) -> Result<FrameResult, RenderError> {
-        let read = pending.wait()?;
-        let image = |ticket: Ticket| -> Result<RenderedImage, RenderError> {
-            let pixels = read.rgba8(ticket)?;
-            let texture = uploader.upload(&pixels);
-            Ok(RenderedImage { pixels, texture })
-        };
-        let mut outputs: Vec<(usize, FrameOutput)> = textures
-            .into_iter()
-            .map(|(index, texture)| {
-                let output = FrameOutput {
-                    display: Some(uploader.wrap(texture)),
-                    pixels: None,
-                };
-                (index, output)
-            })
-            .collect();
-        for &(index, ticket) in &self.outputs {
-            let pixels = read.rgba8(ticket)?;
-            match outputs.iter_mut().find(|(i, _)| *i == index) {
-                // The output texture itself is shown: the pixels are for the CPU only.
-                Some((_, output)) => output.pixels = Some(pixels),
-                None => {
-                    let display = shown_as_is.then(|| uploader.upload(&pixels));
-                    outputs.push((
-                        index,
-                        FrameOutput {
-                            display,
-                            pixels: Some(pixels),
-                        },
-                    ));
-                }
-            }
-        }
-        let result = FrameResult {
-            outputs,
-            debug: collect(&self.debug, |&(index, name, description, ticket)| {
-                Ok((index, name, description, image(ticket)?))
-            })?,
-            reference: self
-                .reference
-                .map(|ticket| Ok::<_, RenderError>((reference_progress, image(ticket)?)))
-                .transpose()?,
-            memory: None,
-            scene_renders: 0,
-            timings: None,
-        };
-        uploader.flush();
-        Ok(result)
-    }
-}
-
-/// Maps every item, stopping at the first error.
-fn collect<T, U>(
-    items: &[T],
-    map: impl FnMut(&T) -> Result<U, RenderError>,
-) -> Result<Vec<U>, RenderError> {
-    items.iter().map(map).collect()
 }
