@@ -1,0 +1,384 @@
+//! The clip bar above the status bar (record, play, scrub, export) and what its buttons do
+//! to the workspace: recording the compared techniques along the chosen camera path within
+//! the memory cap, showing the clip or the live view, playback ticks.
+
+use super::*;
+
+/// What the clip bar asks the app to do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ClipAction {
+    /// Record a clip with the current settings.
+    Record,
+    /// Stop the recording.
+    Cancel,
+    /// Show the live view again (the clip stays for later).
+    ShowLive,
+    /// Show the clip.
+    ShowClip,
+    /// Drop the clip.
+    Discard,
+    /// Export the clip as an animation.
+    Export,
+}
+
+/// The clip bar above the status bar: record, play, scrub, export.
+pub fn clip_bar(
+    ui: &mut egui::Ui,
+    settings: &mut ClipSettings,
+    clip: Option<&mut Clip>,
+    shown: bool,
+    estimate: Option<u64>,
+) -> Option<ClipAction> {
+    let mut action = None;
+    ui.horizontal_wrapped(|ui| {
+        ui.label(RichText::new("Clip").strong());
+        let recording = clip.as_ref().is_some_and(|c| c.recording_now());
+        ui.add_enabled_ui(!recording, |ui| {
+            if recipe_controls(ui, settings) {
+                action = Some(ClipAction::Record);
+            }
+        });
+        if let Some(bytes) = estimate {
+            ui.label(
+                RichText::new(format!("≈ {}", mib(bytes)))
+                    .small()
+                    .color(ui.visuals().weak_text_color()),
+            )
+            .on_hover_text(format!(
+                "Memory the clip will hold (pixels and their display copies); the cap is {} MiB",
+                settings.budget_mib
+            ));
+        }
+        let Some(clip) = clip else {
+            return;
+        };
+        ui.separator();
+        let count = clip.frames.len();
+        if recording {
+            let progress = count as f32 / clip.expected.max(1) as f32;
+            ui.add(
+                egui::ProgressBar::new(progress)
+                    .desired_width(160.0)
+                    .text(format!("{count}/{} frames", clip.expected)),
+            );
+            if ui.button("Cancel").clicked() {
+                action = Some(ClipAction::Cancel);
+            }
+        }
+        if count == 0 {
+            return;
+        }
+        if !shown {
+            if ui.button("Show clip").clicked() {
+                action = Some(ClipAction::ShowClip);
+            }
+        } else {
+            playback_controls(ui, &mut clip.player, count);
+            if ui.button("Live").on_hover_text("Back to the live view (the clip stays)").clicked() {
+                action = Some(ClipAction::ShowLive);
+            }
+        }
+        if !recording {
+            if ui.button("Export…").on_hover_text("Write the clip as a looping animated PNG and a self-contained HTML comparison page, with its record").clicked() {
+                action = Some(ClipAction::Export);
+            }
+            if ui.button("Discard").clicked() {
+                action = Some(ClipAction::Discard);
+            }
+        }
+        let status = match &clip.status {
+            ClipStatus::Recording(_) => format!("{:.0} s", clip.seconds()),
+            ClipStatus::Complete => String::new(),
+            ClipStatus::Cancelled => "cancelled".to_owned(),
+            ClipStatus::Failed(reason) => format!("failed: {reason}"),
+        };
+        let text = format!("{} · {}{}", clip.description, mib(clip.bytes), if status.is_empty() { String::new() } else { format!(" · {status}") });
+        ui.label(RichText::new(text).small().color(if matches!(clip.status, ClipStatus::Failed(_)) { style::ERROR } else { ui.visuals().weak_text_color() }));
+    });
+    action
+}
+
+/// The Record button and what a recording takes: the camera path, frames, speed and the
+/// reference; returns whether Record was pressed.
+fn recipe_controls(ui: &mut egui::Ui, settings: &mut ClipSettings) -> bool {
+    let record = ui
+        .button("Record")
+        .on_hover_text("Render the camera path through the compared techniques and keep the frames for playback")
+        .clicked();
+    egui::ComboBox::from_id_salt("clip path")
+        .selected_text(settings.path.label())
+        .width(90.0)
+        .show_ui(ui, |ui| {
+            for path in ClipPath::ALL {
+                ui.selectable_value(&mut settings.path, path, path.label());
+            }
+        })
+        .response
+        .on_hover_text("Camera path: pan turns in place (sub-pixel per frame), orbit circles the target, dolly moves in, still only jitters, bookmarks goes through the scene's camera bookmarks");
+    ui.add(
+        egui::DragValue::new(&mut settings.frames)
+            .range(2..=MAX_FRAMES)
+            .suffix(" frames"),
+    );
+    if matches!(settings.path, ClipPath::Motion(m) if m.uses_speed()) {
+        ui.add(
+            egui::DragValue::new(&mut settings.speed_px)
+                .range(0.01..=64.0)
+                .speed(0.01)
+                .suffix(" px/frame"),
+        );
+    }
+    ui.checkbox(&mut settings.reference, "reference")
+        .on_hover_text("Render the complete reference with every frame: needed for temporal instability and ghosting (slower)");
+    if settings.reference {
+        egui::ComboBox::from_id_salt("clip reference samples")
+            .selected_text(format!("{} spp", settings.reference_samples))
+            .width(64.0)
+            .show_ui(ui, |ui| {
+                for samples in [16, 64] {
+                    ui.selectable_value(
+                        &mut settings.reference_samples,
+                        samples,
+                        format!("{samples} spp"),
+                    );
+                }
+            })
+            .response
+            .on_hover_text("Samples per pixel of the clip's reference: 64 is the bench's, 16 records about four times faster");
+    }
+    record
+}
+
+/// Play and pause, single steps, the scrubber, the rate and ping-pong of a shown clip of
+/// `count` frames.
+fn playback_controls(ui: &mut egui::Ui, player: &mut ClipPlayer, count: usize) {
+    let play = if player.playing {
+        "Pause clip"
+    } else {
+        "Play clip"
+    };
+    if ui
+        .button(play)
+        .on_hover_text("Play or pause (Space)")
+        .clicked()
+    {
+        player.playing = !player.playing;
+    }
+    if ui.button("-1").on_hover_text("One frame back").clicked() {
+        player.step(-1, count);
+    }
+    if ui.button("+1").on_hover_text("One frame forward").clicked() {
+        player.step(1, count);
+    }
+    let mut index = player.frame(count);
+    let scrub = ui.add(
+        egui::Slider::new(&mut index, 0..=count - 1)
+            .show_value(false)
+            .trailing_fill(true),
+    );
+    if scrub.changed() {
+        player.seek(index);
+    }
+    ui.label(RichText::new(format!("{:>3}/{count}", index + 1)).monospace());
+    egui::ComboBox::from_id_salt("clip rate")
+        .selected_text(player.rate.label())
+        .width(70.0)
+        .show_ui(ui, |ui| {
+            for rate in PlayRate::ALL {
+                ui.selectable_value(&mut player.rate, rate, rate.label());
+            }
+        });
+    ui.checkbox(&mut player.ping_pong, "ping-pong");
+    if let Some(shown) = player
+        .shown_fps()
+        .filter(|fps| *fps < 0.95 * player.rate.fps())
+    {
+        ui.label(RichText::new(format!("shown at {shown:.0} fps")).small().color(style::WARN))
+            .on_hover_text("The window paints fewer frames per second than the clip's rate: every frame is shown, more slowly");
+    }
+}
+
+/// `bytes` in MiB, for labels.
+fn mib(bytes: u64) -> String {
+    format!("{:.0} MiB", bytes as f64 / (1024.0 * 1024.0))
+}
+
+impl Workspace {
+    /// Shows the clip or the live view.
+    pub(in crate::app) fn show_clip(&mut self, shown: bool) {
+        if let Some(engine) = &mut self.engine {
+            engine.show_clip(shown);
+        }
+    }
+
+    /// Records a clip of the compared techniques along the chosen path from the current view.
+    pub(in crate::app) fn record_clip(&mut self) {
+        let ids = self.compared();
+        let size = self.render_size;
+        let settings = self.settings.clip;
+        if ids.is_empty() {
+            self.notify(
+                Level::Warning,
+                "Switch on a technique to record a clip of it.",
+            );
+            return;
+        }
+        if size.0 == 0 || size.1 == 0 {
+            self.notify(Level::Warning, "The viewport has no size to record at.");
+            return;
+        }
+        let bytes = settings.bytes(ids.len() + usize::from(settings.reference), size);
+        let cap = u64::from(settings.budget_mib) << 20;
+        if bytes > cap {
+            self.notify(
+                Level::Error,
+                format!(
+                    "A clip of {} frames of {} images at {}x{} would hold {}; the cap is {} MiB. Record fewer frames, at a smaller resolution or with fewer techniques.",
+                    settings.frames,
+                    ids.len() + usize::from(settings.reference),
+                    size.0,
+                    size.1,
+                    mib(bytes),
+                    settings.budget_mib
+                ),
+            );
+            return;
+        }
+        let bookmarks: Vec<OrbitPose> = self.scene_bookmarks().iter().map(|b| b.pose).collect();
+        let Some(cameras) =
+            settings.cameras(self.camera.rig(), self.camera.pose(), &bookmarks, size)
+        else {
+            self.notify(
+                Level::Warning,
+                "The bookmark path needs at least two camera bookmarks of this scene (Camera > Add bookmark).",
+            );
+            return;
+        };
+        let Some(engine) = &self.engine else {
+            return;
+        };
+        let recipe = ClipRecipe {
+            scene: self
+                .scene
+                .as_ref()
+                .map_or_else(String::new, |s| s.spec.clone()),
+            path: settings.path,
+            speed_px: settings.speed_px,
+            warmup: settings.warmup,
+            frames: settings.frames,
+            size,
+            start: self.camera.pose(),
+            bookmarks: if settings.path == ClipPath::Bookmarks {
+                bookmarks
+            } else {
+                Vec::new()
+            },
+            techniques: ids.iter().map(|id| engine.technique_spec(id)).collect(),
+            reference_samples: settings.reference.then_some(settings.reference_samples),
+            adapter: format!("{} ({})", engine.caps().adapter_name, engine.caps().backend),
+            build: crate::spec::build_id(),
+        };
+        let description = recipe.describe(self.scene.as_ref().map_or("scene", |s| s.name.as_str()));
+        let Some(engine) = &mut self.engine else {
+            return;
+        };
+        if let Err(err) = engine.record_clip(cameras, &ids, recipe, description) {
+            self.notify(Level::Error, err.to_string());
+        }
+    }
+
+    /// The clip's progress: frames recorded, and whether it is still recording (`None`: no
+    /// clip).
+    pub(in crate::app) fn clip_progress(&self) -> Option<(usize, bool)> {
+        let clip = self.engine.as_ref()?.clip()?;
+        Some((clip.frames.len(), clip.recording_now()))
+    }
+
+    /// The clip's temporal figures per technique, once recorded with the reference.
+    pub(in crate::app) fn clip_scores(&self) -> Option<Vec<TemporalScores>> {
+        self.engine.as_ref()?.clip()?.scores.clone()
+    }
+
+    /// The instability map of technique `id` in the shown clip.
+    pub(in crate::app) fn instability_map(&self, id: &str) -> Option<Arc<crate::metrics::Plane>> {
+        let engine = self.engine.as_ref()?;
+        let clip = engine.clip().filter(|_| engine.clip_shown())?;
+        let slot = clip.techniques.iter().position(|t| *t == id)?;
+        clip.instability_maps.as_ref()?.get(slot).cloned()
+    }
+
+    /// The index of the clip frame on screen (`None` when the live view is).
+    pub(in crate::app) fn shown_clip_frame(&self) -> Option<usize> {
+        let engine = self.engine.as_ref()?;
+        let clip = engine.clip().filter(|_| engine.clip_shown())?;
+        Some(clip.player.frame(clip.frames.len()))
+    }
+
+    /// Advances the shown clip's playback; asks for the next UI frame when it plays.
+    pub(in crate::app) fn tick_clip(&mut self, ctx: &egui::Context) {
+        let Some(engine) = &mut self.engine else {
+            return;
+        };
+        if !engine.clip_shown() {
+            return;
+        }
+        let Some(clip) = engine.clip_mut() else {
+            return;
+        };
+        let frames = clip.frames.len();
+        if clip.recording_now() {
+            // While it records, the clip shows its newest frame; each recorded frame wakes the
+            // UI. (Looping over the frames so far would repaint without pause and, on a
+            // software rasteriser, take the CPU the recording needs, doubling its time; see
+            // docs/viewer.md.) Playback starts when the recording ends.
+            clip.player.show_newest(frames);
+            return;
+        }
+        clip.player.tick(Instant::now(), frames);
+        if clip.player.playing && frames > 1 {
+            if clip.player.rate.fps() >= REPAINT_EVERY_FRAME_FPS {
+                // Real time: paint as often as the display (or the rasteriser) allows, so a
+                // frame that takes most of a clip period still lands on every clip frame.
+                crate::app::request_one_frame(ctx);
+            } else {
+                // Slow motion: the next UI frame when the next clip frame is due.
+                let due = std::time::Duration::from_secs_f64(clip.player.until_next_frame());
+                ctx.request_repaint_after(due);
+            }
+        }
+    }
+}
+
+/// The clip bar (a bottom panel above the status bar) and what its buttons ask for.
+pub(in crate::app) fn panel(ui: &mut egui::Ui, ws: &mut Workspace) {
+    let images = ws.compared().len() + usize::from(ws.settings.clip.reference);
+    let estimate = ws.settings.clip.bytes(images, ws.render_size);
+    let Some(engine) = &mut ws.engine else {
+        return;
+    };
+    let shown = engine.clip_shown();
+    let settings = &mut ws.settings.clip;
+    let action = egui::Panel::bottom("clip bar")
+        .frame(egui::Frame::side_top_panel(ui.style()).inner_margin(egui::Margin::symmetric(8, 4)))
+        .show(ui, |ui| {
+            clip_bar(ui, settings, engine.clip_mut(), shown, Some(estimate))
+        })
+        .inner;
+    match action {
+        Some(ClipAction::Record) => ws.record_clip(),
+        Some(ClipAction::Cancel) => {
+            if let Some(clip) = engine.clip() {
+                clip.cancel();
+            }
+        }
+        Some(ClipAction::ShowLive) => ws.show_clip(false),
+        Some(ClipAction::ShowClip) => ws.show_clip(true),
+        Some(ClipAction::Discard) => {
+            if let Some(engine) = &mut ws.engine {
+                engine.discard_clip();
+            }
+        }
+        Some(ClipAction::Export) => ws.export_clip(),
+        None => {}
+    }
+}
