@@ -1,0 +1,82 @@
+//! What a blind session records: each technique's wins and ties ([`Summary`]) and the
+//! answers file, rewritten after every answer by a writer thread of its own (atomically, and
+//! never over a file the session did not create).
+
+use super::*;
+
+/// Wins of one technique.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub(super) struct Wins {
+    pub(super) id: &'static str,
+    pub(super) name: String,
+    pub(super) wins: usize,
+    pub(super) still: usize,
+    pub(super) in_motion: usize,
+}
+
+/// The file's summary.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub(super) struct Summary {
+    pub(super) trials: usize,
+    /// Answers of no preference.
+    pub(super) ties: usize,
+    /// Per technique, in the session's order.
+    pub(super) wins: Vec<Wins>,
+}
+
+/// The answers file.
+#[derive(serde::Serialize)]
+pub(super) struct AnswersFile<'a> {
+    pub(super) schema: &'static str,
+    pub(super) seed: u64,
+    pub(super) started_unix_seconds: u64,
+    pub(super) build: &'a str,
+    pub(super) adapter: &'a str,
+    pub(super) techniques: &'a [Contestant],
+    pub(super) summary: Summary,
+    pub(super) trials: &'a [Trial],
+}
+
+/// Writes the answers file on a thread of its own, newest contents first.
+pub(super) struct Writer {
+    pub(super) contents: mpsc::Sender<(usize, String)>,
+    pub(super) results: mpsc::Receiver<(usize, Result<(), String>)>,
+}
+
+impl Writer {
+    /// Starts the thread that writes `path`: the first write creates it (and fails when the
+    /// name is taken), later ones replace it.
+    pub(super) fn spawn(path: PathBuf, ctx: &egui::Context) -> std::io::Result<Self> {
+        let (contents, jobs) = mpsc::channel::<(usize, String)>();
+        let (done, results) = mpsc::channel();
+        let ctx = ctx.clone();
+        std::thread::Builder::new()
+            .name("aa-lab blind answers".to_owned())
+            .spawn(move || {
+                let mut created = false;
+                while let Ok(mut job) = jobs.recv() {
+                    // Every text holds every answer: only the newest waiting one matters.
+                    while let Ok(newer) = jobs.try_recv() {
+                        job = newer;
+                    }
+                    let (answers, text) = job;
+                    let result = write_answers(&path, created, &text);
+                    created |= result.is_ok();
+                    let _ = done.send((answers, result));
+                    crate::app::request_one_frame(&ctx);
+                }
+            })?;
+        Ok(Self { contents, results })
+    }
+}
+
+/// Writes the answers file atomically; `ours` allows replacing it (it is this session's).
+pub(super) fn write_answers(path: &Path, ours: bool, text: &str) -> Result<(), String> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|err| format!("cannot create {}: {err}", dir.display()))?;
+    }
+    files::write_bytes(path, &Overwrite::new(ours), text.as_bytes())
+        .map(|_| ())
+        .map_err(|err| err.to_string())
+}
