@@ -386,6 +386,23 @@ pub fn write_charts(
     dir: &Path,
     policy: &Overwrite,
 ) -> Result<Vec<PathBuf>, ChartError> {
+    let mut written = time_charts(report, dir, policy)?;
+    if report.settings.quality {
+        written.extend(tradeoff_charts(report, dir)?);
+        written.extend(ssim_charts(report, dir, policy)?);
+    }
+    if let Some(by) = report.settings.sweep.as_deref() {
+        written.extend(scaling_charts(report, by, dir, policy)?);
+    }
+    Ok(written)
+}
+
+/// Per run: each technique's GPU time, its scene render and its own passes stacked.
+fn time_charts(
+    report: &BenchReport,
+    dir: &Path,
+    policy: &Overwrite,
+) -> Result<Vec<PathBuf>, ChartError> {
     let mut written = Vec::new();
     for run in &report.runs {
         let names: Vec<String> = run.techniques.iter().map(|t| t.name.clone()).collect();
@@ -423,117 +440,141 @@ pub fn write_charts(
         )?;
         written.push(path);
     }
-    if report.settings.quality {
-        for run in &report.runs {
-            let points = tradeoff_points(run);
-            if points.is_empty() {
-                continue;
-            }
-            let path = dir.join(tradeoff_chart_name(run));
-            let title = format!(
-                "Quality against cost, {} {}x{} ({})",
-                run.scene, run.width, run.height, report.adapter.adapter_name
-            );
-            draw_tradeoff(
-                &path,
-                &TradeoffChart {
-                    title: &title,
-                    x_label: "GPU milliseconds per frame (median), technique alone",
-                    y_label: "SSIM against the 64-sample reference",
-                    points: &points,
-                },
-            )?;
-            written.push(path);
+    Ok(written)
+}
+
+/// Per run: SSIM against GPU time, one point per technique.
+fn tradeoff_charts(report: &BenchReport, dir: &Path) -> Result<Vec<PathBuf>, ChartError> {
+    let mut written = Vec::new();
+    for run in &report.runs {
+        let points = tradeoff_points(run);
+        if points.is_empty() {
+            continue;
         }
-        for scene in scenes(report) {
-            let runs: Vec<&RunReport> = report.runs.iter().filter(|r| r.scene == scene).collect();
-            let columns = technique_columns(report);
-            let names: Vec<String> = columns.iter().map(|(_, n)| n.clone()).collect();
-            let series: Vec<BarSeries> = runs
+        let path = dir.join(tradeoff_chart_name(run));
+        let title = format!(
+            "Quality against cost, {} {}x{} ({})",
+            run.scene, run.width, run.height, report.adapter.adapter_name
+        );
+        draw_tradeoff(
+            &path,
+            &TradeoffChart {
+                title: &title,
+                x_label: "GPU milliseconds per frame (median), technique alone",
+                y_label: "SSIM against the 64-sample reference",
+                points: &points,
+            },
+        )?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+/// Per scene: each technique's SSIM, one bar per size.
+fn ssim_charts(
+    report: &BenchReport,
+    dir: &Path,
+    policy: &Overwrite,
+) -> Result<Vec<PathBuf>, ChartError> {
+    let mut written = Vec::new();
+    for scene in scenes(report) {
+        let runs: Vec<&RunReport> = report.runs.iter().filter(|r| r.scene == scene).collect();
+        let columns = technique_columns(report);
+        let names: Vec<String> = columns.iter().map(|(_, n)| n.clone()).collect();
+        let series: Vec<BarSeries> = runs
+            .iter()
+            .map(|r| BarSeries {
+                name: format!("{}x{}", r.width, r.height),
+                values: columns
+                    .iter()
+                    .map(|(id, _)| {
+                        r.technique(id)
+                            .and_then(|t| t.quality)
+                            .map_or(f64::NAN, |q| q.ssim)
+                    })
+                    .collect(),
+            })
+            .collect();
+        let lowest = series
+            .iter()
+            .flat_map(|s| s.values.iter().copied())
+            .filter(|v| v.is_finite())
+            .fold(1.0, f64::min);
+        let floor = ((lowest - 0.05) * 10.0).floor() / 10.0;
+        let path = dir.join(format!("ssim-{scene}.png"));
+        let title = format!("SSIM against 64-sample SSAA, {scene}");
+        draw_bars(
+            &path,
+            &BarChart {
+                title: &title,
+                value_label: "mean SSIM (luma), 1 = identical to the reference",
+                categories: &names,
+                series: &series,
+                layout: BarLayout::Grouped,
+                range: Some((floor.clamp(0.0, 0.9), 1.0)),
+                decimals: 3,
+            },
+            policy,
+        )?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+/// Per scene of a sweep (`by` density or resolution): GPU time and the time added over No AA
+/// against the swept quantity.
+fn scaling_charts(
+    report: &BenchReport,
+    by: &str,
+    dir: &Path,
+    policy: &Overwrite,
+) -> Result<Vec<PathBuf>, ChartError> {
+    let mut written = Vec::new();
+    let x_label = if by == "density" {
+        "millions of triangles"
+    } else {
+        "megapixels"
+    };
+    for scene in scenes(report) {
+        let curves = scaling_curves(report, &scene, by);
+        for (kind, title, log_y) in [
+            ("total", "GPU ms per frame, technique alone", true),
+            ("overhead", "GPU ms added over No AA", false),
+        ] {
+            let lines: Vec<Line> = curves
                 .iter()
-                .map(|r| BarSeries {
-                    name: format!("{}x{}", r.width, r.height),
-                    values: columns
+                .filter(|(id, _, _)| kind == "total" || id != aa::none::ID)
+                .map(|(_, name, points)| Line {
+                    name: name.clone(),
+                    points: points
                         .iter()
-                        .map(|(id, _)| {
-                            r.technique(id)
-                                .and_then(|t| t.quality)
-                                .map_or(f64::NAN, |q| q.ssim)
+                        .map(|p| {
+                            (
+                                p.x,
+                                if kind == "total" {
+                                    p.total_ms
+                                } else {
+                                    p.overhead_ms
+                                },
+                            )
                         })
                         .collect(),
                 })
                 .collect();
-            let lowest = series
-                .iter()
-                .flat_map(|s| s.values.iter().copied())
-                .filter(|v| v.is_finite())
-                .fold(1.0, f64::min);
-            let floor = ((lowest - 0.05) * 10.0).floor() / 10.0;
-            let path = dir.join(format!("ssim-{scene}.png"));
-            let title = format!("SSIM against 64-sample SSAA, {scene}");
-            draw_bars(
+            let path = dir.join(format!("scaling-{by}-{scene}-{kind}.png"));
+            let title = format!("{title}: {scene}, {by} sweep");
+            draw_lines(
                 &path,
-                &BarChart {
+                &LineChart {
                     title: &title,
-                    value_label: "mean SSIM (luma), 1 = identical to the reference",
-                    categories: &names,
-                    series: &series,
-                    layout: BarLayout::Grouped,
-                    range: Some((floor.clamp(0.0, 0.9), 1.0)),
-                    decimals: 3,
+                    x_label,
+                    y_label: "GPU ms (median)",
+                    lines: &lines,
+                    log_y,
                 },
                 policy,
             )?;
             written.push(path);
-        }
-    }
-    if let Some(by) = report.settings.sweep.as_deref() {
-        let x_label = if by == "density" {
-            "millions of triangles"
-        } else {
-            "megapixels"
-        };
-        for scene in scenes(report) {
-            let curves = scaling_curves(report, &scene, by);
-            for (kind, title, log_y) in [
-                ("total", "GPU ms per frame, technique alone", true),
-                ("overhead", "GPU ms added over No AA", false),
-            ] {
-                let lines: Vec<Line> = curves
-                    .iter()
-                    .filter(|(id, _, _)| kind == "total" || id != aa::none::ID)
-                    .map(|(_, name, points)| Line {
-                        name: name.clone(),
-                        points: points
-                            .iter()
-                            .map(|p| {
-                                (
-                                    p.x,
-                                    if kind == "total" {
-                                        p.total_ms
-                                    } else {
-                                        p.overhead_ms
-                                    },
-                                )
-                            })
-                            .collect(),
-                    })
-                    .collect();
-                let path = dir.join(format!("scaling-{by}-{scene}-{kind}.png"));
-                let title = format!("{title}: {scene}, {by} sweep");
-                draw_lines(
-                    &path,
-                    &LineChart {
-                        title: &title,
-                        x_label,
-                        y_label: "GPU ms (median)",
-                        lines: &lines,
-                        log_y,
-                    },
-                    policy,
-                )?;
-                written.push(path);
-            }
         }
     }
     Ok(written)
