@@ -27,6 +27,11 @@ use super::{AlphaMode, Filter, Scene, TextureImage, TextureSampler, Vertex, Wrap
 use crate::gpu::{self, COLOR_FORMAT, DEPTH_FORMAT, Gpu, MOTION_FORMAT};
 use crate::srgb;
 
+mod textures;
+
+pub use textures::{anisotropy_clamp, downsample_srgb, mip_level_count};
+use textures::{create_sampler, upload_texture};
+
 /// Where varyings are evaluated inside a multisampled pixel.
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
@@ -254,150 +259,17 @@ fn uniform_entry(
     }
 }
 
-/// Number of mip levels of a full chain for a size.
-pub fn mip_level_count(width: u32, height: u32) -> u32 {
-    32 - width.max(height).max(1).leading_zeros()
+/// The scene's meshes in one vertex and one index buffer, with a draw per mesh.
+struct Geometry {
+    vertex_buffer: wgpu::Buffer,
+    index_buffer: wgpu::Buffer,
+    draws: Vec<Draw>,
+    bytes: u64,
 }
 
-/// The next mip level of an sRGB-encoded RGBA8 image: a 2x2 box filter in linear light,
-/// colour weighted by alpha so that transparent texels do not bleed their colour.
-pub fn downsample_srgb(image: &image::RgbaImage) -> image::RgbaImage {
-    let (w, h) = image.dimensions();
-    let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
-    image::RgbaImage::from_fn(nw, nh, |x, y| {
-        let mut sum = Vec4::ZERO;
-        for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-            let p = image
-                .get_pixel((2 * x + dx).min(w - 1), (2 * y + dy).min(h - 1))
-                .0;
-            let a = f32::from(p[3]) / 255.0;
-            sum += Vec4::new(
-                srgb::decode_byte(p[0]) * a,
-                srgb::decode_byte(p[1]) * a,
-                srgb::decode_byte(p[2]) * a,
-                a,
-            );
-        }
-        let alpha = sum.w / 4.0;
-        let rgb = if sum.w > 0.0 {
-            sum.truncate() / sum.w
-        } else {
-            Vec3::ZERO
-        };
-        image::Rgba([
-            srgb::encode_byte(rgb.x),
-            srgb::encode_byte(rgb.y),
-            srgb::encode_byte(rgb.z),
-            (alpha * 255.0 + 0.5) as u8,
-        ])
-    })
-}
-
-/// `image` shrunk (keeping its aspect ratio) to fit within `limit` texels a side, with a
-/// warning naming the texture; borrowed unchanged when it fits.
-fn fit_texture<'a>(
-    image: &'a image::RgbaImage,
-    label: &str,
-    limit: u32,
-) -> std::borrow::Cow<'a, image::RgbaImage> {
-    let (width, height) = image.dimensions();
-    if width <= limit && height <= limit {
-        return std::borrow::Cow::Borrowed(image);
-    }
-    let scale = f64::from(limit) / f64::from(width.max(height));
-    let fit = |side: u32| ((f64::from(side) * scale).round() as u32).clamp(1, limit);
-    let (new_width, new_height) = (fit(width), fit(height));
-    log::warn!(
-        "texture {label} is {width}x{height}, larger than this adapter's largest texture side \
-         ({limit}): downscaled to {new_width}x{new_height}"
-    );
-    std::borrow::Cow::Owned(image::imageops::resize(
-        image,
-        new_width,
-        new_height,
-        image::imageops::FilterType::Triangle,
-    ))
-}
-
-fn upload_texture(gpu: &Gpu, texture: &TextureImage) -> wgpu::Texture {
-    let image = fit_texture(
-        &texture.image,
-        &texture.label,
-        gpu.caps.max_texture_dimension_2d,
-    );
-    let (width, height) = image.dimensions();
-    let levels = mip_level_count(width, height);
-    let gpu_texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(&texture.label),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: levels,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8UnormSrgb,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    let mut level_image = image.into_owned();
-    for level in 0..levels {
-        gpu::write_rgba8_level(gpu, &gpu_texture, level, &level_image);
-        if level + 1 < levels {
-            level_image = downsample_srgb(&level_image);
-        }
-    }
-    gpu_texture
-}
-
-/// Anisotropy of the material sampler: 8 on GPUs, none (1) on software rasterisers, where
-/// lavapipe's unbounded footprint scan can hang a frame (see the module docs).
-pub fn anisotropy_clamp(gpu: &Gpu) -> u16 {
-    if gpu.caps.software { 1 } else { 8 }
-}
-
-/// The wgpu sampler of a material's [`TextureSampler`]; anisotropic filtering (where the
-/// adapter gets it) only when every filter is linear, as wgpu requires.
-fn create_sampler(gpu: &Gpu, sampler: &TextureSampler) -> wgpu::Sampler {
-    let filter = |f: Filter| match f {
-        Filter::Nearest => wgpu::FilterMode::Nearest,
-        Filter::Linear => wgpu::FilterMode::Linear,
-    };
-    let wrap = |w: Wrap| match w {
-        Wrap::Repeat => wgpu::AddressMode::Repeat,
-        Wrap::MirroredRepeat => wgpu::AddressMode::MirrorRepeat,
-        Wrap::ClampToEdge => wgpu::AddressMode::ClampToEdge,
-    };
-    let all_linear = sampler.mag_filter == Filter::Linear
-        && sampler.min_filter == Filter::Linear
-        && sampler.mipmap_filter == Some(Filter::Linear);
-    let defaults = wgpu::SamplerDescriptor::default();
-    gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-        label: Some("scene material sampler"),
-        address_mode_u: wrap(sampler.wrap_u),
-        address_mode_v: wrap(sampler.wrap_v),
-        mag_filter: filter(sampler.mag_filter),
-        min_filter: filter(sampler.min_filter),
-        mipmap_filter: match sampler.mipmap_filter {
-            Some(Filter::Linear) => wgpu::MipmapFilterMode::Linear,
-            Some(Filter::Nearest) | None => wgpu::MipmapFilterMode::Nearest,
-        },
-        // Without mipmapping only the full-size level is read.
-        lod_max_clamp: if sampler.mipmap_filter.is_some() {
-            defaults.lod_max_clamp
-        } else {
-            0.0
-        },
-        anisotropy_clamp: if all_linear { anisotropy_clamp(gpu) } else { 1 },
-        ..defaults
-    })
-}
-
-impl SceneRenderer {
-    /// Uploads `scene`: geometry, textures with full mip chains, materials.
-    pub fn new(gpu: &Gpu, scene: &Scene) -> Self {
-        let device = &gpu.device;
+impl Geometry {
+    /// Concatenates every non-empty mesh of `scene` and uploads it.
+    fn upload(device: &wgpu::Device, scene: &Scene) -> Self {
         let mut vertices: Vec<Vertex> = Vec::with_capacity(scene.vertex_count());
         let mut indices: Vec<u32> = Vec::with_capacity(scene.triangle_count() * 3);
         let mut draws = Vec::with_capacity(scene.meshes.len());
@@ -436,12 +308,29 @@ impl SceneRenderer {
             contents: index_bytes,
             usage: wgpu::BufferUsages::INDEX,
         });
+        Self {
+            vertex_buffer,
+            index_buffer,
+            draws,
+            bytes: vertex_bytes.len() as u64 + index_bytes.len() as u64,
+        }
+    }
+}
 
-        let view_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+/// The scene pipeline's bind group layouts: the view (per pass), the material, the object.
+struct Layouts {
+    view: wgpu::BindGroupLayout,
+    material: wgpu::BindGroupLayout,
+    object: wgpu::BindGroupLayout,
+}
+
+impl Layouts {
+    fn new(device: &wgpu::Device) -> Self {
+        let view = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("scene view"),
             entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX_FRAGMENT, true)],
         });
-        let material_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        let material = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("scene material"),
             entries: &[
                 uniform_entry(0, wgpu::ShaderStages::FRAGMENT, false),
@@ -463,78 +352,101 @@ impl SceneRenderer {
                 },
             ],
         });
-        let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        let object = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("scene object"),
             entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX, true)],
         });
+        Self {
+            view,
+            material,
+            object,
+        }
+    }
+}
 
-        let mut bytes = vertex_bytes.len() as u64 + index_bytes.len() as u64;
-        let white = TextureImage {
-            label: "white".to_owned(),
-            image: image::RgbaImage::from_pixel(1, 1, image::Rgba([255; 4])),
-        };
-        let textures: Vec<wgpu::Texture> = scene
-            .textures
-            .iter()
-            .chain(std::iter::once(&white))
-            .map(|t| upload_texture(gpu, t))
-            .collect();
-        bytes += textures.iter().map(gpu::texture_bytes).sum::<u64>();
-        let views: Vec<wgpu::TextureView> = textures
-            .iter()
-            .map(|t| t.create_view(&Default::default()))
-            .collect();
-        let mut samplers: HashMap<TextureSampler, wgpu::Sampler> = HashMap::new();
-        let default_material = super::Material::default();
-        let materials = (0..scene.materials.len().max(1))
-            .map(|i| {
-                let m = scene.materials.get(i).unwrap_or(&default_material);
-                let (masked, cutoff) = match m.alpha_mode {
-                    AlphaMode::Opaque => (0.0, 0.0),
-                    AlphaMode::Mask { cutoff } => (1.0, cutoff),
-                };
-                let uniform = MaterialUniform {
-                    base_color: m.base_color.extend(m.opacity).to_array(),
-                    specular: m.specular.extend(m.shininess.max(1.0)).to_array(),
-                    params: [cutoff, f32::from(u8::from(m.unlit)), masked, 0.0],
-                };
-                let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(&format!("material {}", m.name)),
-                    contents: bytemuck::bytes_of(&uniform),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
-                let view = m
-                    .base_color_texture
-                    .and_then(|t| views.get(t))
-                    .unwrap_or_else(|| &views[views.len() - 1]);
-                let sampler = samplers
-                    .entry(m.sampler)
-                    .or_insert_with(|| create_sampler(gpu, &m.sampler));
-                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some(&format!("material {}", m.name)),
-                    layout: &material_layout,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: buffer.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: wgpu::BindingResource::TextureView(view),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: wgpu::BindingResource::Sampler(sampler),
-                        },
-                    ],
-                });
-                GpuMaterial {
-                    bind_group,
-                    cull_back: !m.double_sided,
-                }
-            })
-            .collect();
+/// Every material of `scene` (a default one for a scene without) with its uniform, texture
+/// (white when it has none) and sampler bound; returns them and the textures' bytes.
+fn upload_materials(
+    gpu: &Gpu,
+    scene: &Scene,
+    layout: &wgpu::BindGroupLayout,
+) -> (Vec<GpuMaterial>, u64) {
+    let device = &gpu.device;
+    let white = TextureImage {
+        label: "white".to_owned(),
+        image: image::RgbaImage::from_pixel(1, 1, image::Rgba([255; 4])),
+    };
+    let textures: Vec<wgpu::Texture> = scene
+        .textures
+        .iter()
+        .chain(std::iter::once(&white))
+        .map(|t| upload_texture(gpu, t))
+        .collect();
+    let bytes = textures.iter().map(gpu::texture_bytes).sum::<u64>();
+    let views: Vec<wgpu::TextureView> = textures
+        .iter()
+        .map(|t| t.create_view(&Default::default()))
+        .collect();
+    let mut samplers: HashMap<TextureSampler, wgpu::Sampler> = HashMap::new();
+    let default_material = super::Material::default();
+    let materials = (0..scene.materials.len().max(1))
+        .map(|i| {
+            let m = scene.materials.get(i).unwrap_or(&default_material);
+            let (masked, cutoff) = match m.alpha_mode {
+                AlphaMode::Opaque => (0.0, 0.0),
+                AlphaMode::Mask { cutoff } => (1.0, cutoff),
+            };
+            let uniform = MaterialUniform {
+                base_color: m.base_color.extend(m.opacity).to_array(),
+                specular: m.specular.extend(m.shininess.max(1.0)).to_array(),
+                params: [cutoff, f32::from(u8::from(m.unlit)), masked, 0.0],
+            };
+            let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(&format!("material {}", m.name)),
+                contents: bytemuck::bytes_of(&uniform),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let view = m
+                .base_color_texture
+                .and_then(|t| views.get(t))
+                .unwrap_or_else(|| &views[views.len() - 1]);
+            let sampler = samplers
+                .entry(m.sampler)
+                .or_insert_with(|| create_sampler(gpu, &m.sampler));
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(&format!("material {}", m.name)),
+                layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::TextureView(view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::Sampler(sampler),
+                    },
+                ],
+            });
+            GpuMaterial {
+                bind_group,
+                cull_back: !m.double_sided,
+            }
+        })
+        .collect();
+    (materials, bytes)
+}
 
+impl SceneRenderer {
+    /// Uploads `scene`: geometry, textures with full mip chains, materials.
+    pub fn new(gpu: &Gpu, scene: &Scene) -> Self {
+        let device = &gpu.device;
+        let geometry = Geometry::upload(device, scene);
+        let layouts = Layouts::new(device);
+        let (materials, texture_bytes) = upload_materials(gpu, scene, &layouts.material);
         let object_count = scene.meshes.len().max(1) as u64;
         let object_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("scene objects"),
@@ -544,7 +456,7 @@ impl SceneRenderer {
         });
         let object_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene objects"),
-            layout: &object_layout,
+            layout: &layouts.object,
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
                 resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
@@ -557,21 +469,21 @@ impl SceneRenderer {
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("scene"),
             bind_group_layouts: &[
-                Some(&view_layout),
-                Some(&material_layout),
-                Some(&object_layout),
+                Some(&layouts.view),
+                Some(&layouts.material),
+                Some(&layouts.object),
             ],
             immediate_size: 0,
         });
         let renderer = Self {
-            vertex_buffer,
-            index_buffer,
-            draws,
+            vertex_buffer: geometry.vertex_buffer,
+            index_buffer: geometry.index_buffer,
+            draws: geometry.draws,
             materials,
             object_buffer,
             object_bind_group,
             object_transforms: scene.meshes.iter().map(|m| m.spin).collect(),
-            view_layout,
+            view_layout: layouts.view,
             view_ring: None,
             next_view_slot: 0,
             pipeline_layout,
@@ -580,7 +492,7 @@ impl SceneRenderer {
             light: scene.light,
             clear_color: scene.clear_color,
             triangles: scene.triangle_count(),
-            bytes,
+            bytes: geometry.bytes + texture_bytes,
         };
         renderer.write_objects(gpu, 0.0, 0.0);
         renderer
