@@ -1,5 +1,6 @@
 //! The pieces a technique's full-screen passes are built from, spelled one way for every
-//! technique: bind-group layouts declared as a list of `(binding, kind)` pairs ([`layout`];
+//! technique: bind-group layouts declared as a list of `(binding, kind)` pairs ([`layout`],
+//! [`stage_layout`] for compute passes;
 //! explicit rather than derived from the shader, because several passes share one WGSL module
 //! and a derived layout would list only what one entry point uses), bind groups from
 //! resources in binding order ([`bind_group`]), full-screen pipelines with an optional
@@ -25,12 +26,29 @@ pub enum Binding {
     MultisampledDepth,
     /// A filtering sampler.
     Sampler,
+    /// A uniform buffer bound at a dynamic offset (one slot per draw).
+    DynamicUniform,
+    /// A float texture that is only loaded, of a format that need not be filterable.
+    UnfilterableTexture,
+    /// A read-write storage buffer.
+    StorageBuffer,
 }
 
 /// A bind-group layout for fragment-stage bindings.
 pub fn layout(
     device: &wgpu::Device,
     label: &str,
+    bindings: &[(u32, Binding)],
+) -> wgpu::BindGroupLayout {
+    stage_layout(device, label, wgpu::ShaderStages::FRAGMENT, bindings)
+}
+
+/// A bind-group layout whose bindings are visible to `stage` (compute passes, or a pass
+/// whose vertex stage reads them too).
+pub fn stage_layout(
+    device: &wgpu::Device,
+    label: &str,
+    stage: wgpu::ShaderStages,
     bindings: &[(u32, Binding)],
 ) -> wgpu::BindGroupLayout {
     let texture = |sample_type, multisampled| wgpu::BindingType::Texture {
@@ -42,13 +60,21 @@ pub fn layout(
         .iter()
         .map(|&(binding, kind)| wgpu::BindGroupLayoutEntry {
             binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
+            visibility: stage,
             ty: match kind {
-                Binding::Uniform => wgpu::BindingType::Buffer {
+                Binding::Uniform | Binding::DynamicUniform => wgpu::BindingType::Buffer {
                     ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: matches!(kind, Binding::DynamicUniform),
+                    min_binding_size: None,
+                },
+                Binding::StorageBuffer => wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: false },
                     has_dynamic_offset: false,
                     min_binding_size: None,
                 },
+                Binding::UnfilterableTexture => {
+                    texture(wgpu::TextureSampleType::Float { filterable: false }, false)
+                }
                 Binding::Texture => {
                     texture(wgpu::TextureSampleType::Float { filterable: true }, false)
                 }

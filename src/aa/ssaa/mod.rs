@@ -28,7 +28,7 @@ pub mod settings;
 pub use plan::{MAX_TILE_SIDE, TilePlan, progressive_order};
 pub use settings::{MAX_FACTOR, MAX_SAMPLES, Mode, SsaaSettings};
 
-use crate::aa::common::pass;
+use crate::aa::common::pass::{self, Binding};
 use crate::aa::common::sampling::{Filter, Pattern, accumulation_weights};
 use crate::aa::info::{TechniqueInfo, anywhere};
 use crate::aa::params::{Named, Param, ParamError, ParamValue, as_i64, as_named};
@@ -156,13 +156,14 @@ impl Ssaa {
         let tiles = plan.tiles().len() as u64;
         let params = pass::uniform_buffer_of_size(device, "ssaa tile origins", tiles * SLOT);
         let tile_view = targets.color.create_view(&Default::default());
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("ssaa downsample"),
-            entries: &[
-                texture_entry(0, wgpu::ShaderStages::FRAGMENT),
-                dynamic_uniform_entry(1, wgpu::ShaderStages::FRAGMENT),
+        let layout = pass::layout(
+            device,
+            "ssaa downsample",
+            &[
+                (0, Binding::UnfilterableTexture),
+                (1, Binding::DynamicUniform),
             ],
-        });
+        );
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("ssaa downsample"),
             bind_group_layouts: &[Some(&layout)],
@@ -306,23 +307,16 @@ impl Ssaa {
                 motion: false,
             },
         );
-        let accumulate_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("ssaa accumulate"),
-            entries: &[
-                texture_entry(0, wgpu::ShaderStages::COMPUTE),
-                dynamic_uniform_entry(1, wgpu::ShaderStages::COMPUTE),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: false },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+        let accumulate_layout = pass::stage_layout(
+            device,
+            "ssaa accumulate",
+            wgpu::ShaderStages::COMPUTE,
+            &[
+                (0, Binding::UnfilterableTexture),
+                (1, Binding::DynamicUniform),
+                (2, Binding::StorageBuffer),
             ],
-        });
+        );
         let accumulate_pipeline =
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("ssaa accumulate"),
@@ -511,35 +505,6 @@ impl Jittered {
             &self.resolve_pipeline,
             &self.resolve_group,
         );
-    }
-}
-
-fn texture_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
-fn dynamic_uniform_entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: true,
-            min_binding_size: None,
-        },
-        count: None,
     }
 }
 

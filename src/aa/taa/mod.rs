@@ -58,7 +58,7 @@ pub use settings::{
 
 use glam::Vec2;
 
-use crate::aa::common::pass;
+use crate::aa::common::pass::{self, Binding};
 use crate::aa::common::sampling::halton;
 use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, encoded_view};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
@@ -205,23 +205,6 @@ pub struct Taa {
     debug: Option<TaaDebug>,
 }
 
-fn layout_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty,
-        count: None,
-    }
-}
-
-fn texture_binding(sample_type: wgpu::TextureSampleType) -> wgpu::BindingType {
-    wgpu::BindingType::Texture {
-        sample_type,
-        view_dimension: wgpu::TextureViewDimension::D2,
-        multisampled: false,
-    }
-}
-
 fn color_attachment(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAttachment<'_>> {
     Some(wgpu::RenderPassColorAttachment {
         view,
@@ -245,28 +228,18 @@ impl Taa {
         let device = &gpu.device;
         // An explicit layout: every pipeline variant shares it, whatever bindings its override
         // constants leave unused.
-        let float = wgpu::TextureSampleType::Float { filterable: true };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("taa resolve"),
-            entries: &[
-                layout_entry(0, texture_binding(float)),
-                layout_entry(1, texture_binding(wgpu::TextureSampleType::Depth)),
-                layout_entry(2, texture_binding(float)),
-                layout_entry(3, texture_binding(float)),
-                layout_entry(
-                    4,
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                ),
-                layout_entry(
-                    5,
-                    wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                ),
+        let layout = pass::layout(
+            device,
+            "taa resolve",
+            &[
+                (0, Binding::Texture),
+                (1, Binding::Depth),
+                (2, Binding::Texture),
+                (3, Binding::Texture),
+                (4, Binding::Sampler),
+                (5, Binding::Uniform),
             ],
-        });
+        );
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("taa resolve"),
             bind_group_layouts: &[Some(&layout)],

@@ -36,7 +36,7 @@ use glam::Vec2;
 
 use super::params::{Param, ParamError, ParamKind, ParamValue, as_bool, as_f32, as_i64};
 use super::{FrameInfo, SceneInput, Technique};
-use crate::aa::common::pass;
+use crate::aa::common::pass::{self, Binding};
 use crate::gpu::fullscreen::{FragmentDesc, Fullscreen};
 use crate::gpu::{COLOR_FORMAT, Gpu};
 use crate::graph::{MemoryItem, PassContext};
@@ -221,40 +221,17 @@ impl UserTechnique {
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(gpu_error("shader", error));
         }
-        let texture = |binding, sample_type| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type,
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        };
-        let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("user technique"),
-            entries: &[
-                texture(0, wgpu::TextureSampleType::Float { filterable: true }),
-                texture(1, wgpu::TextureSampleType::Depth),
-                texture(2, wgpu::TextureSampleType::Float { filterable: false }),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 3,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 4,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+        let bind_group_layout = pass::layout(
+            device,
+            "user technique",
+            &[
+                (0, Binding::Texture),
+                (1, Binding::Depth),
+                (2, Binding::UnfilterableTexture),
+                (3, Binding::Sampler),
+                (4, Binding::Uniform),
             ],
-        });
+        );
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("user technique"),
             bind_group_layouts: &[Some(&bind_group_layout)],
