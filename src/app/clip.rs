@@ -160,6 +160,7 @@ impl ClipSettings {
                     prev_pose: pose(frame.saturating_sub(1))?,
                     frame,
                     size,
+                    render_size: None,
                 })
             })
             .collect()
