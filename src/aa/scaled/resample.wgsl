@@ -12,12 +12,13 @@
 //                12 pixels of the 4x4 neighbourhood without its corners, the luma gradients of
 //                the inner 2x2 pixels, weighted bilinearly, give a structure tensor whose main
 //                eigenvector is the gradient direction and whose eigenvalue spread is the
-//                anisotropy; each tap's offset is measured across and along that direction,
-//                the along-edge distance shrunk by up to half where the neighbourhood is an
-//                edge (the kernel stretches along it), and weighted by a windowed polynomial
-//                with a Lanczos-2-like negative lobe (stronger at edges, none in flat areas);
-//                the result is clamped to the nearest 2x2 pixels' range, so it cannot ring.
-//                Written from the description, not from AMD's source.
+//                anisotropy; how much the neighbourhood is one clean edge (anisotropic, of some
+//                contrast, and a step rather than a thin line) shrinks each tap's along-edge
+//                distance by up to half (the kernel stretches along the edge) and widens the
+//                window of a polynomial kernel with a Lanczos-2-like zero at distance 1 from
+//                sqrt(2) to 2 (a full negative lobe across clean edges only); the result is
+//                clamped to the nearest 2x2 pixels' range, so it cannot ring. Written from the
+//                description, not from AMD's source.
 // Sharpening (source and target of the same size; `strength` 0 leaves the image unchanged):
 //   fs_cas       contrast-adaptive (after AMD FidelityFX CAS): per channel, an amount from the
 //                3x3 range (high where the range sits away from black and white, i.e. soft
@@ -150,12 +151,14 @@ const EASU_TAPS = array<vec2<i32>, 12>(
     vec2<i32>(0, 2), vec2<i32>(1, 2),
 );
 
-// The windowed kernel over the squared (stretched) distance d2 < 4: the window (1 - d2/4)^2
-// times (1 - lobe * d2), whose negative part between sqrt(1/lobe) and 2 plays the negative
-// lobe of Lanczos-2 (lobe 1: zero crossing at 1, as Lanczos-2; lobe 1/4: no negative part).
-fn easu_weight(d2: f32, lobe: f32) -> f32 {
-    let window = max(0.0, 1.0 - 0.25 * d2);
-    return window * window * (1.0 - lobe * d2);
+// The windowed kernel over the squared (stretched) distance d2: the window
+// (1 - d2 / reach2)^2, which ends at distance sqrt(reach2), times (1 - d2), which has
+// a zero at distance 1 as Lanczos-2's central lobe; the part beyond it, up to the window's
+// end, is the negative lobe (reach2 4: close to Lanczos-2's, for clean edges; reach2 2: a
+// short one elsewhere).
+fn easu_weight(d2: f32, reach2: f32) -> f32 {
+    let window = max(0.0, 1.0 - d2 / reach2);
+    return window * window * (1.0 - d2);
 }
 
 @fragment
@@ -177,11 +180,23 @@ fn fs_easu(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         vec4<i32>(6, 8, 3, 10), vec4<i32>(7, 9, 4, 11),
     );
     let bilinear_weights = vec4<f32>((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+    let centres = array<i32, 4>(3, 4, 7, 8);
     var tensor = vec3<f32>(0.0);
+    // How much each inner pixel sits on a step rather than a peak or a dip (a thin line):
+    // the central difference over the larger one-sided difference, per axis (1 on a step or
+    // ramp, 0 on a line's centre), squared.
+    var step = 0.0;
     for (var k = 0; k < 4; k++) {
         let n = inner[k];
+        let c = lumas[centres[k]];
         let g = vec2<f32>(lumas[n.y] - lumas[n.x], lumas[n.w] - lumas[n.z]);
         tensor += bilinear_weights[k] * vec3<f32>(g.x * g.x, g.x * g.y, g.y * g.y);
+        let one_sided = max(
+            max(abs(lumas[n.y] - c), abs(c - lumas[n.x])),
+            max(abs(lumas[n.w] - c), abs(c - lumas[n.z])),
+        );
+        let ratio = saturate(length(g) / max(one_sided, 1e-5) * 0.5);
+        step += bilinear_weights[k] * ratio * ratio;
     }
     // Eigen-decomposition of the 2x2 tensor [[a, b], [b, c]].
     let trace = tensor.x + tensor.z;
@@ -198,18 +213,18 @@ fn fs_easu(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         }
         anisotropy = 2.0 * spread / trace;
     }
-    // Edge strength gates the negative lobe: no sharpening of noise-free flat areas.
-    let edge = anisotropy * saturate(sqrt(trace) * 8.0);
+    // How much the neighbourhood is one edge: anisotropic and of some contrast.
+    let edge = anisotropy * step * saturate(sqrt(trace) * 8.0);
     let along = vec2<f32>(-across.y, across.x);
-    let shrink_along = 1.0 / (1.0 + edge);
-    let lobe = mix(0.25, 1.0, edge);
+    let shrink_along = 1.0 - 0.5 * edge;
+    let reach2 = mix(2.0, 4.0, edge);
     var sum = vec4<f32>(0.0);
     var weight_sum = 0.0;
     for (var n = 0; n < 12; n++) {
         let offset = vec2<f32>(EASU_TAPS[n]) - f;
         let u = dot(offset, across);
         let s = dot(offset, along) * shrink_along;
-        let w = easu_weight(u * u + s * s, lobe);
+        let w = easu_weight(u * u + s * s, reach2);
         sum += w * colors[n];
         weight_sum += w;
     }
