@@ -346,6 +346,12 @@ fn techniques_at_one_scale_share_one_scene_render() {
     assert_eq!(graph.scene_renders_last_frame(), 2);
     let report = graph.memory_report();
     let scaled = &report.techniques[1];
+    assert_eq!(
+        scaled.input.as_deref(),
+        Some("scene 1x 32x18"),
+        "{scaled:?}"
+    );
+    assert_eq!(report.techniques[0].input.as_deref(), Some("scene 1x"));
     assert!(
         scaled
             .private_items

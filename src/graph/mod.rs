@@ -720,7 +720,7 @@ impl FrameGraph {
     fn input_users(
         &self,
         rendered_only: bool,
-    ) -> Vec<(SceneInput, Vec<&'static str>, &SceneTargets)> {
+    ) -> Vec<(SceneInput, String, Vec<&'static str>, &SceneTargets)> {
         self.inputs_used
             .iter()
             .enumerate()
@@ -735,7 +735,7 @@ impl FrameGraph {
                     .filter(|(_, used)| **used == Some(n))
                     .map(|(slot, _)| slot.technique.id())
                     .collect();
-                Some((*input, users, targets))
+                Some((*input, used.label(self.size), users, targets))
             })
             .collect()
     }
@@ -746,7 +746,7 @@ impl FrameGraph {
     pub fn scene_inputs_last_frame(&self) -> Vec<(SceneInput, Vec<&'static str>)> {
         self.input_users(true)
             .into_iter()
-            .map(|(input, users, _)| (input, users))
+            .map(|(input, _, users, _)| (input, users))
             .collect()
     }
 
@@ -754,7 +754,11 @@ impl FrameGraph {
     /// output, the scene inputs it reads (shared ones counted once in the total), the scene
     /// itself, and what switched-off techniques still hold.
     pub fn memory_report(&self) -> MemoryReport {
-        let inputs = self.input_users(false);
+        let inputs: Vec<_> = self
+            .input_users(false)
+            .into_iter()
+            .map(|(_, label, users, targets)| (label, users, targets))
+            .collect();
         MemoryReport::build(&self.slots, &inputs, self.scene.memory_bytes())
     }
 }
