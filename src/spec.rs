@@ -287,6 +287,7 @@ pub fn frame_camera(spec: &RenderSpec, scene: &Scene, frame: u64) -> FrameCamera
             prev_pose: pose,
             frame,
             size,
+            render_size: None,
         },
         None => FrameCamera::from_rig(&scene.camera, frame, size),
     }

@@ -221,3 +221,63 @@ fn debug_views_have_the_output_size_and_only_when_asked_for() {
         );
     }
 }
+
+/// The render-scale, upscaler and sharpening modifiers every technique is walked with.
+const COMBINATIONS: [&str; 3] = ["@quality:bilinear", "@performance+rcas=0.2", "+cas=1"];
+
+#[test]
+fn every_technique_at_a_scale_with_sharpening_round_trips_and_keeps_the_contract() {
+    let gpu = common::gpu();
+    let scene = common::flat_chart(5.0);
+    let mut techniques: Vec<Box<dyn Technique>> = Vec::new();
+    for (info, plain) in available(&gpu) {
+        for suffix in COMBINATIONS {
+            let id = format!("{}{suffix}", info.id);
+            let mut technique = common::technique(&gpu, &id, &[]);
+            // The id is the canonical string of the combination, and reads back to itself.
+            let canonical = aa::combo::Combo::parse(&id).expect("valid").id();
+            assert_eq!(technique.id(), canonical, "{id}");
+            assert_eq!(common::technique(&gpu, &canonical, &[]).id(), canonical);
+            assert!(technique.label().starts_with(&plain.label()), "{id}");
+            assert_ne!(technique.label(), plain.label(), "{id}");
+            // Parameters are the technique's own, and round-trip through the CLI and records.
+            assert_eq!(
+                aa::param_map(technique.as_ref()),
+                aa::param_map(plain.as_ref())
+            );
+            for param in technique.params() {
+                let value = values_to_try(&param.kind).pop().expect("a value");
+                let spec = through_the_cli(&gpu, &id, param.key, &value.to_string());
+                assert_eq!(spec.id, canonical, "{id}");
+                assert_eq!(
+                    spec.settings.get(param.key),
+                    Some(&value),
+                    "{id}.{}",
+                    param.key
+                );
+                let json = serde_json::to_string(&spec).expect("serialises");
+                let back: TechniqueSpec = serde_json::from_str(&json).expect("parses");
+                let restored = back.create(&gpu).unwrap_or_else(|e| panic!("{id}: {e}"));
+                assert_eq!(restored.id(), canonical);
+                assert_eq!(aa::param_map(restored.as_ref()), spec.settings, "{id}");
+            }
+            technique.set_debug_views(true);
+            techniques.push(technique);
+        }
+    }
+    // Every combination renders at the output size, with its debug views at that size too.
+    let mut graph = common::graph(&gpu, &scene, techniques);
+    let outputs = common::render_frames(&mut graph, &scene, SIZE, 0..=1);
+    for (slot, output) in graph.slots().iter().zip(&outputs) {
+        let id = slot.technique.id();
+        assert_eq!(output.dimensions(), SIZE, "{id}");
+        for view in slot.technique.debug_views() {
+            assert_eq!(
+                (view.texture.width(), view.texture.height()),
+                SIZE,
+                "{id}: debug view {}",
+                view.name
+            );
+        }
+    }
+}

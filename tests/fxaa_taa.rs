@@ -362,6 +362,7 @@ fn panning(scene: &Scene, frame: u64, speed: f32, size: (u32, u32)) -> FrameCame
         prev_pose: pose(frame.saturating_sub(1)),
         frame,
         size,
+        render_size: None,
     }
 }
 

@@ -50,7 +50,8 @@ fn listed() -> BTreeMap<&'static str, Shader> {
     let techniques = aa_lab::aa::registry();
     let all = SHADERS
         .iter()
-        .chain(techniques.iter().flat_map(|t| t.shaders.iter()));
+        .chain(techniques.iter().flat_map(|t| t.shaders.iter()))
+        .chain(aa_lab::aa::scaled::SHADERS);
     for shader in all.chain(USER_FRAGMENTS) {
         listed.insert(shader.path, *shader);
     }
@@ -119,7 +120,8 @@ fn every_shader_file_is_compiled_into_the_binary_and_every_listed_one_exists() {
         assert_eq!(
             listed.get(name.as_str()).map(|s| s.source),
             Some(source.as_str()),
-            "{name} is in neither gpu::shader::SHADERS nor its technique's registry entry"
+            "{name} is in neither gpu::shader::SHADERS, aa::scaled::SHADERS nor its technique's \
+             registry entry"
         );
     }
     for path in listed.keys() {
@@ -134,6 +136,9 @@ fn every_shader_file_is_compiled_into_the_binary_and_every_listed_one_exists() {
 fn shared_shaders_stay_in_shaders_and_technique_shaders_in_their_folders() {
     for shader in SHADERS {
         assert!(shader.path.starts_with("shaders/"), "{}", shader.path);
+    }
+    for shader in aa_lab::aa::scaled::SHADERS {
+        assert!(shader.path.starts_with("src/aa/scaled/"), "{}", shader.path);
     }
     for technique in aa_lab::aa::registry() {
         for shader in technique.shaders {

@@ -15,6 +15,7 @@
 //! post-process pass against (it lives here so that `metrics/` does not depend on `aa/`).
 
 pub mod cmaa2;
+pub mod combo;
 pub mod common;
 pub mod floor;
 pub mod fxaa;
@@ -23,6 +24,7 @@ pub mod mlaa;
 pub mod msaa;
 pub mod none;
 pub mod registry;
+pub mod scaled;
 pub mod smaa;
 pub mod ssaa;
 pub mod taa;
@@ -46,6 +48,9 @@ pub enum TechniqueError {
         /// Why.
         reason: String,
     },
+    /// A combination string (render scale, upscaler, sharpening) was refused.
+    #[error(transparent)]
+    Combo(#[from] combo::ComboError),
     /// No technique by that id.
     #[error("unknown technique `{0}`; valid techniques: {1}")]
     Unknown(String, String),
@@ -74,6 +79,11 @@ pub enum TechniqueError {
 /// techniques that read nothing but one 1x render's colour can.
 pub fn image_refusal(technique: &dyn Technique, frame: &FrameInfo) -> Option<String> {
     let why = match technique.scene_input(frame) {
+        _ if technique.render_size(frame) != frame.size() => {
+            "it renders the scene below the output size (a render scale), and a finished image \
+             has only the output's pixels"
+                .to_owned()
+        }
         _ if technique.temporal() => {
             "it accumulates jittered renders of several frames, with motion vectors".to_owned()
         }
@@ -121,8 +131,24 @@ pub fn apply_param_map(technique: &mut dyn Technique, map: &ParamMap) -> Result<
 }
 
 /// Creates a technique ready to use: a registered one by id, or a user technique
-/// (`user:PATH`, see [`user`]); this is the one place that resolves user ids.
+/// (`user:PATH`, see [`user`]), either at a render scale with an upscaler and sharpening when
+/// the id says so (`ID@SCALE:UPSCALER+SHARPEN=STRENGTH`, see [`combo`] and [`scaled`]); this is
+/// the one place that resolves ids.
 pub fn create(gpu: &Gpu, id: &str) -> Result<Box<dyn Technique>, TechniqueError> {
+    let combo = combo::Combo::parse(id)?;
+    if combo.is_plain() {
+        return create_plain(gpu, &combo.base);
+    }
+    let inner = create_plain(gpu, &combo.base)?;
+    info::needs_encoded_views(&gpu.caps).map_err(|reason| TechniqueError::Unavailable {
+        technique: id.to_owned(),
+        reason: format!("its upscale and sharpening passes cannot run: {reason}"),
+    })?;
+    Ok(Box::new(scaled::Scaled::new(gpu, inner, combo)))
+}
+
+/// A registered technique or a user technique by its own id.
+fn create_plain(gpu: &Gpu, id: &str) -> Result<Box<dyn Technique>, TechniqueError> {
     if user::is_user_id(id) {
         return Ok(user::create(gpu, id)?);
     }

@@ -248,6 +248,7 @@ impl CameraController {
             prev_pose: self.prev_pose,
             frame: self.frame,
             size,
+            render_size: None,
         };
         self.prev_pose = self.pose;
         (camera, cut)

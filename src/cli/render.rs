@@ -432,8 +432,16 @@ pub(super) fn set_flags(
 ) -> anyhow::Result<Vec<(String, String, ParamValue)>> {
     let mut out = Vec::new();
     for item in sets {
-        let (target, value) = item
-            .split_once('=')
+        // A combination's id may hold `=` (`smaa+rcas=0.2`): the `=` that ends `TECHNIQUE.KEY`
+        // is the first one after a technique of `ids` and a dot.
+        let split = item.match_indices('=').map(|(at, _)| at).find(|&at| {
+            item[..at]
+                .rsplit_once('.')
+                .is_some_and(|(id, _)| ids.iter().any(|i| i == id))
+        });
+        let (target, value) = split
+            .map(|at| (&item[..at], &item[at + 1..]))
+            .or_else(|| item.split_once('='))
             .with_context(|| format!("--set {item}: expected TECHNIQUE.KEY=VALUE"))?;
         // Keys have no dots, ids may (`user:edge.wgsl`): the key is after the last one.
         let (id, key) = target
@@ -472,8 +480,9 @@ pub(super) fn configured_specs(
     for id in ids {
         let mut technique = aa::create(gpu, id)?;
         for preset in presets {
+            // Preset names have no `=`; a combination's id may (`smaa+rcas=0.2`).
             let (target, name) = preset
-                .split_once('=')
+                .rsplit_once('=')
                 .with_context(|| format!("--preset {preset}: expected TECHNIQUE=PRESET"))?;
             if target == id {
                 technique.apply_preset(name)?;
@@ -487,7 +496,7 @@ pub(super) fn configured_specs(
         techniques.push(TechniqueSpec::of(technique.as_ref()));
     }
     for preset in presets {
-        if let Some((target, _)) = preset.split_once('=')
+        if let Some((target, _)) = preset.rsplit_once('=')
             && !ids.iter().any(|i| i == target)
         {
             bail!(

@@ -5,7 +5,6 @@
 //! earlier image), the scene inputs they read (the graph pools no others), and, apart, what
 //! techniques switched off still own, so its total is what is allocated.
 
-use super::SceneInput;
 use crate::scene::renderer::SceneTargets;
 
 use super::Slot;
@@ -56,8 +55,9 @@ impl MemoryItem {
         }
     }
 
-    fn of_targets(input: &SceneInput, targets: &SceneTargets) -> Vec<Self> {
-        let label = input.label();
+    /// The textures of a scene input labelled `label` (its size included when it is rendered
+    /// at a render scale).
+    fn of_targets(label: &str, targets: &SceneTargets) -> Vec<Self> {
         targets
             .textures()
             .into_iter()
@@ -118,7 +118,7 @@ pub struct MemoryReport {
 impl MemoryReport {
     pub(super) fn build(
         slots: &[Slot],
-        inputs: &[(SceneInput, Vec<&'static str>, &SceneTargets)],
+        inputs: &[(String, Vec<&'static str>, &SceneTargets)],
         scene_bytes: u64,
     ) -> Self {
         let techniques: Vec<TechniqueMemory> = slots
@@ -129,12 +129,12 @@ impl MemoryReport {
                 let input = inputs.iter().find(|(_, users, _)| users.contains(&id));
                 TechniqueMemory {
                     technique: id.to_owned(),
-                    input: input.map(|(i, _, _)| i.label()),
+                    input: input.map(|(label, _, _)| label.clone()),
                     input_shared_with: input.map_or_else(Vec::new, |(_, users, _)| {
                         users.iter().map(|u| (*u).to_owned()).collect()
                     }),
                     input_items: input
-                        .map_or_else(Vec::new, |(i, _, t)| MemoryItem::of_targets(i, t)),
+                        .map_or_else(Vec::new, |(label, _, t)| MemoryItem::of_targets(label, t)),
                     private_items: slot.technique.memory(),
                     output: slot
                         .output
@@ -145,7 +145,7 @@ impl MemoryReport {
             .collect();
         let inputs_total: u64 = inputs
             .iter()
-            .flat_map(|(i, _, t)| MemoryItem::of_targets(i, t))
+            .flat_map(|(label, _, t)| MemoryItem::of_targets(label, t))
             .map(|i| i.bytes)
             .sum();
         let idle: Vec<TechniqueMemory> = slots

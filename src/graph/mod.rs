@@ -47,6 +47,13 @@ pub enum GraphError {
     /// The GPU reported an error while the frame ran (out of memory, device lost, validation).
     #[error("the GPU failed while rendering: {0}")]
     Device(String),
+    /// A technique at a render scale asked for the scene input in image mode, where the
+    /// finished image is the only input and has the output's size.
+    #[error(
+        "a technique at a render scale reads a {0}x{1} scene render, which a finished image of \
+         the output's size cannot stand in for"
+    )]
+    ImageScaled(u32, u32),
     /// The image given as input does not have the frame's size.
     #[error("the input image is {0}x{1}, but the frame is {2}x{3}")]
     ImageSize(u32, u32, u32, u32),
@@ -107,6 +114,26 @@ impl PassContext<'_> {
     fn label(&self, pass: &str) -> String {
         debug_assert!(!pass.contains('/'), "pass names have no '/': {pass}");
         format!("{}/{pass}", self.technique_id)
+    }
+
+    /// Runs `record` with this context seeing `frame` instead (a technique that runs another
+    /// at a render scale hands it the frame at the render size); passes stay the technique's.
+    pub fn with_frame<R>(
+        &mut self,
+        frame: &FrameInfo,
+        record: impl FnOnce(&mut PassContext<'_>) -> R,
+    ) -> R {
+        record(&mut PassContext {
+            gpu: self.gpu,
+            encoder: self.encoder,
+            frame,
+            fullscreen: self.fullscreen,
+            scene: self.scene,
+            profiler: self.profiler,
+            technique_id: self.technique_id,
+            scene_renders: self.scene_renders,
+            statistics: self.statistics,
+        })
     }
 
     /// Records a timed render pass named `pass` (shown as `technique/pass` in timings).
@@ -220,6 +247,28 @@ impl PassContext<'_> {
     }
 }
 
+/// A texture a technique's output can be written to: RGBA8 sRGB with its encoded view, usable
+/// as a render target, a sampled texture and a copy's source or destination (the graph's
+/// output of each technique, and the render-size image a technique at a render scale writes
+/// before its upscale).
+pub fn output_texture(gpu: &Gpu, label: &str, size: (u32, u32)) -> wgpu::Texture {
+    gpu::texture_2d(
+        &gpu.device,
+        &gpu::Texture2d {
+            view_formats: gpu::encoded_view_formats(&gpu.caps),
+            ..gpu::Texture2d::new(
+                label,
+                size,
+                gpu::COLOR_FORMAT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC
+                    | wgpu::TextureUsages::COPY_DST,
+            )
+        },
+    )
+}
+
 /// A distinct scene input of a frame: which pooled target holds it, and whether a technique
 /// that runs in the frame reads it (it is rendered then; otherwise it holds an earlier
 /// frame's render for a technique that keeps its image).
@@ -229,6 +278,23 @@ struct PooledInput {
     /// Index among the pooled targets of `desc`.
     index: usize,
     rendered: bool,
+}
+
+impl PooledInput {
+    /// Whether this is `input` rendered at `size`.
+    fn is(&self, input: SceneInput, size: (u32, u32)) -> bool {
+        self.input == input && self.desc.size == size
+    }
+
+    /// The input's label, with its size when it is rendered below the output size `output`.
+    fn label(&self, output: (u32, u32)) -> String {
+        if self.desc.size == output {
+            self.input.label()
+        } else {
+            let (width, height) = self.desc.size;
+            format!("{} {width}x{height}", self.input.label())
+        }
+    }
 }
 
 /// The frame graph. See the module docs.
@@ -386,25 +452,6 @@ impl FrameGraph {
         }
     }
 
-    fn output_texture(gpu: &Gpu, id: &str, size: (u32, u32)) -> wgpu::Texture {
-        let label = format!("{id} output");
-        gpu::texture_2d(
-            &gpu.device,
-            &gpu::Texture2d {
-                view_formats: gpu::encoded_view_formats(&gpu.caps),
-                ..gpu::Texture2d::new(
-                    &label,
-                    size,
-                    gpu::COLOR_FORMAT,
-                    wgpu::TextureUsages::RENDER_ATTACHMENT
-                        | wgpu::TextureUsages::TEXTURE_BINDING
-                        | wgpu::TextureUsages::COPY_SRC
-                        | wgpu::TextureUsages::COPY_DST,
-                )
-            },
-        )
-    }
-
     /// Renders one frame of the techniques in `scope` and waits for nothing: outputs are ready
     /// for readback or display once the queue has run the submission.
     pub fn render(&mut self, frame: &FrameInfo, scope: FrameScope) -> Result<(), GraphError> {
@@ -423,7 +470,7 @@ impl FrameGraph {
         scope: FrameScope,
         record: impl FnOnce(&mut wgpu::CommandEncoder, &[Slot]) -> T,
     ) -> Result<T, GraphError> {
-        let size = frame.size();
+        let size = frame.output_size();
         self.check_size(size)?;
         if let Some(image) = &self.image_input
             && image.dimensions() != size
@@ -461,17 +508,22 @@ impl FrameGraph {
 
         // 1. Distinct inputs of every held technique (those that run and those that keep an
         // earlier image), each assigned a pooled target of its description; the pool keeps
-        // nothing else, so what it holds is what the memory report lists.
-        let mut wanted: Vec<Option<SceneInput>> = vec![None; self.slots.len()];
+        // nothing else, so what it holds is what the memory report lists. An input is the
+        // render a technique asks for at the size it renders at (its render scale).
+        let mut wanted: Vec<Option<(SceneInput, (u32, u32))>> = vec![None; self.slots.len()];
         self.inputs_used.clear();
         for (i, slot) in self.slots.iter().enumerate().filter(|(_, s)| s.held()) {
+            let render_size = slot.technique.render_size(frame);
             let input = slot.technique.scene_input(frame);
-            wanted[i] = input;
+            wanted[i] = input.map(|input| (input, render_size));
             if let Some(input) = input
-                && !self.inputs_used.iter().any(|used| used.input == input)
+                && !self
+                    .inputs_used
+                    .iter()
+                    .any(|used| used.is(input, render_size))
             {
                 let desc = TargetDesc {
-                    size,
+                    size: render_size,
                     sample_count: input.sample_count(),
                     motion: input.motion(),
                 };
@@ -486,12 +538,22 @@ impl FrameGraph {
         }
         self.slot_inputs = wanted
             .iter()
-            .map(|w| w.and_then(|input| self.inputs_used.iter().position(|u| u.input == input)))
+            .map(|w| {
+                w.and_then(|(input, size)| self.inputs_used.iter().position(|u| u.is(input, size)))
+            })
             .collect();
         for &i in &active {
             if let Some(n) = self.slot_inputs[i] {
                 self.inputs_used[n].rendered = true;
             }
+        }
+        if self.image_input.is_some()
+            && let Some(scaled) = self.inputs_used.iter().find(|u| u.desc.size != size)
+        {
+            return Err(GraphError::ImageScaled(
+                scaled.desc.size.0,
+                scaled.desc.size.1,
+            ));
         }
         self.pool_inputs();
 
@@ -508,8 +570,10 @@ impl FrameGraph {
                 crate::gpu::write_rgba8(&self.gpu, &targets.color, image);
                 continue;
             }
-            let view = camera.params(input.offset(), input.mip_bias());
-            let label = input.label();
+            let view = camera
+                .at_render_size(desc.size)
+                .params(input.offset(), input.mip_bias());
+            let label = used.label(size);
             let query = self.profiler.begin_pass_query(label.clone(), &mut encoder);
             let queries = PassQueries {
                 timestamp_writes: query.render_pass_timestamp_writes(),
@@ -529,9 +593,9 @@ impl FrameGraph {
         // 3. Every running technique's passes.
         for &i in &active {
             let slot = &mut self.slots[i];
-            let output = slot
-                .output
-                .get_or_insert_with(|| Self::output_texture(&self.gpu, slot.technique.id(), size));
+            let output = slot.output.get_or_insert_with(|| {
+                output_texture(&self.gpu, &format!("{} output", slot.technique.id()), size)
+            });
             let input = self.slot_inputs[i].and_then(|n| {
                 let used = &self.inputs_used[n];
                 self.input_pool.get(&used.desc)?.get(used.index)
@@ -568,6 +632,42 @@ impl FrameGraph {
         Ok(recorded)
     }
 
+    /// Records passes outside any technique with this graph's context (`id` prefixes their
+    /// labels), submits them and waits for the GPU: for tools and tests that run one pass
+    /// family on images of their own, such as the upscalers' tests on analytic images.
+    pub fn run_passes(
+        &mut self,
+        frame: &FrameInfo,
+        id: &'static str,
+        record: impl FnOnce(&mut PassContext<'_>),
+    ) -> Result<(), GraphError> {
+        let device = self.gpu.device.clone();
+        let error_scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(id) });
+        let mut scene_renders = 0;
+        let mut statistics = StatisticsRecorder::new();
+        record(&mut PassContext {
+            gpu: &self.gpu,
+            encoder: &mut encoder,
+            frame,
+            fullscreen: &self.fullscreen,
+            scene: &mut self.scene,
+            profiler: &self.profiler,
+            technique_id: id,
+            scene_renders: &mut scene_renders,
+            statistics: &mut statistics,
+        });
+        self.profiler.resolve_queries(&mut encoder);
+        self.gpu.queue.submit([encoder.finish()]);
+        let _ = self.profiler.end_frame();
+        self.finish();
+        match pollster::block_on(error_scope.pop()) {
+            Some(error) => Err(GraphError::Device(error.to_string())),
+            None => Ok(()),
+        }
+    }
+
     /// Picks up timer results that have arrived (non-blocking).
     fn collect_timings(&mut self) {
         let _ = self.gpu.device.poll(wgpu::PollType::Poll);
@@ -590,7 +690,11 @@ impl FrameGraph {
         for used in &self.inputs_used {
             let pool = self.input_pool.entry(used.desc).or_default();
             while pool.len() <= used.index {
-                pool.push(SceneTargets::new(&self.gpu, &used.input.label(), used.desc));
+                pool.push(SceneTargets::new(
+                    &self.gpu,
+                    &used.label(self.size),
+                    used.desc,
+                ));
             }
         }
         let inputs_used = &self.inputs_used;
@@ -616,7 +720,7 @@ impl FrameGraph {
     fn input_users(
         &self,
         rendered_only: bool,
-    ) -> Vec<(SceneInput, Vec<&'static str>, &SceneTargets)> {
+    ) -> Vec<(SceneInput, String, Vec<&'static str>, &SceneTargets)> {
         self.inputs_used
             .iter()
             .enumerate()
@@ -631,7 +735,7 @@ impl FrameGraph {
                     .filter(|(_, used)| **used == Some(n))
                     .map(|(slot, _)| slot.technique.id())
                     .collect();
-                Some((*input, users, targets))
+                Some((*input, used.label(self.size), users, targets))
             })
             .collect()
     }
@@ -642,7 +746,7 @@ impl FrameGraph {
     pub fn scene_inputs_last_frame(&self) -> Vec<(SceneInput, Vec<&'static str>)> {
         self.input_users(true)
             .into_iter()
-            .map(|(input, users, _)| (input, users))
+            .map(|(input, _, users, _)| (input, users))
             .collect()
     }
 
@@ -650,7 +754,11 @@ impl FrameGraph {
     /// output, the scene inputs it reads (shared ones counted once in the total), the scene
     /// itself, and what switched-off techniques still hold.
     pub fn memory_report(&self) -> MemoryReport {
-        let inputs = self.input_users(false);
+        let inputs: Vec<_> = self
+            .input_users(false)
+            .into_iter()
+            .map(|(_, label, users, targets)| (label, users, targets))
+            .collect();
         MemoryReport::build(&self.slots, &inputs, self.scene.memory_bytes())
     }
 }

@@ -131,9 +131,24 @@ pub struct FrameInfo {
 }
 
 impl FrameInfo {
-    /// Output size in pixels.
+    /// The size a technique renders at: the output size, or the render size when the
+    /// technique runs at a render scale (see [`FrameInfo::at_render_size`]).
     pub fn size(&self) -> (u32, u32) {
+        self.camera.image_size()
+    }
+
+    /// The output size in pixels, whatever the render scale.
+    pub fn output_size(&self) -> (u32, u32) {
         self.camera.size
+    }
+
+    /// This frame as a technique running at `render_size` sees it: its camera renders at that
+    /// size with the output's projection (and the scale's mip bias).
+    pub fn at_render_size(&self, render_size: (u32, u32)) -> Self {
+        Self {
+            camera: self.camera.at_render_size(render_size),
+            ..*self
+        }
     }
 }
 
@@ -146,6 +161,13 @@ pub trait Technique: Send {
     /// The scene render this technique reads this frame, or `None` when it renders the scene
     /// itself through [`PassContext::render_scene`] (supersampling).
     fn scene_input(&self, frame: &FrameInfo) -> Option<SceneInput>;
+
+    /// The size its scene input is rendered at: the output size, unless the technique runs at
+    /// a render scale (`aa::scaled`). Inputs are shared between techniques that ask for the
+    /// same input at the same size.
+    fn render_size(&self, frame: &FrameInfo) -> (u32, u32) {
+        frame.size()
+    }
 
     /// Whether the technique keeps state across frames, so that frame N means running frames
     /// 0..=N.

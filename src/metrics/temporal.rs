@@ -58,6 +58,7 @@ impl SlowTrack {
             prev_pose: self.pose(frame.saturating_sub(1)),
             frame,
             size: self.size,
+            render_size: None,
         }
     }
 }

@@ -262,8 +262,13 @@ pub struct FrameCamera {
     pub prev_pose: OrbitPose,
     /// Frame number (object animation time).
     pub frame: u64,
-    /// Output image size in pixels.
+    /// Output image size in pixels (its aspect ratio shapes the projection).
     pub size: (u32, u32),
+    /// The size the scene is rendered at when a technique runs below the output size (a render
+    /// scale, see `aa::scaled`); `None` renders at `size`. The projection keeps the output's
+    /// aspect ratio, so a render at any scale covers exactly the output's view and its pixels
+    /// map onto the output's by one scale factor per axis.
+    pub render_size: Option<(u32, u32)>,
 }
 
 impl FrameCamera {
@@ -274,6 +279,33 @@ impl FrameCamera {
             prev_pose: OrbitPose::at_frame(rig, frame.saturating_sub(1)),
             frame,
             size,
+            render_size: None,
+        }
+    }
+
+    /// This camera seen at a render size (the output size itself leaves it unscaled).
+    pub fn at_render_size(self, render_size: (u32, u32)) -> Self {
+        Self {
+            render_size: (render_size != self.size).then_some(render_size),
+            ..self
+        }
+    }
+
+    /// The size of the image this camera renders: the render size, else the output size.
+    pub fn image_size(&self) -> (u32, u32) {
+        self.render_size.unwrap_or(self.size)
+    }
+
+    /// The texture mip bias a render below the output size adds, log2(render / output) (the
+    /// mean of both axes), so textures are sampled at the detail of the output's pixels; zero
+    /// at the output size.
+    pub fn scale_mip_bias(&self) -> f32 {
+        match self.render_size {
+            None => 0.0,
+            Some((w, h)) => {
+                0.5 * ((w as f32 / self.size.0.max(1) as f32).log2()
+                    + (h as f32 / self.size.1.max(1) as f32).log2())
+            }
         }
     }
 
@@ -291,9 +323,12 @@ impl FrameCamera {
         self.prev_pose.projection(self.aspect()) * self.prev_pose.view()
     }
 
-    /// View parameters for a render with a sub-pixel jitter (pixels of the output image).
+    /// View parameters for a render with a sub-pixel jitter (pixels of the rendered image,
+    /// [`FrameCamera::image_size`]); `mip_bias` is added to the render scale's
+    /// ([`FrameCamera::scale_mip_bias`]).
     pub fn params(&self, jitter_px: Vec2, mip_bias: f32) -> ViewParams {
-        let size = Vec2::new(self.size.0 as f32, self.size.1 as f32);
+        let (width, height) = self.image_size();
+        let size = Vec2::new(width as f32, height as f32);
         let projection = jitter_projection(self.pose.projection(self.aspect()), jitter_px, size);
         ViewParams {
             view_proj: projection * self.pose.view(),
@@ -302,12 +337,12 @@ impl FrameCamera {
             eye: self.pose.eye(),
             frame: self.frame as f32,
             prev_frame: self.frame.saturating_sub(1) as f32,
-            mip_bias,
+            mip_bias: mip_bias + self.scale_mip_bias(),
         }
     }
 
     /// View parameters for one tile of a supersampled image `factor` times larger than the
-    /// output, optionally jittered in pixels of the supersampled image.
+    /// rendered image, optionally jittered in pixels of the supersampled image.
     pub fn tile_params(
         &self,
         factor: u32,
@@ -315,7 +350,8 @@ impl FrameCamera {
         jitter_px: Vec2,
         mip_bias: f32,
     ) -> ViewParams {
-        let full = (self.size.0 * factor, self.size.1 * factor);
+        let (width, height) = self.image_size();
+        let full = (width * factor, height * factor);
         let full_size = Vec2::new(full.0 as f32, full.1 as f32);
         let projection =
             jitter_projection(self.pose.projection(self.aspect()), jitter_px, full_size);

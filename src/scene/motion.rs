@@ -123,6 +123,7 @@ impl Motion {
             prev_pose: self.pose(rig, size, speed_px, frame.saturating_sub(1)),
             frame,
             size,
+            render_size: None,
         }
     }
 }

@@ -83,8 +83,9 @@ macro_rules! tunable_settings {
 }
 pub(crate) use tunable_settings;
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::hash::Hash;
+use std::sync::{Mutex, PoisonError};
 
 use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Texture2d, texture_2d};
 
@@ -160,4 +161,19 @@ impl<K: Eq + Hash> PipelineCache<K> {
             .or_insert_with_key(|key| build(key))
             .clone()
     }
+}
+
+/// Keeps one copy of each distinct string for the life of the process: technique ids made at
+/// run time (user techniques, combinations at a render scale) and a user technique's parameter
+/// names become the `&'static str`s the `Technique` trait hands out, each leaked once.
+pub fn intern(text: &str) -> &'static str {
+    static STRINGS: Mutex<Option<HashSet<&'static str>>> = Mutex::new(None);
+    let mut strings = STRINGS.lock().unwrap_or_else(PoisonError::into_inner);
+    let set = strings.get_or_insert_with(HashSet::new);
+    if let Some(&kept) = set.get(text) {
+        return kept;
+    }
+    let kept: &'static str = Box::leak(text.to_owned().into_boxed_str());
+    set.insert(kept);
+    kept
 }

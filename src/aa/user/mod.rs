@@ -28,9 +28,7 @@ pub mod program;
 pub mod watch;
 
 use std::borrow::Cow;
-use std::collections::HashSet;
 use std::path::Path;
-use std::sync::{Mutex, PoisonError};
 
 use glam::Vec2;
 
@@ -57,11 +55,15 @@ pub fn path_of(id: &str) -> Option<&Path> {
     id.strip_prefix(PREFIX).map(Path::new)
 }
 
-/// A file-name-safe form of a technique id: built-in ids unchanged, a user technique's
+/// A file-name-safe form of a technique id: built-in ids unchanged but for the `:` before a
+/// combination's upscaler (`smaa@quality-easu`), a user technique's
 /// `user-<file stem>-<6 hex digits of its path's hash>`.
 pub fn file_name_part(id: &str) -> Cow<'_, str> {
     let Some(path) = path_of(id) else {
-        return Cow::Borrowed(id);
+        return match id.contains(':') {
+            true => Cow::Owned(id.replace(':', "-")),
+            false => Cow::Borrowed(id),
+        };
     };
     let stem: String = path
         .file_stem()
@@ -101,18 +103,7 @@ pub fn resolve_alias<'a>(target: &'a str, ids: &'a [String]) -> Result<&'a str, 
     }
 }
 
-/// Keeps one copy of each distinct string for the life of the process (see the module docs).
-pub fn intern(text: &str) -> &'static str {
-    static STRINGS: Mutex<Option<HashSet<&'static str>>> = Mutex::new(None);
-    let mut strings = STRINGS.lock().unwrap_or_else(PoisonError::into_inner);
-    let set = strings.get_or_insert_with(HashSet::new);
-    if let Some(&kept) = set.get(text) {
-        return kept;
-    }
-    let kept: &'static str = Box::leak(text.to_owned().into_boxed_str());
-    set.insert(kept);
-    kept
-}
+pub use crate::aa::common::intern;
 
 /// The canonical id of the user technique in `path` (`user:` and the absolute path).
 pub fn id_for(path: &Path) -> Result<String, LoadError> {

@@ -166,6 +166,7 @@ impl ClipSettings {
                     prev_pose: pose(frame.saturating_sub(1))?,
                     frame,
                     size,
+                    render_size: None,
                 })
             })
             .collect()
