@@ -1,0 +1,42 @@
+//! What "flat" means for a long run (`tests/long_runs.rs`, `tests/soak.rs`): the live GPU
+//! objects wgpu counts (the dev-dependency feature `counters`) are the same at the end of the
+//! measured windows as at their start, and the process's resident size grows by no more than a
+//! few kB per frame in the smaller of two windows measured after a warm-up (a leak grows the
+//! process in both windows; a cache that fills late, in one only).
+
+#![allow(dead_code)]
+
+/// The live GPU objects and memory wgpu counts on `device`.
+pub fn gpu_objects(device: &wgpu::Device) -> Vec<(&'static str, isize)> {
+    let hal = device.get_internal_counters().hal;
+    vec![
+        ("buffers", hal.buffers.read()),
+        ("textures", hal.textures.read()),
+        ("texture views", hal.texture_views.read()),
+        ("bind groups", hal.bind_groups.read()),
+        ("render pipelines", hal.render_pipelines.read()),
+        ("compute pipelines", hal.compute_pipelines.read()),
+        ("shader modules", hal.shader_modules.read()),
+        ("query sets", hal.query_sets.read()),
+        ("buffer memory", hal.buffer_memory.read()),
+        ("texture memory", hal.texture_memory.read()),
+    ]
+}
+
+/// Resident set size of this process in kB.
+pub fn resident_kb() -> u64 {
+    let status = std::fs::read_to_string("/proc/self/status").expect("/proc/self/status");
+    status
+        .lines()
+        .find_map(|line| line.strip_prefix("VmRSS:"))
+        .and_then(|rest| rest.split_whitespace().next()?.parse().ok())
+        .expect("VmRSS in /proc/self/status")
+}
+
+/// The growth per frame of the window that grew less: resident sizes at the start, between
+/// the windows and at the end (kB), and the frames of each window.
+pub fn growth_per_frame([start, middle, end]: [u64; 3], [first, second]: [u64; 2]) -> f64 {
+    let per_frame =
+        |from: u64, to: u64, frames: u64| to.saturating_sub(from) as f64 / frames.max(1) as f64;
+    per_frame(start, middle, first).min(per_frame(middle, end, second))
+}
