@@ -157,15 +157,13 @@ fn cycle(harness: &mut Harness<'_, AaLabApp>, technique_file: &Path, index: usiz
     harness.render().expect("the window paints");
 }
 
-/// Orbits the camera by dragging in the view and back, then steps the clock.
+/// Orbits the camera by dragging in the view (away from the lens, which a drag would move)
+/// and back, then steps the clock.
 fn orbit_there_and_back(harness: &mut Harness<'_, AaLabApp>) {
-    let center = harness
-        .state()
-        .image_rect()
-        .expect("an image is drawn")
-        .center();
-    let aside = center + egui::vec2(24.0, 8.0);
-    for (from, to) in [(center, aside), (aside, center)] {
+    let image = harness.state().image_rect().expect("an image is drawn");
+    let start = image.min + egui::vec2(30.0, 40.0);
+    let aside = start + egui::vec2(24.0, 8.0);
+    for (from, to) in [(start, aside), (aside, start)] {
         let before = harness.state().engine_frames();
         drag(harness, from, to);
         wait(harness, "a frame of the moved camera", |app| {

@@ -1003,7 +1003,8 @@ fn a_user_technique_runs_shows_its_errors_and_reloads_when_its_file_changes() {
 
 /// A user technique added once comes back at the next start (the settings remember its file,
 /// and its saved parameters apply to the new build); removing it takes it out of the techniques
-/// panel, the comparison and the settings, and leaves its file alone.
+/// panel, the comparison and the settings, and leaves its file alone; adding the file again
+/// brings it back switched on.
 #[test]
 fn a_user_technique_is_remembered_across_starts_and_can_be_removed() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -1060,6 +1061,14 @@ fn a_user_technique_is_remembered_across_starts_and_can_be_removed() {
         "a removed technique is still listed"
     );
     assert!(file.is_file(), "removing a technique deleted its file");
+
+    // Adding the file again brings it back, switched on and compared (before the fix it came
+    // back listed but switched off: found by tests/soak.rs).
+    second.state_mut().add_user_technique(file.clone());
+    wait(&mut second, "the technique added again", |app| {
+        app.frame_ready() && app.compared().contains(&id.as_str())
+    });
+    assert!(second.state().output_pixels(&id).is_some());
 }
 
 /// Issue 29, item 3: a user technique the driver takes seconds to compile (a zero-initialised
