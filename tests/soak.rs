@@ -4,10 +4,11 @@
 //! orbit of the camera there and back and a step of the clock, a blind comparison with two
 //! answers, a user WGSL technique added from a file and removed again, a short clip recorded,
 //! played and left for the live view, and a paint of the window. After a warm-up, two windows
-//! of cycles are measured as `tests/long_runs.rs` measures (`common/flat.rs`): the live GPU
-//! objects of the engine's device and of the window's are the same at the end as at the start,
-//! and the resident size grows by no more than a few kB per engine frame in the window that
-//! grew less. A test binary of its own, so that no other test's allocations show in this
+//! of cycles are measured as `tests/long_runs.rs` measures (`common/flat.rs`): no count of
+//! live GPU objects or GPU memory of the engine's device or of the window's grows in both
+//! windows (the window's paint keeps high-water marks that may be reached late: egui's vertex
+//! buffer grew once, in one window, in one of four runs), and the resident size grows by no
+//! more than a few kB per engine frame in the window that grew less. A test binary of its own, so that no other test's allocations show in this
 //! process's resident size.
 //!
 //! The live view is only rendered when something changes: the chart's camera rig does not
@@ -23,11 +24,13 @@ mod viewer;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use aa_lab::app::{AaLabApp, ClipPath, DisplayPath, Layout};
-use aa_lab::scene::motion::Motion;
+use aa_lab::app::{AaLabApp, DisplayPath, Layout};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use viewer::{add_user_technique_instead_of_fxaa, blind_answers, drag, settled, viewer_in, wait};
+use viewer::{
+    add_user_technique_instead_of_fxaa, blind_answers, drag, pan_clip_with_reference, settled,
+    viewer_in, wait,
+};
 
 /// A small window: the view between the panels is a few hundred pixels wide.
 const SOAK_WINDOW: egui::Vec2 = egui::vec2(960.0, 640.0);
@@ -74,15 +77,7 @@ fn a_session_of_layouts_blind_trials_user_techniques_and_clips_stays_flat() {
     std::fs::write(&technique_file, USER_TECHNIQUE).expect("write the technique");
     let mut harness = viewer_in(SOAK_WINDOW, "chart", Duration::ZERO, DisplayPath::Auto);
     harness.state_mut().set_export_dir(dir.path().to_path_buf());
-    {
-        let clip = &mut harness.state_mut().settings_mut().clip;
-        clip.frames = CLIP_FRAMES as u32;
-        clip.warmup = 1;
-        clip.path = ClipPath::Motion(Motion::Pan);
-        clip.speed_px = 2.0;
-        clip.reference = true;
-        clip.reference_samples = 16;
-    }
+    pan_clip_with_reference(&mut harness, CLIP_FRAMES as u32, 1);
     let mut cycles = 0;
     let mut run = |harness: &mut Harness<'_, AaLabApp>, count: usize| {
         for _ in 0..count {
@@ -116,18 +111,23 @@ fn a_session_of_layouts_blind_trials_user_techniques_and_clips_stays_flat() {
         warm.engine_objects.iter().any(|(_, n)| *n > 0),
         "wgpu counts no GPU objects: the `counters` feature is off"
     );
-    assert_eq!(
-        end.engine_objects,
-        warm.engine_objects,
-        "the engine's live GPU objects changed over {} cycles ({report})",
-        2 * WINDOW_CYCLES
-    );
-    assert_eq!(
-        end.window_objects,
-        warm.window_objects,
-        "the window's live GPU objects changed over {} cycles ({report})",
-        2 * WINDOW_CYCLES
-    );
+    for (device, objects) in [
+        (
+            "engine",
+            [&warm, &middle, &end].map(|m| m.engine_objects.as_slice()),
+        ),
+        (
+            "window",
+            [&warm, &middle, &end].map(|m| m.window_objects.as_slice()),
+        ),
+    ] {
+        let grown = flat::grown_in_both_windows(objects);
+        assert!(
+            grown.is_empty(),
+            "live GPU objects of the {device}'s device grew in both windows of \
+             {WINDOW_CYCLES} cycles: {grown:?} ({report})"
+        );
+    }
     assert!(
         per_frame <= ALLOWED_KB_PER_FRAME,
         "the session grows by {per_frame:.0} kB per engine frame (allowed \

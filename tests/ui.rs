@@ -22,8 +22,8 @@ use egui::{Modifiers, Pos2, Rect, pos2, vec2};
 use egui_kittest::kittest::Queryable;
 use egui_kittest::{Harness, SnapshotOptions};
 use viewer::{
-    TIMEOUT, WINDOW, add_user_technique_instead_of_fxaa, blind_answers, click_with, drag, launch,
-    settled, viewer, viewer_with, wait,
+    TIMEOUT, WINDOW, add_user_technique_instead_of_fxaa, blind_answers, click_with, drag,
+    launch_in, pan_clip_with_reference, settled, viewer, viewer_with, wait,
 };
 
 /// The lens rectangle on screen, from the magnifier settings and the drawn image.
@@ -287,15 +287,7 @@ fn a_recorded_clip_plays_every_pane_in_lockstep_and_exports_an_animation() {
     let dir = tempfile::tempdir().expect("temp dir");
     let mut harness = viewer("chart");
     harness.state_mut().set_export_dir(dir.path().to_path_buf());
-    {
-        let clip = &mut harness.state_mut().settings_mut().clip;
-        clip.frames = FRAMES as u32;
-        clip.warmup = 2;
-        clip.path = ClipPath::Motion(Motion::Pan);
-        clip.speed_px = 2.0;
-        clip.reference = true;
-        clip.reference_samples = 16;
-    }
+    pan_clip_with_reference(&mut harness, FRAMES as u32, 2);
     harness.get_by_label("Record").click();
     harness.step();
     wait(&mut harness, "the clip", |app| {
@@ -1030,7 +1022,7 @@ fn a_user_technique_is_remembered_across_starts_and_can_be_removed() {
     let mut gain = aa_lab::aa::ParamMap::new();
     gain.insert("gain".to_owned(), aa_lab::aa::ParamValue::Float(0.5));
     remembered.technique_settings.insert(id.clone(), gain);
-    let mut second = launch("chart", Duration::ZERO, DisplayPath::Auto);
+    let mut second = launch_in(WINDOW, "chart", Duration::ZERO, DisplayPath::Auto);
     *second.state_mut().settings_mut() = remembered;
     wait(&mut second, "the remembered technique's frame", |app| {
         app.frame_ready() && app.output_pixels(&id).is_some()

@@ -45,3 +45,20 @@ pub fn growth_per_frame([start, middle, end]: [u64; 3], [first, second]: [u64; 2
         |from: u64, to: u64, frames: u64| to.saturating_sub(from) as f64 / frames.max(1) as f64;
     per_frame(start, middle, first).min(per_frame(middle, end, second))
 }
+
+/// The GPU figures of [`gpu_objects`] that grew in both of two windows, with their values at
+/// the start, between the windows and at the end. A leak grows a figure in both windows; a
+/// high-water mark that is reached late, in one only (egui's vertex and index buffers are
+/// replaced by buffers twice the size when a frame needs more: the count stays, the memory
+/// grows once).
+pub fn grown_in_both_windows(
+    [start, middle, end]: [&[(&'static str, isize)]; 3],
+) -> Vec<(&'static str, [isize; 3])> {
+    start
+        .iter()
+        .zip(middle)
+        .zip(end)
+        .filter(|(((_, a), (_, b)), (_, c))| b > a && c > b)
+        .map(|(((name, a), (_, b)), (_, c))| (*name, [*a, *b, *c]))
+        .collect()
+}

@@ -8,7 +8,8 @@
 
 use std::time::{Duration, Instant};
 
-use aa_lab::app::{AaLabApp, DisplayPath, LaunchOptions};
+use aa_lab::app::{AaLabApp, ClipPath, DisplayPath, LaunchOptions};
+use aa_lab::scene::motion::Motion;
 use egui::{Event, Modifiers, PointerButton, Pos2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
@@ -54,17 +55,8 @@ pub fn viewer_in(
     harness
 }
 
-/// The viewer on `scene` with fresh settings, before its first UI frame (the scene loads in
-/// the background).
-pub fn launch(
-    scene: &str,
-    frame_delay: Duration,
-    display: DisplayPath,
-) -> Harness<'static, AaLabApp> {
-    launch_in(WINDOW, scene, frame_delay, display)
-}
-
-/// [`launch`] in a window of `window` points.
+/// The viewer on `scene` with fresh settings in a window of `window` points, before its first
+/// UI frame (the scene loads in the background).
 pub fn launch_in(
     window: egui::Vec2,
     scene: &str,
@@ -88,6 +80,18 @@ pub fn launch_in(
             )
             .expect("the viewer starts")
         })
+}
+
+/// Sets the clip bar to record `frames` frames after `warmup` of a pan, two pixels a frame,
+/// with the 16-sample reference (the temporal figures need it).
+pub fn pan_clip_with_reference(harness: &mut Harness<'_, AaLabApp>, frames: u32, warmup: u32) {
+    let clip = &mut harness.state_mut().settings_mut().clip;
+    clip.frames = frames;
+    clip.warmup = warmup;
+    clip.path = ClipPath::Motion(Motion::Pan);
+    clip.speed_px = 2.0;
+    clip.reference = true;
+    clip.reference_samples = 16;
 }
 
 /// Steps the UI until `done` holds.
