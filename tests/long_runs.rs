@@ -6,6 +6,8 @@
 //! show in this process's resident size.
 
 mod common;
+#[path = "common/flat.rs"]
+mod flat;
 
 use aa_lab::aa::{self, FrameInfo};
 use aa_lab::graph::{FrameGraph, FrameScope};
@@ -21,33 +23,6 @@ const WARM_UP_FRAMES: u64 = 12;
 const WINDOW_FRAMES: u64 = 50;
 /// Growth allowed per frame: noise is a few kB; the leaks this guards against were 977-8059 kB.
 const ALLOWED_KB_PER_FRAME: f64 = 100.0;
-
-/// The live GPU objects and memory wgpu counts (dev-dependency feature `counters`).
-fn gpu_objects(device: &wgpu::Device) -> Vec<(&'static str, isize)> {
-    let hal = device.get_internal_counters().hal;
-    vec![
-        ("buffers", hal.buffers.read()),
-        ("textures", hal.textures.read()),
-        ("texture views", hal.texture_views.read()),
-        ("bind groups", hal.bind_groups.read()),
-        ("render pipelines", hal.render_pipelines.read()),
-        ("compute pipelines", hal.compute_pipelines.read()),
-        ("shader modules", hal.shader_modules.read()),
-        ("query sets", hal.query_sets.read()),
-        ("buffer memory", hal.buffer_memory.read()),
-        ("texture memory", hal.texture_memory.read()),
-    ]
-}
-
-/// Resident set size of this process in kB.
-fn resident_kb() -> u64 {
-    let status = std::fs::read_to_string("/proc/self/status").expect("/proc/self/status");
-    status
-        .lines()
-        .find_map(|line| line.strip_prefix("VmRSS:"))
-        .and_then(|rest| rest.split_whitespace().next()?.parse().ok())
-        .expect("VmRSS in /proc/self/status")
-}
 
 #[test]
 #[cfg(target_os = "linux")]
@@ -83,16 +58,15 @@ fn every_technique_renders_hundreds_of_frames_without_growing() {
             }
         };
         render(0..WARM_UP_FRAMES);
-        let start = resident_kb();
-        let objects_before = gpu_objects(&gpu.device);
+        let start = flat::resident_kb();
+        let objects_before = flat::gpu_objects(&gpu.device);
         let middle_frame = WARM_UP_FRAMES + WINDOW_FRAMES;
         render(WARM_UP_FRAMES..middle_frame);
-        let middle = resident_kb();
+        let middle = flat::resident_kb();
         render(middle_frame..middle_frame + WINDOW_FRAMES);
-        let end = resident_kb();
-        let objects_after = gpu_objects(&gpu.device);
-        let growth = (middle.saturating_sub(start)).min(end.saturating_sub(middle));
-        let per_frame = growth as f64 / WINDOW_FRAMES as f64;
+        let end = flat::resident_kb();
+        let objects_after = flat::gpu_objects(&gpu.device);
+        let per_frame = flat::growth_per_frame([start, middle, end], [WINDOW_FRAMES; 2]);
         let name = format!(
             "{}{}",
             id,

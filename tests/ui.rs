@@ -7,146 +7,24 @@
 //! sidecar, errors are shown and the previous scene stays. Snapshots of the main layouts live
 //! in `tests/snapshots/` (`UPDATE_SNAPSHOTS=1` rewrites them).
 
+#[path = "common/viewer.rs"]
+mod viewer;
+
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use aa_lab::app::{AaLabApp, ClipPath, DisplayPath, LaunchOptions, Layout};
+use aa_lab::app::{AaLabApp, ClipPath, DisplayPath, Layout};
 use aa_lab::scene::motion::Motion;
 use aa_lab::scene::procedural::SceneOptions;
 use aa_lab::spec::{self, RenderSpec, RunOptions};
-use egui::{Event, Modifiers, PointerButton, Pos2, Rect, pos2, vec2};
+use egui::{Modifiers, Pos2, Rect, pos2, vec2};
 use egui_kittest::kittest::Queryable;
 use egui_kittest::{Harness, SnapshotOptions};
-
-/// Window size: side panels and magnifier leave a viewport of a few hundred pixels.
-const WINDOW: egui::Vec2 = egui::vec2(1180.0, 760.0);
-/// The longest any wait may take (software rendering of a few small frames).
-const TIMEOUT: Duration = Duration::from_secs(180);
-
-/// The viewer on `scene` with default settings, paused (frames stay put), after its first
-/// complete frame.
-fn viewer(scene: &str) -> Harness<'static, AaLabApp> {
-    viewer_with(scene, Duration::ZERO, DisplayPath::Auto)
-}
-
-/// [`viewer`] with an engine whose every frame takes at least `frame_delay` and images that
-/// reach the screen by `display`; when the delay is not
-/// zero, the quality figures and the lens are off (the reference would keep a slow engine busy
-/// for many frames).
-fn viewer_with(
-    scene: &str,
-    frame_delay: Duration,
-    display: DisplayPath,
-) -> Harness<'static, AaLabApp> {
-    let mut harness = launch(scene, frame_delay, display);
-    harness.state_mut().camera_mut().playing = false;
-    if !frame_delay.is_zero() {
-        let settings = harness.state_mut().settings_mut();
-        settings.quality = false;
-        settings.show_magnifier = false;
-    }
-    wait(&mut harness, "the first frame", AaLabApp::frame_ready);
-    harness
-}
-
-/// The viewer on `scene` with fresh settings, before its first UI frame (the scene loads in
-/// the background).
-fn launch(scene: &str, frame_delay: Duration, display: DisplayPath) -> Harness<'static, AaLabApp> {
-    let scene = scene.to_owned();
-    Harness::builder()
-        .with_size(WINDOW)
-        .wgpu_setup(aa_lab::app::wgpu_setup())
-        .build_eframe(move |cc| {
-            AaLabApp::new(
-                cc,
-                LaunchOptions {
-                    scene: Some(scene),
-                    fresh_settings: true,
-                    engine_frame_delay: frame_delay,
-                    display,
-                    ..Default::default()
-                },
-            )
-            .expect("the viewer starts")
-        })
-}
-
-/// Steps the UI until `done` holds.
-fn wait(harness: &mut Harness<'_, AaLabApp>, what: &str, done: impl Fn(&AaLabApp) -> bool) {
-    let start = Instant::now();
-    while !done(harness.state()) {
-        assert!(
-            start.elapsed() < TIMEOUT,
-            "timed out after {TIMEOUT:?} waiting for {what}; notices: {:?}",
-            harness
-                .state()
-                .notices()
-                .iter()
-                .map(|n| &n.text)
-                .collect::<Vec<_>>()
-        );
-        harness.step();
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    harness.step();
-}
-
-/// Switches FXAA off, so that a new technique is among the four compared (and read back), and
-/// adds the user technique in `file`; returns its id.
-fn add_user_technique_instead_of_fxaa(
-    harness: &mut Harness<'_, AaLabApp>,
-    file: &std::path::Path,
-) -> String {
-    harness
-        .get_by_role_and_label(egui::accesskit::Role::CheckBox, "FXAA")
-        .click();
-    harness.step();
-    harness.state_mut().add_user_technique(file.to_path_buf());
-    format!(
-        "user:{}",
-        std::fs::canonicalize(file).expect("canonical").display()
-    )
-}
-
-/// Clicks at `pos` with `modifiers` held (as the window reports them: in the input state, not
-/// only on the click) and runs a frame.
-fn click_with(harness: &mut Harness<'_, AaLabApp>, pos: Pos2, modifiers: Modifiers) {
-    harness.event(Event::ModifiersChanged(modifiers));
-    harness.event(Event::PointerMoved(pos));
-    for pressed in [true, false] {
-        harness.event(Event::PointerButton {
-            pos,
-            button: PointerButton::Primary,
-            pressed,
-            modifiers,
-        });
-    }
-    harness.step();
-    harness.event(Event::ModifiersChanged(Modifiers::NONE));
-}
-
-fn drag(harness: &mut Harness<'_, AaLabApp>, from: Pos2, to: Pos2) {
-    harness.event(Event::PointerMoved(from));
-    harness.event(Event::PointerButton {
-        pos: from,
-        button: PointerButton::Primary,
-        pressed: true,
-        modifiers: Modifiers::NONE,
-    });
-    harness.step();
-    for i in 1..=4 {
-        harness.event(Event::PointerMoved(from + (to - from) * (i as f32 / 4.0)));
-        harness.step();
-    }
-    harness.event(Event::PointerButton {
-        pos: to,
-        button: PointerButton::Primary,
-        pressed: false,
-        modifiers: Modifiers::NONE,
-    });
-    harness.step();
-}
+use viewer::{
+    TIMEOUT, WINDOW, add_user_technique_instead_of_fxaa, blind_answers, click_with, drag,
+    launch_in, pan_clip_with_reference, settled, viewer, viewer_with, wait,
+};
 
 /// The lens rectangle on screen, from the magnifier settings and the drawn image.
 fn lens_center_on_screen(app: &AaLabApp) -> Pos2 {
@@ -409,15 +287,7 @@ fn a_recorded_clip_plays_every_pane_in_lockstep_and_exports_an_animation() {
     let dir = tempfile::tempdir().expect("temp dir");
     let mut harness = viewer("chart");
     harness.state_mut().set_export_dir(dir.path().to_path_buf());
-    {
-        let clip = &mut harness.state_mut().settings_mut().clip;
-        clip.frames = FRAMES as u32;
-        clip.warmup = 2;
-        clip.path = ClipPath::Motion(Motion::Pan);
-        clip.speed_px = 2.0;
-        clip.reference = true;
-        clip.reference_samples = 16;
-    }
+    pan_clip_with_reference(&mut harness, FRAMES as u32, 2);
     harness.get_by_label("Record").click();
     harness.step();
     wait(&mut harness, "the clip", |app| {
@@ -545,7 +415,6 @@ fn a_recorded_clip_plays_every_pane_in_lockstep_and_exports_an_animation() {
     wait(&mut harness, "a live frame", AaLabApp::frame_ready);
 }
 
-/// The answers file once it holds `trials` answers.
 /// The metrics panel's bench measures the compared techniques as `aa-lab bench` does and
 /// writes its report into a new folder of the export folder; the panel shows the figures.
 #[test]
@@ -602,30 +471,6 @@ fn the_viewer_benches_the_compared_techniques_into_a_report() {
     assert!(spec.rig.is_some(), "the viewer's camera is recorded");
     // The panel shows the figures.
     harness.get_by_label("GPU ms");
-}
-
-fn blind_answers(harness: &mut Harness<'_, AaLabApp>, trials: usize) -> serde_json::Value {
-    let path = harness
-        .state()
-        .blind_file()
-        .expect("a blind session")
-        .to_path_buf();
-    let start = Instant::now();
-    loop {
-        let file = std::fs::read(&path)
-            .ok()
-            .and_then(|bytes| serde_json::from_slice::<serde_json::Value>(&bytes).ok());
-        if let Some(file) = file.filter(|f| f["trials"].as_array().map(Vec::len) == Some(trials)) {
-            return file;
-        }
-        assert!(
-            start.elapsed() < TIMEOUT,
-            "{} never held {trials} answers",
-            path.display()
-        );
-        harness.step();
-        std::thread::sleep(Duration::from_millis(5));
-    }
 }
 
 #[test]
@@ -824,19 +669,6 @@ fn a_malformed_obj_is_reported_and_the_scene_stays() {
         AaLabApp::frame_ready,
     );
     assert_eq!(harness.state().settings().layout, Layout::Wipe);
-}
-
-/// The reference has converged and every compared technique's figures (FLIP included) rest
-/// on all of its samples.
-fn settled(app: &AaLabApp) -> bool {
-    let total = app.settings().reference_samples;
-    app.frame_ready()
-        && app.reference_samples_done() == total
-        && app.compared().iter().all(|id| {
-            app.quality_figures(id).is_some_and(|f| {
-                f.reference_samples == total && f.flip.map(|(_, n)| n) == Some(total)
-            })
-        })
 }
 
 #[test]
@@ -1221,7 +1053,8 @@ fn a_user_technique_runs_shows_its_errors_and_reloads_when_its_file_changes() {
 
 /// A user technique added once comes back at the next start (the settings remember its file,
 /// and its saved parameters apply to the new build); removing it takes it out of the techniques
-/// panel, the comparison and the settings, and leaves its file alone.
+/// panel, the comparison and the settings, and leaves its file alone; adding the file again
+/// brings it back switched on.
 #[test]
 fn a_user_technique_is_remembered_across_starts_and_can_be_removed() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -1247,7 +1080,7 @@ fn a_user_technique_is_remembered_across_starts_and_can_be_removed() {
     let mut gain = aa_lab::aa::ParamMap::new();
     gain.insert("gain".to_owned(), aa_lab::aa::ParamValue::Float(0.5));
     remembered.technique_settings.insert(id.clone(), gain);
-    let mut second = launch("chart", Duration::ZERO, DisplayPath::Auto);
+    let mut second = launch_in(WINDOW, "chart", Duration::ZERO, DisplayPath::Auto);
     *second.state_mut().settings_mut() = remembered;
     wait(&mut second, "the remembered technique's frame", |app| {
         app.frame_ready() && app.output_pixels(&id).is_some()
@@ -1278,6 +1111,14 @@ fn a_user_technique_is_remembered_across_starts_and_can_be_removed() {
         "a removed technique is still listed"
     );
     assert!(file.is_file(), "removing a technique deleted its file");
+
+    // Adding the file again brings it back, switched on and compared (before the fix it came
+    // back listed but switched off: found by tests/soak.rs).
+    second.state_mut().add_user_technique(file.clone());
+    wait(&mut second, "the technique added again", |app| {
+        app.frame_ready() && app.compared().contains(&id.as_str())
+    });
+    assert!(second.state().output_pixels(&id).is_some());
 }
 
 /// Issue 29, item 3: a user technique the driver takes seconds to compile (a zero-initialised

@@ -370,6 +370,18 @@ impl AaLabApp {
         self.ws.rendering()
     }
 
+    /// The window's device (eframe's, which holds the display textures) and the engine's once
+    /// its render thread has opened it (the same device on the native display path): tests
+    /// read their live GPU object counts.
+    pub fn gpu_devices(&self) -> (wgpu::Device, Option<wgpu::Device>) {
+        let engine = self
+            .ws
+            .engine
+            .as_ref()
+            .and_then(|engine| engine.render_device().cloned());
+        (self.ws.gpu.device.clone(), engine)
+    }
+
     fn handle_action(&mut self, ctx: &egui::Context, action: Action) {
         match action {
             // The techniques are not shown while images are.

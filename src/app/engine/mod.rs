@@ -242,6 +242,9 @@ pub struct Engine {
     clip_shown: bool,
     /// The graph's state belongs to a clip: the next live frame starts over.
     after_clip: bool,
+    /// The render thread's device once it has opened it (declared after `thread`, so that it
+    /// is released after the thread has ended).
+    render_device: Option<wgpu::Device>,
 }
 
 impl Engine {
@@ -309,6 +312,7 @@ impl Engine {
             clip: None,
             clip_shown: false,
             after_clip: false,
+            render_device: None,
         })
     }
 
@@ -449,6 +453,11 @@ impl Engine {
         self.scene_renders
     }
 
+    /// The device the render thread renders on, once it has opened it.
+    pub fn render_device(&self) -> Option<&wgpu::Device> {
+        self.render_device.as_ref()
+    }
+
     /// A frame is being rendered or read back.
     pub fn busy(&self) -> bool {
         self.in_flight.is_some()
@@ -472,7 +481,10 @@ impl Engine {
         let mut publication = Publication::default();
         for event in self.thread.poll() {
             match event {
-                Event::Ready(techniques) => self.ready_techniques(techniques),
+                Event::Ready(techniques, device) => {
+                    self.render_device = Some(device);
+                    self.ready_techniques(techniques);
+                }
                 Event::Settings {
                     index,
                     settings,

@@ -205,11 +205,12 @@ impl Engine {
         };
         entry.building = None;
         // A build (after the file was added again) lists it again.
-        entry.removed = false;
+        let returning = std::mem::take(&mut entry.removed);
         match result {
             Ok(settings) => {
-                // The first build that works switches it on.
-                if entry.settings.is_none() {
+                // The first build that works switches it on, and so does the first after the
+                // file was added again.
+                if entry.settings.is_none() || returning {
                     entry.enabled = true;
                     publication.added_users.push(id);
                 }

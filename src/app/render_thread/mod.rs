@@ -192,8 +192,9 @@ pub enum Command {
 /// Answers to the UI.
 pub enum Event {
     /// The device and every technique exist: per registry index, the settings or why the
-    /// technique cannot run here.
-    Ready(Vec<Result<TechniqueSettings, String>>),
+    /// technique cannot run here; and the device the thread renders on (the app's test API
+    /// reads its live GPU object counts).
+    Ready(Vec<Result<TechniqueSettings, String>>, wgpu::Device),
     /// A technique's settings after a [`Command::Configure`], and the error if the change was
     /// refused.
     Settings {
@@ -303,7 +304,7 @@ impl RenderThread {
                     match RenderState::new(device, uploader, &scene, &available, reference_samples)
                     {
                         Ok((state, ready)) => {
-                            send(Event::Ready(ready));
+                            send(Event::Ready(ready, state.gpu.device.clone()));
                             state
                         }
                         Err(err) => {

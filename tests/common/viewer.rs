@@ -1,0 +1,209 @@
+//! The viewer under test: the real [`AaLabApp`] launched headless through egui_kittest on the
+//! wgpu renderer (software Vulkan when there is no GPU), and the steps tests take with it (wait
+//! for a state, click, drag, add a user technique, read a blind session's answers). Shared by
+//! the UI tests (`tests/ui.rs`) and the soak (`tests/soak.rs`), each including it with
+//! `#[path]`.
+
+#![allow(dead_code)]
+
+use std::time::{Duration, Instant};
+
+use aa_lab::app::{AaLabApp, ClipPath, DisplayPath, LaunchOptions};
+use aa_lab::scene::motion::Motion;
+use egui::{Event, Modifiers, PointerButton, Pos2};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+
+/// Window size: side panels and magnifier leave a viewport of a few hundred pixels.
+pub const WINDOW: egui::Vec2 = egui::vec2(1180.0, 760.0);
+/// The longest any wait may take (software rendering of a few small frames).
+pub const TIMEOUT: Duration = Duration::from_secs(180);
+
+/// The viewer on `scene` with default settings, paused (frames stay put), after its first
+/// complete frame.
+pub fn viewer(scene: &str) -> Harness<'static, AaLabApp> {
+    viewer_with(scene, Duration::ZERO, DisplayPath::Auto)
+}
+
+/// [`viewer`] with an engine whose every frame takes at least `frame_delay` and images that
+/// reach the screen by `display`; when the delay is not
+/// zero, the quality figures and the lens are off (the reference would keep a slow engine busy
+/// for many frames).
+pub fn viewer_with(
+    scene: &str,
+    frame_delay: Duration,
+    display: DisplayPath,
+) -> Harness<'static, AaLabApp> {
+    viewer_in(WINDOW, scene, frame_delay, display)
+}
+
+/// [`viewer_with`] in a window of `window` points.
+pub fn viewer_in(
+    window: egui::Vec2,
+    scene: &str,
+    frame_delay: Duration,
+    display: DisplayPath,
+) -> Harness<'static, AaLabApp> {
+    let mut harness = launch_in(window, scene, frame_delay, display);
+    harness.state_mut().camera_mut().playing = false;
+    if !frame_delay.is_zero() {
+        let settings = harness.state_mut().settings_mut();
+        settings.quality = false;
+        settings.show_magnifier = false;
+    }
+    wait(&mut harness, "the first frame", AaLabApp::frame_ready);
+    harness
+}
+
+/// The viewer on `scene` with fresh settings in a window of `window` points, before its first
+/// UI frame (the scene loads in the background).
+pub fn launch_in(
+    window: egui::Vec2,
+    scene: &str,
+    frame_delay: Duration,
+    display: DisplayPath,
+) -> Harness<'static, AaLabApp> {
+    let scene = scene.to_owned();
+    Harness::builder()
+        .with_size(window)
+        .wgpu_setup(aa_lab::app::wgpu_setup())
+        .build_eframe(move |cc| {
+            AaLabApp::new(
+                cc,
+                LaunchOptions {
+                    scene: Some(scene),
+                    fresh_settings: true,
+                    engine_frame_delay: frame_delay,
+                    display,
+                    ..Default::default()
+                },
+            )
+            .expect("the viewer starts")
+        })
+}
+
+/// Sets the clip bar to record `frames` frames after `warmup` of a pan, two pixels a frame,
+/// with the 16-sample reference (the temporal figures need it).
+pub fn pan_clip_with_reference(harness: &mut Harness<'_, AaLabApp>, frames: u32, warmup: u32) {
+    let clip = &mut harness.state_mut().settings_mut().clip;
+    clip.frames = frames;
+    clip.warmup = warmup;
+    clip.path = ClipPath::Motion(Motion::Pan);
+    clip.speed_px = 2.0;
+    clip.reference = true;
+    clip.reference_samples = 16;
+}
+
+/// Steps the UI until `done` holds.
+pub fn wait(harness: &mut Harness<'_, AaLabApp>, what: &str, done: impl Fn(&AaLabApp) -> bool) {
+    let start = Instant::now();
+    while !done(harness.state()) {
+        assert!(
+            start.elapsed() < TIMEOUT,
+            "timed out after {TIMEOUT:?} waiting for {what}; notices: {:?}",
+            harness
+                .state()
+                .notices()
+                .iter()
+                .map(|n| &n.text)
+                .collect::<Vec<_>>()
+        );
+        harness.step();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    harness.step();
+}
+
+/// Switches FXAA off, so that a new technique is among the four compared (and read back), and
+/// adds the user technique in `file`; returns its id.
+pub fn add_user_technique_instead_of_fxaa(
+    harness: &mut Harness<'_, AaLabApp>,
+    file: &std::path::Path,
+) -> String {
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::CheckBox, "FXAA")
+        .click();
+    harness.step();
+    harness.state_mut().add_user_technique(file.to_path_buf());
+    format!(
+        "user:{}",
+        std::fs::canonicalize(file).expect("canonical").display()
+    )
+}
+
+/// Clicks at `pos` with `modifiers` held (as the window reports them: in the input state, not
+/// only on the click) and runs a frame.
+pub fn click_with(harness: &mut Harness<'_, AaLabApp>, pos: Pos2, modifiers: Modifiers) {
+    harness.event(Event::ModifiersChanged(modifiers));
+    harness.event(Event::PointerMoved(pos));
+    for pressed in [true, false] {
+        harness.event(Event::PointerButton {
+            pos,
+            button: PointerButton::Primary,
+            pressed,
+            modifiers,
+        });
+    }
+    harness.step();
+    harness.event(Event::ModifiersChanged(Modifiers::NONE));
+}
+
+pub fn drag(harness: &mut Harness<'_, AaLabApp>, from: Pos2, to: Pos2) {
+    harness.event(Event::PointerMoved(from));
+    harness.event(Event::PointerButton {
+        pos: from,
+        button: PointerButton::Primary,
+        pressed: true,
+        modifiers: Modifiers::NONE,
+    });
+    harness.step();
+    for i in 1..=4 {
+        harness.event(Event::PointerMoved(from + (to - from) * (i as f32 / 4.0)));
+        harness.step();
+    }
+    harness.event(Event::PointerButton {
+        pos: to,
+        button: PointerButton::Primary,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+    });
+    harness.step();
+}
+
+/// The answers file once it holds `trials` answers.
+pub fn blind_answers(harness: &mut Harness<'_, AaLabApp>, trials: usize) -> serde_json::Value {
+    let path = harness
+        .state()
+        .blind_file()
+        .expect("a blind session")
+        .to_path_buf();
+    let start = Instant::now();
+    loop {
+        let file = std::fs::read(&path)
+            .ok()
+            .and_then(|bytes| serde_json::from_slice::<serde_json::Value>(&bytes).ok());
+        if let Some(file) = file.filter(|f| f["trials"].as_array().map(Vec::len) == Some(trials)) {
+            return file;
+        }
+        assert!(
+            start.elapsed() < TIMEOUT,
+            "{} never held {trials} answers",
+            path.display()
+        );
+        harness.step();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// The reference has converged and every compared technique's figures (FLIP included) rest
+/// on all of its samples.
+pub fn settled(app: &AaLabApp) -> bool {
+    let total = app.settings().reference_samples;
+    app.frame_ready()
+        && app.reference_samples_done() == total
+        && app.compared().iter().all(|id| {
+            app.quality_figures(id).is_some_and(|f| {
+                f.reference_samples == total && f.flip.map(|(_, n)| n) == Some(total)
+            })
+        })
+}
