@@ -23,8 +23,10 @@ use std::time::Instant;
 
 use super::style::{self, number};
 use super::workspace::Level;
-use crate::bench::{BenchError, BenchOptions, BenchProgress, BenchRunner, RunPlan, reference_spec};
-use crate::export::report::{self, BenchReport, write_report};
+use crate::bench::{
+    BenchError, BenchOptions, BenchProgress, BenchRunner, RunPlan, reference_spec, write_report,
+};
+use crate::export::report::{self, BenchReport};
 use crate::files::Overwrite;
 use crate::gpu::Gpu;
 use crate::scene::CameraRig;

@@ -9,10 +9,16 @@
 
 use crate::aa::floor::COPY_FLOOR_ID;
 use crate::aa::{self, Named, ParamValue, SceneInput, TechniqueError};
+use crate::export::ExportError;
+use crate::export::charts::ChartError;
+use crate::export::report::{BenchReport, write_charts};
+use crate::export::report_markdown::markdown;
+use crate::files::{self, Overwrite};
 use crate::gpu::Gpu;
 use crate::graph::{FrameStatistics, FrameTimings};
 use crate::metrics::Comparison;
 use crate::spec::TechniqueSpec;
+use std::path::{Path, PathBuf};
 
 mod runner;
 
@@ -198,4 +204,34 @@ impl TimingSamples {
             }
         }
     }
+}
+
+/// The bench's report files in `dir`: `report.json` and `report.md` (the charts are named
+/// after the runs).
+pub fn report_paths(dir: &Path) -> [PathBuf; 2] {
+    [dir.join("report.json"), dir.join("report.md")]
+}
+
+/// Writes `report` into `dir`: `report.json`, `report.md` and the charts. Returns a line per
+/// file written (`wrote PATH`, `replaced PATH`).
+pub fn write_report(
+    report: &BenchReport,
+    dir: &Path,
+    policy: &Overwrite,
+) -> Result<Vec<String>, ChartError> {
+    let [json, md] = report_paths(dir);
+    let text = serde_json::to_string_pretty(report).map_err(|source| ExportError::Record {
+        path: json.clone(),
+        source,
+    })?;
+    let mut lines = Vec::new();
+    let replaced = files::write_bytes(&json, policy, text.as_bytes()).map_err(ExportError::from)?;
+    lines.push(files::wrote_line(&json, replaced));
+    let text = markdown(report);
+    let replaced = files::write_bytes(&md, policy, text.as_bytes()).map_err(ExportError::from)?;
+    lines.push(files::wrote_line(&md, replaced));
+    for chart in write_charts(report, dir, policy)? {
+        lines.push(format!("wrote {}", chart.display()));
+    }
+    Ok(lines)
 }

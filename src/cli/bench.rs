@@ -26,9 +26,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::render::{configured_specs, parse_size, set_flags, technique_ids};
 use crate::bench::{
-    BenchOptions, BenchProgress, BenchRunner, ImageOutput, RunPlan, reference_spec,
+    BenchOptions, BenchProgress, BenchRunner, ImageOutput, RunPlan, reference_spec, report_paths,
+    write_report,
 };
-use crate::export::report::{self, BenchReport, RunReport, report_paths, write_report};
+use crate::export::report::{self, BenchReport, RunReport};
 use crate::files::Overwrite;
 use crate::gpu::Gpu;
 use crate::scene::procedural::SceneOptions;

@@ -347,36 +347,6 @@ pub(super) fn scenes(report: &BenchReport) -> Vec<String> {
     scenes
 }
 
-/// The bench's report files in `dir`: `report.json` and `report.md` (the charts are named
-/// after the runs).
-pub fn report_paths(dir: &Path) -> [PathBuf; 2] {
-    [dir.join("report.json"), dir.join("report.md")]
-}
-
-/// Writes `report` into `dir`: `report.json`, `report.md` and the charts. Returns a line per
-/// file written (`wrote PATH`, `replaced PATH`).
-pub fn write_report(
-    report: &BenchReport,
-    dir: &Path,
-    policy: &Overwrite,
-) -> Result<Vec<String>, ChartError> {
-    let [json, md] = report_paths(dir);
-    let text = serde_json::to_string_pretty(report).map_err(|source| ExportError::Record {
-        path: json.clone(),
-        source,
-    })?;
-    let mut lines = Vec::new();
-    let replaced = files::write_bytes(&json, policy, text.as_bytes()).map_err(ExportError::from)?;
-    lines.push(files::wrote_line(&json, replaced));
-    let text = super::report_markdown::markdown(report);
-    let replaced = files::write_bytes(&md, policy, text.as_bytes()).map_err(ExportError::from)?;
-    lines.push(files::wrote_line(&md, replaced));
-    for chart in write_charts(report, dir, policy)? {
-        lines.push(format!("wrote {}", chart.display()));
-    }
-    Ok(lines)
-}
-
 /// Writes the report's charts into `dir` and returns their paths: per run, GPU time per
 /// technique (scene input and own passes stacked) and, with quality, SSIM against GPU ms with
 /// the Pareto front; per scene, SSIM per technique (one series per size); per scene of a
