@@ -107,7 +107,7 @@ pub struct BenchArgs {
     /// The camera of every scene, when not its default view (the timed frames then follow
     /// this camera's slow track).
     #[command(flatten)]
-    pub camera: super::render::CameraArgs,
+    pub camera: super::camera::CameraArgs,
 }
 
 /// Most timed or warm-up frames per run.

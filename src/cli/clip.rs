@@ -23,9 +23,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
+use super::camera::CameraMotion;
 use super::render::{
-    CameraMotion, SceneSource, TechniqueArgs, load_scene, output_policy, spec_for_scene,
-    technique_specs,
+    SceneSource, TechniqueArgs, load_scene, output_policy, spec_for_scene, technique_specs,
 };
 use crate::aa::FrameInfo;
 use crate::bench::reference_spec;

@@ -10,6 +10,7 @@
 //! without a display renders into `out/` with `--force`: that folder is its own scratch space.
 
 mod bench;
+mod camera;
 mod clip;
 mod compare;
 mod info;
@@ -19,9 +20,10 @@ mod sheet;
 use clap::{Parser, Subcommand};
 
 pub use bench::{BenchArgs, Sweep};
+pub use camera::parse_vec3;
 pub use clip::ClipArgs;
 pub use compare::CompareArgs;
-pub use render::{RenderArgs, TechniqueArgs, parse_vec3, technique_specs};
+pub use render::{RenderArgs, TechniqueArgs, technique_specs};
 
 /// The overwrite policy as `--help` states it (see the module docs).
 const FILES_HELP: &str = "Files: aa-lab never replaces an existing file unless the command is given \

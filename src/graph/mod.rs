@@ -506,91 +506,15 @@ impl FrameGraph {
             })
             .collect();
 
-        // 1. Distinct inputs of every held technique (those that run and those that keep an
-        // earlier image), each assigned a pooled target of its description; the pool keeps
-        // nothing else, so what it holds is what the memory report lists. An input is the
-        // render a technique asks for at the size it renders at (its render scale).
-        let mut wanted: Vec<Option<(SceneInput, (u32, u32))>> = vec![None; self.slots.len()];
-        self.inputs_used.clear();
-        for (i, slot) in self.slots.iter().enumerate().filter(|(_, s)| s.held()) {
-            let render_size = slot.technique.render_size(frame);
-            let input = slot.technique.scene_input(frame);
-            wanted[i] = input.map(|input| (input, render_size));
-            if let Some(input) = input
-                && !self
-                    .inputs_used
-                    .iter()
-                    .any(|used| used.is(input, render_size))
-            {
-                let desc = TargetDesc {
-                    size: render_size,
-                    sample_count: input.sample_count(),
-                    motion: input.motion(),
-                };
-                let index = self.inputs_used.iter().filter(|u| u.desc == desc).count();
-                self.inputs_used.push(PooledInput {
-                    input,
-                    desc,
-                    index,
-                    rendered: false,
-                });
-            }
-        }
-        self.slot_inputs = wanted
-            .iter()
-            .map(|w| {
-                w.and_then(|(input, size)| self.inputs_used.iter().position(|u| u.is(input, size)))
-            })
-            .collect();
-        for &i in &active {
-            if let Some(n) = self.slot_inputs[i] {
-                self.inputs_used[n].rendered = true;
-            }
-        }
-        if self.image_input.is_some()
-            && let Some(scaled) = self.inputs_used.iter().find(|u| u.desc.size != size)
-        {
-            return Err(GraphError::ImageScaled(
-                scaled.desc.size.0,
-                scaled.desc.size.1,
-            ));
-        }
-        self.pool_inputs();
+        self.plan_inputs(frame, &active)?;
 
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("frame"),
         });
         self.scene_renders = 0;
         self.statistics.begin_frame(&device);
-        // 2. One scene render per distinct input a running technique reads.
-        for used in self.inputs_used.iter().filter(|u| u.rendered) {
-            let (input, desc, index) = (&used.input, &used.desc, &used.index);
-            let targets = &self.input_pool[desc][*index];
-            if let (Some(image), SceneInput::Shared1x) = (&self.image_input, input) {
-                crate::gpu::write_rgba8(&self.gpu, &targets.color, image);
-                continue;
-            }
-            let view = camera
-                .at_render_size(desc.size)
-                .params(input.offset(), input.mip_bias());
-            let label = used.label(size);
-            let query = self.profiler.begin_pass_query(label.clone(), &mut encoder);
-            let queries = PassQueries {
-                timestamp_writes: query.render_pass_timestamp_writes(),
-                statistics: self.statistics.allocate(&label),
-            };
-            self.scene.render_queried(
-                &self.gpu,
-                &mut encoder,
-                targets,
-                &view,
-                input.raster(),
-                queries,
-            );
-            self.profiler.end_query(&mut encoder, query);
-            self.scene_renders += 1;
-        }
-        // 3. Every running technique's passes.
+        self.render_inputs(&mut encoder, &camera, size);
+        // 3. Every running technique's passes (after 1, plan_inputs, and 2, render_inputs).
         for &i in &active {
             let slot = &mut self.slots[i];
             let output = slot.output.get_or_insert_with(|| {
@@ -665,6 +589,94 @@ impl FrameGraph {
         match pollster::block_on(error_scope.pop()) {
             Some(error) => Err(GraphError::Device(error.to_string())),
             None => Ok(()),
+        }
+    }
+
+    /// Step 1 of a frame (see [`FrameGraph::render_with`]): the distinct inputs of every
+    /// held technique (those that run and those that keep an earlier image), each assigned a
+    /// pooled target of its description, and which of them the techniques of `active` make
+    /// render this frame. The pool keeps nothing else, so what it holds is what the memory
+    /// report lists. An input is the render a technique asks for at the size it renders at
+    /// (its render scale).
+    fn plan_inputs(&mut self, frame: &FrameInfo, active: &[usize]) -> Result<(), GraphError> {
+        let size = frame.output_size();
+        let mut wanted: Vec<Option<(SceneInput, (u32, u32))>> = vec![None; self.slots.len()];
+        self.inputs_used.clear();
+        for (i, slot) in self.slots.iter().enumerate().filter(|(_, s)| s.held()) {
+            let render_size = slot.technique.render_size(frame);
+            let input = slot.technique.scene_input(frame);
+            wanted[i] = input.map(|input| (input, render_size));
+            if let Some(input) = input
+                && !self
+                    .inputs_used
+                    .iter()
+                    .any(|used| used.is(input, render_size))
+            {
+                let desc = TargetDesc {
+                    size: render_size,
+                    sample_count: input.sample_count(),
+                    motion: input.motion(),
+                };
+                let index = self.inputs_used.iter().filter(|u| u.desc == desc).count();
+                self.inputs_used.push(PooledInput {
+                    input,
+                    desc,
+                    index,
+                    rendered: false,
+                });
+            }
+        }
+        self.slot_inputs = wanted
+            .iter()
+            .map(|w| {
+                w.and_then(|(input, size)| self.inputs_used.iter().position(|u| u.is(input, size)))
+            })
+            .collect();
+        for &i in active {
+            if let Some(n) = self.slot_inputs[i] {
+                self.inputs_used[n].rendered = true;
+            }
+        }
+        if self.image_input.is_some()
+            && let Some(scaled) = self.inputs_used.iter().find(|u| u.desc.size != size)
+        {
+            return Err(GraphError::ImageScaled(
+                scaled.desc.size.0,
+                scaled.desc.size.1,
+            ));
+        }
+        self.pool_inputs();
+        Ok(())
+    }
+
+    /// Step 2 of a frame: one scene render per distinct input a running technique reads (or
+    /// the image given as input, written into its target), at `size` output pixels.
+    fn render_inputs(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        camera: &crate::scene::camera::FrameCamera,
+        size: (u32, u32),
+    ) {
+        for used in self.inputs_used.iter().filter(|u| u.rendered) {
+            let (input, desc, index) = (&used.input, &used.desc, &used.index);
+            let targets = &self.input_pool[desc][*index];
+            if let (Some(image), SceneInput::Shared1x) = (&self.image_input, input) {
+                crate::gpu::write_rgba8(&self.gpu, &targets.color, image);
+                continue;
+            }
+            let view = camera
+                .at_render_size(desc.size)
+                .params(input.offset(), input.mip_bias());
+            let label = used.label(size);
+            let query = self.profiler.begin_pass_query(label.clone(), encoder);
+            let queries = PassQueries {
+                timestamp_writes: query.render_pass_timestamp_writes(),
+                statistics: self.statistics.allocate(&label),
+            };
+            self.scene
+                .render_queried(&self.gpu, encoder, targets, &view, input.raster(), queries);
+            self.profiler.end_query(encoder, query);
+            self.scene_renders += 1;
         }
     }
 
