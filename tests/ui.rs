@@ -417,6 +417,7 @@ fn a_recorded_clip_plays_every_pane_in_lockstep_and_exports_an_animation() {
 
 /// The metrics panel's bench measures the compared techniques as `aa-lab bench` does and
 /// writes its report into a new folder of the export folder; the panel shows the figures.
+/// Cancelled, it writes nothing.
 #[test]
 fn the_viewer_benches_the_compared_techniques_into_a_report() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -428,6 +429,22 @@ fn the_viewer_benches_the_compared_techniques_into_a_report() {
     for _ in 0..30 {
         harness.step();
     }
+    // Cancelled, it writes nothing.
+    harness.get_by_label("Run bench").click();
+    // The click starts the bench in the next frame, which shows Cancel in the one after.
+    harness.step();
+    harness.step();
+    harness.get_by_label("Cancel").click();
+    wait(&mut harness, "the cancelled bench", |app| {
+        last_notice(app).starts_with("Bench cancelled")
+    });
+    assert_eq!(
+        std::fs::read_dir(dir.path())
+            .expect("the export folder")
+            .count(),
+        0,
+        "a cancelled bench writes nothing"
+    );
     harness.get_by_label("Run bench").click();
     harness.step();
     wait(&mut harness, "the bench", |app| {

@@ -186,20 +186,26 @@ impl BenchFeature {
                 .lock()
                 .map(|p| p.clone())
                 .unwrap_or_default();
-            ui.add(egui::ProgressBar::new(fraction.min(1.0)).text(format!(
-                "{phase} ({:.0} s)",
-                running.started.elapsed().as_secs_f64()
-            )));
+            let text = format!("{phase} ({:.0} s)", running.started.elapsed().as_secs_f64());
             let cancelling = running.progress.cancel.load(Ordering::Relaxed);
-            if ui
-                .add_enabled(!cancelling, egui::Button::new("Cancel"))
-                .on_hover_text(
-                    "Stop the bench after the frame it is rendering; nothing is written.",
-                )
-                .clicked()
-            {
-                running.progress.cancel.store(true, Ordering::Relaxed);
-            }
+            // The bar and Cancel on one row, so Cancel stays in view under the figures.
+            ui.horizontal(|ui| {
+                let bar_width = (ui.available_width() - 70.0).max(80.0);
+                ui.add(
+                    egui::ProgressBar::new(fraction.min(1.0))
+                        .desired_width(bar_width)
+                        .text(text),
+                );
+                if ui
+                    .add_enabled(!cancelling, egui::Button::new("Cancel"))
+                    .on_hover_text(
+                        "Stop the bench after the frame it is rendering; nothing is written.",
+                    )
+                    .clicked()
+                {
+                    running.progress.cancel.store(true, Ordering::Relaxed);
+                }
+            });
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(250));
         } else {
