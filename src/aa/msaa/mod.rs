@@ -24,6 +24,7 @@ pub mod settings;
 
 pub use settings::Resolve;
 
+use crate::aa::common::pass::{self, Binding};
 use crate::aa::common::sampling::{gather_weights, quincunx_weights, standard_msaa_positions};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::{Named, Param, ParamError, ParamValue, as_bool, as_named};
@@ -124,6 +125,9 @@ pub struct Msaa {
     raster: RasterOptions,
     device: wgpu::Device,
     resolve_module: wgpu::ShaderModule,
+    /// The custom resolve's bindings: the samples and the weight table.
+    resolve_layout: wgpu::BindGroupLayout,
+    resolve_pipeline_layout: wgpu::PipelineLayout,
     /// The custom resolve's pipeline and its weight table, for the resolve they were built for.
     custom: Option<(Resolve, wgpu::RenderPipeline, wgpu::Buffer)>,
     debug: Option<MsaaDebug>,
@@ -133,12 +137,26 @@ pub struct Msaa {
 impl Msaa {
     /// MSAA with `samples` samples; the caller has checked the adapter supports the count.
     pub fn new(gpu: &Gpu, samples: u32) -> Self {
+        let resolve_layout = pass::layout(
+            &gpu.device,
+            "msaa resolve",
+            &[(0, Binding::MultisampledTexture), (1, Binding::Uniform)],
+        );
+        let resolve_pipeline_layout =
+            gpu.device
+                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some("msaa resolve"),
+                    bind_group_layouts: &[Some(&resolve_layout)],
+                    immediate_size: 0,
+                });
         Self {
             id: id_for(samples).unwrap_or("msaa"),
             samples,
             resolve: Resolve::Box,
             raster: RasterOptions::default(),
             resolve_module: RESOLVE_WGSL.module(&gpu.device),
+            resolve_layout,
+            resolve_pipeline_layout,
             device: gpu.device.clone(),
             custom: None,
             debug: None,
@@ -175,7 +193,7 @@ impl Msaa {
                     entry_point: "fs_resolve",
                     targets: &[COLOR_FORMAT],
                     constants: &[],
-                    layout: None,
+                    layout: Some(&self.resolve_pipeline_layout),
                 },
             );
             let table = self
@@ -191,20 +209,15 @@ impl Msaa {
             return;
         };
         let samples_view = input.color.create_view(&Default::default());
-        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("msaa resolve"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&samples_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: table.as_entire_binding(),
-                },
+        let bind_group = pass::bind_group(
+            &self.device,
+            "msaa resolve",
+            &self.resolve_layout,
+            &[
+                (0, wgpu::BindingResource::TextureView(&samples_view)),
+                (1, table.as_entire_binding()),
             ],
-        });
+        );
         let target = output.create_view(&Default::default());
         ctx.fullscreen_pass(
             &format!("resolve {}", self.resolve.name()),
