@@ -97,11 +97,6 @@ impl ClipRecorder {
         }
     }
 
-    /// Frames rendered in all, warm-up included.
-    pub fn total_frames(&self) -> usize {
-        self.cameras.len()
-    }
-
     /// Records the clip through `frames` (see the module docs). A front end's error ends the
     /// recording and is returned; a frame that cannot be scored only leaves the clip without
     /// figures ([`RecordedClip::score_error`]).

@@ -24,7 +24,8 @@ use std::time::Instant;
 use super::style::{self, number};
 use super::workspace::Level;
 use crate::bench::{
-    BenchError, BenchOptions, BenchProgress, BenchRunner, RunPlan, reference_spec, write_report,
+    BenchError, BenchOptions, BenchProgress, BenchRunner, DEFAULT_FLICKER_FRAMES,
+    DEFAULT_QUALITY_FRAME, DEFAULT_WARMUP, RunPlan, reference_spec, write_report,
 };
 use crate::export::report::{self, BenchReport};
 use crate::files::Overwrite;
@@ -78,13 +79,13 @@ enum Message {
     Failed(String),
 }
 
-/// What the worker's bench shares with the UI: steps done, the phase, and the Cancel button.
-#[derive(Default)]
+/// What the bench thread shares with the UI: steps done, the phase, the Cancel button, and
+/// the UI's context to wake it at a new phase.
 struct SharedProgress {
     steps: AtomicU64,
     phase: Mutex<String>,
     cancel: AtomicBool,
-    ctx: Mutex<Option<egui::Context>>,
+    ctx: egui::Context,
 }
 
 impl BenchProgress for SharedProgress {
@@ -92,11 +93,7 @@ impl BenchProgress for SharedProgress {
         if let Ok(mut shown) = self.phase.lock() {
             phase.clone_into(&mut shown);
         }
-        if let Ok(ctx) = self.ctx.lock()
-            && let Some(ctx) = ctx.as_ref()
-        {
-            super::request_one_frame(ctx);
-        }
+        super::request_one_frame(&self.ctx);
     }
 
     fn advance(&self, steps: u64) {
@@ -215,10 +212,10 @@ impl BenchFeature {
                         .range(1..=MAX_FRAMES)
                         .suffix(" frames"),
                 )
-                .on_hover_text("Timed frames (after 3 warm-up frames), as `aa-lab bench --frames`.");
+                .on_hover_text(format!("Timed frames (after {DEFAULT_WARMUP} warm-up frames), as `aa-lab bench --frames`."));
                 if ui
                     .button("Run bench")
-                    .on_hover_text("Measure the compared techniques as `aa-lab bench` does: GPU time per pass over the timed frames along a slow camera track from this view, memory, quality of frame 16 against the 64-sample reference, flicker. The live view pauses meanwhile; the report goes to a new folder in the export folder.")
+                    .on_hover_text(format!("Measure the compared techniques as `aa-lab bench` does: GPU time per pass over the timed frames along a slow camera track from this view, memory, quality of frame {DEFAULT_QUALITY_FRAME} against the 64-sample reference, flicker. The live view pauses meanwhile; the report goes to a new folder in the export folder."))
                     .clicked()
                 {
                     notice = match request() {
@@ -238,17 +235,19 @@ impl BenchFeature {
     /// Starts a bench of `request` on a thread of its own.
     fn start(&mut self, ctx: &egui::Context, request: BenchRequest) -> Result<(), String> {
         let options = BenchOptions {
-            warmup: 3,
+            warmup: DEFAULT_WARMUP,
             frames: self.frames,
-            flicker_frames: 4,
-            quality_frame: 16,
+            flicker_frames: DEFAULT_FLICKER_FRAMES,
+            quality_frame: DEFAULT_QUALITY_FRAME,
             quality: true,
             seed: SceneOptions::default().seed,
             images: None,
         };
         let progress = Arc::new(SharedProgress {
-            ctx: Mutex::new(Some(ctx.clone())),
-            ..SharedProgress::default()
+            steps: AtomicU64::new(0),
+            phase: Mutex::new(String::new()),
+            cancel: AtomicBool::new(false),
+            ctx: ctx.clone(),
         });
         let (send, outcome) = mpsc::channel();
         let running = Running {
@@ -278,6 +277,12 @@ impl BenchFeature {
 impl Finished {
     /// The figures of the last bench, and where its report is.
     fn ui(&self, ui: &mut egui::Ui) {
+        let ssim_tip = format!(
+            "Structural similarity of frame {DEFAULT_QUALITY_FRAME} to the 64-sample reference (1 = identical)."
+        );
+        let flip_tip = format!(
+            "NVIDIA FLIP error of frame {DEFAULT_QUALITY_FRAME} against the reference (0 = identical)."
+        );
         style::figures_table(
             ui,
             "bench table",
@@ -289,16 +294,8 @@ impl Finished {
                         "Median GPU time per frame: the technique's passes and the scene render it reads.",
                     ),
                 ),
-                (
-                    "SSIM",
-                    Some(
-                        "Structural similarity of frame 16 to the 64-sample reference (1 = identical).",
-                    ),
-                ),
-                (
-                    "FLIP",
-                    Some("NVIDIA FLIP error of frame 16 against the reference (0 = identical)."),
-                ),
+                ("SSIM", Some(ssim_tip.as_str())),
+                ("FLIP", Some(flip_tip.as_str())),
                 (
                     "flicker",
                     Some(

@@ -22,7 +22,10 @@ use std::path::{Path, PathBuf};
 
 mod runner;
 
-pub use runner::{BenchError, BenchOptions, BenchProgress, BenchRunner, ImageOutput, RunPlan};
+pub use runner::{
+    BenchError, BenchOptions, BenchProgress, BenchRunner, DEFAULT_FLICKER_FRAMES,
+    DEFAULT_QUALITY_FRAME, DEFAULT_WARMUP, ImageOutput, RunPlan,
+};
 
 /// Camera motion per frame of the timing and flicker track, pixels.
 pub const TRACK_STEP_PX: f32 = 0.25;

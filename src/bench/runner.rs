@@ -149,6 +149,13 @@ impl ImageOutput {
     }
 }
 
+/// Untimed frames before the timed ones, unless a front end says otherwise.
+pub const DEFAULT_WARMUP: u32 = 3;
+/// The last timed frames read back for the flicker ratio, by default.
+pub const DEFAULT_FLICKER_FRAMES: u32 = 4;
+/// The frame of the scene's camera path scored for quality, by default.
+pub const DEFAULT_QUALITY_FRAME: u64 = 16;
+
 /// What a bench measures in each run.
 #[derive(Clone, Debug)]
 pub struct BenchOptions {

@@ -26,8 +26,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::render::{configured_specs, parse_size, set_flags, technique_ids};
 use crate::bench::{
-    BenchOptions, BenchProgress, BenchRunner, ImageOutput, RunPlan, reference_spec, report_paths,
-    write_report,
+    BenchOptions, BenchProgress, BenchRunner, DEFAULT_FLICKER_FRAMES, DEFAULT_QUALITY_FRAME,
+    DEFAULT_WARMUP, ImageOutput, RunPlan, reference_spec, report_paths, write_report,
 };
 use crate::export::report::{self, BenchReport, RunReport};
 use crate::files::Overwrite;
@@ -74,13 +74,13 @@ pub struct BenchArgs {
     pub frames: u32,
     /// Untimed frames before the timed ones (shader compilation, caches, temporal history;
     /// 0 to 100000).
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=MAX_FRAMES))]
+    #[arg(long, default_value_t = DEFAULT_WARMUP, value_parser = clap::value_parser!(u32).range(0..=MAX_FRAMES))]
     pub warmup: u32,
     /// Timed frames (the last ones) read back for the flicker ratio; 0 skips flicker.
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = DEFAULT_FLICKER_FRAMES)]
     pub flicker_frames: u32,
     /// Frame of each scene's camera path whose images are scored against the reference.
-    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u64).range(0..=spec::MAX_FRAME))]
+    #[arg(long, default_value_t = DEFAULT_QUALITY_FRAME, value_parser = clap::value_parser!(u64).range(0..=spec::MAX_FRAME))]
     pub quality_frame: u64,
     /// Measure cost only: no reference renders, no image metrics, no flicker.
     #[arg(long)]
