@@ -15,7 +15,8 @@ use std::time::{Duration, Instant};
 use super::bench::BenchFeature;
 use super::blind;
 use super::camera::CameraController;
-use super::clip;
+use super::clip_bar;
+use super::context::{Command, Level, NOTICE_SECONDS, Notice};
 use super::engine::DisplayPath;
 use super::magnifier::MagnifierPanel;
 use super::metrics_panel;
@@ -26,7 +27,7 @@ use super::shortcuts::{self, Action};
 use super::style;
 use super::techniques_panel;
 use super::viewport::ViewportPanel;
-use super::workspace::{Level, NOTICE_SECONDS, Notice, Workspace};
+use super::workspace::Workspace;
 use crate::gpu::Gpu;
 use crate::spec::RenderSpec;
 
@@ -133,10 +134,10 @@ impl AaLabApp {
             settings.scene = scene.clone();
         }
         let mut ws = Workspace::new(gpu, settings, notices, state, &options);
-        let scene = ws.settings.scene.clone();
-        ws.load_scene(&cc.egui_ctx, &scene);
+        let scene = ws.cx.settings.scene.clone();
+        ws.cx.load_scene(&cc.egui_ctx, &scene);
         if !options.images.is_empty() {
-            ws.open_images(&cc.egui_ctx, options.images);
+            ws.cx.open_images(&cc.egui_ctx, options.images);
         }
         Ok(Self {
             ws,
@@ -157,17 +158,17 @@ impl AaLabApp {
 
     /// The settings (tests inspect them).
     pub fn settings(&self) -> &Settings {
-        &self.ws.settings
+        &self.ws.cx.settings
     }
 
     /// Mutable settings (tests drive them).
     pub fn settings_mut(&mut self) -> &mut Settings {
-        &mut self.ws.settings
+        &mut self.ws.cx.settings
     }
 
     /// Whether a scene is being loaded.
     pub fn loading(&self) -> bool {
-        self.ws.loader.loading().is_some()
+        self.ws.cx.loader.loading().is_some()
     }
 
     /// Whether an export is running.
@@ -177,35 +178,35 @@ impl AaLabApp {
 
     /// The loaded scene's name.
     pub fn scene_name(&self) -> Option<&str> {
-        self.ws.scene.as_ref().map(|s| s.name.as_str())
+        self.ws.cx.scene.as_ref().map(|s| s.name.as_str())
     }
 
     /// Current notices, oldest first.
     pub fn notices(&self) -> &[Notice] {
-        &self.ws.notices
+        &self.ws.cx.notices
     }
 
     /// The camera (tests pause it).
     pub fn camera_mut(&mut self) -> &mut CameraController {
-        &mut self.ws.camera
+        &mut self.ws.cx.camera
     }
 
     /// The size the techniques render at (zero until the viewport has been laid out).
     pub fn render_size(&self) -> (u32, u32) {
-        self.ws.render_size
+        self.ws.cx.render_size
     }
 
     /// Whether every compared technique shows an image rendered at the current size and no
     /// frame is in flight, or an image set is shown (tests wait for this).
     pub fn frame_ready(&self) -> bool {
-        if self.ws.images.is_open() {
+        if self.ws.cx.images.is_open() {
             return true;
         }
-        let Some(engine) = &self.ws.engine else {
+        let Some(engine) = &self.ws.cx.engine else {
             return false;
         };
-        let size = self.ws.render_size;
-        let compared = self.ws.compared();
+        let size = self.ws.cx.render_size;
+        let compared = self.ws.cx.compared();
         !engine.busy()
             && !compared.is_empty()
             && compared
@@ -215,13 +216,14 @@ impl AaLabApp {
 
     /// Whether a technique (or an image of the open set) has an image to show (of any size).
     pub fn has_image(&self, id: &str) -> bool {
-        self.ws.image_for(id).is_some()
+        self.ws.cx.image_for(id).is_some()
     }
 
     /// The parameters of technique `id` as the render thread last reported them (none until it
     /// is built).
     pub fn technique_params(&self, id: &str) -> Vec<crate::aa::Param> {
         self.ws
+            .cx
             .engine
             .as_ref()
             .map(|engine| engine.params(id))
@@ -231,7 +233,7 @@ impl AaLabApp {
     /// The published output of a technique or image of the open set (the bytes on screen),
     /// when its pixels were read back.
     pub fn output_pixels(&self, id: &str) -> Option<std::sync::Arc<image::RgbaImage>> {
-        self.ws.output_for(id).and_then(|p| p.pixels.clone())
+        self.ws.cx.output_for(id).and_then(|p| p.pixels.clone())
     }
 
     /// Where technique A's image was drawn in the last frame (points).
@@ -242,17 +244,21 @@ impl AaLabApp {
     /// The published reference of the displayed view, or the reference image of the open set
     /// (the bytes the figures compare against).
     pub fn reference_pixels(&self) -> Option<std::sync::Arc<image::RgbaImage>> {
-        self.ws.reference_for().and_then(|(p, _)| p.pixels.clone())
+        self.ws
+            .cx
+            .reference_for()
+            .and_then(|(p, _)| p.pixels.clone())
     }
 
     /// Samples the displayed reference rests on (0 when there is none; 1 for an image).
     pub fn reference_samples_done(&self) -> u32 {
-        self.ws.reference_for().map_or(0, |(_, p)| p.samples)
+        self.ws.cx.reference_for().map_or(0, |(_, p)| p.samples)
     }
 
     /// The techniques the GPU memory figures list, each with the scene input it reads.
     pub fn memory_listed(&self) -> Vec<(String, Option<String>)> {
         self.ws
+            .cx
             .engine
             .as_ref()
             .and_then(|engine| engine.memory())
@@ -268,48 +274,48 @@ impl AaLabApp {
 
     /// The ids compared as A, B, C, D (see [`Workspace::compared`]).
     pub fn compared(&self) -> Vec<&'static str> {
-        self.ws.compared()
+        self.ws.cx.compared()
     }
 
     /// Adds the user technique in the WGSL file at `path` (see
     /// [`Workspace::add_user_technique`]).
     pub fn add_user_technique(&mut self, path: PathBuf) {
-        self.ws.add_user_technique(path);
+        self.ws.cx.add_user_technique(path);
     }
 
     /// Removes the user technique `id` (see [`Workspace::remove_user_technique`]).
     pub fn remove_user_technique(&mut self, id: &str) {
-        self.ws.remove_user_technique(id);
+        self.ws.cx.remove_user_technique(id);
     }
 
     /// Opens up to four images of one size as panes (see [`Workspace::open_images`]).
     pub fn open_images(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
-        self.ws.open_images(ctx, paths);
+        self.ws.cx.open_images(ctx, paths);
     }
 
     /// Closes the image set: the scene shows again.
     pub fn close_images(&mut self) {
-        self.ws.close_images();
+        self.ws.cx.close_images();
     }
 
     /// Whether an image set is shown instead of the scene.
     pub fn image_set_open(&self) -> bool {
-        self.ws.images.is_open()
+        self.ws.cx.images.is_open()
     }
 
     /// Whether images are being decoded.
     pub fn images_loading(&self) -> bool {
-        self.ws.images.loading()
+        self.ws.cx.images.loading()
     }
 
     /// The file names of the open set, in pane order, and the index of the reference.
     pub fn image_names(&self) -> Option<(Vec<String>, usize)> {
-        self.ws.image_names()
+        self.ws.cx.image_names()
     }
 
     /// Makes image `index` of the open set the reference.
     pub fn set_image_reference(&mut self, index: usize) {
-        self.ws.set_image_reference(index);
+        self.ws.cx.set_image_reference(index);
     }
 
     /// The quality figures of a technique that describe what is on screen now (`None` while
@@ -321,22 +327,22 @@ impl AaLabApp {
     /// In difference mode, the lens means of the magnifier panes' heatmaps (see
     /// [`Workspace::difference_means`]).
     pub fn difference_means(&self) -> Option<Vec<f64>> {
-        self.ws.difference_means()
+        self.ws.magnifier.difference_means(&self.ws.cx)
     }
 
     /// The lens in frame pixels: x, y, width, height.
     pub fn lens_region(&self) -> Option<(u32, u32, u32, u32)> {
-        self.ws.lens().map(|r| (r.x, r.y, r.width, r.height))
+        self.ws.cx.lens().map(|r| (r.x, r.y, r.width, r.height))
     }
 
     /// The render record of the displayed frame: `aa-lab render --from` reproduces it.
     pub fn current_spec(&self) -> Option<RenderSpec> {
-        self.ws.current_spec()
+        self.ws.cx.current_spec()
     }
 
     /// Points exports at a folder (tests use a temporary one).
     pub fn set_export_dir(&mut self, dir: PathBuf) {
-        self.ws.settings.export_dir = dir;
+        self.ws.cx.settings.export_dir = dir;
     }
 
     /// Files written by the last finished export.
@@ -347,27 +353,27 @@ impl AaLabApp {
     /// The clip's progress: frames recorded, and whether it is still recording (`None`: no
     /// clip).
     pub fn clip_progress(&self) -> Option<(usize, bool)> {
-        self.ws.clip_progress()
+        self.ws.cx.clip_progress()
     }
 
     /// The clip's temporal figures per technique, once recorded with the reference.
     pub fn clip_scores(&self) -> Option<Vec<crate::metrics::stability::TemporalScores>> {
-        self.ws.clip_scores()
+        self.ws.cx.clip_scores()
     }
 
     /// The index of the clip frame on screen (`None` when the live view is).
     pub fn shown_clip_frame(&self) -> Option<usize> {
-        self.ws.shown_clip_frame()
+        self.ws.cx.shown_clip_frame()
     }
 
     /// The answers file of the running blind session (tests read it).
     pub fn blind_file(&self) -> Option<&Path> {
-        self.ws.blind.file()
+        self.ws.cx.blind.file()
     }
 
     /// Whether the engine has a frame in flight.
     pub fn rendering(&self) -> bool {
-        self.ws.rendering()
+        self.ws.cx.rendering()
     }
 
     /// The window's device (eframe's, which holds the display textures) and the engine's once
@@ -376,18 +382,19 @@ impl AaLabApp {
     pub fn gpu_devices(&self) -> (wgpu::Device, Option<wgpu::Device>) {
         let engine = self
             .ws
+            .cx
             .engine
             .as_ref()
             .and_then(|engine| engine.render_device().cloned());
-        (self.ws.gpu.device.clone(), engine)
+        (self.ws.cx.gpu.device.clone(), engine)
     }
 
     fn handle_action(&mut self, ctx: &egui::Context, action: Action) {
         match action {
             // The techniques are not shown while images are.
-            Action::ToggleTechnique(_) if self.ws.images.is_open() => {}
+            Action::ToggleTechnique(_) if self.ws.cx.images.is_open() => {}
             Action::ToggleTechnique(n) => {
-                let id = self.ws.engine.as_ref().and_then(|e| {
+                let id = self.ws.cx.engine.as_ref().and_then(|e| {
                     e.entries()
                         .iter()
                         .filter(|t| t.available())
@@ -395,44 +402,46 @@ impl AaLabApp {
                         .map(|t| (t.id, t.enabled))
                 });
                 if let Some((id, on)) = id {
-                    self.ws.set_technique_enabled(id, !on);
+                    self.ws.cx.set_technique_enabled(id, !on);
                 }
             }
-            Action::PlayPause => self.ws.toggle_play(),
+            Action::PlayPause => self.ws.cx.toggle_play(),
             Action::Step => {
-                self.ws.camera.playing = false;
-                self.ws.camera.step();
+                self.ws.cx.camera.playing = false;
+                self.ws.cx.camera.step();
             }
             Action::AutoRotate => {
-                self.ws.camera.auto_rotate = !self.ws.camera.auto_rotate;
-                self.ws.settings.auto_rotate = self.ws.camera.auto_rotate;
+                self.ws.cx.camera.auto_rotate = !self.ws.cx.camera.auto_rotate;
+                self.ws.cx.settings.auto_rotate = self.ws.cx.camera.auto_rotate;
             }
-            Action::ResetView => self.ws.camera.reset(),
-            Action::FlyMode => self.ws.camera.toggle_mode(),
-            Action::AddBookmark => self.ws.add_bookmark(),
+            Action::ResetView => self.ws.cx.camera.reset(),
+            Action::FlyMode => self.ws.cx.camera.toggle_mode(),
+            Action::AddBookmark => self.ws.cx.add_bookmark(),
             Action::GoToBookmark(n) => {
-                if let Some(pose) = self.ws.scene_bookmarks().get(n).map(|b| b.pose) {
-                    self.ws.camera.jump_to(pose);
+                if let Some(pose) = self.ws.cx.scene_bookmarks().get(n).map(|b| b.pose) {
+                    self.ws.cx.camera.jump_to(pose);
                 }
             }
-            Action::Layout(layout) => self.ws.settings.layout = layout,
+            Action::Layout(layout) => self.ws.cx.settings.layout = layout,
             Action::ZoomIn => self
                 .ws
                 .magnifier
-                .zoom_by(&mut self.ws.settings.magnifier, 1),
+                .zoom_by(&mut self.ws.cx.settings.magnifier, 1),
             Action::ZoomOut => self
                 .ws
                 .magnifier
-                .zoom_by(&mut self.ws.settings.magnifier, -1),
+                .zoom_by(&mut self.ws.cx.settings.magnifier, -1),
             Action::PixelGrid => {
-                self.ws.settings.magnifier.pixel_grid = !self.ws.settings.magnifier.pixel_grid;
+                self.ws.cx.settings.magnifier.pixel_grid =
+                    !self.ws.cx.settings.magnifier.pixel_grid;
             }
             Action::Difference => {
-                self.ws.settings.magnifier.difference = !self.ws.settings.magnifier.difference;
+                self.ws.cx.settings.magnifier.difference =
+                    !self.ws.cx.settings.magnifier.difference;
             }
-            Action::Export => self.ws.start_export(ctx),
-            Action::CopySheet => self.ws.copy_sheet(ctx),
-            Action::Open => self.ws.open_file_dialog(ctx),
+            Action::Export => self.ws.cx.request(Command::ExportFrame),
+            Action::CopySheet => self.ws.cx.request(Command::CopySheet),
+            Action::Open => self.ws.cx.open_file_dialog(ctx),
             Action::TogglePanels => self.panels_hidden = !self.panels_hidden,
             Action::Help => self.help_open = !self.help_open,
         }
@@ -440,55 +449,57 @@ impl AaLabApp {
 
     /// Whether anything would show or measure the reference.
     fn reference_wanted(&self) -> bool {
-        self.ws.settings.quality
-            || (self.ws.settings.show_magnifier
-                && (self.ws.settings.magnifier.show_reference
-                    || self.ws.settings.magnifier.difference))
-            || self.ws.settings.layout == Layout::Flip
+        self.ws.cx.settings.quality
+            || (self.ws.cx.settings.show_magnifier
+                && (self.ws.cx.settings.magnifier.show_reference
+                    || self.ws.cx.settings.magnifier.difference))
+            || self.ws.cx.settings.layout == Layout::Flip
     }
 
     /// Whether anything reads the outputs' pixels on the CPU: the quality figures, the
     /// magnifier (pixel values, error maps) or an export.
     fn pixels_wanted(&self) -> bool {
-        self.ws.settings.quality || self.ws.settings.show_magnifier || self.ws.export.running()
+        self.ws.cx.settings.quality
+            || self.ws.cx.settings.show_magnifier
+            || self.ws.export.running()
     }
 
     /// Whether time changes the image (so frames must keep coming while playing).
     fn time_changes_image(&self) -> bool {
-        let Some(engine) = &self.ws.engine else {
+        let Some(engine) = &self.ws.cx.engine else {
             return false;
         };
-        if engine.live_paused() || self.ws.images.is_open() {
+        if engine.live_paused() || self.ws.cx.images.is_open() {
             return false;
         }
-        self.ws.camera.moving_by_itself()
-            || (self.ws.camera.playing && (engine.animated() || engine.temporal_enabled()))
+        self.ws.cx.camera.moving_by_itself()
+            || (self.ws.cx.camera.playing && (engine.animated() || engine.temporal_enabled()))
     }
 
     /// Publishes a finished engine frame and starts the next one when the engine is free.
     /// Returns whether more frames are wanted.
     fn engine_frame(&mut self) -> bool {
         profiling::function_scope!();
-        let size = self.ws.render_size;
+        let size = self.ws.cx.render_size;
         let want_reference = self.reference_wanted();
         let want_pixels = self.pixels_wanted();
         // The engine stays idle while images are shown, and while a bench times its frames.
-        let idle = self.ws.images.is_open() || self.bench.running();
-        let Some(engine) = &mut self.ws.engine else {
+        let idle = self.ws.cx.images.is_open() || self.bench.running();
+        let Some(engine) = &mut self.ws.cx.engine else {
             return false;
         };
         let publication = engine.poll();
         let mut errors = publication.problems;
         // A user technique restored at start, or added again: its saved parameters.
         for id in publication.added_users {
-            if let Some(map) = self.ws.settings.technique_settings.get(id)
+            if let Some(map) = self.ws.cx.settings.technique_settings.get(id)
                 && let Err(err) = engine.apply_param_map(id, map)
             {
                 errors.push(format!("saved settings of {id} not applied: {err}"));
             }
         }
         if size.0 > 0 && size.1 > 0 && !engine.busy() && !engine.live_paused() && !idle {
-            let (camera, cut) = self.ws.camera.next_frame(size);
+            let (camera, cut) = self.ws.cx.camera.next_frame(size);
             if let Err(err) = engine.submit(camera, cut, want_reference, want_pixels) {
                 errors.push(err.to_string());
             }
@@ -496,10 +507,10 @@ impl AaLabApp {
         // (While a clip records or is shown the live view waits, its reference too: asking
         // for UI frames for it would only repaint in a loop, taking CPU from the recording.)
         let more = engine.reference_incomplete() && !idle && !engine.live_paused();
-        self.ws.clock.tick(publication.outputs);
+        self.ws.cx.clock.tick(publication.outputs);
         self.engine_frames += u64::from(publication.outputs);
         for err in errors {
-            self.ws.notify(Level::Error, err);
+            self.ws.cx.notify(Level::Error, err);
         }
         more
     }
@@ -548,18 +559,18 @@ impl eframe::App for AaLabApp {
         }
         self.ws.poll_background(&ctx);
         if let Some((level, text)) = self.bench.poll() {
-            self.ws.notify(level, text);
+            self.ws.cx.notify(level, text);
         }
-        self.ws.blind_keys(&ctx);
-        let flying =
-            self.ws.camera.mode == super::camera::CameraMode::Fly && !self.ws.images.is_open();
+        self.ws.cx.blind_keys(&ctx);
+        let flying = self.ws.cx.camera.mode == super::camera::CameraMode::Fly
+            && !self.ws.cx.images.is_open();
         for action in shortcuts::pressed_actions(&ctx, flying) {
             self.handle_action(&ctx, action);
         }
         if flying {
             let input = shortcuts::fly_input(&ctx);
             if input.moving() {
-                self.ws.camera.fly(input, ctx.input(|i| i.stable_dt));
+                self.ws.cx.camera.fly(input, ctx.input(|i| i.stable_dt));
                 ctx.request_repaint();
             }
         }
@@ -567,9 +578,7 @@ impl eframe::App for AaLabApp {
             self.help_open = false;
         }
         let more = self.engine_frame();
-        self.ws.tick_clip(&ctx);
-        self.ws.update_quality(&ctx);
-        self.ws.update_magnifier(&ctx);
+        self.ws.update(&ctx);
 
         profiling::scope!("panels");
         // The panels' background, under everything (the panels are transparent).
@@ -588,33 +597,44 @@ impl eframe::App for AaLabApp {
         let hover = self.viewport.hover_pixel().or(self.magnifier.hover());
         panels::status_bar(ui, &self.ws, hover);
         // Clips record the scene; images have none.
-        if !self.ws.images.is_open() {
-            clip::panel(ui, &mut self.ws);
+        if !self.ws.cx.images.is_open() {
+            clip_bar::panel(ui, &mut self.ws.cx);
         }
         // A blind comparison's panel replaces those that name the techniques.
-        let blind = self.ws.blind.active();
+        let blind = self.ws.cx.blind.active();
         let show_side = !self.panels_hidden;
-        if show_side && blind {
-            blind::panel(ui, &mut self.ws);
+        if show_side
+            && blind
+            && let Some(action) = blind::panel(ui, &mut self.ws.cx.blind)
+        {
+            self.ws.cx.blind_act(action);
         }
-        if show_side && !blind && self.ws.settings.show_techniques {
+        if show_side && !blind && self.ws.cx.settings.show_techniques {
             techniques_panel::ui(ui, &mut self.ws);
         }
-        if show_side && !blind && self.ws.settings.show_metrics {
+        if show_side && !blind && self.ws.cx.settings.show_metrics {
             metrics_panel::ui(ui, &mut self.ws, &mut self.bench);
         }
-        if self.ws.settings.show_magnifier {
-            self.magnifier
-                .ui(ui, &mut self.ws, self.viewport.hover_pixel());
+        if self.ws.cx.settings.show_magnifier {
+            let figures = self.ws.pane_figures();
+            self.magnifier.ui(
+                ui,
+                &mut self.ws.cx,
+                &self.ws.magnifier,
+                &|id| figures.get(id).cloned(),
+                self.viewport.hover_pixel(),
+            );
         }
         self.viewport.ui(ui, &mut self.ws);
         shortcuts::help_overlay(&ctx, &mut self.help_open);
+        self.ws.run_commands(&ctx);
 
         // (An open file dialog wakes the UI itself when answered.)
-        let pending_jobs = self.loading() || self.ws.export.running() || self.ws.images.loading();
+        let pending_jobs =
+            self.loading() || self.ws.export.running() || self.ws.cx.images.loading();
         // Measurements wake the UI when they finish; this catches paced ones that wait.
         let measuring = self.ws.quality.waiting() || self.ws.magnifier.computing();
-        if self.ws.rendering() {
+        if self.ws.cx.rendering() {
             // The render thread wakes the UI when the frame is back; until then a repaint
             // would show nothing new (the camera advances with each engine frame), and on a
             // software rasteriser each paint takes CPU from the engine.
@@ -625,17 +645,17 @@ impl eframe::App for AaLabApp {
         } else if measuring {
             ctx.request_repaint_after(Duration::from_millis(200));
         } else {
-            self.ws.clock.idle();
+            self.ws.cx.clock.idle();
         }
         // The status bar changes when the oldest notice expires; nothing else about notices
         // needs a repaint.
-        if let Some(oldest) = self.ws.notices.iter().map(|n| n.at).min() {
+        if let Some(oldest) = self.ws.cx.notices.iter().map(|n| n.at).min() {
             let left = NOTICE_SECONDS - oldest.elapsed().as_secs_f64();
             ctx.request_repaint_after(Duration::from_secs_f64(left.max(0.0)));
         }
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
-        storage.set_string(STORAGE_KEY, self.ws.settings.to_stored());
+        storage.set_string(STORAGE_KEY, self.ws.cx.settings.to_stored());
     }
 }

@@ -21,8 +21,8 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, mpsc};
 use std::time::Instant;
 
+use super::context::Level;
 use super::style::{self, number};
-use super::workspace::Level;
 use crate::bench::{
     BenchError, BenchOptions, BenchProgress, BenchRunner, DEFAULT_FLICKER_FRAMES,
     DEFAULT_QUALITY_FRAME, DEFAULT_WARMUP, RunPlan, reference_spec, write_report,

@@ -13,12 +13,83 @@
 
 use std::sync::Arc;
 
-use super::magnifier::{MARGIN, Source, crop};
-use super::settings::DiffMetric;
+use super::lens::{MARGIN, Source, crop};
 use super::worker::{Reporter, Worker};
 use crate::export::heatmap::magma;
 use crate::gpu::readback::Region;
 use crate::metrics::{MetricsError, Plane, flip, pixel, ssim};
+
+/// The error metric of the magnifier's difference mode.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum DiffMetric {
+    /// Mean absolute difference of the sRGB-encoded channels.
+    #[default]
+    AbsoluteError,
+    /// The SSIM map (shown as dissimilarity, 1 - SSIM).
+    Ssim,
+    /// NVIDIA's FLIP error map.
+    Flip,
+    /// Per pixel temporal instability over the shown clip (see `metrics::stability`).
+    Instability,
+}
+
+impl DiffMetric {
+    /// Every metric comparing two images, in menu order.
+    pub const ALL: [Self; 3] = [Self::AbsoluteError, Self::Ssim, Self::Flip];
+
+    /// Every metric of the menu: the comparisons, then the clip's temporal one.
+    pub const MENU: [Self; 4] = [
+        Self::AbsoluteError,
+        Self::Ssim,
+        Self::Flip,
+        Self::Instability,
+    ];
+
+    /// Menu label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::AbsoluteError => "Absolute error",
+            Self::Ssim => "SSIM map",
+            Self::Flip => "FLIP",
+            Self::Instability => "Temporal instability",
+        }
+    }
+
+    /// What the heatmap shows.
+    pub fn help(self) -> String {
+        use crate::metrics::{flip, ssim};
+        let margin = MARGIN;
+        match self {
+            Self::AbsoluteError => format!(
+                "Per pixel: mean over R', G', B' of |technique - reference| in sRGB-encoded 8-bit \
+                 values. Black is 0, the brightest colour {} or more.",
+                ABSOLUTE_ERROR_FULL_SCALE
+            ),
+            Self::Ssim => format!(
+                "Per pixel: 1 - SSIM of BT.601 luma against the reference (Gaussian window \
+                 {w}x{w}, sigma {s}). Computed on the lens plus {margin} pixels around it, so \
+                 windows at the lens border see their real neighbours. Black is identical, the \
+                 brightest colour 1 - SSIM = 1 or more.",
+                w = ssim::WINDOW,
+                s = ssim::SIGMA,
+            ),
+            Self::Flip => format!(
+                "Per pixel: NVIDIA's FLIP (LDR) error against the reference for an observer at \
+                 {ppd:.0} pixels per degree. Computed on the lens plus {margin} pixels around \
+                 it, so FLIP's filters at the lens border see their real neighbours. Black is \
+                 indistinguishable, the brightest colour 1.",
+                ppd = flip::PIXELS_PER_DEGREE,
+            ),
+            Self::Instability => format!(
+                "Per pixel, over the shown clip (recorded with the reference): the mean \
+                 frame-to-frame change of luma of the technique, divided by the reference's mean \
+                 change over the whole frame. Black is still, the brightest colour {} times the \
+                 reference's mean change or more: where a technique crawls and shimmers.",
+                INSTABILITY_FULL_SCALE
+            ),
+        }
+    }
+}
 
 /// Absolute error (0..255) drawn with the brightest colour of the heatmap.
 pub const ABSOLUTE_ERROR_FULL_SCALE: f32 = 64.0;

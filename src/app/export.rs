@@ -23,18 +23,15 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, mpsc};
 use std::time::Instant;
 
-use super::clip::ClipRecipe;
-use super::difference::lens_heatmap;
-use super::magnifier::{Source, crop};
-use super::workspace::{DialogPurpose, Level, Workspace};
+use super::context::{Context, Level};
+use super::engine::ClipRecipe;
 use crate::export::animation::{AnimationFormat, AnimationOptions};
 use crate::export::clip_writer::{ClipFormat, ClipWriter};
 use crate::export::html::HtmlPage;
-use crate::export::sheet::{self, Cell, Row};
+use crate::export::sheet;
 use crate::export::write_png;
 use crate::files::{self, Overwrite};
 use crate::metrics::stability::TemporalScores;
-use crate::spec::RenderSpec;
 
 /// What an export writes.
 struct Plan {
@@ -356,139 +353,34 @@ fn write_clip(plan: &ClipPlan, progress: &ExportProgress) -> Result<Vec<PathBuf>
     Ok(vec![animation, sidecar, page_path])
 }
 
-impl Workspace {
-    /// The render record of the displayed frame: `aa-lab render --from` reproduces it.
-    pub(super) fn current_spec(&self) -> Option<RenderSpec> {
-        let engine = self.engine.as_ref()?;
-        let camera = engine.displayed()?;
-        let scene = self.scene.as_ref()?;
-        let techniques = engine
-            .entries()
-            .iter()
-            .filter(|e| e.enabled && engine.output(e.id).is_some())
-            .map(|e| engine.technique_spec(e.id))
-            .collect();
-        Some(RenderSpec {
-            scene: scene.spec.clone(),
-            density: 1.0,
-            seed: crate::scene::procedural::SceneOptions::default().seed,
-            width: camera.size.0,
-            height: camera.size.1,
-            frame: camera.frame,
-            camera: Some(camera.pose),
-            rig: None,
-            image: None,
-            techniques,
-            adapter: Some(format!(
-                "{} ({})",
-                engine.caps().adapter_name,
-                engine.caps().backend
-            )),
-            build: Some(crate::spec::build_id()),
-        })
-    }
-
-    /// The magnifier sheet of the current lens, composed: every pane as the magnifier shows it
-    /// (pixels, or heatmaps in difference mode), labelled, with its figures underneath.
-    pub(super) fn magnifier_sheet(&self) -> Option<image::RgbaImage> {
-        let lens = self.lens()?;
-        let zoom = self.settings.magnifier.zoom;
-        let metric = self.settings.magnifier.metric;
-        let reference = self.source_image(Source::Reference);
-        let mut columns = Vec::new();
-        let mut cells = Vec::new();
-        for source in self.magnifier_sources() {
-            let Some(image) = self.source_image(source).and_then(|i| i.pixels.as_ref()) else {
-                continue;
-            };
-            let reference = reference.and_then(|r| r.pixels.as_ref());
-            let pixels = match reference {
-                Some(reference)
-                    if self.settings.magnifier.difference && source != Source::Reference =>
-                {
-                    lens_heatmap(metric, reference, image, lens).ok()?.to_rgba()
-                }
-                _ => crop(image, lens),
-            };
-            let whole = sheet::Rect {
-                x: 0,
-                y: 0,
-                width: lens.width,
-                height: lens.height,
-            };
-            let (letter, _, title) = self.source_label(source);
-            columns.push(format!("{letter} · {title}"));
-            let caption = self.pane_figures(source);
-            cells.push(Cell {
-                image: sheet::crop_zoom(&pixels, whole, zoom).ok()?,
-                caption: (!caption.is_empty()).then_some(caption),
-            });
-        }
-        if cells.is_empty() {
-            return None;
-        }
-        let scene = self.scene.as_ref().map_or("", |s| s.name.as_str());
-        let frame = self
-            .engine
-            .as_ref()
-            .and_then(|e| e.displayed())
-            .map_or(0, |c| c.frame);
-        let (w, h) = self.render_size;
-        let mode = if self.settings.magnifier.difference {
-            format!(", {} against the reference", metric.label().to_lowercase())
-        } else {
-            String::new()
-        };
-        let what = match self.image_names() {
-            Some((names, _)) => names.join(", "),
-            None => format!("{scene}, frame {frame}"),
-        };
-        Some(sheet::compose(&sheet::Sheet {
-            title: format!("{what}, {w}×{h}{mode}"),
-            columns,
-            rows: vec![Row {
-                label: format!("lens {zoom}×"),
-                detail: Some(format!(
-                    "{}×{} at ({}, {})",
-                    lens.width, lens.height, lens.x, lens.y
-                )),
-                cells,
-            }],
-            footer: Some(format!(
-                "{} on {}",
-                crate::spec::build_id(),
-                self.gpu.caps.adapter_name
-            )),
-        }))
-    }
-
+impl ExportState {
     /// Starts an export of the displayed frame (see the module docs).
-    pub(super) fn start_export(&mut self, _ctx: &egui::Context) {
-        if self.export.running() {
+    pub(super) fn start_export(&mut self, cx: &mut Context, sheet: Option<image::RgbaImage>) {
+        if self.running() {
             return;
         }
-        if self.images.is_open() {
-            self.notify(
+        if cx.images.is_open() {
+            cx.notify(
                 Level::Warning,
                 "Export writes rendered frames; the open images are files already (Copy magnifier sheet copies their magnified panes)",
             );
             return;
         }
-        let Some(spec) = self.current_spec() else {
-            self.notify(
+        let Some(spec) = cx.current_spec() else {
+            cx.notify(
                 Level::Warning,
                 "Nothing to export yet: no frame has been rendered.",
             );
             return;
         };
         let Ok(record) = serde_json::to_string_pretty(&spec) else {
-            self.notify(
+            cx.notify(
                 Level::Error,
                 "export failed: the render record could not be written",
             );
             return;
         };
-        let Some(engine) = &self.engine else { return };
+        let Some(engine) = &cx.engine else { return };
         let mut images = Vec::new();
         for entry in engine.entries().iter().filter(|e| e.enabled) {
             let Some(output) = engine.output(entry.id).and_then(|o| o.pixels.as_ref()) else {
@@ -504,33 +396,29 @@ impl Workspace {
                 images.push((format!("{name}-{view}"), Arc::clone(image)));
             }
         }
-        let scene = self.scene.as_ref().map_or("scene", |s| s.name.as_str());
+        let scene = cx.scene.as_ref().map_or("scene", |s| s.name.as_str());
         let plan = Plan {
-            dir: self.settings.export_dir.clone(),
+            dir: cx.settings.export_dir.clone(),
             stem: format!("{scene}-f{}", spec.frame),
             record,
             images,
-            sheet: self
-                .settings
-                .show_magnifier
-                .then(|| self.magnifier_sheet())
-                .flatten(),
+            sheet,
         };
-        self.export.job = Some(in_background(move |progress| write_files(&plan, progress)));
+        self.job = Some(in_background(move |progress| write_files(&plan, progress)));
     }
 
     /// Exports the clip as a looping animated PNG of the magnifier's panes (the lens region,
     /// zoomed as the magnifier shows it; whole frames in a grid when the magnifier is closed)
     /// with its temporal figures, the clip's record beside it and a self-contained HTML
     /// comparison page of the same panes, into the export folder.
-    pub(super) fn export_clip(&mut self) {
-        if self.export.running() {
+    pub(super) fn export_clip(&mut self, cx: &mut Context) {
+        if self.running() {
             return;
         }
-        let Some(clip) = self.engine.as_ref().and_then(|e| e.clip()) else {
+        let Some(clip) = cx.engine.as_ref().and_then(|e| e.clip()) else {
             return;
         };
-        let lens = self.settings.show_magnifier.then(|| self.lens()).flatten();
+        let lens = cx.settings.show_magnifier.then(|| cx.lens()).flatten();
         let region = lens.map(|l| sheet::Rect {
             x: l.x,
             y: l.y,
@@ -538,7 +426,7 @@ impl Workspace {
             height: l.height,
         });
         let zoom = if region.is_some() {
-            self.settings.magnifier.zoom
+            cx.settings.magnifier.zoom
         } else {
             1
         };
@@ -546,7 +434,7 @@ impl Workspace {
         let pane_size = region.map_or(size, |r| (r.width, r.height));
         let panes = clip.techniques.len() + usize::from(clip.recipe.reference_samples.is_some());
         if let Err(err) = crate::export::clip::check(panes, region.is_some(), pane_size, zoom) {
-            self.notify(Level::Error, format!("clip export: {err}"));
+            cx.notify(Level::Error, format!("clip export: {err}"));
             return;
         }
         let width = pane_size.0 * zoom;
@@ -568,7 +456,7 @@ impl Workspace {
             .iter()
             .zip(&scores)
             .map(|(id, scores)| crate::export::clip::Pane {
-                label: self.shown_label(id),
+                label: cx.shown_label(id),
                 caption: crate::export::clip::fit(
                     &[
                         crate::export::clip::caption(scores),
@@ -584,7 +472,7 @@ impl Workspace {
                 caption: crate::export::clip::reference_caption(clip.reference_change, width),
             });
         }
-        let scene = self.scene.as_ref().map_or("scene", |s| s.name.as_str());
+        let scene = cx.scene.as_ref().map_or("scene", |s| s.name.as_str());
         let layout = crate::export::clip::Layout {
             title: format!("aa-lab viewer clip: {}", clip.description),
             scene: scene.to_owned(),
@@ -611,7 +499,7 @@ impl Workspace {
             .filter(|panes: &Vec<_>| panes.len() == layout.panes.len())
             .collect();
         if frames.is_empty() {
-            self.notify(
+            cx.notify(
                 Level::Warning,
                 "The clip has no complete frame to export yet.",
             );
@@ -636,17 +524,17 @@ impl Workspace {
                 .zip(&scores)
                 .map(|(id, scores)| ClipExportTechnique {
                     id,
-                    label: self.shown_label(id),
+                    label: cx.shown_label(id),
                     scores: *scores,
                 })
                 .collect(),
         };
         let Ok(text) = serde_json::to_string_pretty(&record) else {
-            self.notify(Level::Error, "clip export: the record could not be written");
+            cx.notify(Level::Error, "clip export: the record could not be written");
             return;
         };
         let plan = ClipPlan {
-            dir: self.settings.export_dir.clone(),
+            dir: cx.settings.export_dir.clone(),
             stem: format!("{scene}-clip"),
             layout,
             region,
@@ -654,47 +542,6 @@ impl Workspace {
             fps,
             record: text,
         };
-        self.export.job = Some(in_background(move |progress| write_clip(&plan, progress)));
-    }
-
-    /// Copies the magnifier sheet to the clipboard.
-    pub(super) fn copy_sheet(&mut self, ctx: &egui::Context) {
-        match self.magnifier_sheet() {
-            Some(image) => {
-                let size = [image.width() as usize, image.height() as usize];
-                ctx.copy_image(egui::ColorImage::from_rgba_unmultiplied(
-                    size,
-                    image.as_raw(),
-                ));
-                self.notify(
-                    Level::Info,
-                    format!(
-                        "Copied the magnifier sheet ({}×{}) to the clipboard",
-                        size[0], size[1]
-                    ),
-                );
-            }
-            None => self.notify(
-                Level::Warning,
-                "The magnifier has no pixels yet: show the magnifier and wait for the first frame.",
-            ),
-        }
-    }
-
-    /// Asks for the export folder.
-    pub(super) fn pick_export_dir(&mut self, ctx: &egui::Context) {
-        let start = self.settings.export_dir.clone();
-        self.ask_for_path(ctx, DialogPurpose::ExportFolder, move || {
-            rfd::FileDialog::new()
-                .set_title("Export folder")
-                .set_directory(&start)
-                .pick_folder()
-        });
-    }
-
-    /// Sends exports to `dir` (a folder picked in the dialog).
-    pub(super) fn use_export_dir(&mut self, dir: PathBuf) {
-        self.notify(Level::Info, format!("Exports go to {}", dir.display()));
-        self.settings.export_dir = dir;
+        self.job = Some(in_background(move |progress| write_clip(&plan, progress)));
     }
 }

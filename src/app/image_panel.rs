@@ -16,7 +16,7 @@ const REFERENCE_HELP: &str = "The image every other one is measured against (SSI
 
 /// The reference combo box; `salt` tells its instances apart.
 fn reference_choice(ui: &mut egui::Ui, ws: &mut Workspace, salt: &str) {
-    let Some((names, reference)) = ws.image_names() else {
+    let Some((names, reference)) = ws.cx.image_names() else {
         return;
     };
     let mut chosen = reference;
@@ -30,7 +30,7 @@ fn reference_choice(ui: &mut egui::Ui, ws: &mut Workspace, salt: &str) {
         .response
         .on_hover_text(REFERENCE_HELP);
     if chosen != reference {
-        ws.set_image_reference(chosen);
+        ws.cx.set_image_reference(chosen);
     }
 }
 
@@ -49,7 +49,7 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
         ui.add_space(4.0);
         ui.heading("Images");
         ui.separator();
-        let Some(set) = ws.images.open() else {
+        let Some(set) = ws.cx.images.open() else {
             return;
         };
         let (w, h) = set.size();
@@ -64,7 +64,8 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
             ui.horizontal(|ui| {
                 ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
                 ui.label(
-                    ws.image_label(IMAGE_IDS[slot])
+                    ws.cx
+                        .image_label(IMAGE_IDS[slot])
                         .unwrap_or_else(|| name.clone()),
                 )
                 .on_hover_text(path);
@@ -88,9 +89,9 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
         ui.add_space(6.0);
         ui.horizontal(|ui| {
             if ui.button("Open other images…").clicked() {
-                ws.open_images_dialog(&ctx);
+                ws.cx.open_images_dialog(&ctx);
             }
-            let back = match &ws.scene {
+            let back = match &ws.cx.scene {
                 Some(scene) => format!("Back to {}", scene.name),
                 None => "Close images".to_owned(),
             };
@@ -99,7 +100,7 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
                 .on_hover_text("Close the images and show the scene again")
                 .clicked()
             {
-                ws.close_images();
+                ws.cx.close_images();
             }
         });
     });
@@ -108,16 +109,16 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
 /// The metrics panel's quality section while images are shown.
 pub(super) fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
     style::section(ui, "Quality against the reference");
-    ui.checkbox(&mut ws.settings.quality, "Measure")
+    ui.checkbox(&mut ws.cx.settings.quality, "Measure")
         .on_hover_text("Score every image against the reference image.");
     ui.horizontal(|ui| {
         ui.label("Reference");
         reference_choice(ui, ws, "metrics");
     });
-    let Some((names, reference)) = ws.image_names() else {
+    let Some((names, reference)) = ws.cx.image_names() else {
         return;
     };
-    let (missing, missing_tip) = if ws.settings.quality {
+    let (missing, missing_tip) = if ws.cx.settings.quality {
         ("…", "Being measured in the background.")
     } else {
         ("off", "Measuring is off.")
@@ -145,7 +146,7 @@ pub(super) fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
                     continue;
                 }
                 let id = IMAGE_IDS[slot];
-                let key = ws.measure_key(id);
+                let key = ws.cx.measure_key(id);
                 match ws.quality.current_pixels(id, key) {
                     Some(m) => match &m.value {
                         Ok(f) => {

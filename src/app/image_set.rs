@@ -23,12 +23,11 @@
 //! else the first file; the images panel and the toolbar change it.
 
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, mpsc};
+use std::sync::mpsc;
 
 use super::blit::Uploader;
-use super::engine::{ImageStamp, Published, ReferenceState};
+use super::engine::Published;
 use super::render_thread::RenderedImage;
-use super::workspace::{Level, Workspace};
 use crate::aa::ssaa::Progress;
 
 /// The ids of the images of a set, in file order.
@@ -40,7 +39,7 @@ pub const IMAGE_EXTENSIONS: &[&str] = &["png", "jpg", "jpeg"];
 /// Most pixels of one image (8192 x 8192; four of them take 1 GiB).
 const MAX_PIXELS: u64 = 1 << 26;
 /// The reference of a set "accumulates" nothing: it is complete with its one sample.
-const COMPLETE: Progress = Progress {
+pub(in crate::app) const COMPLETE: Progress = Progress {
     samples: 1,
     total: 1,
 };
@@ -53,7 +52,7 @@ pub fn is_image_file(path: &Path) -> bool {
 }
 
 /// The file name of a path, for labels.
-fn file_name(path: &Path) -> String {
+pub(in crate::app) fn file_name(path: &Path) -> String {
     path.file_name().map_or_else(
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
@@ -184,9 +183,9 @@ pub struct SetImage {
 
 /// The open images (see the module docs).
 pub struct ImageSet {
-    images: Vec<SetImage>,
-    reference: usize,
-    view: u64,
+    pub(in crate::app) images: Vec<SetImage>,
+    pub(in crate::app) reference: usize,
+    pub(in crate::app) view: u64,
 }
 
 impl ImageSet {
@@ -195,7 +194,7 @@ impl ImageSet {
         IMAGE_IDS[..self.images.len()].to_vec()
     }
 
-    fn index(id: &str) -> Option<usize> {
+    pub(in crate::app) fn index(id: &str) -> Option<usize> {
         IMAGE_IDS.iter().position(|i| *i == id)
     }
 
@@ -220,7 +219,7 @@ impl ImageSet {
     }
 
     /// Stamps every image with a new view: the figures of the old one no longer apply.
-    fn restamp(&mut self, view: u64) {
+    pub(in crate::app) fn restamp(&mut self, view: u64) {
         self.view = view;
         for image in &mut self.images {
             image.published.stamp.view = view;
@@ -229,21 +228,21 @@ impl ImageSet {
 }
 
 /// A loaded set: each file with its pixels on eframe's device, and the notes.
-type Uploaded = (Vec<(PathBuf, RenderedImage)>, Vec<String>);
+pub(in crate::app) type Uploaded = (Vec<(PathBuf, RenderedImage)>, Vec<String>);
 
 /// A load in progress: the files asked for and the answer to come.
-type Pending = (Vec<PathBuf>, mpsc::Receiver<Result<Uploaded, String>>);
+pub(in crate::app) type Pending = (Vec<PathBuf>, mpsc::Receiver<Result<Uploaded, String>>);
 
 /// The image set of the viewer: the open one, the one loading, and the bookkeeping.
 pub struct ImageSetState {
     /// Puts decoded images on eframe's device (from the decoder thread).
-    uploader: Uploader,
-    open: Option<ImageSet>,
-    pending: Option<Pending>,
+    pub(in crate::app) uploader: Uploader,
+    pub(in crate::app) open: Option<ImageSet>,
+    pub(in crate::app) pending: Option<Pending>,
     /// Counts views and publications of image sets.
-    serial: u64,
+    pub(in crate::app) serial: u64,
     /// A scene the user asked for replaces the set once it has loaded.
-    leave_for_scene: bool,
+    pub(in crate::app) leave_for_scene: bool,
 }
 
 impl ImageSetState {
@@ -273,7 +272,7 @@ impl ImageSetState {
         self.pending.is_some()
     }
 
-    fn next_serial(&mut self) -> u64 {
+    pub(in crate::app) fn next_serial(&mut self) -> u64 {
         self.serial += 1;
         self.serial
     }
@@ -294,7 +293,7 @@ impl ImageSetState {
     }
 
     /// The finished load, if the decoder is done.
-    fn poll(&mut self) -> Option<Result<Uploaded, String>> {
+    pub(in crate::app) fn poll(&mut self) -> Option<Result<Uploaded, String>> {
         let (_, receiver) = self.pending.as_ref()?;
         let answer = match receiver.try_recv() {
             Ok(answer) => answer,
@@ -305,301 +304,6 @@ impl ImageSetState {
         };
         self.pending = None;
         Some(answer)
-    }
-}
-
-impl Workspace {
-    /// Opens up to four images of one size as panes (File > Open images, dropped images, and
-    /// tests): they are decoded on a worker thread and replace what is shown when they all
-    /// load; otherwise a notice says why, and what was shown stays.
-    pub(super) fn open_images(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
-        if paths.len() > MAX_IMAGES {
-            self.notify(
-                Level::Error,
-                format!(
-                    "{} images chosen; aa-lab compares at most {MAX_IMAGES}: nothing was opened",
-                    paths.len()
-                ),
-            );
-            return;
-        }
-        if paths.is_empty() {
-            return;
-        }
-        let (sender, receiver) = mpsc::channel();
-        let max_side = self.gpu.caps.max_texture_dimension_2d;
-        let wake = ctx.clone();
-        let files = paths.clone();
-        let uploader = self.images.uploader.clone();
-        let spawned = std::thread::Builder::new()
-            .name("aa-lab image decoder".to_owned())
-            .spawn(move || {
-                let uploaded = decode(&files, max_side).map(|decoded| {
-                    let images = decoded
-                        .images
-                        .into_iter()
-                        .map(|image| {
-                            let texture = uploader.upload(&image.pixels);
-                            let rendered = RenderedImage {
-                                pixels: image.pixels,
-                                texture,
-                            };
-                            (image.path, rendered)
-                        })
-                        .collect();
-                    uploader.flush();
-                    (images, decoded.notes)
-                });
-                let _ = sender.send(uploaded);
-                super::request_one_frame(&wake);
-            });
-        match spawned {
-            // A newer request supersedes one still decoding.
-            Ok(_) => self.images.pending = Some((paths, receiver)),
-            Err(err) => self.notify(
-                Level::Error,
-                format!("cannot decode images: no thread ({err})"),
-            ),
-        }
-    }
-
-    /// Closes the image set: the scene shows again.
-    pub(super) fn close_images(&mut self) {
-        if self.images.open.take().is_some() {
-            self.quality.clear();
-            self.magnifier.clear();
-            self.camera.cut();
-        }
-    }
-
-    /// The file names of the open set, in pane order, and the index of the reference.
-    pub(super) fn image_names(&self) -> Option<(Vec<String>, usize)> {
-        let set = self.images.open()?;
-        let names = set.images.iter().map(|i| i.name.clone()).collect();
-        Some((names, set.reference))
-    }
-
-    /// Makes image `index` of the open set the reference.
-    pub(super) fn set_image_reference(&mut self, index: usize) {
-        let view = self.images.next_serial();
-        if let Some(set) = &mut self.images.open
-            && index < set.images.len()
-            && index != set.reference
-        {
-            set.reference = index;
-            set.restamp(view);
-        }
-    }
-
-    /// Swaps the first two images (A and B).
-    pub(super) fn swap_images(&mut self) {
-        let view = self.images.next_serial();
-        if let Some(set) = &mut self.images.open
-            && set.images.len() >= 2
-        {
-            set.images.swap(0, 1);
-            set.reference = match set.reference {
-                0 => 1,
-                1 => 0,
-                other => other,
-            };
-            set.restamp(view);
-        }
-    }
-
-    /// Shows a finished load (called once per UI frame).
-    pub(super) fn finish_image_load(&mut self) {
-        let Some(answer) = self.images.poll() else {
-            return;
-        };
-        let (loaded, notes) = match answer {
-            Ok(uploaded) => uploaded,
-            Err(err) => {
-                let kept = if self.images.is_open() {
-                    "the open images stay"
-                } else {
-                    "the scene stays"
-                };
-                self.notify(Level::Error, format!("{err}; {kept}"));
-                return;
-            }
-        };
-        let view = self.images.next_serial();
-        let mut images = Vec::new();
-        for (path, image) in loaded {
-            let stamp = ImageStamp {
-                view,
-                revision: 0,
-                serial: self.images.next_serial(),
-            };
-            images.push(SetImage {
-                name: file_name(&path),
-                published: Published::new(image, stamp),
-                path,
-            });
-        }
-        let names: Vec<&str> = images.iter().map(|i| i.name.as_str()).collect();
-        let reference = default_reference(&names);
-        let (w, h) = images[0].published.size();
-        let text = format!(
-            "Opened {} image(s) of {w}×{h}: {}; reference: {}",
-            names.len(),
-            names.join(", "),
-            names[reference]
-        );
-        self.images.open = Some(ImageSet {
-            images,
-            reference,
-            view,
-        });
-        self.images.stay();
-        self.quality.clear();
-        self.magnifier.clear();
-        for note in notes {
-            self.notify(Level::Warning, note);
-        }
-        self.notify(Level::Info, text);
-    }
-
-    /// Opens dropped files: images as an image set, a model as the scene.
-    pub(super) fn open_dropped(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
-        let scenes: Vec<&PathBuf> = paths
-            .iter()
-            .filter(|p| crate::scene::source::is_scene_file(p))
-            .collect();
-        let any_image = paths.iter().any(|p| is_image_file(p));
-        match (any_image, scenes.last()) {
-            (true, Some(_)) => self.notify(
-                Level::Error,
-                "Dropped images and a model together: drop up to four images, or one model",
-            ),
-            (true, None) => self.open_images(ctx, paths),
-            (false, _) => {
-                if let Some(path) = paths.last() {
-                    self.open_scene(ctx, &path.display().to_string());
-                }
-            }
-        }
-    }
-
-    /// The image shown for `id`: an image of the open set, else a technique's image (its
-    /// debug view when one is selected).
-    pub(super) fn image_for(&self, id: &str) -> Option<&Published> {
-        match self.images.open() {
-            Some(set) => set.get(id).map(|i| &i.published),
-            None => self.engine.as_ref()?.image(id),
-        }
-    }
-
-    /// The image measured and exported for `id`: an image of the open set, else a
-    /// technique's output.
-    pub(super) fn output_for(&self, id: &str) -> Option<&Published> {
-        match self.images.open() {
-            Some(set) => set.get(id).map(|i| &i.published),
-            None => self.engine.as_ref()?.output(id),
-        }
-    }
-
-    /// The reference and how far it has accumulated: the chosen image of the open set
-    /// (complete), else the engine's reference of the displayed view.
-    pub(super) fn reference_for(&self) -> Option<(&Published, Progress)> {
-        match self.images.open() {
-            Some(set) => Some((&set.reference().published, COMPLETE)),
-            None => self.engine.as_ref()?.reference(),
-        }
-    }
-
-    /// Where the reference stands.
-    pub(super) fn reference_state_for(&self) -> Option<ReferenceState> {
-        match self.images.open() {
-            Some(_) => Some(ReferenceState::Ready(COMPLETE)),
-            None => self.engine.as_ref().map(|e| e.reference_state()),
-        }
-    }
-
-    /// The reference's title on chips and panes.
-    pub(super) fn reference_title(&self) -> String {
-        match (self.images.open(), self.reference_state_for()) {
-            (Some(set), _) => format!("Reference · {}", set.reference().name),
-            (None, Some(ReferenceState::Ready(p))) => {
-                format!("Reference {}/{} spp", p.samples, p.total)
-            }
-            _ => "Reference".to_owned(),
-        }
-    }
-
-    /// The label of an image of the open set: its file name, marked when it is the
-    /// reference.
-    pub(super) fn image_label(&self, id: &str) -> Option<String> {
-        let set = self.images.open()?;
-        let index = ImageSet::index(id)?;
-        let image = set.images.get(index)?;
-        Some(if self.is_reference_image(id) {
-            format!("{} · reference", image.name)
-        } else {
-            image.name.clone()
-        })
-    }
-
-    /// Whether `id` is the reference image of the open set.
-    pub(super) fn is_reference_image(&self, id: &str) -> bool {
-        self.images
-            .open()
-            .is_some_and(|set| ImageSet::index(id) == Some(set.reference))
-    }
-
-    /// The view being shown: the open set's, else the engine's.
-    pub(super) fn current_view(&self) -> Option<u64> {
-        match self.images.open() {
-            Some(set) => Some(set.view),
-            None => self.engine.as_ref().map(|e| e.current_view()),
-        }
-    }
-
-    /// The view and settings revision a measurement of `id` must have been made at to
-    /// describe what is shown now (`None` when `id` shows nothing).
-    pub(super) fn measure_key(&self, id: &str) -> Option<(u64, u64)> {
-        match self.images.open() {
-            Some(set) => set.get(id).map(|_| (set.view, 0)),
-            None => {
-                let engine = self.engine.as_ref()?;
-                let entry = engine.entry(id).filter(|e| e.enabled)?;
-                Some((engine.current_view(), entry.revision()))
-            }
-        }
-    }
-
-    /// What the quality figures measure against the reference now: every image of the set
-    /// but the reference, or every enabled technique's output of the current view.
-    pub(super) fn measured_images(
-        &self,
-        view: u64,
-    ) -> Vec<(&'static str, ImageStamp, Arc<image::RgbaImage>)> {
-        if let Some(set) = self.images.open() {
-            return IMAGE_IDS
-                .iter()
-                .zip(&set.images)
-                .enumerate()
-                .filter(|(i, _)| *i != set.reference)
-                .filter_map(|(_, (id, image))| {
-                    let pixels = image.published.pixels.as_ref()?;
-                    Some((*id, image.published.stamp, Arc::clone(pixels)))
-                })
-                .collect();
-        }
-        let Some(engine) = &self.engine else {
-            return Vec::new();
-        };
-        engine
-            .entries()
-            .iter()
-            .filter_map(|entry| {
-                let output = engine.output(entry.id)?;
-                let pixels = output.pixels.as_ref()?;
-                (output.stamp.view == view && output.stamp.revision == entry.revision())
-                    .then(|| (entry.id, output.stamp, Arc::clone(pixels)))
-            })
-            .collect()
     }
 }
 

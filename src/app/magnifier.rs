@@ -19,55 +19,23 @@
 use egui::{Color32, Rect, Sense, Stroke, TextureHandle, pos2, vec2};
 
 use super::blit;
-use super::difference::{self, HeatInput, HeatJob, HeatKey, HeatResult, heat_color};
-use super::engine::{Published, ReferenceState};
-use super::settings::{DiffMetric, MagnifierSettings};
+use super::context::{Command, Context, Level};
+use super::difference::{
+    self, DiffMetric, HeatInput, HeatJob, HeatKey, HeatResult, heat_color, lens_heatmap,
+};
+use super::engine::ReferenceState;
+use super::lens::{Source, crop};
+use super::settings::MagnifierSettings;
 use super::shortcuts::{Action, shortcut_hint};
-use super::style::{self, REFERENCE_COLOR, SLOT_COLORS};
+use super::style;
 use super::worker::Worker;
-use super::workspace::{Level, Workspace};
+use crate::export::sheet::{self, Cell, Row};
 use crate::gpu::readback::Region;
 
 /// The zoom factors offered.
 pub const ZOOM_STEPS: [u32; 9] = [2, 3, 4, 6, 8, 12, 16, 24, 32];
-/// Pixels read around the lens, so that windowed metrics see context: more than SSIM's window
-/// radius (5) and FLIP's widest filter radius (10 at 67 pixels per degree).
-pub const MARGIN: u32 = 12;
 /// Gap between panes, in points.
 const PANE_GAP: f32 = 8.0;
-
-/// The lens rectangle in frame pixels: `side` pixels square around the saved centre (the
-/// frame centre by default), moved inside the frame.
-pub fn lens_region(settings: &MagnifierSettings, side: u32, size: (u32, u32)) -> Option<Region> {
-    if side == 0 || size.0 == 0 || size.1 == 0 {
-        return None;
-    }
-    let [cx, cy] = settings
-        .center
-        .unwrap_or([size.0 as f32 * 0.5, size.1 as f32 * 0.5]);
-    let place = |c: f32, extent: u32| {
-        let side = side.min(extent);
-        let start = (c - side as f32 * 0.5).round().max(0.0) as u32;
-        (start.min(extent - side), side)
-    };
-    let (x, width) = place(if cx.is_finite() { cx } else { 0.0 }, size.0);
-    let (y, height) = place(if cy.is_finite() { cy } else { 0.0 }, size.1);
-    Some(Region {
-        x,
-        y,
-        width,
-        height,
-    })
-}
-
-/// Where a pane's pixels come from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Source {
-    /// A compared technique (slot 0 = A) by id.
-    Technique(usize, &'static str),
-    /// The reference.
-    Reference,
-}
 
 /// The newest heatmap of a pane.
 struct PaneHeat {
@@ -82,8 +50,6 @@ struct PaneHeat {
 /// read the heatmaps, which scene and image set changes forget with the quality figures.
 #[derive(Default)]
 pub struct MagnifierState {
-    /// Frame pixels a pane covers (decided by the pane size and the zoom).
-    pub lens_side: u32,
     worker: Option<Worker<HeatJob, HeatResult>>,
     worker_error: Option<String>,
     /// The heatmaps last asked for.
@@ -114,53 +80,12 @@ impl MagnifierState {
     }
 }
 
-/// Pixels of `region` of an image.
-pub fn crop(image: &image::RgbaImage, region: Region) -> image::RgbaImage {
-    image::imageops::crop_imm(image, region.x, region.y, region.width, region.height).to_image()
-}
-
-impl Workspace {
-    /// The panes' sources: the compared techniques, then the reference when shown.
-    pub(super) fn magnifier_sources(&self) -> Vec<Source> {
-        let mut sources: Vec<Source> = self
-            .compared()
-            .into_iter()
-            .enumerate()
-            .map(|(slot, id)| Source::Technique(slot, id))
-            .collect();
-        if self.settings.magnifier.show_reference || self.settings.magnifier.difference {
-            sources.push(Source::Reference);
-        }
-        sources
-    }
-
-    /// The published image of a pane (a technique's, or an image of the open set).
-    pub(super) fn source_image(&self, source: Source) -> Option<&Published> {
-        match source {
-            Source::Technique(_, id) => self.image_for(id),
-            Source::Reference => self.reference_for().map(|(image, _)| image),
-        }
-    }
-
-    /// The lens region now.
-    pub(super) fn lens(&self) -> Option<Region> {
-        lens_region(
-            &self.settings.magnifier,
-            self.magnifier.lens_side,
-            self.render_size,
-        )
-    }
-
+impl MagnifierState {
     /// Takes finished heatmaps and asks for new ones when the lens, the images or the metric
     /// changed.
-    pub(super) fn update_magnifier(&mut self, ctx: &egui::Context) {
+    pub(super) fn update(&mut self, cx: &mut Context, ctx: &egui::Context) {
         profiling::function_scope!();
-        let results = self
-            .magnifier
-            .worker
-            .as_mut()
-            .map(Worker::poll)
-            .unwrap_or_default();
+        let results = self.worker.as_mut().map(Worker::poll).unwrap_or_default();
         for result in results {
             let result_for_pane = result.heatmap.map(|heat| {
                 let handle = ctx.load_texture(
@@ -170,60 +95,58 @@ impl Workspace {
                 );
                 (handle, heat.lens, heat.mean)
             });
-            self.magnifier
-                .heatmaps
-                .retain(|h| h.source != result.source);
-            self.magnifier.heatmaps.push(PaneHeat {
+            self.heatmaps.retain(|h| h.source != result.source);
+            self.heatmaps.push(PaneHeat {
                 source: result.source,
                 key: result.key,
                 result: result_for_pane,
             });
         }
-        if !self.settings.show_magnifier || !self.settings.magnifier.difference {
+        if !cx.settings.show_magnifier || !cx.settings.magnifier.difference {
             return;
         }
-        let Some(job) = self.heat_job() else { return };
-        if self.magnifier.requested.as_ref() == Some(&job.key) {
+        let Some(job) = self.heat_job(cx) else { return };
+        if self.requested.as_ref() == Some(&job.key) {
             return;
         }
         let key = job.key.clone();
-        if self.magnifier.worker.is_none() && self.magnifier.worker_error.is_none() {
+        if self.worker.is_none() && self.worker_error.is_none() {
             match difference::spawn_heat_worker(ctx) {
-                Ok(worker) => self.magnifier.worker = Some(worker),
+                Ok(worker) => self.worker = Some(worker),
                 Err(err) => {
                     let text = format!("no thread for the magnifier's heatmaps: {err}");
-                    self.magnifier.worker_error = Some(text.clone());
-                    self.notify(Level::Error, text);
+                    self.worker_error = Some(text.clone());
+                    cx.notify(Level::Error, text);
                 }
             }
         }
-        if let Some(worker) = &mut self.magnifier.worker
+        if let Some(worker) = &mut self.worker
             && worker.submit(job)
         {
-            self.magnifier.requested = Some(key);
+            self.requested = Some(key);
         }
     }
 
     /// The heatmaps the panes should show now: the lens, the newest images, the metric.
-    fn heat_job(&self) -> Option<HeatJob> {
-        let lens = self.lens()?;
-        let reference = self.source_image(Source::Reference)?;
+    fn heat_job(&self, cx: &Context) -> Option<HeatJob> {
+        let lens = cx.lens()?;
+        let reference = cx.source_image(Source::Reference)?;
         // The images' own size: a clip keeps the size it was recorded at.
         let size = reference.size();
         let reference_pixels = reference.pixels.clone()?;
         let mut images = vec![reference.stamp.serial];
         let mut tests = Vec::new();
-        let metric = self.settings.magnifier.metric;
-        for source in self.magnifier_sources() {
+        let metric = cx.settings.magnifier.metric;
+        for source in cx.magnifier_sources() {
             let Source::Technique(_, id) = source else {
                 continue;
             };
-            let Some(image) = self.source_image(source).filter(|i| i.size() == size) else {
+            let Some(image) = cx.source_image(source).filter(|i| i.size() == size) else {
                 continue;
             };
             let input = if metric == DiffMetric::Instability {
                 // The clip's map of the technique, whichever of its frames shows.
-                match self.instability_map(id) {
+                match cx.instability_map(id) {
                     Some(map) => HeatInput::Map(map),
                     None => HeatInput::Missing(
                         "temporal instability needs a clip recorded with the reference on screen"
@@ -245,7 +168,7 @@ impl Workspace {
                 images,
                 sources: tests.iter().map(|(s, _)| *s).collect(),
                 view: reference.stamp.view,
-                metric: self.settings.magnifier.metric,
+                metric: cx.settings.magnifier.metric,
             },
             reference: reference_pixels,
             tests,
@@ -255,17 +178,13 @@ impl Workspace {
     /// In difference mode, once every technique pane shows the heatmap of the current lens,
     /// images and metric: the lens means of the panes' maps, in pane order (SSIM itself for
     /// the SSIM map).
-    pub(super) fn difference_means(&self) -> Option<Vec<f64>> {
-        let job = self.heat_job()?;
+    pub(super) fn difference_means(&self, cx: &Context) -> Option<Vec<f64>> {
+        let job = self.heat_job(cx)?;
         job.key
             .sources
             .iter()
             .map(|source| {
-                let heat = self
-                    .magnifier
-                    .heatmaps
-                    .iter()
-                    .find(|h| h.source == *source)?;
+                let heat = self.heatmaps.iter().find(|h| h.source == *source)?;
                 match &heat.result {
                     Ok((_, _, mean)) if heat.key == job.key => Some(*mean),
                     _ => None,
@@ -275,59 +194,157 @@ impl Workspace {
     }
 
     /// The heatmap of a pane when it shows the displayed view with the selected metric.
-    fn pane_heat(&self, source: Source) -> Option<&PaneHeat> {
-        let view = self.current_view()?;
-        self.magnifier.heatmaps.iter().find(|h| {
-            h.source == source
-                && h.key.view == view
-                && h.key.metric == self.settings.magnifier.metric
+    fn pane_heat(&self, cx: &Context, source: Source) -> Option<&PaneHeat> {
+        let view = cx.current_view()?;
+        self.heatmaps.iter().find(|h| {
+            h.source == source && h.key.view == view && h.key.metric == cx.settings.magnifier.metric
         })
-    }
-
-    /// Letter, colour and name of a pane.
-    pub(super) fn source_label(&self, source: Source) -> (&'static str, Color32, String) {
-        match source {
-            Source::Technique(slot, id) => (
-                self.blind.letter(slot),
-                SLOT_COLORS[slot],
-                self.shown_label(id),
-            ),
-            Source::Reference => ("R", REFERENCE_COLOR, self.reference_title()),
-        }
     }
 
     /// The figures under a pane: quality against the reference (or the region's mean error in
     /// difference mode).
-    pub(super) fn pane_figures(&self, source: Source) -> String {
+    pub(super) fn pane_figures(
+        &self,
+        cx: &Context,
+        source: Source,
+        figures: &dyn Fn(&str) -> Option<String>,
+    ) -> String {
         match source {
-            Source::Reference if self.images.is_open() => "reference image".to_owned(),
-            Source::Reference => match self.reference_state_for() {
+            Source::Reference if cx.images.is_open() => "reference image".to_owned(),
+            Source::Reference => match cx.reference_state_for() {
                 Some(ReferenceState::Ready(p)) if p.complete() => "converged".to_owned(),
                 Some(ReferenceState::Ready(p)) => format!("accumulating {}/{}", p.samples, p.total),
                 _ => "waiting for a still camera".to_owned(),
             },
             // Figures would tell the techniques apart.
-            Source::Technique(..) if self.blind.active() => String::new(),
+            Source::Technique(..) if cx.blind.active() => String::new(),
             Source::Technique(_, id) => {
                 let mut parts = Vec::new();
-                let lens = self.lens();
-                if self.settings.magnifier.difference
+                let lens = cx.lens();
+                if cx.settings.magnifier.difference
                     && let Some(PaneHeat {
                         result: Ok((_, at, mean)),
                         ..
-                    }) = self.pane_heat(source)
+                    }) = self.pane_heat(cx, source)
                     && Some(*at) == lens
                 {
-                    parts.push(self.settings.magnifier.metric.mean_text(*mean));
+                    parts.push(cx.settings.magnifier.metric.mean_text(*mean));
                 }
-                if let Some(figures) = self.figures_text(id) {
+                if let Some(figures) = figures(id) {
                     parts.push(figures);
                 }
-                if self.is_reference_image(id) {
+                if cx.is_reference_image(id) {
                     parts.push("reference image".to_owned());
                 }
                 parts.join(" · ")
             }
+        }
+    }
+
+    /// The magnifier sheet of the current lens, composed: every pane as the magnifier shows it
+    /// (pixels, or heatmaps in difference mode), labelled, with its figures underneath.
+    pub(super) fn sheet(
+        &self,
+        cx: &Context,
+        figures: &dyn Fn(&str) -> Option<String>,
+    ) -> Option<image::RgbaImage> {
+        let lens = cx.lens()?;
+        let zoom = cx.settings.magnifier.zoom;
+        let metric = cx.settings.magnifier.metric;
+        let reference = cx.source_image(Source::Reference);
+        let mut columns = Vec::new();
+        let mut cells = Vec::new();
+        for source in cx.magnifier_sources() {
+            let Some(image) = cx.source_image(source).and_then(|i| i.pixels.as_ref()) else {
+                continue;
+            };
+            let reference = reference.and_then(|r| r.pixels.as_ref());
+            let pixels = match reference {
+                Some(reference)
+                    if cx.settings.magnifier.difference && source != Source::Reference =>
+                {
+                    lens_heatmap(metric, reference, image, lens).ok()?.to_rgba()
+                }
+                _ => crop(image, lens),
+            };
+            let whole = sheet::Rect {
+                x: 0,
+                y: 0,
+                width: lens.width,
+                height: lens.height,
+            };
+            let (letter, _, title) = cx.source_label(source);
+            columns.push(format!("{letter} · {title}"));
+            let caption = self.pane_figures(cx, source, figures);
+            cells.push(Cell {
+                image: sheet::crop_zoom(&pixels, whole, zoom).ok()?,
+                caption: (!caption.is_empty()).then_some(caption),
+            });
+        }
+        if cells.is_empty() {
+            return None;
+        }
+        let scene = cx.scene.as_ref().map_or("", |s| s.name.as_str());
+        let frame = cx
+            .engine
+            .as_ref()
+            .and_then(|e| e.displayed())
+            .map_or(0, |c| c.frame);
+        let (w, h) = cx.render_size;
+        let mode = if cx.settings.magnifier.difference {
+            format!(", {} against the reference", metric.label().to_lowercase())
+        } else {
+            String::new()
+        };
+        let what = match cx.image_names() {
+            Some((names, _)) => names.join(", "),
+            None => format!("{scene}, frame {frame}"),
+        };
+        Some(sheet::compose(&sheet::Sheet {
+            title: format!("{what}, {w}×{h}{mode}"),
+            columns,
+            rows: vec![Row {
+                label: format!("lens {zoom}×"),
+                detail: Some(format!(
+                    "{}×{} at ({}, {})",
+                    lens.width, lens.height, lens.x, lens.y
+                )),
+                cells,
+            }],
+            footer: Some(format!(
+                "{} on {}",
+                crate::spec::build_id(),
+                cx.gpu.caps.adapter_name
+            )),
+        }))
+    }
+
+    /// Copies the magnifier sheet to the clipboard.
+    pub(super) fn copy_sheet(
+        &self,
+        cx: &mut Context,
+        ctx: &egui::Context,
+        figures: &dyn Fn(&str) -> Option<String>,
+    ) {
+        match self.sheet(cx, figures) {
+            Some(image) => {
+                let size = [image.width() as usize, image.height() as usize];
+                ctx.copy_image(egui::ColorImage::from_rgba_unmultiplied(
+                    size,
+                    image.as_raw(),
+                ));
+                cx.notify(
+                    Level::Info,
+                    format!(
+                        "Copied the magnifier sheet ({}×{}) to the clipboard",
+                        size[0], size[1]
+                    ),
+                );
+            }
+            None => cx.notify(
+                Level::Warning,
+                "The magnifier has no pixels yet: show the magnifier and wait for the first frame.",
+            ),
         }
     }
 }
@@ -350,7 +367,9 @@ impl MagnifierPanel {
     pub(super) fn ui(
         &mut self,
         ui: &mut egui::Ui,
-        ws: &mut Workspace,
+        cx: &mut Context,
+        state: &MagnifierState,
+        figures: &dyn Fn(&str) -> Option<String>,
         viewport_hover: Option<(u32, u32)>,
     ) {
         profiling::function_scope!();
@@ -365,16 +384,23 @@ impl MagnifierPanel {
             .show(ui, |ui| {
                 // Keep the panel at its set height (panels otherwise shrink to their content).
                 ui.set_min_height(ui.available_height());
-                header(ui, ws);
+                header(ui, cx);
                 ui.add_space(4.0);
-                self.panes(ui, ws, viewport_hover);
+                self.panes(ui, cx, state, figures, viewport_hover);
             });
     }
 
-    fn panes(&mut self, ui: &mut egui::Ui, ws: &mut Workspace, viewport_hover: Option<(u32, u32)>) {
+    fn panes(
+        &mut self,
+        ui: &mut egui::Ui,
+        cx: &mut Context,
+        state: &MagnifierState,
+        figures: &dyn Fn(&str) -> Option<String>,
+        viewport_hover: Option<(u32, u32)>,
+    ) {
         let ppp = ui.ctx().pixels_per_point();
-        let sources = ws.magnifier_sources();
-        let zoom = ws.settings.magnifier.zoom.max(1);
+        let sources = cx.magnifier_sources();
+        let zoom = cx.settings.magnifier.zoom.max(1);
         let caption_height = 42.0;
         let n = sources.len().max(1) as f32;
         let avail = ui.available_size();
@@ -382,12 +408,12 @@ impl MagnifierPanel {
             .min(avail.y - caption_height)
             .max(16.0);
         let side_px = (side_points * ppp).floor() as u32;
-        ws.magnifier.lens_side = (side_px / zoom).max(1);
-        let Some(lens) = ws.lens() else {
+        cx.lens_side = (side_px / zoom).max(1);
+        let Some(lens) = cx.lens() else {
             ui.weak("The lens appears once the first frame is rendered.");
             return;
         };
-        let size = ws.render_size;
+        let size = cx.render_size;
         let pane_points = vec2(
             (lens.width * zoom) as f32 / ppp,
             (lens.height * zoom) as f32 / ppp,
@@ -420,14 +446,14 @@ impl MagnifierPanel {
                             ));
                         }
                     }
-                    paint_pane(ui, ws, *source, rect, lens, size);
-                    pane_caption(ui, ws, *source, pane_points.x);
+                    paint_pane(ui, cx, state, *source, rect, lens, size);
+                    pane_caption(ui, state.pane_figures(cx, *source, figures), pane_points.x);
                 });
             }
         });
         self.hover = hover;
         if let Some(slot) = clicked {
-            ws.blind_click(slot);
+            cx.blind_click(slot);
         }
         let marked = hover.or(viewport_hover.filter(|(x, y)| {
             *x >= lens.x && *y >= lens.y && *x < lens.x + lens.width && *y < lens.y + lens.height
@@ -445,19 +471,19 @@ impl MagnifierPanel {
                 let painter = ui.painter().with_clip_rect(*rect);
                 style::outline(&painter, cell);
             }
-            pixel_readout(ui, ws, (x, y), &sources);
+            pixel_readout(ui, cx, (x, y), &sources);
         } else {
             ui.weak("Point at a pane (or at the lens in the view) to read pixel values.");
         }
     }
 }
 
-fn header(ui: &mut egui::Ui, ws: &mut Workspace) {
+fn header(ui: &mut egui::Ui, cx: &mut Context) {
     let ctx = ui.ctx().clone();
     ui.horizontal(|ui| {
             ui.strong("Magnifier");
             ui.separator();
-            let m = &mut ws.settings.magnifier;
+            let m = &mut cx.settings.magnifier;
             ui.label("Zoom").on_hover_text("Nearest-neighbour zoom: each frame pixel becomes a zoom x zoom block.");
             egui::ComboBox::from_id_salt("magnifier zoom")
                 .width(64.0)
@@ -491,7 +517,7 @@ fn header(ui: &mut egui::Ui, ws: &mut Workspace) {
                     heat_legend(ui, m.metric);
                 }
             });
-            if let Some(lens) = ws.lens() {
+            if let Some(lens) = cx.lens() {
                 ui.separator();
                 ui.weak(format!(
                     "lens {}×{} at ({}, {})",
@@ -505,7 +531,7 @@ fn header(ui: &mut egui::Ui, ws: &mut Workspace) {
                     .on_hover_text(shortcut_hint(&ctx, Action::CopySheet, "Copy the magnifier sheet (all panes with labels and metrics) to the clipboard"))
                     .clicked()
                 {
-                    ws.copy_sheet(&ctx);
+                    cx.request(Command::CopySheet);
                 }
             });
         });
@@ -513,7 +539,8 @@ fn header(ui: &mut egui::Ui, ws: &mut Workspace) {
 
 fn paint_pane(
     ui: &egui::Ui,
-    ws: &Workspace,
+    cx: &Context,
+    state: &MagnifierState,
     source: Source,
     rect: Rect,
     lens: Region,
@@ -522,10 +549,10 @@ fn paint_pane(
     let painter = ui.painter().with_clip_rect(rect);
     blit::fill(&painter, rect, Color32::from_gray(12));
     let ppp = ui.ctx().pixels_per_point();
-    let zoom = ws.settings.magnifier.zoom.max(1);
-    let difference = ws.settings.magnifier.difference && source != Source::Reference;
+    let zoom = cx.settings.magnifier.zoom.max(1);
+    let difference = cx.settings.magnifier.difference && source != Source::Reference;
     if difference {
-        let heat = ws.pane_heat(source).map(|h| &h.result);
+        let heat = state.pane_heat(cx, source).map(|h| &h.result);
         match heat {
             Some(Ok((handle, at, _))) => {
                 // Drawn where it was computed: while the lens moves, the newest map stays
@@ -557,7 +584,7 @@ fn paint_pane(
                 );
             }
             None => {
-                let text = match ws.reference_state_for() {
+                let text = match cx.reference_state_for() {
                     Some(ReferenceState::Ready(_)) => "computing…",
                     _ => "waiting for the reference\n(it accumulates while the camera is still)",
                 };
@@ -570,7 +597,7 @@ fn paint_pane(
                 );
             }
         }
-    } else if let Some(image) = ws.source_image(source).filter(|i| i.size() == size) {
+    } else if let Some(image) = cx.source_image(source).filter(|i| i.size() == size) {
         let uv = Rect::from_min_max(
             pos2(lens.x as f32 / size.0 as f32, lens.y as f32 / size.1 as f32),
             pos2(
@@ -578,7 +605,7 @@ fn paint_pane(
                 (lens.y + lens.height) as f32 / size.1 as f32,
             ),
         );
-        let grid = ws.settings.magnifier.pixel_grid && zoom >= 4;
+        let grid = cx.settings.magnifier.pixel_grid && zoom >= 4;
         // egui's former grid: black lines at 90/255.
         let darken = if grid { 90.0 / 255.0 } else { 0.0 };
         blit::paint_with_grid(&painter, image.texture(), rect, uv, darken);
@@ -599,7 +626,7 @@ fn paint_pane(
     }
     // Over heatmaps (egui images) the grid is drawn as lines; image panes draw it in their
     // blit.
-    if difference && ws.settings.magnifier.pixel_grid && zoom >= 4 {
+    if difference && cx.settings.magnifier.pixel_grid && zoom >= 4 {
         let stroke = Stroke::new(1.0, Color32::from_black_alpha(90));
         let step = zoom as f32 / ppp;
         for i in 1..lens.width {
@@ -611,23 +638,22 @@ fn paint_pane(
             painter.line_segment([pos2(rect.min.x, y), pos2(rect.max.x, y)], stroke);
         }
     }
-    let (letter, color, name) = ws.source_label(source);
+    let (letter, color, name) = cx.source_label(source);
     style::chip(&painter, rect.min + vec2(6.0, 6.0), letter, color, &name);
 }
 
-fn pane_caption(ui: &mut egui::Ui, ws: &Workspace, source: Source, width: f32) {
+fn pane_caption(ui: &mut egui::Ui, text: String, width: f32) {
     ui.set_max_width(width);
-    let text = ws.pane_figures(source);
     ui.add(egui::Label::new(egui::RichText::new(text).small().monospace()).wrap());
 }
 
-fn pixel_readout(ui: &mut egui::Ui, ws: &Workspace, (x, y): (u32, u32), sources: &[Source]) {
+fn pixel_readout(ui: &mut egui::Ui, cx: &Context, (x, y): (u32, u32), sources: &[Source]) {
     ui.horizontal_wrapped(|ui| {
         ui.monospace(format!("({x}, {y})"));
         for source in sources {
-            let (letter, color, _) = ws.source_label(*source);
+            let (letter, color, _) = cx.source_label(*source);
             ui.label(style::badge(letter, color));
-            let pixel = ws
+            let pixel = cx
                 .source_image(*source)
                 .and_then(|i| i.pixels.as_ref()?.get_pixel_checked(x, y))
                 .map(|p| p.0);
@@ -668,21 +694,6 @@ fn heat_legend(ui: &mut egui::Ui, metric: DiffMetric) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn lens_stays_inside_the_frame() {
-        let mut m = MagnifierSettings::default();
-        let r = lens_region(&m, 32, (100, 50)).unwrap();
-        assert_eq!((r.x, r.y, r.width, r.height), (34, 9, 32, 32));
-        m.center = Some([-50.0, 1000.0]);
-        let r = lens_region(&m, 32, (100, 50)).unwrap();
-        assert_eq!((r.x, r.y), (0, 18));
-        let r = lens_region(&m, 80, (100, 50)).unwrap();
-        assert_eq!((r.width, r.height), (80, 50));
-        assert!(lens_region(&m, 0, (100, 50)).is_none());
-        m.center = Some([f32::NAN, 3.0]);
-        assert!(lens_region(&m, 8, (100, 50)).is_some());
-    }
 
     #[test]
     fn zoom_steps_clamp() {

@@ -31,7 +31,7 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace, bench: &mut BenchFeature
             egui::ScrollArea::vertical().show(ui, |ui| {
                 ui.add_space(4.0);
                 ui.heading("Metrics");
-                if ws.images.is_open() {
+                if ws.cx.images.is_open() {
                     // Nothing renders: only the images' figures apply.
                     image_panel::quality_section(ui, ws);
                     return;
@@ -43,13 +43,13 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace, bench: &mut BenchFeature
                 memory_section(ui, ws);
                 ui.separator();
                 quality_section(ui, ws);
-                if ws.engine.as_ref().is_some_and(|e| e.clip().is_some()) {
+                if ws.cx.engine.as_ref().is_some_and(|e| e.clip().is_some()) {
                     ui.separator();
                     clip_section(ui, ws);
                 }
                 ui.separator();
                 if let Some((level, text)) = bench.ui(ui, || bench_request(ws)) {
-                    ws.notify(level, text);
+                    ws.cx.notify(level, text);
                 }
             });
         });
@@ -58,28 +58,28 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace, bench: &mut BenchFeature
 /// What a bench of the compared techniques measures: the loaded scene from the current view,
 /// at the render size.
 fn bench_request(ws: &Workspace) -> Result<BenchRequest, String> {
-    let (Some(engine), Some(scene)) = (&ws.engine, &ws.scene) else {
+    let (Some(engine), Some(scene)) = (&ws.cx.engine, &ws.cx.scene) else {
         return Err("Load a scene to bench.".to_owned());
     };
-    let ids = ws.compared();
+    let ids = ws.cx.compared();
     if ids.is_empty() {
         return Err("Switch on a technique to bench it.".to_owned());
     }
-    if ws.render_size.0 == 0 || ws.render_size.1 == 0 {
+    if ws.cx.render_size.0 == 0 || ws.cx.render_size.1 == 0 {
         return Err("The viewport has no size to bench at.".to_owned());
     }
     Ok(BenchRequest {
         scene: scene.spec.clone(),
-        rig: *ws.camera.rig(),
-        size: ws.render_size,
+        rig: *ws.cx.camera.rig(),
+        size: ws.cx.render_size,
         techniques: ids.iter().map(|id| engine.technique_spec(id)).collect(),
-        export_dir: ws.settings.export_dir.clone(),
+        export_dir: ws.cx.settings.export_dir.clone(),
     })
 }
 
 fn performance_section(ui: &mut egui::Ui, ws: &mut Workspace) {
     style::section(ui, "Frame rate");
-    ui.horizontal(|ui| match ws.clock.fps(Duration::from_secs(2)) {
+    ui.horizontal(|ui| match ws.cx.clock.fps(Duration::from_secs(2)) {
         Some((fps, ms)) => {
             ui.label(RichText::new(format!("{fps:.1}")).size(26.0).strong().color(ACCENT))
                 .on_hover_text("Frames per second: rendered frames in the last 2 s divided by their total time (UI frames that only redrew the interface are not counted).");
@@ -94,8 +94,9 @@ fn performance_section(ui: &mut egui::Ui, ws: &mut Workspace) {
                 .on_hover_text("Techniques render only when the view, their settings or time change (the reference keeps accumulating meanwhile). Turn on Orbit, or drag the view, to measure frame rates continuously.");
         }
     });
-    let frame_points = ws.clock.points();
+    let frame_points = ws.cx.clock.points();
     let gpu_points = ws
+        .cx
         .engine
         .as_ref()
         .map(|e| e.gpu_stats.total_points())
@@ -122,12 +123,12 @@ fn gpu_section(ui: &mut egui::Ui, ws: &mut Workspace) {
     ui.horizontal(|ui| {
         style::section(ui, "GPU time per frame");
         ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-            ui.checkbox(&mut ws.settings.show_passes, "passes")
+            ui.checkbox(&mut ws.cx.settings.show_passes, "passes")
                 .on_hover_text("List every pass of every technique");
         });
     });
-    let show_passes = ws.settings.show_passes;
-    let Some(engine) = &ws.engine else { return };
+    let show_passes = ws.cx.settings.show_passes;
+    let Some(engine) = &ws.cx.engine else { return };
     if !engine.caps().timestamps {
         ui.weak(format!(
             "{} has no timestamp queries: no GPU times.",
@@ -254,7 +255,7 @@ fn gpu_section(ui: &mut egui::Ui, ws: &mut Workspace) {
 /// The clip's temporal figures (see `metrics::stability`).
 fn clip_section(ui: &mut egui::Ui, ws: &mut Workspace) {
     style::section(ui, "Clip: temporal stability");
-    let Some(clip) = ws.engine.as_ref().and_then(|e| e.clip()) else {
+    let Some(clip) = ws.cx.engine.as_ref().and_then(|e| e.clip()) else {
         return;
     };
     let Some(scores) = &clip.scores else {
@@ -275,7 +276,7 @@ fn clip_section(ui: &mut egui::Ui, ws: &mut Workspace) {
         ],
         |ui| {
             for (id, scores) in clip.techniques.iter().zip(scores) {
-                ui.label(ws.shown_label(id));
+                ui.label(ws.cx.shown_label(id));
                 let figure = |v: Option<f64>, digits: usize| {
                     v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
                 };
@@ -302,7 +303,7 @@ fn clip_section(ui: &mut egui::Ui, ws: &mut Workspace) {
 
 fn memory_section(ui: &mut egui::Ui, ws: &mut Workspace) {
     style::section(ui, "GPU memory");
-    let Some(memory) = ws.engine.as_ref().and_then(|e| e.memory()) else {
+    let Some(memory) = ws.cx.engine.as_ref().and_then(|e| e.memory()) else {
         ui.weak("after the first frame");
         return;
     };
@@ -323,6 +324,7 @@ fn memory_section(ui: &mut egui::Ui, ws: &mut Workspace) {
                 .filter(|t| t.technique != REFERENCE_ID)
             {
                 let name = ws
+                    .cx
                     .engine
                     .as_ref()
                     .and_then(|e| e.entry(&t.technique))
@@ -407,11 +409,11 @@ fn memory_section(ui: &mut egui::Ui, ws: &mut Workspace) {
 
 fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
     style::section(ui, "Quality against the reference");
-    ui.checkbox(&mut ws.settings.quality, "Measure")
+    ui.checkbox(&mut ws.cx.settings.quality, "Measure")
         .on_hover_text("Accumulate the supersampled reference while the camera is still and score every technique against it.");
     ui.horizontal(|ui| {
         ui.label("Reference");
-        let mut samples = ws.settings.reference_samples;
+        let mut samples = ws.cx.settings.reference_samples;
         egui::ComboBox::from_id_salt("reference samples")
             .width(150.0)
             .selected_text(format!("{samples} spp ({0}×{0} grid)", super::reference::grid_factor(samples)))
@@ -422,21 +424,22 @@ fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
             })
             .response
             .on_hover_text("Samples per pixel of the reference: an ordered k×k grid with a box filter, the same samples as `aa-lab render --ssaa-factor k` (the thesis used 16).");
-        if samples != ws.settings.reference_samples {
-            ws.settings.reference_samples = samples;
-            if let Some(engine) = &mut ws.engine {
+        if samples != ws.cx.settings.reference_samples {
+            ws.cx.settings.reference_samples = samples;
+            if let Some(engine) = &mut ws.cx.engine {
                 engine.set_reference_samples(samples);
             }
         }
     });
     let state = ws
+        .cx
         .engine
         .as_ref()
         .map_or(ReferenceState::Off, |e| e.reference_state());
     let status = match state {
         ReferenceState::Off => RichText::new("off").weak(),
         ReferenceState::Waiting => RichText::new(
-            if ws.engine.as_ref().is_some_and(|e| e.animated()) && ws.camera.playing {
+            if ws.cx.engine.as_ref().is_some_and(|e| e.animated()) && ws.cx.camera.playing {
                 "stale: the scene animates; pause (Space) to measure"
             } else {
                 "stale: waiting for the camera to stop"
@@ -465,8 +468,8 @@ fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
 /// Per enabled technique: SSIM, PSNR, MAE and FLIP, each with a tooltip saying what it
 /// measures against which reference, or why there is no number.
 fn quality_table(ui: &mut egui::Ui, ws: &Workspace, state: ReferenceState) {
-    let Some(engine) = &ws.engine else { return };
-    let compared = ws.compared();
+    let Some(engine) = &ws.cx.engine else { return };
+    let compared = ws.cx.compared();
     // The compared techniques first, in the order of their letters (as the toolbar and the
     // magnifier show them), then the other running ones in list order.
     let mut enabled: Vec<&'static str> = engine
@@ -484,7 +487,7 @@ fn quality_table(ui: &mut egui::Ui, ws: &Workspace, state: ReferenceState) {
     let stale = engine
         .reference()
         .is_none_or(|(r, _)| r.stamp.view != engine.current_view());
-    let (missing, missing_tip) = if !ws.settings.quality || state == ReferenceState::Off {
+    let (missing, missing_tip) = if !ws.cx.settings.quality || state == ReferenceState::Off {
         ("off", "Measuring is off.")
     } else if stale {
         (
@@ -526,9 +529,9 @@ fn quality_table(ui: &mut egui::Ui, ws: &Workspace, state: ReferenceState) {
                     if let Some(slot) = compared.iter().position(|c| c == id) {
                         ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
                     }
-                    ui.label(ws.shown_label(id));
+                    ui.label(ws.cx.shown_label(id));
                 });
-                let pixels = ws.quality.current_pixels(id, ws.measure_key(id));
+                let pixels = ws.quality.current_pixels(id, ws.cx.measure_key(id));
                 match pixels.map(|m| (&m.value, m)) {
                     Some((Ok(f), m)) => {
                         let n = m.reference.samples;
@@ -549,7 +552,7 @@ fn quality_table(ui: &mut egui::Ui, ws: &Workspace, state: ReferenceState) {
                         for _ in 0..3 {
                             number_weak(ui, "error", err);
                         }
-                        notes.push(format!("{}: {err}", ws.shown_label(id)));
+                        notes.push(format!("{}: {err}", ws.cx.shown_label(id)));
                     }
                     None => {
                         for _ in 0..3 {
@@ -557,7 +560,7 @@ fn quality_table(ui: &mut egui::Ui, ws: &Workspace, state: ReferenceState) {
                         }
                     }
                 }
-                match ws.quality.current_flip(id, ws.measure_key(id)) {
+                match ws.quality.current_flip(id, ws.cx.measure_key(id)) {
                     Some(m) => match &m.value {
                         Ok(v) => {
                             let tip = format!(
@@ -582,7 +585,7 @@ fn quality_table(ui: &mut egui::Ui, ws: &Workspace, state: ReferenceState) {
     );
     let samples: Vec<u32> = enabled
         .iter()
-        .filter_map(|id| ws.quality.current_pixels(id, ws.measure_key(id)))
+        .filter_map(|id| ws.quality.current_pixels(id, ws.cx.measure_key(id)))
         .map(|m| m.reference.samples)
         .collect();
     if let (Some(lo), Some(hi)) = (samples.iter().min(), samples.iter().max()) {
@@ -598,7 +601,7 @@ fn quality_table(ui: &mut egui::Ui, ws: &Workspace, state: ReferenceState) {
         ui.label(RichText::new(rest).small()).on_hover_text(
             "The reference the figures were measured against: they are refreshed as it gains samples, and exact once it has converged. FLIP may rest on fewer samples (see its tooltip).",
         );
-    } else if stale && ws.settings.quality {
+    } else if stale && ws.cx.settings.quality {
         ui.label(
             RichText::new("Figures are stale while the view changes.")
                 .small()

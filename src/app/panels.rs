@@ -7,12 +7,13 @@
 
 use egui::{Button, Color32, RichText};
 
+use super::context::{Command, Level};
 use super::image_panel;
 use super::settings::{Layout, Resolution};
 use super::shortcuts::{self, Action, shortcut_hint};
 use super::style::{self, SLOT_COLORS};
 use super::techniques_panel::USER_TECHNIQUE_HINT;
-use super::workspace::{Level, Workspace};
+use super::workspace::Workspace;
 use crate::scene::procedural::BUILTIN_SCENES;
 
 /// A menu button with its shortcut on the right.
@@ -45,7 +46,7 @@ pub(super) fn menu_bar(
                 ui.label(crate::spec::build_id());
                 ui.weak(format!(
                     "{} ({})",
-                    ws.gpu.caps.adapter_name, ws.gpu.caps.backend
+                    ws.cx.gpu.caps.adapter_name, ws.cx.gpu.caps.backend
                 ));
             });
         });
@@ -54,64 +55,64 @@ pub(super) fn menu_bar(
 
 fn file_menu(ui: &mut egui::Ui, ws: &mut Workspace, ctx: &egui::Context) {
     if menu_item(ui, "Open OBJ…", Some(Action::Open)) {
-        ws.open_file_dialog(ctx);
+        ws.cx.open_file_dialog(ctx);
     }
     if ui
         .button("Open images…")
         .on_hover_text("Compare up to four PNG or JPEG images of one size (captures from another renderer, aa-lab's own exports) instead of the scene, one of them as the reference; dropping image files on the window does the same")
         .clicked()
     {
-        ws.open_images_dialog(ctx);
+        ws.cx.open_images_dialog(ctx);
     }
     if ui
         .button("Add technique from file…")
         .on_hover_text(USER_TECHNIQUE_HINT)
         .clicked()
     {
-        ws.add_technique_dialog(ctx);
+        ws.cx.add_technique_dialog(ctx);
     }
-    if ws.images.is_open()
+    if ws.cx.images.is_open()
         && ui
             .button("Close images")
             .on_hover_text("Back to the scene")
             .clicked()
     {
-        ws.close_images();
+        ws.cx.close_images();
     }
     ui.menu_button("Open recent", |ui| {
-        if ws.settings.recent.is_empty() {
+        if ws.cx.settings.recent.is_empty() {
             ui.weak("No recent files");
         }
-        for path in ws.settings.recent.clone() {
+        for path in ws.cx.settings.recent.clone() {
             if ui.button(&path).clicked() {
-                ws.open_scene(ctx, &path);
+                ws.cx.open_scene(ctx, &path);
             }
         }
     });
     ui.menu_button("Built-in scenes", |ui| {
         for name in BUILTIN_SCENES {
-            let current = ws.scene.as_ref().is_some_and(|s| s.spec == *name);
+            let current = ws.cx.scene.as_ref().is_some_and(|s| s.spec == *name);
             if ui.add(Button::selectable(current, *name)).clicked() {
-                ws.open_scene(ctx, name);
+                ws.cx.open_scene(ctx, name);
             }
         }
     });
     ui.separator();
     if menu_item(ui, "Export", Some(Action::Export)) {
-        ws.start_export(ctx);
+        ws.cx.request(Command::ExportFrame);
     }
     if menu_item(ui, "Copy magnifier sheet", Some(Action::CopySheet)) {
-        ws.copy_sheet(ctx);
+        ws.cx.request(Command::CopySheet);
     }
     if ui
         .button(format!(
             "Export folder: {}…",
-            ws.settings.export_dir.display()
+            ws.cx.settings.export_dir.display()
         ))
         .on_hover_text("Choose where exports go (created when needed)")
         .clicked()
     {
-        ws.pick_export_dir(ctx);
+        ws.cx.pick_export_dir(ctx);
     }
     ui.separator();
     if ui.button("Quit").clicked() {
@@ -125,19 +126,19 @@ fn view_menu(ui: &mut egui::Ui, ws: &mut Workspace, panels_hidden: &mut bool) {
         let shortcut = shortcuts::label(ui.ctx(), action).unwrap_or_default();
         if ui
             .add(
-                Button::selectable(ws.settings.layout == layout, layout.label())
+                Button::selectable(ws.cx.settings.layout == layout, layout.label())
                     .shortcut_text(shortcut),
             )
             .on_hover_text(layout.help())
             .clicked()
         {
-            ws.settings.layout = layout;
+            ws.cx.settings.layout = layout;
         }
     }
     ui.separator();
-    ui.checkbox(&mut ws.settings.show_techniques, "Techniques panel");
-    ui.checkbox(&mut ws.settings.show_metrics, "Metrics panel");
-    ui.checkbox(&mut ws.settings.show_magnifier, "Magnifier");
+    ui.checkbox(&mut ws.cx.settings.show_techniques, "Techniques panel");
+    ui.checkbox(&mut ws.cx.settings.show_metrics, "Metrics panel");
+    ui.checkbox(&mut ws.cx.settings.show_magnifier, "Magnifier");
     if menu_item(ui, "Hide side panels", Some(Action::TogglePanels)) {
         *panels_hidden = !*panels_hidden;
     }
@@ -145,24 +146,24 @@ fn view_menu(ui: &mut egui::Ui, ws: &mut Workspace, panels_hidden: &mut bool) {
     ui.menu_button("Resolution", |ui| resolution_choices(ui, ws));
     ui.separator();
     if ui
-        .add_enabled(!ws.blind.active(), Button::new("Blind comparison"))
+        .add_enabled(!ws.cx.blind.active(), Button::new("Blind comparison"))
         .on_hover_text("Number and shuffle the compared techniques' panes, ask which looks better and record every answer (a JSON file in the export folder)")
         .clicked()
     {
-        ws.start_blind(ui.ctx());
+        ws.cx.start_blind(ui.ctx());
     }
 }
 
 fn resolution_choices(ui: &mut egui::Ui, ws: &mut Workspace) {
     ui.radio_value(
-        &mut ws.settings.resolution,
+        &mut ws.cx.settings.resolution,
         Resolution::FitViewport,
         "Fit the viewport",
     )
     .on_hover_text("Render at the viewport's physical pixel size (grid: the tile's size)");
     for (w, h) in Resolution::PRESETS {
         ui.radio_value(
-            &mut ws.settings.resolution,
+            &mut ws.cx.settings.resolution,
             Resolution::Fixed(w, h),
             format!("{w} × {h}"),
         )
@@ -173,27 +174,31 @@ fn resolution_choices(ui: &mut egui::Ui, ws: &mut Workspace) {
 }
 
 fn camera_menu(ui: &mut egui::Ui, ws: &mut Workspace) {
-    let play = if ws.camera.playing { "Pause" } else { "Play" };
+    let play = if ws.cx.camera.playing {
+        "Pause"
+    } else {
+        "Play"
+    };
     if menu_item(ui, play, Some(Action::PlayPause)) {
-        ws.toggle_play();
+        ws.cx.toggle_play();
     }
     if menu_item(ui, "Step one frame", Some(Action::Step)) {
-        ws.camera.playing = false;
-        ws.camera.step();
+        ws.cx.camera.playing = false;
+        ws.cx.camera.step();
     }
-    let mut auto = ws.camera.auto_rotate;
+    let mut auto = ws.cx.camera.auto_rotate;
     if ui
         .checkbox(&mut auto, "Auto-rotate")
         .on_hover_text("Orbit at the scene's speed per frame (the thesis' camera path)")
         .changed()
     {
-        ws.camera.auto_rotate = auto;
-        ws.settings.auto_rotate = auto;
+        ws.cx.camera.auto_rotate = auto;
+        ws.cx.settings.auto_rotate = auto;
     }
     if menu_item(ui, "Reset view", Some(Action::ResetView)) {
-        ws.camera.reset();
+        ws.cx.camera.reset();
     }
-    let mut flying = ws.camera.mode == super::camera::CameraMode::Fly;
+    let mut flying = ws.cx.camera.mode == super::camera::CameraMode::Fly;
     if ui
         .checkbox(&mut flying, "Fly camera")
         .on_hover_text(
@@ -201,9 +206,10 @@ fn camera_menu(ui: &mut egui::Ui, ws: &mut Workspace) {
         )
         .changed()
     {
-        ws.camera.toggle_mode();
+        ws.cx.camera.toggle_mode();
     }
     let views = ws
+        .cx
         .scene
         .as_ref()
         .map(|s| s.views.clone())
@@ -213,16 +219,18 @@ fn camera_menu(ui: &mut egui::Ui, ws: &mut Workspace) {
         ui.label("Cameras in the file");
         for view in &views {
             if ui.button(&view.name).clicked() {
-                ws.camera
+                ws.cx
+                    .camera
                     .jump_to(crate::scene::camera::OrbitPose::at_frame(&view.camera, 0));
             }
         }
     }
     ui.separator();
     if menu_item(ui, "Bookmark this view", Some(Action::AddBookmark)) {
-        ws.add_bookmark();
+        ws.cx.add_bookmark();
     }
     let scene = ws
+        .cx
         .scene
         .as_ref()
         .map(|s| s.spec.clone())
@@ -230,6 +238,7 @@ fn camera_menu(ui: &mut egui::Ui, ws: &mut Workspace) {
     let mut remove = None;
     let mut go = None;
     for (n, (i, bookmark)) in ws
+        .cx
         .settings
         .bookmarks
         .iter()
@@ -259,17 +268,17 @@ fn camera_menu(ui: &mut egui::Ui, ws: &mut Workspace) {
         });
     }
     if let Some(pose) = go {
-        ws.camera.jump_to(pose);
+        ws.cx.camera.jump_to(pose);
     }
     if let Some(i) = remove {
-        ws.settings.bookmarks.remove(i);
+        ws.cx.settings.bookmarks.remove(i);
     }
     ui.separator();
     if ui.button("Export bookmarks…").clicked() {
-        ws.export_bookmarks(ui.ctx());
+        ws.cx.export_bookmarks(ui.ctx());
     }
     if ui.button("Import bookmarks…").clicked() {
-        ws.import_bookmarks(ui.ctx());
+        ws.cx.import_bookmarks(ui.ctx());
     }
 }
 
@@ -283,13 +292,13 @@ pub(super) fn toolbar(ui: &mut egui::Ui, ws: &mut Workspace, help_open: &mut boo
             ui.horizontal(|ui| {
                 for layout in Layout::ALL {
                     let tip = shortcut_hint(&ctx, Action::Layout(layout), layout.help());
-                    ui.selectable_value(&mut ws.settings.layout, layout, layout.label())
+                    ui.selectable_value(&mut ws.cx.settings.layout, layout, layout.label())
                         .on_hover_text(tip);
                 }
                 ui.separator();
                 compare_strip(ui, ws);
                 ui.separator();
-                let (icon, tip) = if ws.camera.playing {
+                let (icon, tip) = if ws.cx.camera.playing {
                     ("Pause", "Pause time")
                 } else {
                     ("Play", "Resume time")
@@ -299,34 +308,34 @@ pub(super) fn toolbar(ui: &mut egui::Ui, ws: &mut Workspace, help_open: &mut boo
                     .on_hover_text(shortcut_hint(&ctx, Action::PlayPause, tip))
                     .clicked()
                 {
-                    ws.toggle_play();
+                    ws.cx.toggle_play();
                 }
                 if ui
                     .button("Step")
                     .on_hover_text(shortcut_hint(&ctx, Action::Step, "Step one frame"))
                     .clicked()
                 {
-                    ws.camera.playing = false;
-                    ws.camera.step();
+                    ws.cx.camera.playing = false;
+                    ws.cx.camera.step();
                 }
-                let mut auto = ws.camera.auto_rotate;
+                let mut auto = ws.cx.camera.auto_rotate;
                 if ui
                     .toggle_value(&mut auto, "Orbit")
                     .on_hover_text(shortcut_hint(&ctx, Action::AutoRotate, "Auto-rotate along the scene's camera path"))
                     .changed()
                 {
-                    ws.camera.auto_rotate = auto;
-                    ws.settings.auto_rotate = auto;
+                    ws.cx.camera.auto_rotate = auto;
+                    ws.cx.settings.auto_rotate = auto;
                 }
                 if ui
                     .button("Reset view")
                     .on_hover_text(shortcut_hint(&ctx, Action::ResetView, "Reset the view"))
                     .clicked()
                 {
-                    ws.camera.reset();
+                    ws.cx.camera.reset();
                 }
                 ui.separator();
-                let resolution = match ws.settings.resolution {
+                let resolution = match ws.cx.settings.resolution {
                     Resolution::FitViewport => "Fit".to_owned(),
                     Resolution::Fixed(w, h) => format!("{w}×{h}"),
                 };
@@ -354,12 +363,12 @@ pub(super) fn toolbar(ui: &mut egui::Ui, ws: &mut Workspace, help_open: &mut boo
                             Action::Export,
                             &format!(
                                 "Write every enabled technique's frame (PNG), the magnifier sheet and a sidecar JSON to {}",
-                                ws.settings.export_dir.display()
+                                ws.cx.settings.export_dir.display()
                             ),
                         ))
                         .clicked()
                     {
-                        ws.start_export(&ctx);
+                        ws.cx.request(Command::ExportFrame);
                     }
                     if ui
                         .button("?")
@@ -375,19 +384,19 @@ pub(super) fn toolbar(ui: &mut egui::Ui, ws: &mut Workspace, help_open: &mut boo
 
 /// The A/B/C/D chips of the compared techniques, with swap for the first two.
 fn compare_strip(ui: &mut egui::Ui, ws: &mut Workspace) {
-    let compared = ws.compared();
+    let compared = ws.cx.compared();
     if compared.is_empty() {
         ui.weak("nothing to compare");
         return;
     }
     for (slot, id) in compared.iter().enumerate() {
-        let name = ws.shown_label(id);
-        let letter = ws.blind.letter(slot);
+        let name = ws.cx.shown_label(id);
+        let letter = ws.cx.blind.letter(slot);
         ui.label(style::badge(letter, SLOT_COLORS[slot]))
             .on_hover_text(format!("Compared technique {letter}: {name}"));
         ui.label(name);
     }
-    if ws.images.is_open() {
+    if ws.cx.images.is_open() {
         image_panel::strip(ui, ws);
     }
     if compared.len() >= 2
@@ -396,15 +405,15 @@ fn compare_strip(ui: &mut egui::Ui, ws: &mut Workspace) {
             .on_hover_text("Swap A and B")
             .clicked()
     {
-        if ws.images.is_open() {
-            ws.swap_images();
+        if ws.cx.images.is_open() {
+            ws.cx.swap_images();
             return;
         }
         let (a, b) = (compared[0].to_owned(), compared[1].to_owned());
         let mut order: Vec<String> = compared.iter().map(|s| (*s).to_owned()).collect();
         order[0] = b;
         order[1] = a;
-        ws.settings.compare = order;
+        ws.cx.settings.compare = order;
     }
 }
 
@@ -415,7 +424,7 @@ pub(super) fn status_bar(ui: &mut egui::Ui, ws: &Workspace, hover: Option<(u32, 
         .frame(egui::Frame::side_top_panel(ui.style()).inner_margin(egui::Margin::symmetric(8, 3)))
         .show(ui, |ui| {
             ui.horizontal(|ui| {
-                let caps = &ws.gpu.caps;
+                let caps = &ws.cx.gpu.caps;
                 ui.label(RichText::new(&caps.adapter_name).small())
                     .on_hover_text(caps.report());
                 ui.weak(RichText::new(&caps.backend).small());
@@ -430,22 +439,22 @@ pub(super) fn status_bar(ui: &mut egui::Ui, ws: &Workspace, hover: Option<(u32, 
                     .on_hover_text("This adapter rasterises on the CPU: frame times are far longer than on a GPU, and relative costs differ too.");
                 }
                 ui.separator();
-                let (w, h) = ws.render_size;
+                let (w, h) = ws.cx.render_size;
                 ui.label(RichText::new(format!("{w} × {h}")).small().monospace())
                     .on_hover_text("Render resolution of every technique (1:1 on screen)");
-                if let Some(set) = ws.images.open() {
+                if let Some(set) = ws.cx.images.open() {
                     ui.separator();
                     let (w, h) = set.size();
                     let paths: Vec<String> =
                         set.images().iter().map(|i| i.path.display().to_string()).collect();
                     ui.label(RichText::new(format!("{} image(s) · {w} × {h}", paths.len())).small())
                         .on_hover_text(paths.join("\n"));
-                } else if let Some(scene) = &ws.scene {
+                } else if let Some(scene) = &ws.cx.scene {
                     ui.separator();
                     ui.label(RichText::new(format!("{} · {} triangles", scene.name, scene.triangles)).small())
                         .on_hover_text(&scene.spec);
                 }
-                if let Some(spec) = ws.loader.loading() {
+                if let Some(spec) = ws.cx.loader.loading() {
                     ui.separator();
                     // Static text, not a spinner: an animation repaints the window every
                     // frame, which on a software rasteriser takes CPU from the work.
@@ -454,8 +463,8 @@ pub(super) fn status_bar(ui: &mut egui::Ui, ws: &Workspace, hover: Option<(u32, 
                 ui.separator();
                 let frame = format!(
                     "frame {}{}",
-                    ws.camera.frame(),
-                    if ws.camera.playing { "" } else { " (paused)" }
+                    ws.cx.camera.frame(),
+                    if ws.cx.camera.playing { "" } else { " (paused)" }
                 );
                 ui.label(RichText::new(frame).small().monospace())
                     .on_hover_text("The animation clock and temporal jitter index; it advances once per rendered frame while playing.");
@@ -465,24 +474,24 @@ pub(super) fn status_bar(ui: &mut egui::Ui, ws: &Workspace, hover: Option<(u32, 
                 }
                 ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                     let window = std::time::Duration::from_secs(2);
-                    if let Some((fps, ms)) = ws.clock.fps(window) {
+                    if let Some((fps, ms)) = ws.cx.clock.fps(window) {
                         ui.label(RichText::new(format!("{fps:.1} FPS · {}", style::ms(ms))).small().monospace())
                             .on_hover_text("Rendered frames per second over the last 2 s (frames in which the techniques produced new images), and the median time between them.");
                     }
-                    if ws.rendering() {
+                    if ws.cx.rendering() {
                         // Static, like the loading note (an animation would repaint
                         // continuously).
                         ui.label(RichText::new("rendering…").small().weak())
                             .on_hover_text("A frame is being rendered; the interface keeps responding meanwhile.");
                     }
                     ui.separator();
-                    if let Some(notice) = ws.notices.last() {
+                    if let Some(notice) = ws.cx.notices.last() {
                         let color = match notice.level {
                             Level::Info => ui.visuals().text_color(),
                             Level::Warning => style::WARN,
                             Level::Error => style::ERROR,
                         };
-                        let all: Vec<String> = ws.notices.iter().map(|n| n.text.clone()).collect();
+                        let all: Vec<String> = ws.cx.notices.iter().map(|n| n.text.clone()).collect();
                         ui.add(egui::Label::new(RichText::new(&notice.text).small().color(color)).truncate())
                             .on_hover_text(all.join("\n\n"));
                     }

@@ -30,10 +30,10 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
+use super::context::{Context, Level};
 use super::engine::ImageStamp;
 use super::render_thread::open_device;
 use super::worker::{Reporter, Worker};
-use super::workspace::{Level, Workspace};
 use crate::aa::ssaa::Progress;
 use crate::gpu::Gpu;
 use crate::metrics::gpu::{GpuMetrics, upload_image};
@@ -387,18 +387,18 @@ fn schedule<T: Send + 'static>(
     }
 }
 
-impl Workspace {
+impl QualityTracker {
     /// Takes finished measurements and starts the next ones (see the module docs).
-    pub(super) fn update_quality(&mut self, ctx: &egui::Context) {
+    pub(super) fn update(&mut self, cx: &mut Context, ctx: &egui::Context) {
         profiling::function_scope!();
-        self.quality.collect();
-        self.quality.deferred = false;
+        self.collect();
+        self.deferred = false;
         // The engine's view, or the open image set's.
-        let Some(view) = self.current_view() else {
+        let Some(view) = cx.current_view() else {
             return;
         };
-        self.quality.current_view.store(view, Ordering::Relaxed);
-        if !self.settings.quality || self.quality.failed {
+        self.current_view.store(view, Ordering::Relaxed);
+        if !cx.settings.quality || self.failed {
             return;
         }
         // A playing clip changes frames faster than figures can follow: they are measured
@@ -406,16 +406,16 @@ impl Workspace {
         let clip_playing = |e: &super::engine::Engine| {
             e.clip().is_some_and(|c| c.player.playing) && e.clip_shown()
         };
-        if !self.images.is_open() && self.engine.as_ref().is_some_and(clip_playing) {
+        if !cx.images.is_open() && cx.engine.as_ref().is_some_and(clip_playing) {
             return;
         }
-        let Some((reference, progress)) = self.reference_for() else {
+        let Some((reference, progress)) = cx.reference_for() else {
             return;
         };
         if reference.stamp.view != view {
             return;
         }
-        let tests = self.measured_images(view);
+        let tests = cx.measured_images(view);
         if tests.is_empty() {
             return;
         }
@@ -428,23 +428,23 @@ impl Workspace {
             progress,
         );
         let now = Instant::now();
-        let since = match self.quality.reference_view {
+        let since = match self.reference_view {
             Some((seen, at)) if seen == view => at,
             _ => {
-                self.quality.reference_view = Some((view, now));
+                self.reference_view = Some((view, now));
                 now
             }
         };
-        let adapter = self.gpu.adapter.clone();
-        if let Err(err) = self.quality.start_workers(ctx, &adapter) {
-            self.quality.failed = true;
-            self.notify(
+        let adapter = cx.gpu.adapter.clone();
+        if let Err(err) = self.start_workers(ctx, &adapter) {
+            self.failed = true;
+            cx.notify(
                 Level::Error,
                 format!("quality figures are off: no thread to measure them ({err})"),
             );
             return;
         }
-        let q = &mut self.quality;
+        let q = &mut *self;
         let reference = (&reference.0, reference.1, reference.2);
         let pixels_deferred = schedule(
             q.pixel_worker.as_mut(),
@@ -471,11 +471,10 @@ impl Workspace {
 
     /// The quality figures of a technique that describe what is on screen now (`None` while
     /// they are stale or being measured).
-    pub(super) fn quality_figures(&self, id: &str) -> Option<Figures> {
-        let key = self.measure_key(id);
-        let pixels = self.quality.current_pixels(id, key)?;
+    pub(super) fn figures(&self, cx: &Context, id: &str) -> Option<Figures> {
+        let key = cx.measure_key(id);
+        let pixels = self.current_pixels(id, key)?;
         let flip = self
-            .quality
             .current_flip(id, key)
             .and_then(|m| m.value.as_ref().ok().map(|v| (*v, m.reference.samples)));
         Some(Figures {
@@ -487,8 +486,8 @@ impl Workspace {
 
     /// A short line of current figures for a technique (magnifier captions, sheets): SSIM,
     /// PSNR and, once measured, FLIP.
-    pub(super) fn figures_text(&self, id: &str) -> Option<String> {
-        let f = self.quality_figures(id)?;
+    pub(super) fn figures_text(&self, cx: &Context, id: &str) -> Option<String> {
+        let f = self.figures(cx, id)?;
         let mut text = format!("SSIM {:.4} · {}", f.pixels.ssim, psnr_text(f.pixels.psnr));
         if let Some((flip, _)) = f.flip {
             text.push_str(&format!(" · FLIP {flip:.4}"));

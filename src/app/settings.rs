@@ -16,6 +16,8 @@ use std::path::{Path, PathBuf};
 use crate::aa::{self, ParamMap};
 use crate::scene::camera::OrbitPose;
 
+use super::difference::DiffMetric;
+
 /// Key of the settings in eframe's storage.
 pub const STORAGE_KEY: &str = "aa-lab viewer settings";
 
@@ -66,78 +68,6 @@ impl Layout {
             Self::Grid => {
                 "Techniques A to D in a 2x2 grid; every tile is rendered at the tile's own size, 1:1."
             }
-        }
-    }
-}
-
-/// The error metric of the magnifier's difference mode.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum DiffMetric {
-    /// Mean absolute difference of the sRGB-encoded channels.
-    #[default]
-    AbsoluteError,
-    /// The SSIM map (shown as dissimilarity, 1 - SSIM).
-    Ssim,
-    /// NVIDIA's FLIP error map.
-    Flip,
-    /// Per pixel temporal instability over the shown clip (see `metrics::stability`).
-    Instability,
-}
-
-impl DiffMetric {
-    /// Every metric comparing two images, in menu order.
-    pub const ALL: [Self; 3] = [Self::AbsoluteError, Self::Ssim, Self::Flip];
-
-    /// Every metric of the menu: the comparisons, then the clip's temporal one.
-    pub const MENU: [Self; 4] = [
-        Self::AbsoluteError,
-        Self::Ssim,
-        Self::Flip,
-        Self::Instability,
-    ];
-
-    /// Menu label.
-    pub fn label(self) -> &'static str {
-        match self {
-            Self::AbsoluteError => "Absolute error",
-            Self::Ssim => "SSIM map",
-            Self::Flip => "FLIP",
-            Self::Instability => "Temporal instability",
-        }
-    }
-
-    /// What the heatmap shows.
-    pub fn help(self) -> String {
-        use crate::metrics::{flip, ssim};
-        let margin = super::magnifier::MARGIN;
-        match self {
-            Self::AbsoluteError => format!(
-                "Per pixel: mean over R', G', B' of |technique - reference| in sRGB-encoded 8-bit \
-                 values. Black is 0, the brightest colour {} or more.",
-                super::difference::ABSOLUTE_ERROR_FULL_SCALE
-            ),
-            Self::Ssim => format!(
-                "Per pixel: 1 - SSIM of BT.601 luma against the reference (Gaussian window \
-                 {w}x{w}, sigma {s}). Computed on the lens plus {margin} pixels around it, so \
-                 windows at the lens border see their real neighbours. Black is identical, the \
-                 brightest colour 1 - SSIM = 1 or more.",
-                w = ssim::WINDOW,
-                s = ssim::SIGMA,
-            ),
-            Self::Flip => format!(
-                "Per pixel: NVIDIA's FLIP (LDR) error against the reference for an observer at \
-                 {ppd:.0} pixels per degree. Computed on the lens plus {margin} pixels around \
-                 it, so FLIP's filters at the lens border see their real neighbours. Black is \
-                 indistinguishable, the brightest colour 1.",
-                ppd = flip::PIXELS_PER_DEGREE,
-            ),
-            Self::Instability => format!(
-                "Per pixel, over the shown clip (recorded with the reference): the mean \
-                 frame-to-frame change of luma of the technique, divided by the reference's mean \
-                 change over the whole frame. Black is still, the brightest colour {} times the \
-                 reference's mean change or more: where a technique crawls and shimmers.",
-                super::difference::INSTABILITY_FULL_SCALE
-            ),
         }
     }
 }
@@ -310,7 +240,7 @@ pub struct Settings {
     /// The GPU table lists every pass, not only per technique.
     pub show_passes: bool,
     /// What "Record clip" records.
-    pub clip: super::clip::ClipSettings,
+    pub clip: super::engine::ClipSettings,
 }
 
 impl Default for Settings {
@@ -337,7 +267,7 @@ impl Default for Settings {
             show_metrics: true,
             show_magnifier: true,
             show_passes: false,
-            clip: super::clip::ClipSettings::default(),
+            clip: super::engine::ClipSettings::default(),
         }
     }
 }

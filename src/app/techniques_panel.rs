@@ -6,16 +6,17 @@
 
 use egui::{Button, Color32, RichText};
 
+use super::context::Level;
 use super::image_panel;
 use super::settings::MAX_COMPARE;
 use super::style::{SLOT_COLORS, SLOT_LETTERS};
-use super::workspace::{Level, Workspace};
+use super::workspace::Workspace;
 use crate::aa::{Param, ParamKind, ParamValue};
 
 /// Every registry technique with its switch, comparison mark and settings.
 pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
     profiling::function_scope!();
-    if ws.images.is_open() {
+    if ws.cx.images.is_open() {
         image_panel::ui(ui, ws);
         return;
     }
@@ -31,6 +32,7 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
             ui.separator();
             egui::ScrollArea::vertical().show(ui, |ui| {
                 let ids: Vec<&'static str> = ws
+                    .cx
                     .engine
                     .as_ref()
                     .map(|e| {
@@ -45,7 +47,7 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
                 for id in ids {
                     technique_row(ui, ws, id, &mut number);
                 }
-                if ws.engine.is_none() {
+                if ws.cx.engine.is_none() {
                     ui.weak("The techniques appear once the scene is loaded.");
                 } else if ui
                     .small_button("Add technique from file…")
@@ -53,14 +55,14 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
                     .clicked()
                 {
                     let ctx = ui.ctx().clone();
-                    ws.add_technique_dialog(&ctx);
+                    ws.cx.add_technique_dialog(&ctx);
                 }
             });
         });
 }
 
 fn technique_row(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str, number: &mut usize) {
-    let Some(engine) = &ws.engine else { return };
+    let Some(engine) = &ws.cx.engine else { return };
     let Some(entry) = engine.entry(id) else {
         return;
     };
@@ -80,7 +82,7 @@ fn technique_row(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str, number
     } else {
         None
     };
-    let compared = ws.compared();
+    let compared = ws.cx.compared();
     let slot = compared.iter().position(|c| *c == id);
     let mut toggled = None;
     let mut compare_clicked = false;
@@ -187,13 +189,13 @@ fn technique_row(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str, number
         }
     });
     if let Some(on) = toggled {
-        ws.set_technique_enabled(id, on);
+        ws.cx.set_technique_enabled(id, on);
     }
     if compare_clicked {
-        ws.toggle_compare(id);
+        ws.cx.toggle_compare(id);
     }
     if remove_clicked {
-        ws.remove_user_technique(id);
+        ws.cx.remove_user_technique(id);
     }
 }
 
@@ -215,7 +217,7 @@ fn compiling_note(ui: &mut egui::Ui, elapsed: std::time::Duration) {
 
 /// Presets, parameters, debug views and code path of an enabled technique.
 fn technique_settings(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str) {
-    let Some(engine) = &ws.engine else { return };
+    let Some(engine) = &ws.cx.engine else { return };
     let presets = engine.presets(id);
     let params = engine.params(id);
     let note = engine.path_note(id);
@@ -287,7 +289,7 @@ fn technique_settings(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str) {
             }
         });
     let mut failed = Vec::new();
-    if let Some(engine) = &mut ws.engine {
+    if let Some(engine) = &mut ws.cx.engine {
         if let Some(preset) = preset_clicked
             && let Err(err) = engine.apply_preset(id, preset)
         {
@@ -302,17 +304,17 @@ fn technique_settings(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str) {
             engine.set_debug_view(id, view.clone());
             match view {
                 Some(v) => {
-                    ws.settings.debug_views.insert(id.to_owned(), v);
+                    ws.cx.settings.debug_views.insert(id.to_owned(), v);
                 }
                 None => {
-                    ws.settings.debug_views.remove(id);
+                    ws.cx.settings.debug_views.remove(id);
                 }
             }
         }
     }
-    ws.remember_params(id);
+    ws.cx.remember_params(id);
     for err in failed {
-        ws.notify(Level::Error, err);
+        ws.cx.notify(Level::Error, err);
     }
 }
 

@@ -204,8 +204,9 @@ impl ViewportPanel {
             .show(ui, |ui| {
                 let rect = ui.max_rect();
                 let ppp = ui.ctx().pixels_per_point();
-                let tiles_rects = tile_rects(ws.settings.layout, rect, ppp);
+                let tiles_rects = tile_rects(ws.cx.settings.layout, rect, ppp);
                 let clip_size = ws
+                    .cx
                     .engine
                     .as_ref()
                     .filter(|e| e.clip_shown())
@@ -214,25 +215,25 @@ impl ViewportPanel {
                 // Open images are shown at their own size, and a clip on screen keeps the
                 // size it was recorded at (the lens is in their pixels); the live view
                 // renders at the size the viewport asks for.
-                let fixed = ws.images.open().map(|set| set.size()).or(clip_size);
-                let wanted = match (fixed, ws.settings.resolution) {
+                let fixed = ws.cx.images.open().map(|set| set.size()).or(clip_size);
+                let wanted = match (fixed, ws.cx.settings.resolution) {
                     (Some(size), _) => size,
                     (None, Resolution::FitViewport) => physical_size(tiles_rects[0], ppp),
                     (None, Resolution::Fixed(w, h)) => (w, h),
                 };
-                self.resized = wanted != ws.render_size;
-                ws.render_size = wanted;
+                self.resized = wanted != ws.cx.render_size;
+                ws.cx.render_size = wanted;
                 let response = ui.interact(
                     rect,
                     ui.scope_id().with("viewport"),
                     Sense::click_and_drag(),
                 );
-                if ws.engine.is_none() && !ws.images.is_open() {
+                if ws.cx.engine.is_none() && !ws.cx.images.is_open() {
                     paint_background(ui.painter(), rect, &[]);
                     empty_state(ui, ws, rect, true);
                     return;
                 }
-                let compared = ws.compared();
+                let compared = ws.cx.compared();
                 if compared.is_empty() {
                     paint_background(ui.painter(), rect, &[]);
                     empty_state(ui, ws, rect, false);
@@ -244,13 +245,13 @@ impl ViewportPanel {
                     .iter()
                     .enumerate()
                     .map(|(i, tile_rect)| {
-                        let what = match ws.settings.layout {
+                        let what = match ws.cx.settings.layout {
                             Layout::Grid => compared.get(i).map(|id| Shown::Technique(i, id)),
                             _ => shown.first().copied(),
                         };
                         let image = what.and_then(|w| shown_image(ws, w));
-                        let size = image.map_or(ws.render_size, Published::size);
-                        let size_points = shown_size(size, ws.render_size, tile_rect, ppp);
+                        let size = image.map_or(ws.cx.render_size, Published::size);
+                        let size_points = shown_size(size, ws.cx.render_size, tile_rect, ppp);
                         // Centred; an image larger than its tile (fixed resolution) is cropped
                         // evenly.
                         let origin =
@@ -273,7 +274,7 @@ impl ViewportPanel {
                 for (i, (what, image, tile, size_points)) in placed.into_iter().enumerate() {
                     let tile_rect = tile.rect;
                     let painter = ui.painter().with_clip_rect(tile_rect);
-                    if ws.settings.layout == Layout::Wipe && shown.len() == 2 {
+                    if ws.cx.settings.layout == Layout::Wipe && shown.len() == 2 {
                         paint_wipe(&painter, ws, &tile, size_points, &shown, ppp);
                     } else if let (Some(what), Some(image)) = (what, image) {
                         blit::paint(
@@ -292,7 +293,7 @@ impl ViewportPanel {
                             ui.visuals().weak_text_color(),
                         );
                     }
-                    if ws.settings.show_magnifier {
+                    if ws.cx.settings.show_magnifier {
                         paint_lens(&painter, ws, &tile, ppp);
                     }
                     if i == 0 && image.is_some() {
@@ -318,7 +319,7 @@ impl ViewportPanel {
         let ctx = ui.ctx().clone();
         let pointer = response.hover_pos().or(response.interact_pointer_pos());
         let tile = pointer.and_then(|p| tiles.iter().find(|t| t.rect.contains(p)).copied());
-        let size = ws.render_size;
+        let size = ws.cx.render_size;
         let frame_at = |t: &Tile, p: Pos2| t.to_frame(ppp, p);
         self.hover_pixel = match (tile, response.hover_pos()) {
             (Some(t), Some(p)) => {
@@ -328,7 +329,7 @@ impl ViewportPanel {
             }
             _ => None,
         };
-        let lens = ws.lens();
+        let lens = ws.cx.lens();
         let over_lens = |f: Vec2| {
             lens.is_some_and(|r| {
                 f.x >= r.x as f32
@@ -340,10 +341,10 @@ impl ViewportPanel {
         let divider_x = tiles.first().map(|t| {
             let visible = Rect::from_min_size(t.origin, vec2(size.0 as f32, size.1 as f32) / ppp)
                 .intersect(t.rect);
-            visible.left() + visible.width() * ws.settings.wipe
+            visible.left() + visible.width() * ws.cx.settings.wipe
         });
         let near_divider = |p: Pos2| {
-            ws.settings.layout == Layout::Wipe
+            ws.cx.settings.layout == Layout::Wipe
                 && divider_x.is_some_and(|x| (p.x - x).abs() <= DIVIDER_GRAB)
         };
 
@@ -353,7 +354,7 @@ impl ViewportPanel {
         {
             if near_divider(p) {
                 ctx.set_cursor_icon(CursorIcon::ResizeHorizontal);
-            } else if ws.settings.show_magnifier && over_lens(frame_at(&t, p)) {
+            } else if ws.cx.settings.show_magnifier && over_lens(frame_at(&t, p)) {
                 ctx.set_cursor_icon(CursorIcon::Grab);
             }
         }
@@ -364,7 +365,7 @@ impl ViewportPanel {
             && let (Some(t), Some(p)) = (tile, pointer)
         {
             let f = frame_at(&t, p);
-            ws.settings.magnifier.center = Some([f.x, f.y]);
+            ws.cx.settings.magnifier.center = Some([f.x, f.y]);
         }
 
         // Where the button went down: a drag starts only after a few pixels of movement.
@@ -376,7 +377,7 @@ impl ViewportPanel {
             let f = frame_at(&t, p);
             self.drag = Some(if near_divider(p) {
                 Drag::Wipe
-            } else if ws.settings.show_magnifier
+            } else if ws.cx.settings.show_magnifier
                 && response.dragged_by(egui::PointerButton::Primary)
                 && over_lens(f)
             {
@@ -399,26 +400,26 @@ impl ViewportPanel {
                         Rect::from_min_size(t.origin, vec2(size.0 as f32, size.1 as f32) / ppp)
                             .intersect(t.rect);
                     if visible.width() > 0.0 {
-                        ws.settings.wipe =
+                        ws.cx.settings.wipe =
                             ((p.x - visible.left()) / visible.width()).clamp(0.0, 1.0);
                     }
                     ctx.set_cursor_icon(CursorIcon::ResizeHorizontal);
                 }
                 (Some(Drag::Lens(offset)), Some(t), Some(p)) => {
                     let f = frame_at(&t, p) - offset;
-                    ws.settings.magnifier.center = Some([f.x, f.y]);
+                    ws.cx.settings.magnifier.center = Some([f.x, f.y]);
                     ctx.set_cursor_icon(CursorIcon::Grabbing);
                 }
                 // Images have no camera.
-                (Some(Drag::Camera), _, _) if ws.images.is_open() => {}
+                (Some(Drag::Camera), _, _) if ws.cx.images.is_open() => {}
                 (Some(Drag::Camera), _, _) => {
                     if response.dragged_by(egui::PointerButton::Primary)
                         && !ctx.input(|i| i.modifiers.shift)
                     {
-                        ws.camera.orbit(glam::Vec2::new(delta.x, delta.y));
+                        ws.cx.camera.orbit(glam::Vec2::new(delta.x, delta.y));
                     } else {
                         let height = tiles.first().map_or(1.0, |t| t.rect.height());
-                        ws.camera.pan(glam::Vec2::new(delta.x, delta.y), height);
+                        ws.cx.camera.pan(glam::Vec2::new(delta.x, delta.y), height);
                     }
                 }
                 _ => {}
@@ -427,10 +428,10 @@ impl ViewportPanel {
         if response.drag_stopped() {
             self.drag = None;
         }
-        if response.hovered() && !ws.images.is_open() {
+        if response.hovered() && !ws.cx.images.is_open() {
             let scroll = ctx.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
-                ws.camera.zoom(scroll);
+                ws.cx.camera.zoom(scroll);
             }
         }
         // During a blind comparison a plain click answers with the pane under the pointer.
@@ -438,14 +439,14 @@ impl ViewportPanel {
             && !ctx.input(|i| i.modifiers.command)
             && let Some(p) = pointer
         {
-            let slot = match ws.settings.layout {
+            let slot = match ws.cx.settings.layout {
                 Layout::Grid => tiles.iter().position(|t| t.rect.contains(p)),
                 Layout::Wipe => Some(usize::from(divider_x.is_some_and(|x| p.x >= x))),
                 Layout::Flip => Some(usize::from(ctx.input(|i| i.key_down(egui::Key::B)))),
                 Layout::Single => Some(0),
             };
             if let Some(slot) = slot {
-                ws.blind_click(slot);
+                ws.cx.blind_click(slot);
             }
         }
         nudge_lens(ws, &ctx);
@@ -456,14 +457,14 @@ impl ViewportPanel {
 fn shown_by_layout(ws: &Workspace, compared: &[&'static str], ctx: &egui::Context) -> Vec<Shown> {
     let a = Shown::Technique(0, compared[0]);
     let b = compared.get(1).map(|id| Shown::Technique(1, id));
-    match ws.settings.layout {
+    match ws.cx.settings.layout {
         Layout::Single | Layout::Grid => vec![a],
         Layout::Wipe => std::iter::once(a).chain(b).collect(),
         Layout::Flip => {
             let (hold_b, hold_r) =
                 ctx.input(|i| (i.key_down(egui::Key::B), i.key_down(egui::Key::R)));
             let typing = ctx.egui_wants_keyboard_input();
-            if hold_r && !typing && ws.reference_for().is_some() {
+            if hold_r && !typing && ws.cx.reference_for().is_some() {
                 vec![Shown::Reference]
             } else if hold_b && !typing {
                 vec![b.unwrap_or(a)]
@@ -476,8 +477,8 @@ fn shown_by_layout(ws: &Workspace, compared: &[&'static str], ctx: &egui::Contex
 
 fn shown_image(ws: &Workspace, shown: Shown) -> Option<&Published> {
     match shown {
-        Shown::Technique(_, id) => ws.image_for(id),
-        Shown::Reference => ws.reference_for().map(|(image, _)| image),
+        Shown::Technique(_, id) => ws.cx.image_for(id),
+        Shown::Reference => ws.cx.reference_for().map(|(image, _)| image),
     }
 }
 
@@ -486,11 +487,13 @@ fn tile_label(painter: &egui::Painter, ws: &Workspace, at: Pos2, shown: Shown) -
         Shown::Technique(slot, id) => style::chip(
             painter,
             at,
-            ws.blind.letter(slot),
+            ws.cx.blind.letter(slot),
             SLOT_COLORS[slot],
-            &ws.shown_label(id),
+            &ws.cx.shown_label(id),
         ),
-        Shown::Reference => style::chip(painter, at, "R", REFERENCE_COLOR, &ws.reference_title()),
+        Shown::Reference => {
+            style::chip(painter, at, "R", REFERENCE_COLOR, &ws.cx.reference_title())
+        }
     }
 }
 
@@ -505,7 +508,7 @@ fn paint_wipe(
     let image_rect = Rect::from_min_size(tile.origin, size_points);
     let visible = image_rect.intersect(tile.rect);
     let x = snap(
-        pos2(visible.left() + visible.width() * ws.settings.wipe, 0.0),
+        pos2(visible.left() + visible.width() * ws.cx.settings.wipe, 0.0),
         ppp,
     )
     .x;
@@ -552,7 +555,7 @@ fn paint_wipe(
     let label_width = 8.0
         + painter
             .layout_no_wrap(
-                ws.shown_label(match shown[1] {
+                ws.cx.shown_label(match shown[1] {
                     Shown::Technique(_, id) => id,
                     Shown::Reference => "reference",
                 }),
@@ -572,7 +575,7 @@ fn paint_wipe(
 
 /// The lens outline over a tile.
 fn paint_lens(painter: &egui::Painter, ws: &Workspace, tile: &Tile, ppp: f32) {
-    let Some(region) = ws.lens() else {
+    let Some(region) = ws.cx.lens() else {
         return;
     };
     let min = tile.to_screen(ppp, vec2(region.x as f32, region.y as f32));
@@ -588,7 +591,7 @@ fn paint_lens(painter: &egui::Painter, ws: &Workspace, tile: &Tile, ppp: f32) {
     painter.text(
         pos2(rect.min.x, rect.min.y - 4.0),
         egui::Align2::LEFT_BOTTOM,
-        format!("×{}", ws.settings.magnifier.zoom),
+        format!("×{}", ws.cx.settings.magnifier.zoom),
         egui::FontId::monospace(10.0),
         Color32::WHITE,
     );
@@ -596,7 +599,7 @@ fn paint_lens(painter: &egui::Painter, ws: &Workspace, tile: &Tile, ppp: f32) {
 
 fn empty_state(ui: &egui::Ui, ws: &Workspace, rect: Rect, loading: bool) {
     let text = if loading {
-        match ws.loader.loading() {
+        match ws.cx.loader.loading() {
             Some(spec) => format!("Loading {spec}…"),
             None => "No scene loaded: open one from the File menu".to_owned(),
         }
@@ -629,7 +632,7 @@ fn hovered_files_overlay(ui: &egui::Ui, rect: Rect) {
 
 /// Arrow keys move the lens by one frame pixel (ten with Shift).
 fn nudge_lens(ws: &mut Workspace, ctx: &egui::Context) {
-    if ctx.egui_wants_keyboard_input() || !ws.settings.show_magnifier {
+    if ctx.egui_wants_keyboard_input() || !ws.cx.settings.show_magnifier {
         return;
     }
     let (dx, dy, shift) = ctx.input(|i| {
@@ -646,10 +649,10 @@ fn nudge_lens(ws: &mut Workspace, ctx: &egui::Context) {
         return;
     }
     let step = if shift { 10.0 } else { 1.0 };
-    if let Some(region) = ws.lens() {
+    if let Some(region) = ws.cx.lens() {
         let cx = region.x as f32 + region.width as f32 * 0.5 + dx * step;
         let cy = region.y as f32 + region.height as f32 * 0.5 + dy * step;
-        ws.settings.magnifier.center = Some([cx, cy]);
+        ws.cx.settings.magnifier.center = Some([cx, cy]);
     }
 }
 

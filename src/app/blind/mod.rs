@@ -32,10 +32,9 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
 use egui::{Button, Key, Modifiers, RichText};
 
-use super::clip::ClipRecipe;
+use super::engine::ClipRecipe;
 use super::settings::Layout;
 use super::style::{self, SLOT_COLORS, SLOT_LETTERS};
-use super::workspace::{Level, Workspace};
 use crate::aa::ParamMap;
 use crate::files::{self, Overwrite};
 use crate::scene::camera::OrbitPose;
@@ -142,25 +141,25 @@ pub(super) enum OnScreen {
 /// The magnifier's region.
 #[derive(Clone, Copy, Debug, serde::Serialize)]
 pub(super) struct Lens {
-    x: u32,
-    y: u32,
-    width: u32,
-    height: u32,
-    zoom: u32,
+    pub(in crate::app) x: u32,
+    pub(in crate::app) y: u32,
+    pub(in crate::app) width: u32,
+    pub(in crate::app) height: u32,
+    pub(in crate::app) zoom: u32,
 }
 
 /// The circumstances of an answer, from the app.
 #[derive(Clone, Debug, serde::Serialize)]
 pub(super) struct TrialContext {
-    scene: String,
+    pub(in crate::app) scene: String,
     /// A playing clip (or a camera moving by itself) rather than a still image.
-    in_motion: bool,
+    pub(in crate::app) in_motion: bool,
     #[serde(flatten)]
-    shown: OnScreen,
-    layout: Layout,
+    pub(in crate::app) shown: OnScreen,
+    pub(in crate::app) layout: Layout,
     /// The magnifier's lens when it is open (`None`: the whole frame).
-    region: Option<Lens>,
-    render_size: (u32, u32),
+    pub(in crate::app) region: Option<Lens>,
+    pub(in crate::app) render_size: (u32, u32),
 }
 
 /// One answer.
@@ -328,13 +327,30 @@ impl BlindState {
         })
     }
 
+    /// Shows the next trial, reshuffled, once the last answer's mapping has been revealed.
+    pub fn next_trial(&mut self) {
+        if let Some(session) = self.session.as_mut().filter(|s| s.revealed) {
+            session.next();
+        }
+    }
+
+    /// Ends the session; the line that says how it went and where its answers are.
+    pub fn end(&mut self) -> Option<String> {
+        let session = self.session.take()?;
+        Some(format!(
+            "Blind comparison ended: {} (in {})",
+            session.summary_line(),
+            session.path.display()
+        ))
+    }
+
     /// The answers file of the running session.
     pub fn file(&self) -> Option<&Path> {
         self.session.as_ref().map(|s| s.path.as_path())
     }
 
     /// Starts a session over `techniques` (id, name) in panes, writing to `path`.
-    fn start(
+    pub(in crate::app) fn start(
         &mut self,
         techniques: Vec<(&'static str, String)>,
         seed: u64,
@@ -371,7 +387,7 @@ impl BlindState {
 
     /// Records an answer for the trial on screen; returns whether it was taken (not while a
     /// reveal waits, nor for a pane that does not exist).
-    fn answer(&mut self, choice: Choice, context: TrialContext) -> bool {
+    pub(in crate::app) fn answer(&mut self, choice: Choice, context: TrialContext) -> bool {
         let reveal = self.reveal;
         let Some(session) = &mut self.session else {
             return false;

@@ -7,7 +7,7 @@ use super::*;
 impl BlindState {
     /// The keys of a session: digits answer (0: no preference), Enter goes on after a reveal.
     /// They are consumed, so the number keys do not switch techniques meanwhile.
-    fn keys(&self, ctx: &egui::Context) -> Option<BlindAction> {
+    pub(in crate::app) fn keys(&self, ctx: &egui::Context) -> Option<BlindAction> {
         if !self.active() || ctx.egui_wants_keyboard_input() {
             return None;
         }
@@ -145,158 +145,16 @@ impl BlindState {
     }
 }
 
-impl Workspace {
-    /// Starts a blind session over the compared techniques (two to four), writing its answers
-    /// into the export folder.
-    pub(in crate::app) fn start_blind(&mut self, ctx: &egui::Context) {
-        let ids = self.compared();
-        if ids.len() < 2 {
-            self.notify(
-                Level::Warning,
-                "A blind comparison needs at least two compared techniques: switch on another.",
-            );
-            return;
-        }
-        let techniques = ids.iter().map(|id| (*id, self.shown_label(id))).collect();
-        let seed = SystemTime::now()
-            .duration_since(UNIX_EPOCH)
-            .map_or(0, |d| d.as_nanos() as u64);
-        let scene = if self.images.is_open() {
-            "images"
-        } else {
-            self.scene.as_ref().map_or("scene", |s| s.name.as_str())
-        };
-        let dir = self.settings.export_dir.clone();
-        let stem = crate::files::free_stem(&dir, &format!("{scene}-blind"), &[".json".to_owned()]);
-        let path = dir.join(format!("{stem}.json"));
-        let adapter = format!("{} ({})", self.gpu.caps.adapter_name, self.gpu.caps.backend);
-        match self.blind.start(techniques, seed, path, adapter, ctx) {
-            Ok(()) => self.notify(
-                Level::Info,
-                "Blind comparison: the panes are numbered and shuffled; answer with 1–4 or 0.",
-            ),
-            Err(err) => self.notify(
-                Level::Error,
-                format!("cannot start the blind comparison: {err}"),
-            ),
-        }
-    }
-
-    /// The session's keys (before the shortcuts, which they take precedence over).
-    pub(in crate::app) fn blind_keys(&mut self, ctx: &egui::Context) {
-        if let Some(action) = self.blind.keys(ctx) {
-            self.blind_act(action);
-        }
-    }
-
-    /// A click on the pane of `slot` (viewport or magnifier) answers during a session.
-    pub(in crate::app) fn blind_click(&mut self, slot: usize) {
-        if self.blind.active() {
-            self.blind_act(BlindAction::Answer(Choice::Pane(slot)));
-        }
-    }
-
-    fn blind_act(&mut self, action: BlindAction) {
-        match action {
-            BlindAction::Answer(choice) => {
-                let context = self.trial_context();
-                self.blind.answer(choice, context);
-            }
-            BlindAction::Next => {
-                if let Some(session) = self.blind.session.as_mut().filter(|s| s.revealed) {
-                    session.next();
-                }
-            }
-            BlindAction::End => {
-                if let Some(session) = self.blind.session.take() {
-                    let line = format!(
-                        "Blind comparison ended: {} (in {})",
-                        session.summary_line(),
-                        session.path.display()
-                    );
-                    self.notify(Level::Info, line);
-                }
-            }
-        }
-    }
-
-    /// What is on screen now, for an answer's record.
-    fn trial_context(&self) -> TrialContext {
-        let engine = self.engine.as_ref();
-        let clip = engine
-            .filter(|e| e.clip_shown())
-            .and_then(|e| e.clip())
-            .filter(|_| !self.images.is_open());
-        let (shown, in_motion) = if let Some(set) = self.images.open() {
-            let paths = set.images().iter().map(|i| i.path.clone()).collect();
-            (OnScreen::Images { paths }, false)
-        } else if let Some(clip) = clip {
-            let frames = clip.frames.len();
-            let playing = clip.player.playing && frames > 1;
-            let shown = OnScreen::Clip {
-                frame: clip.player.frame(frames),
-                frames,
-                playing,
-                fps: clip.player.rate.fps(),
-                ping_pong: clip.player.ping_pong,
-                recipe: clip.recipe.clone(),
-            };
-            (shown, playing)
-        } else {
-            let moving = self.camera.moving_by_itself();
-            let settings = self
-                .compared()
-                .into_iter()
-                .filter_map(|id| Some((id, engine?.param_map(id))))
-                .collect();
-            let shown = OnScreen::Live {
-                frame: self.camera.frame(),
-                camera: self.camera.pose(),
-                camera_moving: moving,
-                settings,
-            };
-            (shown, moving)
-        };
-        let region = self
-            .settings
-            .show_magnifier
-            .then(|| self.lens())
-            .flatten()
-            .map(|lens| Lens {
-                x: lens.x,
-                y: lens.y,
-                width: lens.width,
-                height: lens.height,
-                zoom: self.settings.magnifier.zoom,
-            });
-        TrialContext {
-            scene: self
-                .scene
-                .as_ref()
-                .filter(|_| !self.images.is_open())
-                .map_or_else(|| "images".to_owned(), |s| s.spec.clone()),
-            in_motion,
-            shown,
-            layout: self.settings.layout,
-            region,
-            render_size: self.render_size,
-        }
-    }
-}
-
 /// The session's panel, in place of the techniques and metrics panels.
-pub(in crate::app) fn panel(ui: &mut egui::Ui, ws: &mut Workspace) {
-    let action = egui::Panel::right("blind comparison")
+pub(in crate::app) fn panel(ui: &mut egui::Ui, blind: &mut BlindState) -> Option<BlindAction> {
+    egui::Panel::right("blind comparison")
         .resizable(true)
         .default_size(280.0)
         .size_range(220.0..=480.0)
         .show(ui, |ui| {
             egui::ScrollArea::vertical()
-                .show(ui, |ui| ws.blind.ui(ui))
+                .show(ui, |ui| blind.ui(ui))
                 .inner
         })
-        .inner;
-    if let Some(action) = action {
-        ws.blind_act(action);
-    }
+        .inner
 }

@@ -31,7 +31,6 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use super::blit::{DisplayTexture, Uploader};
-use super::clip::{Clip, ClipFrame, ClipRecipe, ClipStatus};
 use super::reference::REFERENCE_ID;
 use super::render_thread::{
     ClipJob, ClipSummary, Command, Event, FramePlan, FrameResult, ReferenceRequest, RenderDevice,
@@ -49,9 +48,13 @@ use crate::scene::camera::FrameCamera;
 
 mod clip;
 mod display;
+mod player;
+mod recording;
 mod settings;
 
 pub use display::{Display, DisplayPath, Published};
+pub use player::{ClipPlayer, PlayRate};
+pub use recording::{Clip, ClipFrame, ClipPath, ClipRecipe, ClipSettings, ClipStatus, MAX_FRAMES};
 
 /// GPU milliseconds the reference may add to a frame (it always adds at least one sample).
 const REFERENCE_BUDGET_MS: f64 = 60.0;

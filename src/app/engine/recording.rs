@@ -1,63 +1,35 @@
-//! Clips in the viewer: what to record (the motion, its length, the reference), the recorded
-//! frames of every compared technique (their memory counted and capped), and playback: a loop
-//! or ping-pong at real time (30 or 60 frames per second) or in slow motion, single steps and a
-//! scrub bar. Every layout and the magnifier read the same frame ([`ClipPlayer::frame`]), so
-//! all panes show the same instant.
+//! The clips the viewer records: what to record ([`ClipSettings`]: the motion, its length, the
+//! reference, the memory cap, and the cameras they give), the recording's record
+//! ([`ClipRecipe`]) and the recorded frames of every compared technique with their memory
+//! counted ([`Clip`]). Every layout and the magnifier read the same frame ([`Clip::shown`],
+//! through the clip's [`ClipPlayer`]), so all panes show the same instant.
 //!
-//! Playback never skips a frame: the position follows the clock, but one UI frame advances it
-//! by at most one clip frame, so a paint that comes late (a UI frame longer than the clip's
-//! period) shows the next frame rather than the one after it. The time it fell behind is kept,
-//! up to [`MAX_LAG_FRAMES`], and the following paints catch up with the clock: when UI frames
-//! jitter around the clip's period (as they do on a software rasteriser), a short paint makes
-//! up for a long one and the clip keeps its rate. Skipped frames
-//! would change what is being judged (a flicker between two frames can vanish when every other
-//! frame is dropped); when the window paints more slowly than the clip's rate all along, the
-//! clip plays every frame more slowly, and the clip bar says at what rate it is shown
-//! ([`ClipPlayer::shown_fps`]).
-//!
-//! Recording runs on the render thread ([`super::render_thread::ClipJob`]): temporal
+//! Recording runs on the render thread ([`super::super::render_thread::ClipJob`]): temporal
 //! techniques render the warm-up frames first, so the clip shows them with a real history, and
 //! the thread scores the clip ([`crate::metrics::stability`]) as the frames come in. Playback
 //! draws textures uploaded once while recording, so it costs one blit per pane per UI frame and
 //! no engine work: recorded clips play at display rate on a machine whose engine makes a few
 //! frames per second.
 //!
-//! The clip itself is the engine's; the clip settings are part of the workspace's settings.
-//! The workspace's clip commands (record, show, tick the player) are here, and the clip bar
-//! ([`panel`], drawing [`clip_bar`]) is a stateless function of the [`Workspace`].
+//! The clip is the engine's (`clip.rs` beside this file starts and fills it); the clip settings
+//! are part of the viewer's settings; the clip bar (`app/clip_bar.rs`) records, plays and
+//! exports it.
 
-use std::collections::VecDeque;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-use egui::RichText;
-
-use super::engine::Published;
-use super::style;
-use super::workspace::{Level, Workspace};
+use super::Published;
+use super::player::ClipPlayer;
 use crate::metrics::stability::TemporalScores;
 use crate::scene::CameraRig;
 use crate::scene::camera::{FrameCamera, OrbitPose};
 use crate::scene::motion::{DEFAULT_SPEED_PX, Motion};
 
-mod panel;
-mod player;
-
-pub(super) use panel::panel;
-pub use player::{ClipPlayer, PlayRate};
-
 /// Frames of a clip unless the user picks another length.
 pub const DEFAULT_FRAMES: u32 = 48;
 /// Longest clip.
 pub const MAX_FRAMES: u32 = 600;
-/// Playback rates from which the UI repaints continuously (below, once per clip frame).
-const REPAINT_EVERY_FRAME_FPS: f64 = 30.0;
-/// How far (in clip frames) playback may fall behind the clock and still catch up; beyond
-/// that a stalled window drops the time (a long stall does not fast-forward afterwards).
-const MAX_LAG_FRAMES: f64 = 2.0;
-/// The window over which the shown rate is measured.
-const SHOWN_RATE_WINDOW: Duration = Duration::from_secs(1);
 /// Memory a clip may hold unless the user allows more, MiB (pixels on the CPU and the same on
 /// the display device).
 pub const DEFAULT_BUDGET_MIB: u32 = 2048;

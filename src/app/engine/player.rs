@@ -1,9 +1,24 @@
-//! Clip playback ([`ClipPlayer`]): the shown frame follows the clock at the chosen rate
-//! ([`PlayRate`]), looping or ping-ponging, never skipping a frame: a late paint shows the
-//! next frame and later paints catch up (at most a couple of frames of lag); stepping and
-//! scrubbing stop playback.
+//! Clip playback ([`ClipPlayer`]): a loop or ping-pong at real time (30 or 60 frames per
+//! second) or in slow motion ([`PlayRate`]), single steps and scrubbing (which stop playback).
+//!
+//! Playback never skips a frame: the position follows the clock, but one UI frame advances it
+//! by at most one clip frame, so a paint that comes late (a UI frame longer than the clip's
+//! period) shows the next frame rather than the one after it. The time it fell behind is kept,
+//! up to [`MAX_LAG_FRAMES`], and the following paints catch up with the clock: when UI frames
+//! jitter around the clip's period (as they do on a software rasteriser), a short paint makes
+//! up for a long one and the clip keeps its rate. Skipped frames would change what is being
+//! judged (a flicker between two frames can vanish when every other frame is dropped); when the
+//! window paints more slowly than the clip's rate all along, the clip plays every frame more
+//! slowly, and the clip bar says at what rate it is shown ([`ClipPlayer::shown_fps`]).
 
-use super::*;
+use std::collections::VecDeque;
+use std::time::{Duration, Instant};
+
+/// How far (in clip frames) playback may fall behind the clock and still catch up; beyond
+/// that a stalled window drops the time (a long stall does not fast-forward afterwards).
+const MAX_LAG_FRAMES: f64 = 2.0;
+/// The window over which the shown rate is measured.
+const SHOWN_RATE_WINDOW: Duration = Duration::from_secs(1);
 
 /// Playback rates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
