@@ -315,7 +315,7 @@ impl AaLabApp {
 
     /// Makes image `index` of the open set the reference.
     pub fn set_image_reference(&mut self, index: usize) {
-        self.ws.cx.set_image_reference(index);
+        self.ws.cx.images.set_reference(index);
     }
 
     /// The quality figures of a technique that describe what is on screen now (`None` while
@@ -610,7 +610,7 @@ impl eframe::App for AaLabApp {
             self.ws.cx.blind_act(action);
         }
         if show_side && !blind && self.ws.cx.settings.show_techniques {
-            techniques_panel::ui(ui, &mut self.ws);
+            techniques_panel::ui(ui, &mut self.ws.cx);
         }
         if show_side && !blind && self.ws.cx.settings.show_metrics {
             metrics_panel::ui(ui, &mut self.ws, &mut self.bench);
@@ -625,7 +625,7 @@ impl eframe::App for AaLabApp {
                 self.viewport.hover_pixel(),
             );
         }
-        self.viewport.ui(ui, &mut self.ws);
+        self.viewport.ui(ui, &mut self.ws.cx);
         shortcuts::help_overlay(&ctx, &mut self.help_open);
         self.ws.run_commands(&ctx);
 

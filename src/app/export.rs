@@ -13,10 +13,10 @@
 //! time left) and can be cancelled; closing the viewer cancels it and waits for it, and either
 //! way the temporary file it was writing is removed.
 //!
-//! Exports are workspace commands ([`Workspace::start_export`], [`Workspace::export_clip`],
-//! [`Workspace::copy_sheet`], ...): the menu bar, the toolbar, the clip bar, the magnifier and
-//! the shortcuts start them, so the running job and the last files written ([`ExportState`])
-//! are the workspace's too; export has no panel of its own.
+//! The menu bar, the toolbar, the clip bar and the shortcuts ask for an export with a command
+//! (`context::Command::ExportFrame`, `ExportClip`); the workspace composes the magnifier sheet
+//! and starts it here ([`ExportState::start_export`], [`ExportState::export_clip`]), which
+//! keeps the running job and the last files written. Export has no panel of its own.
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};

@@ -6,6 +6,7 @@
 
 use egui::RichText;
 
+use super::context::Context;
 use super::image_set::IMAGE_IDS;
 use super::quality;
 use super::style::{self, SLOT_COLORS, SLOT_LETTERS, number, number_weak};
@@ -15,8 +16,8 @@ use super::workspace::Workspace;
 const REFERENCE_HELP: &str = "The image every other one is measured against (SSIM, PSNR, MAE, FLIP, the magnifier's heatmaps; hold R in the A/B flip layout to see it). By default the first file whose name has the word \"reference\" or \"ref\", else the first file.";
 
 /// The reference combo box; `salt` tells its instances apart.
-fn reference_choice(ui: &mut egui::Ui, ws: &mut Workspace, salt: &str) {
-    let Some((names, reference)) = ws.cx.image_names() else {
+fn reference_choice(ui: &mut egui::Ui, cx: &mut Context, salt: &str) {
+    let Some((names, reference)) = cx.image_names() else {
         return;
     };
     let mut chosen = reference;
@@ -30,26 +31,26 @@ fn reference_choice(ui: &mut egui::Ui, ws: &mut Workspace, salt: &str) {
         .response
         .on_hover_text(REFERENCE_HELP);
     if chosen != reference {
-        ws.cx.set_image_reference(chosen);
+        cx.images.set_reference(chosen);
     }
 }
 
 /// The reference choice in the toolbar, after the compared images.
-pub(super) fn strip(ui: &mut egui::Ui, ws: &mut Workspace) {
+pub(super) fn strip(ui: &mut egui::Ui, cx: &mut Context) {
     ui.separator();
     ui.label(style::badge("R", style::REFERENCE_COLOR))
         .on_hover_text(REFERENCE_HELP);
-    reference_choice(ui, ws, "toolbar");
+    reference_choice(ui, cx, "toolbar");
 }
 
 /// The left panel while images are shown.
-pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
+pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
     let ctx = ui.ctx().clone();
     style::left_panel("images").show(ui, |ui| {
         ui.add_space(4.0);
         ui.heading("Images");
         ui.separator();
-        let Some(set) = ws.cx.images.open() else {
+        let Some(set) = cx.images.open() else {
             return;
         };
         let (w, h) = set.size();
@@ -64,8 +65,7 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
             ui.horizontal(|ui| {
                 ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
                 ui.label(
-                    ws.cx
-                        .image_label(IMAGE_IDS[slot])
+                    cx.image_label(IMAGE_IDS[slot])
                         .unwrap_or_else(|| name.clone()),
                 )
                 .on_hover_text(path);
@@ -74,7 +74,7 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
         ui.add_space(6.0);
         ui.horizontal(|ui| {
             ui.label("Reference").on_hover_text(REFERENCE_HELP);
-            reference_choice(ui, ws, "panel");
+            reference_choice(ui, cx, "panel");
         });
         ui.add_space(6.0);
         ui.label(
@@ -89,9 +89,9 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
         ui.add_space(6.0);
         ui.horizontal(|ui| {
             if ui.button("Open other images…").clicked() {
-                ws.cx.open_images_dialog(&ctx);
+                cx.open_images_dialog(&ctx);
             }
-            let back = match &ws.cx.scene {
+            let back = match &cx.scene {
                 Some(scene) => format!("Back to {}", scene.name),
                 None => "Close images".to_owned(),
             };
@@ -100,7 +100,7 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
                 .on_hover_text("Close the images and show the scene again")
                 .clicked()
             {
-                ws.cx.close_images();
+                cx.close_images();
             }
         });
     });
@@ -113,7 +113,7 @@ pub(super) fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
         .on_hover_text("Score every image against the reference image.");
     ui.horizontal(|ui| {
         ui.label("Reference");
-        reference_choice(ui, ws, "metrics");
+        reference_choice(ui, &mut ws.cx, "metrics");
     });
     let Some((names, reference)) = ws.cx.image_names() else {
         return;

@@ -14,9 +14,10 @@
 //!   JPEG, one size, within the texture limit) and uploaded to eframe's device off the UI
 //!   thread; a set that fails any check is refused whole with a message, and whatever was
 //!   shown stays.
-//! - The lookups the viewport, the magnifier, the quality figures and the export use to find
-//!   an image by id ([`Workspace::image_for`], [`Workspace::reference_for`], ...): the open set
-//!   when there is one, the engine otherwise.
+//!
+//! Opening, closing and choosing the reference are the context's commands
+//! (`context/images.rs`); the lookups every feature uses to find an image by id, the open set's
+//! when there is one and the engine's otherwise, are the context's too (`context/shown.rs`).
 //!
 //! **The reference** is by default the first file whose name contains the word `reference`
 //! or `ref` (`bistro-ref.png`, `reference_64spp.jpg`, aa-lab bench's `*-reference.png`), or
@@ -26,7 +27,7 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 
 use super::blit::Uploader;
-use super::engine::Published;
+use super::engine::{ImageStamp, Published};
 use super::render_thread::RenderedImage;
 use crate::aa::ssaa::Progress;
 
@@ -52,7 +53,7 @@ pub fn is_image_file(path: &Path) -> bool {
 }
 
 /// The file name of a path, for labels.
-pub(in crate::app) fn file_name(path: &Path) -> String {
+fn file_name(path: &Path) -> String {
     path.file_name().map_or_else(
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
@@ -183,9 +184,9 @@ pub struct SetImage {
 
 /// The open images (see the module docs).
 pub struct ImageSet {
-    pub(in crate::app) images: Vec<SetImage>,
-    pub(in crate::app) reference: usize,
-    pub(in crate::app) view: u64,
+    images: Vec<SetImage>,
+    reference: usize,
+    view: u64,
 }
 
 impl ImageSet {
@@ -208,6 +209,17 @@ impl ImageSet {
         &self.images
     }
 
+    /// The index of the reference image (in file order).
+    pub fn reference_index(&self) -> usize {
+        self.reference
+    }
+
+    /// The view the set's images are stamped with (it changes with the reference or the
+    /// order).
+    pub fn view(&self) -> u64 {
+        self.view
+    }
+
     /// The reference.
     pub fn reference(&self) -> &SetImage {
         &self.images[self.reference]
@@ -219,7 +231,7 @@ impl ImageSet {
     }
 
     /// Stamps every image with a new view: the figures of the old one no longer apply.
-    pub(in crate::app) fn restamp(&mut self, view: u64) {
+    fn restamp(&mut self, view: u64) {
         self.view = view;
         for image in &mut self.images {
             image.published.stamp.view = view;
@@ -228,21 +240,21 @@ impl ImageSet {
 }
 
 /// A loaded set: each file with its pixels on eframe's device, and the notes.
-pub(in crate::app) type Uploaded = (Vec<(PathBuf, RenderedImage)>, Vec<String>);
+type Uploaded = (Vec<(PathBuf, RenderedImage)>, Vec<String>);
 
 /// A load in progress: the files asked for and the answer to come.
-pub(in crate::app) type Pending = (Vec<PathBuf>, mpsc::Receiver<Result<Uploaded, String>>);
+type Pending = (Vec<PathBuf>, mpsc::Receiver<Result<Uploaded, String>>);
 
 /// The image set of the viewer: the open one, the one loading, and the bookkeeping.
 pub struct ImageSetState {
     /// Puts decoded images on eframe's device (from the decoder thread).
-    pub(in crate::app) uploader: Uploader,
-    pub(in crate::app) open: Option<ImageSet>,
-    pub(in crate::app) pending: Option<Pending>,
+    uploader: Uploader,
+    open: Option<ImageSet>,
+    pending: Option<Pending>,
     /// Counts views and publications of image sets.
-    pub(in crate::app) serial: u64,
+    serial: u64,
     /// A scene the user asked for replaces the set once it has loaded.
-    pub(in crate::app) leave_for_scene: bool,
+    leave_for_scene: bool,
 }
 
 impl ImageSetState {
@@ -272,7 +284,7 @@ impl ImageSetState {
         self.pending.is_some()
     }
 
-    pub(in crate::app) fn next_serial(&mut self) -> u64 {
+    fn next_serial(&mut self) -> u64 {
         self.serial += 1;
         self.serial
     }
@@ -292,8 +304,119 @@ impl ImageSetState {
         std::mem::take(&mut self.leave_for_scene)
     }
 
+    /// Starts decoding `paths` (at most [`MAX_IMAGES`], sides at most `max_side`) on a thread
+    /// of its own, which uploads them with the set's uploader and wakes `wake` when done; a
+    /// newer request supersedes one still decoding.
+    pub fn start_load(
+        &mut self,
+        paths: Vec<PathBuf>,
+        max_side: u32,
+        wake: egui::Context,
+    ) -> std::io::Result<()> {
+        let (sender, receiver) = mpsc::channel();
+        let files = paths.clone();
+        let uploader = self.uploader.clone();
+        std::thread::Builder::new()
+            .name("aa-lab image decoder".to_owned())
+            .spawn(move || {
+                let uploaded = decode(&files, max_side).map(|decoded| {
+                    let images = decoded
+                        .images
+                        .into_iter()
+                        .map(|image| {
+                            let texture = uploader.upload(&image.pixels);
+                            let rendered = RenderedImage {
+                                pixels: image.pixels,
+                                texture,
+                            };
+                            (image.path, rendered)
+                        })
+                        .collect();
+                    uploader.flush();
+                    (images, decoded.notes)
+                });
+                let _ = sender.send(uploaded);
+                crate::app::request_one_frame(&wake);
+            })?;
+        self.pending = Some((paths, receiver));
+        Ok(())
+    }
+
+    /// Opens a finished load as the set (the reference chosen by [`default_reference`]): a
+    /// line saying what opened and the decoder's notes, or why the load failed (the set that
+    /// was open stays). `None` while nothing has finished.
+    pub fn finish_load(&mut self) -> Option<Result<(String, Vec<String>), String>> {
+        let (loaded, notes) = match self.poll()? {
+            Ok(uploaded) => uploaded,
+            Err(err) => return Some(Err(err)),
+        };
+        let view = self.next_serial();
+        let mut images = Vec::new();
+        for (path, image) in loaded {
+            let stamp = ImageStamp {
+                view,
+                revision: 0,
+                serial: self.next_serial(),
+            };
+            images.push(SetImage {
+                name: file_name(&path),
+                published: Published::new(image, stamp),
+                path,
+            });
+        }
+        let names: Vec<&str> = images.iter().map(|i| i.name.as_str()).collect();
+        let reference = default_reference(&names);
+        let (w, h) = images[0].published.size();
+        let text = format!(
+            "Opened {} image(s) of {w}×{h}: {}; reference: {}",
+            names.len(),
+            names.join(", "),
+            names[reference]
+        );
+        self.open = Some(ImageSet {
+            images,
+            reference,
+            view,
+        });
+        self.stay();
+        Some(Ok((text, notes)))
+    }
+
+    /// Closes the open set; whether there was one.
+    pub fn close(&mut self) -> bool {
+        self.open.take().is_some()
+    }
+
+    /// Makes image `index` of the open set the reference.
+    pub fn set_reference(&mut self, index: usize) {
+        let view = self.next_serial();
+        if let Some(set) = &mut self.open
+            && index < set.images.len()
+            && index != set.reference
+        {
+            set.reference = index;
+            set.restamp(view);
+        }
+    }
+
+    /// Swaps the first two images (A and B), the reference with them.
+    pub fn swap_first_two(&mut self) {
+        let view = self.next_serial();
+        if let Some(set) = &mut self.open
+            && set.images.len() >= 2
+        {
+            set.images.swap(0, 1);
+            set.reference = match set.reference {
+                0 => 1,
+                1 => 0,
+                other => other,
+            };
+            set.restamp(view);
+        }
+    }
+
     /// The finished load, if the decoder is done.
-    pub(in crate::app) fn poll(&mut self) -> Option<Result<Uploaded, String>> {
+    fn poll(&mut self) -> Option<Result<Uploaded, String>> {
         let (_, receiver) = self.pending.as_ref()?;
         let answer = match receiver.try_recv() {
             Ok(answer) => answer,

@@ -10,9 +10,10 @@
 //! metrics see the pixels' neighbourhood.
 //!
 //! What this module owns:
-//! - [`MagnifierState`], the workspace's: the lens size and the heatmaps, with the workspace's
-//!   magnifier queries (the panes' sources, labels and figures, the lens, the heatmap jobs),
-//!   which the viewport, exports, blind answers and the test API use as well.
+//! - [`MagnifierState`]: the heatmaps and their worker, the panes' captions and the composed
+//!   magnifier sheet (exports and the clipboard). Where the lens is, the panes' sources and
+//!   labels are the context's (`context/shown.rs`), since the viewport, exports and blind
+//!   answers read them too.
 //! - [`MagnifierPanel`], the panel: it sizes the lens to its panes and owns the pane pixel under
 //!   the pointer; the viewport's hovered pixel is passed in for the crosshair.
 

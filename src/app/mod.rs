@@ -6,24 +6,29 @@
 //!   panels. Each UI frame it picks up what finished in the background, handles shortcuts,
 //!   hands the engine the next frame to render when it is free, then calls each panel's `ui`.
 //!   Its public methods are the test API (tests/ui.rs, benches/viewer.rs).
-//! - The workspace (workspace.rs) is the state every panel reads or changes: the settings,
-//!   the engine, the scene and camera, the image set, the quality figures, the magnifier's lens
-//!   and heatmaps, the blind session, the exports, the notices, the render size. Its commands
-//!   and queries live in workspace.rs (scenes, dialogs, techniques, comparison, bookmarks) and
-//!   beside the feature they belong to (image_set.rs, quality.rs, magnifier.rs, export.rs,
-//!   clip.rs, blind.rs).
-//! - The panels take the workspace (`ui(ui, &mut Workspace)`) and never each other; what one
-//!   needs of another the app passes in (the pixel under the pointer, the help overlay's
-//!   flag). The viewport tiles (viewport.rs) and the magnifier (magnifier.rs) are structs
-//!   owning what only they keep between frames; the others own nothing and are functions: the
-//!   menu bar, toolbar and status bar (panels.rs), the techniques panel (techniques_panel.rs),
-//!   the metrics panel (metrics_panel.rs), the image set's panels (image_panel.rs), the clip
-//!   bar (clip.rs) and the blind comparison's panel (blind.rs), which numbers and shuffles the
-//!   panes and records answers.
-//! - The engine never runs on the UI thread: the render thread (render_thread.rs) owns the
+//! - The context (context/) is what every feature shares: the settings, the engine, the scene
+//!   and camera, the open image set, the blind session (whose numbering every label follows),
+//!   the lens size, the notices, the file dialog and the render size, with the commands and
+//!   queries on them (scene loading, dialogs, techniques, comparison, bookmarks, the lookups of
+//!   what the panes show, the image set, clips, the blind session).
+//! - The features own their state and take the context as an argument: the magnifier's
+//!   heatmaps (magnifier.rs), the quality figures (quality.rs), exports (export.rs), the bench
+//!   (bench.rs), the clip bar (clip_bar.rs). No feature imports another; what one asks of
+//!   another is a `context::Command` that the workspace (workspace.rs, the context and the
+//!   features together) carries out after the panels.
+//! - The panels are the shell above them: they take the workspace and never each other; what
+//!   one needs of another the app passes in (the pixel under the pointer, the help overlay's
+//!   flag). The viewport tiles (viewport.rs) and the magnifier panel are structs owning what
+//!   only they keep between frames; the others own nothing and are functions: the menu bar,
+//!   toolbar and status bar (panels.rs), the techniques panel (techniques_panel.rs), the
+//!   metrics panel (metrics_panel.rs), the image set's panels (image_panel.rs), the clip bar
+//!   and the blind comparison's panel (blind/), which numbers and shuffles the panes and
+//!   records answers.
+//! - The engine never runs on the UI thread: the render thread (render_thread/) owns the
 //!   render device, the frame graph and every technique, and does all slow engine work
 //!   (pipeline creation, scene uploads, target resizes, rendering, readback through the one
-//!   readback belt of `gpu/`, uploads for display). engine.rs is the UI's side: it
+//!   readback belt of `gpu/`, uploads for display). engine/ is the UI's side (and owns the recorded
+//!   clip and its player): it
 //!   decides what to render (schedule.rs, plain data), mirrors the techniques' settings and
 //!   publishes finished frames, which blit.rs draws (one texel load per screen pixel: egui's
 //!   own image path costs several times more on a software rasteriser). A toggle, a layout

@@ -397,7 +397,7 @@ fn compare_strip(ui: &mut egui::Ui, ws: &mut Workspace) {
         ui.label(name);
     }
     if ws.cx.images.is_open() {
-        image_panel::strip(ui, ws);
+        image_panel::strip(ui, &mut ws.cx);
     }
     if compared.len() >= 2
         && ui
@@ -406,7 +406,7 @@ fn compare_strip(ui: &mut egui::Ui, ws: &mut Workspace) {
             .clicked()
     {
         if ws.cx.images.is_open() {
-            ws.cx.swap_images();
+            ws.cx.images.swap_first_two();
             return;
         }
         let (a, b) = (compared[0].to_owned(), compared[1].to_owned());

@@ -21,9 +21,10 @@
 //! technique's settings are unchanged; otherwise the panel says that the figures are stale
 //! (the camera moved, the settings changed) or being measured, never an old number.
 //!
-//! The figures ([`QualityTracker`]) are the workspace's: the metrics panel, the magnifier's
-//! captions, export sheets and the test API read them; [`Workspace::update_quality`] runs
-//! once per UI frame, before the panels.
+//! The figures ([`QualityTracker`]) are a feature of the workspace: the metrics panel, the
+//! magnifier's captions, export sheets and the test API read them through it;
+//! [`QualityTracker::update`] runs once per UI frame, before the panels, on what the context
+//! shows.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;

@@ -6,18 +6,17 @@
 
 use egui::{Button, Color32, RichText};
 
-use super::context::Level;
+use super::context::{Context, Level};
 use super::image_panel;
 use super::settings::MAX_COMPARE;
 use super::style::{SLOT_COLORS, SLOT_LETTERS};
-use super::workspace::Workspace;
 use crate::aa::{Param, ParamKind, ParamValue};
 
 /// Every registry technique with its switch, comparison mark and settings.
-pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
+pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
     profiling::function_scope!();
-    if ws.cx.images.is_open() {
-        image_panel::ui(ui, ws);
+    if cx.images.is_open() {
+        image_panel::ui(ui, cx);
         return;
     }
     super::style::left_panel("techniques").show(ui, |ui| {
@@ -31,8 +30,7 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
             });
             ui.separator();
             egui::ScrollArea::vertical().show(ui, |ui| {
-                let ids: Vec<&'static str> = ws
-                    .cx
+                let ids: Vec<&'static str> = cx
                     .engine
                     .as_ref()
                     .map(|e| {
@@ -45,9 +43,9 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
                     .unwrap_or_default();
                 let mut number = 0;
                 for id in ids {
-                    technique_row(ui, ws, id, &mut number);
+                    technique_row(ui, cx, id, &mut number);
                 }
-                if ws.cx.engine.is_none() {
+                if cx.engine.is_none() {
                     ui.weak("The techniques appear once the scene is loaded.");
                 } else if ui
                     .small_button("Add technique from file…")
@@ -55,14 +53,14 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace) {
                     .clicked()
                 {
                     let ctx = ui.ctx().clone();
-                    ws.cx.add_technique_dialog(&ctx);
+                    cx.add_technique_dialog(&ctx);
                 }
             });
         });
 }
 
-fn technique_row(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str, number: &mut usize) {
-    let Some(engine) = &ws.cx.engine else { return };
+fn technique_row(ui: &mut egui::Ui, cx: &mut Context, id: &'static str, number: &mut usize) {
+    let Some(engine) = &cx.engine else { return };
     let Some(entry) = engine.entry(id) else {
         return;
     };
@@ -82,7 +80,7 @@ fn technique_row(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str, number
     } else {
         None
     };
-    let compared = ws.cx.compared();
+    let compared = cx.compared();
     let slot = compared.iter().position(|c| *c == id);
     let mut toggled = None;
     let mut compare_clicked = false;
@@ -184,18 +182,18 @@ fn technique_row(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str, number
                 );
             }
             if enabled {
-                technique_settings(ui, ws, id);
+                technique_settings(ui, cx, id);
             }
         }
     });
     if let Some(on) = toggled {
-        ws.cx.set_technique_enabled(id, on);
+        cx.set_technique_enabled(id, on);
     }
     if compare_clicked {
-        ws.cx.toggle_compare(id);
+        cx.toggle_compare(id);
     }
     if remove_clicked {
-        ws.cx.remove_user_technique(id);
+        cx.remove_user_technique(id);
     }
 }
 
@@ -216,8 +214,8 @@ fn compiling_note(ui: &mut egui::Ui, elapsed: std::time::Duration) {
 }
 
 /// Presets, parameters, debug views and code path of an enabled technique.
-fn technique_settings(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str) {
-    let Some(engine) = &ws.cx.engine else { return };
+fn technique_settings(ui: &mut egui::Ui, cx: &mut Context, id: &'static str) {
+    let Some(engine) = &cx.engine else { return };
     let presets = engine.presets(id);
     let params = engine.params(id);
     let note = engine.path_note(id);
@@ -289,7 +287,7 @@ fn technique_settings(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str) {
             }
         });
     let mut failed = Vec::new();
-    if let Some(engine) = &mut ws.cx.engine {
+    if let Some(engine) = &mut cx.engine {
         if let Some(preset) = preset_clicked
             && let Err(err) = engine.apply_preset(id, preset)
         {
@@ -304,17 +302,17 @@ fn technique_settings(ui: &mut egui::Ui, ws: &mut Workspace, id: &'static str) {
             engine.set_debug_view(id, view.clone());
             match view {
                 Some(v) => {
-                    ws.cx.settings.debug_views.insert(id.to_owned(), v);
+                    cx.settings.debug_views.insert(id.to_owned(), v);
                 }
                 None => {
-                    ws.cx.settings.debug_views.remove(id);
+                    cx.settings.debug_views.remove(id);
                 }
             }
         }
     }
-    ws.cx.remember_params(id);
+    cx.remember_params(id);
     for err in failed {
-        ws.cx.notify(Level::Error, err);
+        cx.notify(Level::Error, err);
     }
 }
 

@@ -15,10 +15,10 @@
 use egui::{Color32, CursorIcon, Pos2, Rect, Sense, Stroke, Vec2, pos2, vec2};
 
 use super::blit;
+use super::context::Context;
 use super::engine::Published;
 use super::settings::{Layout, Resolution};
 use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, VIEWPORT_BG};
-use super::workspace::Workspace;
 
 /// Gap between grid tiles, in points.
 const GRID_GAP: f32 = 2.0;
@@ -195,7 +195,7 @@ impl ViewportPanel {
     }
 
     /// The central panel. See the module docs.
-    pub(super) fn ui(&mut self, ui: &mut egui::Ui, ws: &mut Workspace) {
+    pub(super) fn ui(&mut self, ui: &mut egui::Ui, cx: &mut Context) {
         profiling::function_scope!();
         // No panel fill: the background is painted around the images only (see
         // `paint_background`).
@@ -204,9 +204,8 @@ impl ViewportPanel {
             .show(ui, |ui| {
                 let rect = ui.max_rect();
                 let ppp = ui.ctx().pixels_per_point();
-                let tiles_rects = tile_rects(ws.cx.settings.layout, rect, ppp);
-                let clip_size = ws
-                    .cx
+                let tiles_rects = tile_rects(cx.settings.layout, rect, ppp);
+                let clip_size = cx
                     .engine
                     .as_ref()
                     .filter(|e| e.clip_shown())
@@ -215,43 +214,43 @@ impl ViewportPanel {
                 // Open images are shown at their own size, and a clip on screen keeps the
                 // size it was recorded at (the lens is in their pixels); the live view
                 // renders at the size the viewport asks for.
-                let fixed = ws.cx.images.open().map(|set| set.size()).or(clip_size);
-                let wanted = match (fixed, ws.cx.settings.resolution) {
+                let fixed = cx.images.open().map(|set| set.size()).or(clip_size);
+                let wanted = match (fixed, cx.settings.resolution) {
                     (Some(size), _) => size,
                     (None, Resolution::FitViewport) => physical_size(tiles_rects[0], ppp),
                     (None, Resolution::Fixed(w, h)) => (w, h),
                 };
-                self.resized = wanted != ws.cx.render_size;
-                ws.cx.render_size = wanted;
+                self.resized = wanted != cx.render_size;
+                cx.render_size = wanted;
                 let response = ui.interact(
                     rect,
                     ui.scope_id().with("viewport"),
                     Sense::click_and_drag(),
                 );
-                if ws.cx.engine.is_none() && !ws.cx.images.is_open() {
+                if cx.engine.is_none() && !cx.images.is_open() {
                     paint_background(ui.painter(), rect, &[]);
-                    empty_state(ui, ws, rect, true);
+                    empty_state(ui, cx, rect, true);
                     return;
                 }
-                let compared = ws.cx.compared();
+                let compared = cx.compared();
                 if compared.is_empty() {
                     paint_background(ui.painter(), rect, &[]);
-                    empty_state(ui, ws, rect, false);
+                    empty_state(ui, cx, rect, false);
                     return;
                 }
-                let shown = shown_by_layout(ws, &compared, ui.ctx());
+                let shown = shown_by_layout(cx, &compared, ui.ctx());
                 // Where each tile's image goes.
                 let placed: Vec<(Option<Shown>, Option<&Published>, Tile, Vec2)> = tiles_rects
                     .iter()
                     .enumerate()
                     .map(|(i, tile_rect)| {
-                        let what = match ws.cx.settings.layout {
+                        let what = match cx.settings.layout {
                             Layout::Grid => compared.get(i).map(|id| Shown::Technique(i, id)),
                             _ => shown.first().copied(),
                         };
-                        let image = what.and_then(|w| shown_image(ws, w));
-                        let size = image.map_or(ws.cx.render_size, Published::size);
-                        let size_points = shown_size(size, ws.cx.render_size, tile_rect, ppp);
+                        let image = what.and_then(|w| shown_image(cx, w));
+                        let size = image.map_or(cx.render_size, Published::size);
+                        let size_points = shown_size(size, cx.render_size, tile_rect, ppp);
                         // Centred; an image larger than its tile (fixed resolution) is cropped
                         // evenly.
                         let origin =
@@ -274,8 +273,8 @@ impl ViewportPanel {
                 for (i, (what, image, tile, size_points)) in placed.into_iter().enumerate() {
                     let tile_rect = tile.rect;
                     let painter = ui.painter().with_clip_rect(tile_rect);
-                    if ws.cx.settings.layout == Layout::Wipe && shown.len() == 2 {
-                        paint_wipe(&painter, ws, &tile, size_points, &shown, ppp);
+                    if cx.settings.layout == Layout::Wipe && shown.len() == 2 {
+                        paint_wipe(&painter, cx, &tile, size_points, &shown, ppp);
                     } else if let (Some(what), Some(image)) = (what, image) {
                         blit::paint(
                             &painter,
@@ -283,7 +282,7 @@ impl ViewportPanel {
                             Rect::from_min_size(tile.origin, size_points),
                             Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
                         );
-                        tile_label(&painter, ws, tile_rect.min + vec2(8.0, 8.0), what);
+                        tile_label(&painter, cx, tile_rect.min + vec2(8.0, 8.0), what);
                     } else {
                         painter.text(
                             tile_rect.center(),
@@ -293,8 +292,8 @@ impl ViewportPanel {
                             ui.visuals().weak_text_color(),
                         );
                     }
-                    if ws.cx.settings.show_magnifier {
-                        paint_lens(&painter, ws, &tile, ppp);
+                    if cx.settings.show_magnifier {
+                        paint_lens(&painter, cx, &tile, ppp);
                     }
                     if i == 0 && image.is_some() {
                         first_image = Some(tile.image_rect(size_points));
@@ -302,7 +301,7 @@ impl ViewportPanel {
                     tiles.push(tile);
                 }
                 self.image_rect = first_image;
-                self.input(ui, ws, &response, &tiles, ppp);
+                self.input(ui, cx, &response, &tiles, ppp);
                 hovered_files_overlay(ui, rect);
             });
     }
@@ -311,7 +310,7 @@ impl ViewportPanel {
     fn input(
         &mut self,
         ui: &egui::Ui,
-        ws: &mut Workspace,
+        cx: &mut Context,
         response: &egui::Response,
         tiles: &[Tile],
         ppp: f32,
@@ -319,7 +318,7 @@ impl ViewportPanel {
         let ctx = ui.ctx().clone();
         let pointer = response.hover_pos().or(response.interact_pointer_pos());
         let tile = pointer.and_then(|p| tiles.iter().find(|t| t.rect.contains(p)).copied());
-        let size = ws.cx.render_size;
+        let size = cx.render_size;
         let frame_at = |t: &Tile, p: Pos2| t.to_frame(ppp, p);
         self.hover_pixel = match (tile, response.hover_pos()) {
             (Some(t), Some(p)) => {
@@ -329,7 +328,7 @@ impl ViewportPanel {
             }
             _ => None,
         };
-        let lens = ws.cx.lens();
+        let lens = cx.lens();
         let over_lens = |f: Vec2| {
             lens.is_some_and(|r| {
                 f.x >= r.x as f32
@@ -341,10 +340,10 @@ impl ViewportPanel {
         let divider_x = tiles.first().map(|t| {
             let visible = Rect::from_min_size(t.origin, vec2(size.0 as f32, size.1 as f32) / ppp)
                 .intersect(t.rect);
-            visible.left() + visible.width() * ws.cx.settings.wipe
+            visible.left() + visible.width() * cx.settings.wipe
         });
         let near_divider = |p: Pos2| {
-            ws.cx.settings.layout == Layout::Wipe
+            cx.settings.layout == Layout::Wipe
                 && divider_x.is_some_and(|x| (p.x - x).abs() <= DIVIDER_GRAB)
         };
 
@@ -354,7 +353,7 @@ impl ViewportPanel {
         {
             if near_divider(p) {
                 ctx.set_cursor_icon(CursorIcon::ResizeHorizontal);
-            } else if ws.cx.settings.show_magnifier && over_lens(frame_at(&t, p)) {
+            } else if cx.settings.show_magnifier && over_lens(frame_at(&t, p)) {
                 ctx.set_cursor_icon(CursorIcon::Grab);
             }
         }
@@ -365,7 +364,7 @@ impl ViewportPanel {
             && let (Some(t), Some(p)) = (tile, pointer)
         {
             let f = frame_at(&t, p);
-            ws.cx.settings.magnifier.center = Some([f.x, f.y]);
+            cx.settings.magnifier.center = Some([f.x, f.y]);
         }
 
         // Where the button went down: a drag starts only after a few pixels of movement.
@@ -377,7 +376,7 @@ impl ViewportPanel {
             let f = frame_at(&t, p);
             self.drag = Some(if near_divider(p) {
                 Drag::Wipe
-            } else if ws.cx.settings.show_magnifier
+            } else if cx.settings.show_magnifier
                 && response.dragged_by(egui::PointerButton::Primary)
                 && over_lens(f)
             {
@@ -400,26 +399,26 @@ impl ViewportPanel {
                         Rect::from_min_size(t.origin, vec2(size.0 as f32, size.1 as f32) / ppp)
                             .intersect(t.rect);
                     if visible.width() > 0.0 {
-                        ws.cx.settings.wipe =
+                        cx.settings.wipe =
                             ((p.x - visible.left()) / visible.width()).clamp(0.0, 1.0);
                     }
                     ctx.set_cursor_icon(CursorIcon::ResizeHorizontal);
                 }
                 (Some(Drag::Lens(offset)), Some(t), Some(p)) => {
                     let f = frame_at(&t, p) - offset;
-                    ws.cx.settings.magnifier.center = Some([f.x, f.y]);
+                    cx.settings.magnifier.center = Some([f.x, f.y]);
                     ctx.set_cursor_icon(CursorIcon::Grabbing);
                 }
                 // Images have no camera.
-                (Some(Drag::Camera), _, _) if ws.cx.images.is_open() => {}
+                (Some(Drag::Camera), _, _) if cx.images.is_open() => {}
                 (Some(Drag::Camera), _, _) => {
                     if response.dragged_by(egui::PointerButton::Primary)
                         && !ctx.input(|i| i.modifiers.shift)
                     {
-                        ws.cx.camera.orbit(glam::Vec2::new(delta.x, delta.y));
+                        cx.camera.orbit(glam::Vec2::new(delta.x, delta.y));
                     } else {
                         let height = tiles.first().map_or(1.0, |t| t.rect.height());
-                        ws.cx.camera.pan(glam::Vec2::new(delta.x, delta.y), height);
+                        cx.camera.pan(glam::Vec2::new(delta.x, delta.y), height);
                     }
                 }
                 _ => {}
@@ -428,10 +427,10 @@ impl ViewportPanel {
         if response.drag_stopped() {
             self.drag = None;
         }
-        if response.hovered() && !ws.cx.images.is_open() {
+        if response.hovered() && !cx.images.is_open() {
             let scroll = ctx.input(|i| i.smooth_scroll_delta.y);
             if scroll != 0.0 {
-                ws.cx.camera.zoom(scroll);
+                cx.camera.zoom(scroll);
             }
         }
         // During a blind comparison a plain click answers with the pane under the pointer.
@@ -439,32 +438,32 @@ impl ViewportPanel {
             && !ctx.input(|i| i.modifiers.command)
             && let Some(p) = pointer
         {
-            let slot = match ws.cx.settings.layout {
+            let slot = match cx.settings.layout {
                 Layout::Grid => tiles.iter().position(|t| t.rect.contains(p)),
                 Layout::Wipe => Some(usize::from(divider_x.is_some_and(|x| p.x >= x))),
                 Layout::Flip => Some(usize::from(ctx.input(|i| i.key_down(egui::Key::B)))),
                 Layout::Single => Some(0),
             };
             if let Some(slot) = slot {
-                ws.cx.blind_click(slot);
+                cx.blind_click(slot);
             }
         }
-        nudge_lens(ws, &ctx);
+        nudge_lens(cx, &ctx);
     }
 }
 
 /// What the single, wipe and flip layouts show (first entry) and the wipe's right side.
-fn shown_by_layout(ws: &Workspace, compared: &[&'static str], ctx: &egui::Context) -> Vec<Shown> {
+fn shown_by_layout(cx: &Context, compared: &[&'static str], ctx: &egui::Context) -> Vec<Shown> {
     let a = Shown::Technique(0, compared[0]);
     let b = compared.get(1).map(|id| Shown::Technique(1, id));
-    match ws.cx.settings.layout {
+    match cx.settings.layout {
         Layout::Single | Layout::Grid => vec![a],
         Layout::Wipe => std::iter::once(a).chain(b).collect(),
         Layout::Flip => {
             let (hold_b, hold_r) =
                 ctx.input(|i| (i.key_down(egui::Key::B), i.key_down(egui::Key::R)));
             let typing = ctx.egui_wants_keyboard_input();
-            if hold_r && !typing && ws.cx.reference_for().is_some() {
+            if hold_r && !typing && cx.reference_for().is_some() {
                 vec![Shown::Reference]
             } else if hold_b && !typing {
                 vec![b.unwrap_or(a)]
@@ -475,31 +474,29 @@ fn shown_by_layout(ws: &Workspace, compared: &[&'static str], ctx: &egui::Contex
     }
 }
 
-fn shown_image(ws: &Workspace, shown: Shown) -> Option<&Published> {
+fn shown_image(cx: &Context, shown: Shown) -> Option<&Published> {
     match shown {
-        Shown::Technique(_, id) => ws.cx.image_for(id),
-        Shown::Reference => ws.cx.reference_for().map(|(image, _)| image),
+        Shown::Technique(_, id) => cx.image_for(id),
+        Shown::Reference => cx.reference_for().map(|(image, _)| image),
     }
 }
 
-fn tile_label(painter: &egui::Painter, ws: &Workspace, at: Pos2, shown: Shown) -> Rect {
+fn tile_label(painter: &egui::Painter, cx: &Context, at: Pos2, shown: Shown) -> Rect {
     match shown {
         Shown::Technique(slot, id) => style::chip(
             painter,
             at,
-            ws.cx.blind.letter(slot),
+            cx.blind.letter(slot),
             SLOT_COLORS[slot],
-            &ws.cx.shown_label(id),
+            &cx.shown_label(id),
         ),
-        Shown::Reference => {
-            style::chip(painter, at, "R", REFERENCE_COLOR, &ws.cx.reference_title())
-        }
+        Shown::Reference => style::chip(painter, at, "R", REFERENCE_COLOR, &cx.reference_title()),
     }
 }
 
 fn paint_wipe(
     painter: &egui::Painter,
-    ws: &Workspace,
+    cx: &Context,
     tile: &Tile,
     size_points: Vec2,
     shown: &[Shown],
@@ -508,13 +505,13 @@ fn paint_wipe(
     let image_rect = Rect::from_min_size(tile.origin, size_points);
     let visible = image_rect.intersect(tile.rect);
     let x = snap(
-        pos2(visible.left() + visible.width() * ws.cx.settings.wipe, 0.0),
+        pos2(visible.left() + visible.width() * cx.settings.wipe, 0.0),
         ppp,
     )
     .x;
     let uv = Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0));
     for (side, what) in shown.iter().enumerate() {
-        let Some(image) = shown_image(ws, *what) else {
+        let Some(image) = shown_image(cx, *what) else {
             continue;
         };
         let clip = if side == 0 {
@@ -551,11 +548,11 @@ fn paint_wipe(
             Stroke::NONE,
         ));
     }
-    tile_label(painter, ws, tile.rect.min + vec2(8.0, 8.0), shown[0]);
+    tile_label(painter, cx, tile.rect.min + vec2(8.0, 8.0), shown[0]);
     let label_width = 8.0
         + painter
             .layout_no_wrap(
-                ws.cx.shown_label(match shown[1] {
+                cx.shown_label(match shown[1] {
                     Shown::Technique(_, id) => id,
                     Shown::Reference => "reference",
                 }),
@@ -567,15 +564,15 @@ fn paint_wipe(
         + 40.0;
     tile_label(
         painter,
-        ws,
+        cx,
         pos2(tile.rect.max.x - label_width, tile.rect.min.y + 8.0),
         shown[1],
     );
 }
 
 /// The lens outline over a tile.
-fn paint_lens(painter: &egui::Painter, ws: &Workspace, tile: &Tile, ppp: f32) {
-    let Some(region) = ws.cx.lens() else {
+fn paint_lens(painter: &egui::Painter, cx: &Context, tile: &Tile, ppp: f32) {
+    let Some(region) = cx.lens() else {
         return;
     };
     let min = tile.to_screen(ppp, vec2(region.x as f32, region.y as f32));
@@ -591,15 +588,15 @@ fn paint_lens(painter: &egui::Painter, ws: &Workspace, tile: &Tile, ppp: f32) {
     painter.text(
         pos2(rect.min.x, rect.min.y - 4.0),
         egui::Align2::LEFT_BOTTOM,
-        format!("×{}", ws.cx.settings.magnifier.zoom),
+        format!("×{}", cx.settings.magnifier.zoom),
         egui::FontId::monospace(10.0),
         Color32::WHITE,
     );
 }
 
-fn empty_state(ui: &egui::Ui, ws: &Workspace, rect: Rect, loading: bool) {
+fn empty_state(ui: &egui::Ui, cx: &Context, rect: Rect, loading: bool) {
     let text = if loading {
-        match ws.cx.loader.loading() {
+        match cx.loader.loading() {
             Some(spec) => format!("Loading {spec}…"),
             None => "No scene loaded: open one from the File menu".to_owned(),
         }
@@ -631,8 +628,8 @@ fn hovered_files_overlay(ui: &egui::Ui, rect: Rect) {
 }
 
 /// Arrow keys move the lens by one frame pixel (ten with Shift).
-fn nudge_lens(ws: &mut Workspace, ctx: &egui::Context) {
-    if ctx.egui_wants_keyboard_input() || !ws.cx.settings.show_magnifier {
+fn nudge_lens(cx: &mut Context, ctx: &egui::Context) {
+    if ctx.egui_wants_keyboard_input() || !cx.settings.show_magnifier {
         return;
     }
     let (dx, dy, shift) = ctx.input(|i| {
@@ -649,10 +646,10 @@ fn nudge_lens(ws: &mut Workspace, ctx: &egui::Context) {
         return;
     }
     let step = if shift { 10.0 } else { 1.0 };
-    if let Some(region) = ws.cx.lens() {
-        let cx = region.x as f32 + region.width as f32 * 0.5 + dx * step;
-        let cy = region.y as f32 + region.height as f32 * 0.5 + dy * step;
-        ws.cx.settings.magnifier.center = Some([cx, cy]);
+    if let Some(region) = cx.lens() {
+        let x = region.x as f32 + region.width as f32 * 0.5 + dx * step;
+        let y = region.y as f32 + region.height as f32 * 0.5 + dy * step;
+        cx.settings.magnifier.center = Some([x, y]);
     }
 }
 

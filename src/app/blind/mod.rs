@@ -21,9 +21,9 @@
 //!   atomically after every answer by a writer thread of the session, so the UI thread never
 //!   waits on the disk.
 //!
-//! The session ([`BlindState`]) is the workspace's, since the labels of every panel follow it;
-//! the workspace's session commands (start, answer, keys) are here, and the session's panel
-//! ([`panel`]) is a stateless function of the [`Workspace`].
+//! The session ([`BlindState`]) is the context's, since the labels of every panel follow it;
+//! the context's session commands (start, answer, keys) are in `context/blind.rs`, and the
+//! session's panel ([`panel`]) draws the state and returns what was asked for.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -70,7 +70,7 @@ impl Context {
     pub(in crate::app) fn image_label(&self, id: &str) -> Option<String> {
         let set = self.images.open()?;
         let index = ImageSet::index(id)?;
-        let image = set.images.get(index)?;
+        let image = set.images().get(index)?;
         Some(if self.is_reference_image(id) {
             format!("{} · reference", image.name)
         } else {
@@ -82,13 +82,13 @@ impl Context {
     pub(in crate::app) fn is_reference_image(&self, id: &str) -> bool {
         self.images
             .open()
-            .is_some_and(|set| ImageSet::index(id) == Some(set.reference))
+            .is_some_and(|set| ImageSet::index(id) == Some(set.reference_index()))
     }
 
     /// The view being shown: the open set's, else the engine's.
     pub(in crate::app) fn current_view(&self) -> Option<u64> {
         match self.images.open() {
-            Some(set) => Some(set.view),
+            Some(set) => Some(set.view()),
             None => self.engine.as_ref().map(|e| e.current_view()),
         }
     }
@@ -97,7 +97,7 @@ impl Context {
     /// describe what is shown now (`None` when `id` shows nothing).
     pub(in crate::app) fn measure_key(&self, id: &str) -> Option<(u64, u64)> {
         match self.images.open() {
-            Some(set) => set.get(id).map(|_| (set.view, 0)),
+            Some(set) => set.get(id).map(|_| (set.view(), 0)),
             None => {
                 let engine = self.engine.as_ref()?;
                 let entry = engine.entry(id).filter(|e| e.enabled)?;
@@ -115,9 +115,9 @@ impl Context {
         if let Some(set) = self.images.open() {
             return IMAGE_IDS
                 .iter()
-                .zip(&set.images)
+                .zip(set.images())
                 .enumerate()
-                .filter(|(i, _)| *i != set.reference)
+                .filter(|(i, _)| *i != set.reference_index())
                 .filter_map(|(_, (id, image))| {
                     let pixels = image.published.pixels.as_ref()?;
                     Some((*id, image.published.stamp, Arc::clone(pixels)))
@@ -142,8 +142,8 @@ impl Context {
     /// The file names of the open set, in pane order, and the index of the reference.
     pub(in crate::app) fn image_names(&self) -> Option<(Vec<String>, usize)> {
         let set = self.images.open()?;
-        let names = set.images.iter().map(|i| i.name.clone()).collect();
-        Some((names, set.reference))
+        let names = set.images().iter().map(|i| i.name.clone()).collect();
+        Some((names, set.reference_index()))
     }
 
     /// The panes' sources: the compared techniques, then the reference when shown.
