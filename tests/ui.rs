@@ -1206,3 +1206,75 @@ fn a_slow_user_build_is_shown_compiling_and_then_runs() {
         others.0, others.1
     );
 }
+
+/// Issue 30, item 5: the techniques panel's "Render scale" form adds a technique at a render
+/// scale as a technique of its own, compared beside the native ones at the output size
+/// (rendered at the lower size, upscaled), remembered across starts and removable; a
+/// malformed combination is refused with the part that is wrong.
+#[test]
+fn a_render_scale_combination_is_added_compared_at_the_output_size_and_remembered() {
+    let mut first = viewer("chart");
+    wait(&mut first, "the first frame", settled);
+    let base = first.state().compared()[0];
+    let expected = format!("{base}@performance:easu");
+    // The section is below the fold: scroll to it (the scroll animates over a few frames).
+    let scroll_to = |harness: &mut egui_kittest::Harness<'_, AaLabApp>, label: &str| {
+        harness.get_by_label(label).scroll_to_me();
+        for _ in 0..30 {
+            harness.step();
+        }
+    };
+    scroll_to(&mut first, "Render scale");
+    first.get_by_label("Render scale").click();
+    first.step();
+    // The form shows the id the command line takes.
+    first.get_by_label(expected.as_str());
+    scroll_to(&mut first, "Add and compare");
+    first.get_by_label("Add and compare").click();
+    first.step();
+    wait(&mut first, "the combination's frame", |app| {
+        app.compared().contains(&expected.as_str())
+            && app.frame_ready()
+            && app.output_pixels(&expected).is_some()
+    });
+    let native = first.state().output_pixels(base).expect("native output");
+    let scaled = first
+        .state()
+        .output_pixels(&expected)
+        .expect("scaled output");
+    assert_eq!(
+        scaled.dimensions(),
+        native.dimensions(),
+        "a combination is shown at the output size"
+    );
+    assert_ne!(
+        scaled.as_raw(),
+        native.as_raw(),
+        "rendered at half the size and upscaled, the image differs from the native one"
+    );
+    let remembered = first.state().settings().clone();
+    assert_eq!(remembered.combinations, [expected.clone()]);
+
+    // The parts of a malformed combination are named.
+    assert_eq!(first.state_mut().add_combination("smaa@0.1"), None);
+    first.step();
+    let notice = first
+        .state()
+        .notices()
+        .last()
+        .map(|n| n.text.clone())
+        .unwrap_or_default();
+    assert!(notice.contains("render scale `0.1`"), "{notice}");
+    drop(first);
+
+    // The next start adds it again; removing it forgets it.
+    let mut second = launch_in(WINDOW, "chart", Duration::ZERO, DisplayPath::Auto);
+    *second.state_mut().settings_mut() = remembered;
+    wait(&mut second, "the remembered combination's frame", |app| {
+        app.frame_ready() && app.output_pixels(&expected).is_some()
+    });
+    second.state_mut().remove_user_technique(&expected);
+    second.step();
+    assert!(!second.state().compared().contains(&expected.as_str()));
+    assert!(second.state().settings().combinations.is_empty());
+}

@@ -29,12 +29,18 @@ pub fn info(id: &str) -> Option<TechniqueInfo> {
     registry().into_iter().find(|t| t.id == id)
 }
 
-/// The display name of a registered technique or a user technique (`user:PATH`; any other
-/// id as it is): the label of techniques whose settings do not change what they are.
+/// The display name of a registered technique, a user technique (`user:PATH`) or a
+/// combination (`smaa@performance:easu`: "SMAA 1x @ 50% EASU"; any other id as it is): the
+/// label of techniques whose settings do not change what they are.
 pub fn display_name(id: &str) -> String {
     match info(id) {
         Some(info) => info.name.to_owned(),
         None if super::user::is_user_id(id) => super::user::display_name(id),
-        None => id.to_owned(),
+        None => match super::combo::Combo::parse(id) {
+            Ok(combo) if !combo.is_plain() => {
+                format!("{}{}", display_name(&combo.base), combo.label_suffix())
+            }
+            _ => id.to_owned(),
+        },
     }
 }

@@ -272,23 +272,31 @@ impl AaLabApp {
             .unwrap_or_default()
     }
 
-    /// The ids compared as A, B, C, D (see [`Workspace::compared`]).
+    /// The ids compared as A, B, C, D (see `Context::compared`).
     pub fn compared(&self) -> Vec<&'static str> {
         self.ws.cx.compared()
     }
 
     /// Adds the user technique in the WGSL file at `path` (see
-    /// [`Workspace::add_user_technique`]).
+    /// `Context::add_user_technique`).
     pub fn add_user_technique(&mut self, path: PathBuf) {
         self.ws.cx.add_user_technique(path);
     }
 
-    /// Removes the user technique `id` (see [`Workspace::remove_user_technique`]).
+    /// Adds the combination `id` (`ID[@SCALE][:UPSCALER][+SHARPEN[=STRENGTH]]`) and compares
+    /// it; its canonical id, or `None` (with a notice) when it is refused (see
+    /// `Context::add_combination`).
+    pub fn add_combination(&mut self, id: &str) -> Option<&'static str> {
+        self.ws.cx.add_combination(id)
+    }
+
+    /// Removes the user technique or combination `id` (see
+    /// `Context::remove_user_technique`).
     pub fn remove_user_technique(&mut self, id: &str) {
         self.ws.cx.remove_user_technique(id);
     }
 
-    /// Opens up to four images of one size as panes (see [`Workspace::open_images`]).
+    /// Opens up to four images of one size as panes (see `Context::open_images`).
     pub fn open_images(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
         self.ws.cx.open_images(ctx, paths);
     }
@@ -325,7 +333,7 @@ impl AaLabApp {
     }
 
     /// In difference mode, the lens means of the magnifier panes' heatmaps (see
-    /// [`Workspace::difference_means`]).
+    /// `MagnifierState::difference_means`).
     pub fn difference_means(&self) -> Option<Vec<f64>> {
         self.ws.magnifier.difference_means(&self.ws.cx)
     }

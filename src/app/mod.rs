@@ -65,6 +65,7 @@ mod quality;
 mod rasterizer_threads;
 mod reference;
 mod render_thread;
+mod scale_form;
 mod scene_loader;
 mod schedule;
 mod settings;

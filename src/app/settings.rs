@@ -223,6 +223,9 @@ pub struct Settings {
     /// The WGSL files of the user techniques added, in the order added (absolute paths): the
     /// viewer adds them again at the next start.
     pub user_techniques: Vec<String>,
+    /// The combinations added (`aa::combo` ids such as `smaa@performance:easu+rcas=0.2`), in
+    /// the order added: the viewer adds them again at the next start.
+    pub combinations: Vec<String>,
     /// Camera bookmarks.
     pub bookmarks: Vec<Bookmark>,
     /// Folder exports go to.
@@ -259,6 +262,7 @@ impl Default for Settings {
             scene: crate::scene::source::DEFAULT_SCENE.to_owned(),
             recent: Vec::new(),
             user_techniques: Vec::new(),
+            combinations: Vec::new(),
             bookmarks: Vec::new(),
             export_dir: PathBuf::from("screenshots"),
             reference_samples: 64,

@@ -8,6 +8,7 @@ use egui::{Button, Color32, RichText};
 
 use super::context::{Context, Level};
 use super::image_panel;
+use super::scale_form;
 use super::settings::MAX_COMPARE;
 use super::style::{SLOT_COLORS, SLOT_LETTERS};
 use crate::aa::{Param, ParamKind, ParamValue};
@@ -47,7 +48,12 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
                 }
                 if cx.engine.is_none() {
                     ui.weak("The techniques appear once the scene is loaded.");
-                } else if ui
+                    return;
+                }
+                ui.add_space(4.0);
+                scale_form::ui(ui, cx);
+                ui.add_space(4.0);
+                if ui
                     .small_button("Add technique from file…")
                     .on_hover_text(USER_TECHNIQUE_HINT)
                     .clicked()
@@ -85,7 +91,7 @@ fn technique_row(ui: &mut egui::Ui, cx: &mut Context, id: &'static str, number: 
     let mut toggled = None;
     let mut compare_clicked = false;
     let mut remove_clicked = false;
-    let user = crate::aa::user::is_user_id(id);
+    let user = super::engine::is_added(id);
     let frame = egui::Frame::new()
         .inner_margin(egui::Margin::symmetric(4, 3))
         .corner_radius(4)
@@ -119,8 +125,8 @@ fn technique_row(ui: &mut egui::Ui, cx: &mut Context, id: &'static str, number: 
                     && ui
                         .small_button("×")
                         .on_hover_text(
-                            "Remove this technique (its file stays on disk; add it again \
-                             to bring it back)",
+                            "Remove this technique (a user technique's file stays on disk; \
+                             add it again to bring it back)",
                         )
                         .clicked()
                 {

@@ -48,8 +48,49 @@ impl Context {
         }
     }
 
-    /// Removes the user technique `id`: off, out of the comparison and the techniques panel,
-    /// forgotten by the settings (its file is left alone; adding it again brings it back).
+    /// Adds the combination `text` (`ID[@SCALE][:UPSCALER][+SHARPEN[=STRENGTH]]`, see
+    /// `aa::combo`): the render thread creates it and it appears in the techniques panel,
+    /// switched on and compared, or with the reason it cannot run. It is remembered in the
+    /// settings and added again at the next start. A plain id (scale 1, no sharpening) is the
+    /// registry technique itself, which is switched on instead. Returns the canonical id.
+    pub(in crate::app) fn add_combination(&mut self, text: &str) -> Option<&'static str> {
+        let combo = match crate::aa::combo::Combo::parse(text.trim()) {
+            Ok(combo) => combo,
+            Err(err) => {
+                self.notify(Level::Error, err.to_string());
+                return None;
+            }
+        };
+        let Some(engine) = &mut self.engine else {
+            self.notify(
+                Level::Warning,
+                "techniques can be added once the scene has loaded",
+            );
+            return None;
+        };
+        if engine.entry(&combo.base).is_none() {
+            self.notify(
+                Level::Error,
+                format!("{text}: no technique `{}` in this viewer", combo.base),
+            );
+            return None;
+        }
+        let id = crate::aa::user::intern(&combo.id());
+        if !combo.is_plain() {
+            engine.add_combination(id);
+            if !self.settings.combinations.iter().any(|c| c == id) {
+                self.settings.combinations.push(id.to_owned());
+            }
+        }
+        if !self.settings.compare.iter().any(|c| c == id) {
+            self.toggle_compare(id);
+        }
+        Some(id)
+    }
+
+    /// Removes the user technique or combination `id`: off, out of the comparison and the
+    /// techniques panel, forgotten by the settings (a user technique's file is left alone;
+    /// adding it again brings it back).
     pub(in crate::app) fn remove_user_technique(&mut self, id: &str) {
         let Some(engine) = &mut self.engine else {
             return;
@@ -59,18 +100,31 @@ impl Context {
             let path = path.display().to_string();
             self.settings.user_techniques.retain(|p| *p != path);
         }
+        self.settings.combinations.retain(|c| c != id);
         self.settings.enabled.retain(|e| e != id);
         self.settings.compare.retain(|c| c != id);
         self.settings.technique_settings.remove(id);
         self.settings.debug_views.remove(id);
     }
 
-    /// Adds the user techniques the settings remember (at start, once the engine exists); a
-    /// file that is gone is forgotten, with a notice.
+    /// Adds the user techniques and combinations the settings remember (at start, once the
+    /// engine exists); a file that is gone is forgotten, with a notice, and so is a
+    /// combination this build no longer reads.
     pub(super) fn restore_user_techniques(&mut self) {
         let Some(engine) = &mut self.engine else {
             return;
         };
+        let (readable, unreadable): (Vec<String>, Vec<String>) =
+            std::mem::take(&mut self.settings.combinations)
+                .into_iter()
+                .partition(|id| {
+                    crate::aa::combo::Combo::parse(id)
+                        .is_ok_and(|c| !c.is_plain() && engine.entry(&c.base).is_some())
+                });
+        for id in &readable {
+            engine.add_combination(crate::aa::user::intern(id));
+        }
+        self.settings.combinations = readable;
         let (present, gone): (Vec<String>, Vec<String>) =
             std::mem::take(&mut self.settings.user_techniques)
                 .into_iter()
@@ -79,6 +133,12 @@ impl Context {
             engine.add_user_technique(PathBuf::from(path));
         }
         self.settings.user_techniques = present;
+        for id in unreadable {
+            self.notify(
+                Level::Warning,
+                format!("saved combination {id} is not a technique here; removed"),
+            );
+        }
         for path in gone {
             self.notify(
                 Level::Warning,

@@ -55,6 +55,7 @@ mod settings;
 pub use display::{Display, DisplayPath, Published};
 pub use player::{ClipPlayer, PlayRate};
 pub use recording::{Clip, ClipFrame, ClipPath, ClipRecipe, ClipSettings, ClipStatus, MAX_FRAMES};
+pub use settings::is_added;
 
 /// GPU milliseconds the reference may add to a frame (it always adds at least one sample).
 const REFERENCE_BUDGET_MS: f64 = 60.0;

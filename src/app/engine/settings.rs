@@ -155,10 +155,18 @@ impl Engine {
         self.send(Command::AddUser(path));
     }
 
-    /// Removes the user technique `id` from the comparison: it is switched off and no longer
-    /// listed or watched; adding its file again brings it back (rebuilt).
+    /// Adds the combination `id` (a canonical `aa::combo` id with a scale, upscaler or
+    /// sharpening): the render thread creates it and it appears in [`Engine::entries`],
+    /// switched on, when it answers (with its error when it cannot run here).
+    pub fn add_combination(&mut self, id: &'static str) {
+        self.send(Command::AddCombination(id));
+    }
+
+    /// Removes the user technique or combination `id` from the comparison: it is switched off
+    /// and no longer listed (a user technique's file no longer watched); adding it again
+    /// brings it back.
     pub fn remove_user_technique(&mut self, id: &str) {
-        let Some(index) = self.index(id).filter(|_| aa::user::is_user_id(id)) else {
+        let Some(index) = self.index(id).filter(|_| is_added(id)) else {
             return;
         };
         let entry = &mut self.entries[index];
@@ -167,7 +175,7 @@ impl Engine {
         self.send(Command::RemoveUser(index));
     }
 
-    /// The entry of the user technique at `index`: a new one at the next index (switched off
+    /// The entry of the user technique or combination at `index`: a new one at the next index (switched off
     /// until its first build works).
     pub(super) fn user_entry(
         &mut self,
@@ -176,14 +184,21 @@ impl Engine {
         name: &str,
     ) -> Option<&mut TechniqueEntry> {
         if index == self.entries.len() {
-            let path = aa::user::path_of(id).map_or_else(String::new, |p| p.display().to_string());
+            let summary = match aa::user::path_of(id) {
+                Some(path) => format!(
+                    "Your technique from {}: a post-process pass over the scene render, \
+                     reloaded when the file changes.",
+                    path.display()
+                ),
+                None => format!(
+                    "{id}: the technique at a render scale, upscaled to the output size (and \
+                     sharpened), measured against the native reference like any other."
+                ),
+            };
             self.entries.push(TechniqueEntry::new(
                 id,
                 aa::user::intern(name),
-                aa::user::intern(&format!(
-                    "Your technique from {path}: a post-process pass over the scene render, \
-                     reloaded when the file changes."
-                )),
+                aa::user::intern(&summary),
                 Ok(()),
             ));
         }
@@ -249,4 +264,10 @@ impl Engine {
             }
         }
     }
+}
+
+/// Whether `id` is one the user added (a user technique or a combination) rather than a
+/// registry technique: it can be removed.
+pub fn is_added(id: &str) -> bool {
+    aa::user::is_user_id(id) || aa::combo::Combo::parse(id).is_ok_and(|c| !c.is_plain())
 }

@@ -17,7 +17,9 @@
 //! A user technique is built on a thread of its own (`aa::user::build`): the thread announces
 //! the build ([`Event::UserBuilding`]), goes on rendering the other techniques (and the last
 //! good build of this one) and installs the result when the build finishes, however long the
-//! driver takes to compile it.
+//! driver takes to compile it. Combinations of a technique with a render scale, upscaler and
+//! sharpening ([`Command::AddCombination`], `aa::combo`) are added the same way, created at
+//! once (they have no file to build or watch).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, mpsc};
@@ -183,6 +185,11 @@ pub enum Command {
     Clip(ClipJob),
     /// Add the user technique in this file (`aa::user`), or rebuild it if it is there.
     AddUser(std::path::PathBuf),
+    /// Add the combination of a technique with a render scale, upscaler or sharpening
+    /// (`aa::combo`, canonical id) at the next index, as a user technique is added: it is
+    /// created here and answered with [`Event::UserTechnique`]. Adding it again is a no-op
+    /// answered the same way.
+    AddCombination(&'static str),
     /// Stop watching the file of the user technique at this index (the user removed it; its
     /// slot stays, switched off, so that indices keep their meaning, and adding the file again
     /// rebuilds it there).
@@ -491,6 +498,7 @@ impl RenderState {
                 send(Event::ClipEnd(end));
             }
             Command::AddUser(path) => self.add_user(&path, send),
+            Command::AddCombination(id) => self.add_combination(id, send),
             Command::RemoveUser(index) => {
                 self.watcher.unwatch(index);
                 // A build still running would list the technique again when it finished.

@@ -1,19 +1,16 @@
-//! User techniques on the render thread: adding a WGSL file, building its pipelines on a
-//! thread of their own (`aa::user::build`) so a slow driver compile stalls nothing, installing
-//! a finished build, and rebuilding when the file changes (the last good build runs on while
-//! a change does not compile).
+//! Techniques the user adds on the render thread. User techniques: adding a WGSL file, building
+//! its pipelines on a thread of their own (`aa::user::build`) so a slow driver compile stalls
+//! nothing, installing a finished build, and rebuilding when the file changes (the last good
+//! build runs on while a change does not compile). Combinations (`aa::combo`: a technique at a
+//! render scale, upscaled, sharpened): created at once and installed the same way, at the
+//! next index.
 
 use super::*;
 
 impl RenderState {
-    /// Adds the user technique of `path` at the next registry index (with its error, when it
-    /// does not build), or rebuilds it when it was added before.
-    pub(super) fn add_user(&mut self, path: &std::path::Path, send: &dyn Fn(Event)) {
-        let id = match aa::user::interned_id(path) {
-            Ok(id) => id,
-            Err(err) => return send(Event::UserRefused(err.to_string())),
-        };
-        let index = match self.user_ids.iter().find(|(_, known)| *known == id) {
+    /// The registry index of the added technique `id`: the one it had, or the next one.
+    fn added_index(&mut self, id: &'static str) -> usize {
+        match self.user_ids.iter().find(|(_, known)| *known == id) {
             Some(&(index, _)) => index,
             None => {
                 let index = self.slots.len();
@@ -21,7 +18,35 @@ impl RenderState {
                 self.user_ids.push((index, id));
                 index
             }
+        }
+    }
+
+    /// Adds the combination `id` (a technique at a render scale, with an upscaler or
+    /// sharpening) at the next registry index, with its error when it cannot run here; one
+    /// already added keeps its index and settings.
+    pub(super) fn add_combination(&mut self, id: &'static str, send: &dyn Fn(Event)) {
+        let index = self.added_index(id);
+        if let Some(slot) = self.slots[index] {
+            let technique = self.graph.slots()[slot].technique.as_ref();
+            return send(Event::UserTechnique {
+                index,
+                id,
+                name: aa::registry::display_name(id),
+                result: Ok(TechniqueSettings::of(technique)),
+            });
+        }
+        let created = aa::create(&self.gpu, id).map_err(|e| e.to_string());
+        send(self.install_added(index, id, aa::registry::display_name(id), created));
+    }
+
+    /// Adds the user technique of `path` at the next registry index (with its error, when it
+    /// does not build), or rebuilds it when it was added before.
+    pub(super) fn add_user(&mut self, path: &std::path::Path, send: &dyn Fn(Event)) {
+        let id = match aa::user::interned_id(path) {
+            Ok(id) => id,
+            Err(err) => return send(Event::UserRefused(err.to_string())),
         };
+        let index = self.added_index(id);
         // (Again after a removal.)
         self.watcher
             .watch(index, aa::user::path_of(id).unwrap_or(path));
@@ -52,18 +77,20 @@ impl RenderState {
             None => true,
         });
         for (index, id, result) in finished {
-            send(self.install_user(index, id, result));
+            let result = result.map_err(|e| e.to_string());
+            send(self.install_added(index, id, aa::user::display_name(id), result));
         }
     }
 
-    /// Puts a finished build of the user technique at `index` in the graph.
-    fn install_user(
+    /// Puts a user technique's finished build, or a created combination, at `index` in the
+    /// graph (replacing the build before, whose settings carry over where they still apply).
+    fn install_added(
         &mut self,
         index: usize,
         id: &'static str,
-        result: aa::user::build::BuildResult,
+        name: String,
+        result: Result<Box<dyn aa::Technique>, String>,
     ) -> Event {
-        let result = result.map_err(|e| e.to_string());
         let result = result.map(|mut technique| {
             if let Some(slot) = self.slots[index] {
                 let previous = aa::param_map(self.graph.slots()[slot].technique.as_ref());
@@ -86,7 +113,7 @@ impl RenderState {
         Event::UserTechnique {
             index,
             id,
-            name: aa::user::display_name(id),
+            name,
             result,
         }
     }
