@@ -282,7 +282,12 @@ fn techniques(
     };
     let written: Vec<(&str, &TechniqueSpec)> =
         ids.iter().map(String::as_str).zip(&configured).collect();
-    Ok(sweep_techniques(&written, scales)?)
+    // Each created once, before anything is measured: a combination this adapter or the
+    // technique refuses fails here, and each id is recorded in its canonical form.
+    sweep_techniques(&written, scales)?
+        .iter()
+        .map(|spec| Ok(TechniqueSpec::of(spec.create(gpu)?.as_ref())))
+        .collect()
 }
 
 /// Runs `aa-lab bench`.

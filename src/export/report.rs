@@ -18,7 +18,7 @@ use super::charts::{
     BarChart, BarLayout, BarSeries, ChartError, Line, LineChart, draw_bars, draw_lines,
 };
 use super::tradeoff::{TradeoffChart, TradeoffPoint, draw_tradeoff, quality_front};
-use crate::aa::combo::{Combo, Upscaler};
+use crate::aa::combo::Combo;
 use crate::aa::{self, ParamMap};
 use crate::files::{self, Overwrite};
 use crate::gpu::Capabilities;
@@ -350,8 +350,8 @@ pub(super) fn scene_label(run: &RunReport) -> String {
 
 /// The techniques of a run that scored quality as points of `metric` against their total GPU
 /// ms (median), with the groups' names. In a scale sweep (`by_scale`) a technique's points at
-/// every scale form one group, labelled with the scale (and the upscaler when it is not the
-/// default); otherwise each point is labelled with its technique's name, in one group.
+/// every scale form one group, each labelled with its scale and upscaler; otherwise each point
+/// is labelled with its technique's name, in one group.
 fn tradeoff_points(
     run: &RunReport,
     metric: Metric,
@@ -395,16 +395,16 @@ pub(super) fn unscaled_name(combo: &Combo) -> String {
     aa::registry::display_name(&native.base) + &native.label_suffix()
 }
 
-/// `native`, or the render scale in percent per axis with the upscaler when it is not EASU.
+/// `native`, or the render scale in percent per axis with the upscaler (`50% EASU`).
 pub(super) fn scale_label(combo: &Combo) -> String {
-    if combo.scale >= 1.0 {
-        return "native".to_owned();
-    }
-    let percent = format!("{:.0}%", combo.scale * 100.0);
-    if combo.upscaler == Upscaler::Easu {
-        percent
-    } else {
-        format!("{percent} {}", aa::Named::name(combo.upscaler))
+    let unsharpened = Combo {
+        sharpen: None,
+        ..combo.clone()
+    };
+    let suffix = unsharpened.label_suffix();
+    match suffix.trim_start().strip_prefix('@') {
+        Some(scale) => scale.trim().to_owned(),
+        None => "native".to_owned(),
     }
 }
 
