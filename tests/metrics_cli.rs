@@ -61,6 +61,12 @@ fn compare_prints_json_writes_heatmaps_and_explains_errors() {
     assert!(String::from_utf8_lossy(&missing.stderr).contains("/nonexistent/a.png"));
 }
 
+/// The `report.json` a bench wrote into `out`.
+fn read_report(out: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(out.join("report.json")).expect("report.json");
+    serde_json::from_str(&text).expect("report.json is JSON")
+}
+
 #[test]
 fn bench_writes_a_report_whose_images_reproduce() {
     let dir = tempfile::tempdir().unwrap();
@@ -90,8 +96,7 @@ fn bench_writes_a_report_whose_images_reproduce() {
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let report = read_report(&out);
     assert_eq!(report["schema"], "aa-lab-bench/1");
     let run = &report["runs"][0];
     assert_eq!(run["scene"], "chart");
@@ -135,10 +140,11 @@ fn bench_writes_a_report_whose_images_reproduce() {
     }
 }
 
-/// The techniques of a bench run whose front `front` lists, checked against every technique
-/// of the run: no technique is as good or better at the same or lower cost than a front
-/// technique (and strictly better in one), and every technique off the front is matched by
-/// one at no more cost. `better` says whether quality `a` is better than `b`.
+/// Checks the `metric` front a bench run lists in `quality_fronts` against every technique of
+/// the run and returns its ids: cheapest first; no technique is as good or better at the same
+/// or lower cost than a front technique (and strictly better in one); every technique off the
+/// front is matched by a front technique at no more cost. `better(a, b)`: quality `a` is
+/// better than `b`.
 fn assert_pareto_optimal(
     run: &serde_json::Value,
     metric: &str,
@@ -146,13 +152,13 @@ fn assert_pareto_optimal(
 ) -> Vec<String> {
     let points: Vec<(String, f64, f64)> = run["techniques"]
         .as_array()
-        .unwrap()
+        .expect("techniques")
         .iter()
         .map(|t| {
             (
-                t["id"].as_str().unwrap().to_owned(),
-                t["total_ms"]["median"].as_f64().unwrap(),
-                t["quality"][metric].as_f64().unwrap(),
+                t["id"].as_str().expect("an id").to_owned(),
+                t["total_ms"]["median"].as_f64().expect("a median"),
+                t["quality"][metric].as_f64().expect("a score"),
             )
         })
         .collect();
@@ -160,10 +166,16 @@ fn assert_pareto_optimal(
         .as_array()
         .unwrap_or_else(|| panic!("no {metric} front"))
         .iter()
-        .map(|id| id.as_str().unwrap().to_owned())
+        .map(|id| id.as_str().expect("an id").to_owned())
         .collect();
     assert!(!front.is_empty(), "empty {metric} front");
-    let point = |id: &str| points.iter().find(|p| p.0 == id).unwrap().clone();
+    let point = |id: &str| {
+        points
+            .iter()
+            .find(|p| p.0 == id)
+            .unwrap_or_else(|| panic!("{id} of the {metric} front is not a technique"))
+            .clone()
+    };
     let costs: Vec<f64> = front.iter().map(|id| point(id).1).collect();
     assert!(
         costs.windows(2).all(|w| w[0] <= w[1]),
@@ -257,8 +269,7 @@ fn a_scale_sweep_puts_native_and_upscaled_techniques_on_one_pareto_front() {
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let report = read_report(&out);
     let settings = &report["settings"];
     assert_eq!(settings["sweep"], "scale");
     assert_eq!(settings["scales"], serde_json::json!([1.0, 0.5]));

@@ -180,6 +180,31 @@ fn draw_legend<'n, DB: DrawingBackend>(
     Ok(())
 }
 
+/// A chart's drawing area over an RGB buffer.
+pub(super) type Canvas<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+/// A white canvas of `size` over `pixels` with `title` in a header `header` pixels high:
+/// (the whole canvas, the header, the body below it).
+pub(super) fn titled_canvas<'a>(
+    pixels: &'a mut [u8],
+    size: (u32, u32),
+    title: &str,
+    header: u32,
+    path: &Path,
+) -> Result<(Canvas<'a>, Canvas<'a>, Canvas<'a>), ChartError> {
+    let root = BitMapBackend::with_buffer(pixels, size).into_drawing_area();
+    let err = drawing_error(path);
+    root.fill(&WHITE).map_err(&err)?;
+    let (top, body) = root.split_vertically(header);
+    top.draw(&Text::new(
+        title.to_owned(),
+        (16, 12),
+        (SANS, 24).into_font(),
+    ))
+    .map_err(&err)?;
+    Ok((root, top, body))
+}
+
 /// Writes a chart drawn into an RGB buffer as PNG, atomically under `policy`.
 pub(super) fn save_chart(
     path: &Path,
@@ -229,16 +254,8 @@ pub fn draw_bars(
     let size = (960, height);
     let mut pixels = vec![255u8; size.0 as usize * size.1 as usize * 3];
     {
-        let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+        let (root, top, body) = titled_canvas(&mut pixels, size, chart.title, header, path)?;
         let err = drawing_error(path);
-        root.fill(&WHITE).map_err(&err)?;
-        let (top, body) = root.split_vertically(header);
-        top.draw(&Text::new(
-            chart.title.to_owned(),
-            (16, 12),
-            (SANS, 24).into_font(),
-        ))
-        .map_err(&err)?;
         if legend {
             draw_legend(&top, chart.series.iter().map(|s| s.name.as_str()), 48).map_err(&err)?;
         }
@@ -379,16 +396,8 @@ pub fn draw_lines(
     let size = (960, 640);
     let mut pixels = vec![255u8; size.0 as usize * size.1 as usize * 3];
     {
-        let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+        let (root, top, body) = titled_canvas(&mut pixels, size, chart.title, 76, path)?;
         let err = drawing_error(path);
-        root.fill(&WHITE).map_err(&err)?;
-        let (top, body) = root.split_vertically(76);
-        top.draw(&Text::new(
-            chart.title.to_owned(),
-            (16, 12),
-            (SANS, 24).into_font(),
-        ))
-        .map_err(&err)?;
         draw_legend(&top, chart.lines.iter().map(|l| l.name.as_str()), 48).map_err(&err)?;
         let mut builder = ChartBuilder::on(&body);
         builder

@@ -15,6 +15,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::charts::{
     ChartError, SANS, draw_axes, drawing_error, register_fonts, save_chart, series_color,
+    titled_canvas,
 };
 use crate::files::Overwrite;
 
@@ -115,16 +116,8 @@ pub fn draw_tradeoff(
     let size = (960, 640);
     let mut pixels = vec![255u8; size.0 as usize * size.1 as usize * 3];
     {
-        let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+        let (root, _, body) = titled_canvas(&mut pixels, size, chart.title, 48, path)?;
         let err = drawing_error(path);
-        root.fill(&WHITE).map_err(&err)?;
-        let (top, body) = root.split_vertically(48);
-        top.draw(&Text::new(
-            chart.title.to_owned(),
-            (16, 12),
-            (SANS, 24).into_font(),
-        ))
-        .map_err(&err)?;
         let mut ctx = ChartBuilder::on(&body)
             .margin(16)
             .margin_top(4)
