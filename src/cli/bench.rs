@@ -160,7 +160,6 @@ fn plan(args: &BenchArgs) -> anyhow::Result<Vec<RunPlan>> {
     if let Some(&(w, h)) = sizes.iter().find(|(w, h)| *w == 0 || *h == 0) {
         bail!("--size {w}x{h}: width and height must be at least 1");
     }
-
     let mut runs = Vec::new();
     match args.sweep {
         Some(Sweep::Density) => {
