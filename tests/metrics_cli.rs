@@ -61,6 +61,12 @@ fn compare_prints_json_writes_heatmaps_and_explains_errors() {
     assert!(String::from_utf8_lossy(&missing.stderr).contains("/nonexistent/a.png"));
 }
 
+/// The `report.json` a bench wrote into `out`.
+fn read_report(out: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(out.join("report.json")).expect("report.json");
+    serde_json::from_str(&text).expect("report.json is JSON")
+}
+
 #[test]
 fn bench_writes_a_report_whose_images_reproduce() {
     let dir = tempfile::tempdir().unwrap();
@@ -90,8 +96,7 @@ fn bench_writes_a_report_whose_images_reproduce() {
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let report = read_report(&out);
     assert_eq!(report["schema"], "aa-lab-bench/1");
     let run = &report["runs"][0];
     assert_eq!(run["scene"], "chart");
@@ -132,5 +137,205 @@ fn bench_writes_a_report_whose_images_reproduce() {
         let scored = image::open(out.join(format!("chart-160x90-{id}.png"))).unwrap();
         let reproduced = image::open(again.join(format!("chart-{id}.png"))).unwrap();
         assert!(scored == reproduced, "{id} does not reproduce");
+    }
+}
+
+/// Checks the `metric` front a bench run lists in `quality_fronts` against every technique of
+/// the run and returns its ids: cheapest first; no technique is as good or better at the same
+/// or lower cost than a front technique (and strictly better in one); every technique off the
+/// front is matched by a front technique at no more cost. `better(a, b)`: quality `a` is
+/// better than `b`.
+fn assert_pareto_optimal(
+    run: &serde_json::Value,
+    metric: &str,
+    better: fn(f64, f64) -> bool,
+) -> Vec<String> {
+    let points: Vec<(String, f64, f64)> = run["techniques"]
+        .as_array()
+        .expect("techniques")
+        .iter()
+        .map(|t| {
+            (
+                t["id"].as_str().expect("an id").to_owned(),
+                t["total_ms"]["median"].as_f64().expect("a median"),
+                t["quality"][metric].as_f64().expect("a score"),
+            )
+        })
+        .collect();
+    let front: Vec<String> = run["quality_fronts"][metric]
+        .as_array()
+        .unwrap_or_else(|| panic!("no {metric} front"))
+        .iter()
+        .map(|id| id.as_str().expect("an id").to_owned())
+        .collect();
+    assert!(!front.is_empty(), "empty {metric} front");
+    let point = |id: &str| {
+        points
+            .iter()
+            .find(|p| p.0 == id)
+            .unwrap_or_else(|| panic!("{id} of the {metric} front is not a technique"))
+            .clone()
+    };
+    let costs: Vec<f64> = front.iter().map(|id| point(id).1).collect();
+    assert!(
+        costs.windows(2).all(|w| w[0] <= w[1]),
+        "{metric} front not cheapest first: {front:?} {costs:?}"
+    );
+    for (id, cost, quality) in &points {
+        let matched_by = |other: &&(String, f64, f64)| {
+            other.0 != *id && other.1 <= *cost && !better(*quality, other.2)
+        };
+        if front.contains(id) {
+            let dominating = points
+                .iter()
+                .filter(matched_by)
+                .find(|o| o.1 < *cost || better(o.2, *quality));
+            assert!(
+                dominating.is_none(),
+                "{id} is on the {metric} front but {dominating:?} beats it"
+            );
+        } else {
+            assert!(
+                points
+                    .iter()
+                    .filter(|o| front.contains(&o.0))
+                    .any(|o| matched_by(&o)),
+                "{id} ({cost} ms, {metric} {quality}) is off the {metric} front {front:?} but nothing on it matches it"
+            );
+        }
+    }
+    front
+}
+
+#[test]
+fn a_scale_sweep_puts_native_and_upscaled_techniques_on_one_pareto_front() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("report");
+    let mut args = vec![
+        "bench",
+        "--scene",
+        "chart",
+        "--technique",
+        "none,fxaa",
+        "--sweep",
+        "scale",
+        "--scales",
+        "native,0.5",
+        "--size",
+        "128x72",
+        "--frames",
+        "2",
+        "--warmup",
+        "1",
+        "--flicker-frames",
+        "2",
+        "--quality-frame",
+        "1",
+        "--out",
+    ];
+    // Bad scales are refused before anything runs, and --scales needs the sweep.
+    for (scales, needles) in [
+        (
+            "native,0.1",
+            &["--scales", "`0.1`", "out of range", "0.25 to 1"][..],
+        ),
+        (
+            "quality,fast",
+            &["`fast`", "neither a number nor a preset", "performance"],
+        ),
+    ] {
+        let mut bad = args.clone();
+        bad[8] = scales;
+        bad.push(out.to_str().unwrap());
+        let refused = common::aa_lab(&bad);
+        assert!(!refused.status.success(), "{scales} accepted");
+        let message = String::from_utf8_lossy(&refused.stderr);
+        for needle in needles {
+            assert!(
+                message.contains(needle),
+                "{scales}: `{needle}` not in {message}"
+            );
+        }
+    }
+    let refused = common::aa_lab(&["bench", "--scales", "0.5", "--out", out.to_str().unwrap()]);
+    assert!(!refused.status.success());
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("--sweep scale"));
+    assert!(!out.exists(), "a refused bench wrote nothing");
+
+    args.push(out.to_str().unwrap());
+    let run = common::aa_lab(&args);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let report = read_report(&out);
+    let settings = &report["settings"];
+    assert_eq!(settings["sweep"], "scale");
+    assert_eq!(settings["scales"], serde_json::json!([1.0, 0.5]));
+    assert_eq!(settings["quality"], true);
+    let ids = [
+        "none",
+        "none@performance:easu",
+        "fxaa",
+        "fxaa@performance:easu",
+    ];
+    assert_eq!(settings["techniques"], serde_json::json!(ids));
+    assert_eq!(
+        report["runs"].as_array().unwrap().len(),
+        1,
+        "one run per scene and size"
+    );
+    let run = &report["runs"][0];
+    let techniques = run["techniques"].as_array().unwrap();
+    assert_eq!(techniques.len(), ids.len());
+    for (technique, id) in techniques.iter().zip(ids) {
+        assert_eq!(technique["id"], id);
+        let scale = if id.contains('@') { 0.5 } else { 1.0 };
+        assert_eq!(technique["render_scale"], scale, "{id}");
+        assert!(
+            technique["quality"]["ssim"].as_f64().is_some(),
+            "{id} unscored"
+        );
+        assert!(technique["total_ms"]["median"].as_f64().unwrap() > 0.0);
+    }
+    // Upscaled techniques' own passes include the upscale.
+    let upscaled = &techniques[1]["passes"];
+    assert!(
+        upscaled
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|p| p["label"].as_str().unwrap().ends_with("/upscale")),
+        "{upscaled}"
+    );
+    let ssim_front = assert_pareto_optimal(run, "ssim", |a, b| a > b);
+    let flip_front = assert_pareto_optimal(run, "flip", |a, b| a < b);
+
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let section = md
+        .split("## Which technique at which scale for my budget")
+        .nth(1)
+        .expect("the budget section");
+    let section = section.split("\n## ").next().unwrap();
+    let rows = section
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.contains("---"))
+        .count();
+    let mut on_a_front: Vec<&String> = ssim_front.iter().chain(&flip_front).collect();
+    on_a_front.sort();
+    on_a_front.dedup();
+    // The header, a row per technique on either front, and the charts' two rows.
+    assert_eq!(rows, 1 + on_a_front.len() + 2, "{section}");
+    for file in [
+        "quality-cost-chart-128x72.png",
+        "flip-cost-chart-128x72.png",
+        "time-chart-128x72.png",
+    ] {
+        assert!(
+            section.contains(file) || file.starts_with("time"),
+            "{file} not linked"
+        );
+        assert_eq!(image::open(out.join(file)).unwrap().width(), 960, "{file}");
     }
 }

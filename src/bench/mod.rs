@@ -4,7 +4,8 @@
 //! input it reads), each shared scene input's time and readers, the whole frame and the copy
 //! floor every post-process pass is compared with, and the fragment invocations of a
 //! statistics frame; [`reference_spec`] is the 64-sample reference both `bench` and `clip`
-//! score against. `cli::bench` plans the runs (sizes, sweeps), loads the scenes and writes
+//! score against; [`scales`] turns techniques into the techniques at every render scale of a
+//! sweep over scales. `cli::bench` plans the runs (sizes, sweeps), loads the scenes and writes
 //! the reports.
 
 use crate::aa::floor::COPY_FLOOR_ID;
@@ -21,6 +22,7 @@ use crate::spec::TechniqueSpec;
 use std::path::{Path, PathBuf};
 
 mod runner;
+pub mod scales;
 
 pub use runner::{
     BenchError, BenchOptions, BenchProgress, BenchRunner, DEFAULT_FLICKER_FRAMES,

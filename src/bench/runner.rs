@@ -25,7 +25,8 @@ use crate::aa::{self, FrameInfo, SceneInput};
 use crate::export::charts::ChartError;
 use crate::export::heatmap::{HeatmapStyle, write_heatmap};
 use crate::export::report::{
-    BenchSettings, InputReport, Invocations, MemorySummary, PassReport, RunReport, TechniqueReport,
+    BenchSettings, InputReport, Invocations, MemorySummary, PassReport, QualityFronts, RunReport,
+    TechniqueReport,
 };
 use crate::export::{ExportError, write_png};
 use crate::files::Overwrite;
@@ -298,6 +299,7 @@ impl BenchRunner<'_> {
             quality: options.quality,
             reference: self.reference.clone(),
             sweep,
+            scales: None,
         }
     }
 
@@ -348,6 +350,7 @@ impl BenchRunner<'_> {
         };
         let floor_ms = Summary::of(&timed.samples.floor);
         let techniques = self.technique_reports(run, &timed, &scores, &flicker, floor_ms.median);
+        let quality_fronts = QualityFronts::of(&techniques);
         let floor_bytes = timed
             .memory
             .techniques
@@ -380,6 +383,7 @@ impl BenchRunner<'_> {
             techniques,
             reference_change: flicker.reference.mean_change(),
             memory_total_bytes: timed.memory.total_bytes - floor_bytes,
+            quality_fronts,
         })
     }
 
@@ -604,6 +608,7 @@ impl BenchRunner<'_> {
                 TechniqueReport {
                     id: id.clone(),
                     name: aa::registry::display_name(id),
+                    render_scale: aa::combo::Combo::parse(id).map_or(1.0, |c| c.scale),
                     input: input_label,
                     post_process,
                     settings: technique_spec.settings.clone(),

@@ -5,6 +5,11 @@
 //! SSAA reference (SSIM, PSNR, MAE, FLIP; against the exact coverage too on `chart`) and the
 //! flicker ratio. Writes `report.json`, `report.md`, charts and reproducibility sidecars.
 //!
+//! Sweeps: `resolution` and `density` vary the load run by run (cost only); `scale` runs every
+//! technique at every render scale of `--scales` in each run ([`crate::bench::scales`]), at
+//! the same output size, quality included, for the Pareto front of native and upscaled
+//! techniques.
+//!
 //! Per run, in order:
 //! 1. timing: `--warmup` + `--frames` frames along a slow camera track ([`SlowTrack`]), every
 //!    technique each frame, the GPU drained after each so every frame's timings are collected;
@@ -25,16 +30,17 @@ use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::render::{configured_specs, parse_size, set_flags, technique_ids};
+use crate::bench::scales::{default_scales, parse_scales, sweep_techniques};
 use crate::bench::{
     BenchOptions, BenchProgress, BenchRunner, DEFAULT_FLICKER_FRAMES, DEFAULT_QUALITY_FRAME,
     DEFAULT_WARMUP, ImageOutput, RunPlan, reference_spec, report_paths, write_report,
 };
-use crate::export::report::{self, BenchReport, RunReport};
+use crate::export::report::{self, BenchReport, BenchSettings, RunReport};
 use crate::files::Overwrite;
 use crate::gpu::Gpu;
 use crate::scene::procedural::SceneOptions;
 use crate::scene::source;
-use crate::spec;
+use crate::spec::{self, TechniqueSpec};
 
 /// Image sizes of `--sweep resolution`: 720p to 4K.
 pub const RESOLUTION_SWEEP: [(u32, u32); 4] =
@@ -49,6 +55,19 @@ pub enum Sweep {
     Resolution,
     /// Hairball triangle count from about 100k to 2.1M.
     Density,
+    /// Every technique at every render scale of `--scales`, upscaled to the same output size.
+    Scale,
+}
+
+impl Sweep {
+    /// The name the report records.
+    fn name(self) -> &'static str {
+        match self {
+            Self::Resolution => "resolution",
+            Self::Density => "density",
+            Self::Scale => report::SCALE_SWEEP,
+        }
+    }
 }
 
 /// Arguments of `aa-lab bench`.
@@ -85,10 +104,16 @@ pub struct BenchArgs {
     /// Measure cost only: no reference renders, no image metrics, no flicker.
     #[arg(long)]
     pub no_quality: bool,
-    /// Scaling sweep (cost only): `resolution` (720p to 4K) or `density` (hairball, about
-    /// 100k to 2.1M triangles).
+    /// Sweep: `resolution` (720p to 4K, cost only), `density` (hairball, about 100k to 2.1M
+    /// triangles, cost only) or `scale` (every technique at every render scale of --scales,
+    /// upscaled to the output size and scored against the native reference).
     #[arg(long, value_enum)]
     pub sweep: Option<Sweep>,
+    /// Render scales of --sweep scale, comma-separated: numbers from 0.25 to 1 or presets
+    /// (native, quality, balanced, performance, ultra-performance); all five presets by
+    /// default. A technique whose id names a scale runs at that scale only.
+    #[arg(long, value_name = "SCALES")]
+    pub scales: Option<String>,
     /// Built-in scene density (hairball triangle scale).
     #[arg(long, default_value_t = 1.0)]
     pub density: f32,
@@ -230,6 +255,40 @@ fn measure(
     Ok(runner.run(run, &scene, spec, reference_spec)?)
 }
 
+/// The render scales of a sweep over scales: `--scales`, or every preset.
+fn sweep_scales(args: &BenchArgs) -> anyhow::Result<Option<Vec<f32>>> {
+    match (args.sweep, &args.scales) {
+        (Some(Sweep::Scale), Some(list)) => Ok(Some(
+            parse_scales(list).map_err(|e| anyhow::anyhow!("--scales {list}: {e}"))?,
+        )),
+        (Some(Sweep::Scale), None) => Ok(Some(default_scales())),
+        (_, Some(_)) => bail!("--scales sets the scales of --sweep scale; add --sweep scale"),
+        (_, None) => Ok(None),
+    }
+}
+
+/// The techniques `ids` with the command line's presets and settings, each at every scale of
+/// `scales` in a sweep over scales.
+fn techniques(
+    gpu: &Gpu,
+    args: &BenchArgs,
+    ids: &[String],
+    scales: Option<&[f32]>,
+) -> anyhow::Result<Vec<TechniqueSpec>> {
+    let configured = configured_specs(gpu, ids, &args.preset, &set_flags(&args.set, ids)?)?;
+    let Some(scales) = scales else {
+        return Ok(configured);
+    };
+    let written: Vec<(&str, &TechniqueSpec)> =
+        ids.iter().map(String::as_str).zip(&configured).collect();
+    // Each created once, before anything is measured: a combination this adapter or the
+    // technique refuses fails here, and each id is recorded in its canonical form.
+    sweep_techniques(&written, scales)?
+        .iter()
+        .map(|spec| Ok(TechniqueSpec::of(spec.create(gpu)?.as_ref())))
+        .collect()
+}
+
 /// Runs `aa-lab bench`.
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let started = Instant::now();
@@ -237,6 +296,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
     let runs = plan(args)?;
+    let scales = sweep_scales(args)?;
     let policy = Overwrite::new(args.force);
     // Refuse before hours of measuring, not after.
     policy.check_all(report_paths(&args.out).iter().map(PathBuf::as_path))?;
@@ -255,7 +315,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         frames: args.frames,
         flicker_frames: args.flicker_frames,
         quality_frame: args.quality_frame,
-        quality: !args.no_quality && args.sweep.is_none(),
+        quality: !args.no_quality && args.sweep.is_none_or(|s| s == Sweep::Scale),
         seed: args.seed,
         images: args.images.then(|| ImageOutput {
             folder: args.out.clone(),
@@ -263,10 +323,11 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         }),
     };
     let progress = BarProgress(progress_bar(runs.len() as u64 * options.steps_per_run()));
+    let techniques = techniques(&gpu, args, &ids, scales.as_deref())?;
     let runner = BenchRunner {
         gpu: &gpu,
         options,
-        techniques: configured_specs(&gpu, &ids, &args.preset, &set_flags(&args.set, &ids)?)?,
+        techniques,
         reference: reference_spec(&gpu)?,
         progress: &progress,
     };
@@ -284,13 +345,13 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         command: std::env::args().collect::<Vec<_>>().join(" "),
         started_unix,
         wall_seconds: started.elapsed().as_secs_f64(),
-        settings: runner.settings(
-            ids,
-            args.sweep.map(|s| match s {
-                Sweep::Resolution => "resolution".to_owned(),
-                Sweep::Density => "density".to_owned(),
-            }),
-        ),
+        settings: BenchSettings {
+            scales,
+            ..runner.settings(
+                runner.techniques.iter().map(|t| t.id.clone()).collect(),
+                args.sweep.map(|s| s.name().to_owned()),
+            )
+        },
         runs: reports,
     };
     for path in write_report(&report, &args.out, &policy)? {

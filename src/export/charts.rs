@@ -6,8 +6,8 @@
 //! Three chart kinds cover the reports: horizontal bar charts ([`BarChart`]: one row per
 //! technique, bars grouped or stacked by series, each labelled with its value), line charts
 //! ([`LineChart`]: scaling curves, one line per technique, optional log-scale y axis) and
-//! trade-off charts ([`TradeoffChart`]: one labelled point per technique, cost against quality,
-//! with the Pareto front drawn through the points nothing cheaper beats).
+//! trade-off charts (cost against quality with the Pareto front, in [`super::tradeoff`],
+//! which draws on the helpers here).
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -120,14 +120,14 @@ pub struct BarChart<'a> {
     pub decimals: usize,
 }
 
-fn drawing_error<E: std::error::Error + Send + Sync>(
+pub(super) fn drawing_error<E: std::error::Error + Send + Sync>(
     path: &Path,
 ) -> impl Fn(plotters::drawing::DrawingAreaErrorKind<E>) -> ChartError + '_ {
     move |e| ChartError::draw(path, e)
 }
 
 /// Draws the axes, grid and axis titles every x-y chart shares (numbers without trailing zeros).
-fn draw_axes<'a, X, Y>(
+pub(super) fn draw_axes<'a, X, Y>(
     ctx: &mut ChartContext<'a, BitMapBackend<'a>, Cartesian2d<X, Y>>,
     x_label: &str,
     y_label: &str,
@@ -180,8 +180,33 @@ fn draw_legend<'n, DB: DrawingBackend>(
     Ok(())
 }
 
+/// A chart's drawing area over an RGB buffer.
+pub(super) type Canvas<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+/// A white canvas of `size` over `pixels` with `title` in a header `header` pixels high:
+/// (the whole canvas, the header, the body below it).
+pub(super) fn titled_canvas<'a>(
+    pixels: &'a mut [u8],
+    size: (u32, u32),
+    title: &str,
+    header: u32,
+    path: &Path,
+) -> Result<(Canvas<'a>, Canvas<'a>, Canvas<'a>), ChartError> {
+    let root = BitMapBackend::with_buffer(pixels, size).into_drawing_area();
+    let err = drawing_error(path);
+    root.fill(&WHITE).map_err(&err)?;
+    let (top, body) = root.split_vertically(header);
+    top.draw(&Text::new(
+        title.to_owned(),
+        (16, 12),
+        (SANS, 24).into_font(),
+    ))
+    .map_err(&err)?;
+    Ok((root, top, body))
+}
+
 /// Writes a chart drawn into an RGB buffer as PNG, atomically under `policy`.
-fn save_chart(
+pub(super) fn save_chart(
     path: &Path,
     pixels: Vec<u8>,
     size: (u32, u32),
@@ -229,16 +254,8 @@ pub fn draw_bars(
     let size = (960, height);
     let mut pixels = vec![255u8; size.0 as usize * size.1 as usize * 3];
     {
-        let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+        let (root, top, body) = titled_canvas(&mut pixels, size, chart.title, header, path)?;
         let err = drawing_error(path);
-        root.fill(&WHITE).map_err(&err)?;
-        let (top, body) = root.split_vertically(header);
-        top.draw(&Text::new(
-            chart.title.to_owned(),
-            (16, 12),
-            (SANS, 24).into_font(),
-        ))
-        .map_err(&err)?;
         if legend {
             draw_legend(&top, chart.series.iter().map(|s| s.name.as_str()), 48).map_err(&err)?;
         }
@@ -379,16 +396,8 @@ pub fn draw_lines(
     let size = (960, 640);
     let mut pixels = vec![255u8; size.0 as usize * size.1 as usize * 3];
     {
-        let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+        let (root, top, body) = titled_canvas(&mut pixels, size, chart.title, 76, path)?;
         let err = drawing_error(path);
-        root.fill(&WHITE).map_err(&err)?;
-        let (top, body) = root.split_vertically(76);
-        top.draw(&Text::new(
-            chart.title.to_owned(),
-            (16, 12),
-            (SANS, 24).into_font(),
-        ))
-        .map_err(&err)?;
         draw_legend(&top, chart.lines.iter().map(|l| l.name.as_str()), 48).map_err(&err)?;
         let mut builder = ChartBuilder::on(&body);
         builder
@@ -444,162 +453,9 @@ pub fn draw_lines(
     save_chart(path, pixels, size, policy)
 }
 
-/// One labelled point of a [`TradeoffChart`].
-#[derive(Clone, Debug)]
-pub struct TradeoffPoint {
-    /// Label drawn beside the point.
-    pub name: String,
-    /// Cost (x).
-    pub cost: f64,
-    /// Quality (y; higher is better).
-    pub quality: f64,
-}
-
-/// Cost against quality, one point per technique, the Pareto front drawn.
-#[derive(Clone, Debug)]
-pub struct TradeoffChart<'a> {
-    /// Title above the chart.
-    pub title: &'a str,
-    /// Description of the x axis (cost).
-    pub x_label: &'a str,
-    /// Description of the y axis (quality, higher is better).
-    pub y_label: &'a str,
-    /// The points.
-    pub points: &'a [TradeoffPoint],
-}
-
-/// Indices of the Pareto-optimal points, cheapest first: the points that no other point
-/// matches or beats in quality at the same or lower cost. Non-finite points are ignored.
-pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..points.len())
-        .filter(|&i| points[i].0.is_finite() && points[i].1.is_finite())
-        .collect();
-    // Cheapest first; at equal cost the better first, so it shadows the others.
-    order.sort_by(|&a, &b| {
-        points[a]
-            .0
-            .total_cmp(&points[b].0)
-            .then(points[b].1.total_cmp(&points[a].1))
-    });
-    let mut front = Vec::new();
-    let mut best = f64::NEG_INFINITY;
-    for i in order {
-        if points[i].1 > best {
-            best = points[i].1;
-            front.push(i);
-        }
-    }
-    front
-}
-
-/// Draws a [`TradeoffChart`] to a PNG file: every point labelled, the Pareto front as a
-/// step line (each front point holds until a dearer one beats it) and its points filled.
-pub fn draw_tradeoff(path: &Path, chart: &TradeoffChart<'_>) -> Result<(), ChartError> {
-    register_fonts().map_err(|e| ChartError::draw(path, e))?;
-    let finite: Vec<&TradeoffPoint> = chart
-        .points
-        .iter()
-        .filter(|p| p.cost.is_finite() && p.quality.is_finite())
-        .collect();
-    if finite.is_empty() {
-        return Err(ChartError::Empty(path.to_owned()));
-    }
-    let (x_lo, x_hi) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
-        (a.min(p.cost), b.max(p.cost))
-    });
-    let (y_lo, y_hi) = finite.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
-        (a.min(p.quality), b.max(p.quality))
-    });
-    let x_pad = ((x_hi - x_lo) * 0.08).max(x_hi.abs() * 0.05).max(1e-9);
-    // Room on the right for the labels of the dearest points.
-    let x_range = (x_lo - x_pad).max(0.0)..(x_hi + 3.0 * x_pad);
-    let y_pad = ((y_hi - y_lo) * 0.1).max(1e-4);
-    let y_range = (y_lo - y_pad)..(y_hi + y_pad);
-    let root = BitMapBackend::new(path, (960, 640)).into_drawing_area();
-    let err = drawing_error(path);
-    root.fill(&WHITE).map_err(&err)?;
-    let (top, body) = root.split_vertically(48);
-    top.draw(&Text::new(
-        chart.title.to_owned(),
-        (16, 12),
-        (SANS, 24).into_font(),
-    ))
-    .map_err(&err)?;
-    let mut ctx = ChartBuilder::on(&body)
-        .margin(16)
-        .margin_top(4)
-        .x_label_area_size(48)
-        .y_label_area_size(72)
-        .build_cartesian_2d(x_range.clone(), y_range)
-        .map_err(&err)?;
-    draw_axes(&mut ctx, chart.x_label, chart.y_label, path)?;
-    let coords: Vec<(f64, f64)> = chart.points.iter().map(|p| (p.cost, p.quality)).collect();
-    let front = pareto_front(&coords);
-    let front_color = series_color(0);
-    let mut steps = Vec::new();
-    for (k, &i) in front.iter().enumerate() {
-        if k > 0 {
-            steps.push((coords[i].0, coords[front[k - 1]].1));
-        }
-        steps.push(coords[i]);
-    }
-    if let Some(&last) = front.last() {
-        steps.push((x_range.end, coords[last].1));
-    }
-    ctx.draw_series(LineSeries::new(steps, front_color.stroke_width(2)))
-        .map_err(&err)?
-        .label("Pareto front: the best quality for the cost")
-        .legend(move |(x, y)| {
-            PathElement::new(vec![(x, y), (x + 18, y)], front_color.stroke_width(2))
-        });
-    for (i, p) in chart.points.iter().enumerate() {
-        if !(p.cost.is_finite() && p.quality.is_finite()) {
-            continue;
-        }
-        let on_front = front.contains(&i);
-        let style = if on_front {
-            front_color.filled()
-        } else {
-            RGBColor(120, 120, 120).stroke_width(2)
-        };
-        ctx.draw_series(std::iter::once(Circle::new((p.cost, p.quality), 6, style)))
-            .map_err(&err)?;
-        let at = ctx.backend_coord(&(p.cost, p.quality));
-        let text = TextStyle::from((SANS, 15).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
-        root.draw(&Text::new(p.name.clone(), (at.0 + 9, at.1), text))
-            .map_err(&err)?;
-    }
-    ctx.configure_series_labels()
-        .position(SeriesLabelPosition::LowerRight)
-        .label_font((SANS, 15))
-        .background_style(WHITE.mix(0.85))
-        .border_style(RGBColor(200, 200, 200))
-        .draw()
-        .map_err(&err)?;
-    root.present().map_err(&err)?;
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_pareto_front_keeps_what_nothing_cheaper_beats() {
-        let points = [
-            (1.0, 0.80),
-            (1.2, 0.78),
-            (3.0, 0.85),
-            (2.0, 0.90),
-            (f64::NAN, 0.99),
-            (2.0, 0.85),
-            (0.5, 0.80),
-        ];
-        // (0.5, .80) shadows (1.0, .80): same quality, dearer.
-        assert_eq!(pareto_front(&points), vec![6, 3]);
-        assert!(pareto_front(&[]).is_empty());
-        assert_eq!(pareto_front(&[(1.0, 0.5)]), vec![0]);
-    }
 
     #[test]
     fn charts_draw_with_embedded_fonts() {
@@ -653,35 +509,6 @@ mod tests {
             )
             .unwrap();
         }
-        let points = vec![
-            TradeoffPoint {
-                name: "No AA".into(),
-                cost: 1.0,
-                quality: 0.80,
-            },
-            TradeoffPoint {
-                name: "FXAA".into(),
-                cost: 1.2,
-                quality: 0.78,
-            },
-            TradeoffPoint {
-                name: "MSAA 4x".into(),
-                cost: 3.0,
-                quality: 0.85,
-            },
-        ];
-        let path = dir.path().join("tradeoff.png");
-        draw_tradeoff(
-            &path,
-            &TradeoffChart {
-                title: "Quality against cost",
-                x_label: "ms",
-                y_label: "SSIM",
-                points: &points,
-            },
-        )
-        .unwrap();
-        assert_eq!(image::open(&path).unwrap().width(), 960);
         assert!(matches!(
             draw_lines(
                 &path,

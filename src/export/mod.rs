@@ -16,6 +16,7 @@ pub mod report;
 pub mod report_markdown;
 pub mod sheet;
 pub mod text;
+pub mod tradeoff;
 pub mod video;
 
 pub use self::png::{ExportError, write_png};

@@ -6,19 +6,23 @@
 //! from timestamp queries, summarised over the timed frames as median and 95th percentile;
 //! a technique's `total_ms` is its own passes plus the scene render it reads (the cost of
 //! running it alone), while `inputs` lists each shared scene render once (what the frame graph
-//! actually spends when techniques run together).
+//! actually spends when techniques run together). In a sweep over render scales
+//! ([`SCALE_SWEEP`]) every technique runs at each scale in the same run, at the same output
+//! size, so native and upscaled techniques meet on one Pareto front of quality against cost
+//! ([`QualityFronts`], charted per metric with each technique's scales in one colour).
 
 use std::path::{Path, PathBuf};
 
 use super::ExportError;
 use super::charts::{
-    BarChart, BarLayout, BarSeries, ChartError, Line, LineChart, TradeoffChart, TradeoffPoint,
-    draw_bars, draw_lines, draw_tradeoff,
+    BarChart, BarLayout, BarSeries, ChartError, Line, LineChart, draw_bars, draw_lines,
 };
+use super::tradeoff::{TradeoffChart, TradeoffPoint, draw_tradeoff, quality_front};
+use crate::aa::combo::Combo;
 use crate::aa::{self, ParamMap};
 use crate::files::{self, Overwrite};
 use crate::gpu::Capabilities;
-use crate::metrics::{Comparison, Summary};
+use crate::metrics::{Comparison, Metric, Summary};
 use crate::spec::RenderSpec;
 
 /// Schema identifier written into every report.
@@ -67,9 +71,17 @@ pub struct BenchSettings {
     pub quality: bool,
     /// The reference technique and its settings (SSAA, ordered grid, factor 8: 64 samples).
     pub reference: crate::spec::TechniqueSpec,
-    /// `resolution` or `density` for a scaling sweep.
+    /// `resolution` or `density` for a scaling sweep, [`SCALE_SWEEP`] for a sweep over render
+    /// scales.
     pub sweep: Option<String>,
+    /// The render scales of a [`SCALE_SWEEP`] (per axis, 1 = native), in the order given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scales: Option<Vec<f32>>,
 }
+
+/// [`BenchSettings::sweep`] of a sweep over render scales: every technique at every scale, at
+/// the same output size, against the native reference.
+pub const SCALE_SWEEP: &str = "scale";
 
 /// GPU time of one scene render the frame graph shares between techniques.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -124,10 +136,13 @@ pub struct MemorySummary {
 /// Everything measured for one technique in one run.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct TechniqueReport {
-    /// Registry id.
+    /// Registry id, with its render scale, upscaler and sharpening (`smaa@performance:easu`).
     pub id: String,
     /// Display name.
     pub name: String,
+    /// Render scale per axis: 1 at the output resolution, below 1 when rendered smaller and
+    /// upscaled to it.
+    pub render_scale: f32,
     /// The scene input it reads (label), `None` when it renders the scene itself.
     pub input: Option<String>,
     /// Post-process technique: reads a one-sample render (shared or jittered) and filters it.
@@ -198,6 +213,65 @@ pub struct RunReport {
     pub reference_change: Option<f64>,
     /// The graph's memory, shared inputs once, scene included, bytes.
     pub memory_total_bytes: u64,
+    /// The techniques on the Pareto fronts of quality against cost, when quality was scored.
+    pub quality_fronts: Option<QualityFronts>,
+}
+
+/// The Pareto fronts of a run: the techniques that no technique matches or beats in quality at
+/// the same or lower cost (`total_ms` median, the technique alone).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct QualityFronts {
+    /// Ids on the SSIM front (higher is better), cheapest first.
+    pub ssim: Vec<String>,
+    /// Ids on the FLIP front (lower is better), cheapest first.
+    pub flip: Vec<String>,
+}
+
+impl QualityFronts {
+    /// The fronts of `techniques`; `None` when none was scored.
+    pub fn of(techniques: &[TechniqueReport]) -> Option<Self> {
+        let scored: Vec<&TechniqueReport> =
+            techniques.iter().filter(|t| t.quality.is_some()).collect();
+        if scored.is_empty() {
+            return None;
+        }
+        let front = |metric| {
+            let points = metric_points(&scored, metric);
+            quality_front(&points, metric == Metric::Flip)
+                .into_iter()
+                .map(|i| scored[i].id.clone())
+                .collect()
+        };
+        Some(Self {
+            ssim: front(Metric::Ssim),
+            flip: front(Metric::Flip),
+        })
+    }
+}
+
+/// `metric`'s value in `quality`.
+pub fn metric_value(quality: &Comparison, metric: Metric) -> f64 {
+    match metric {
+        Metric::Ssim => quality.ssim,
+        Metric::Flip => quality.flip,
+        Metric::Mae => quality.mae,
+    }
+}
+
+/// The scored `techniques` as ungrouped trade-off points (name, total ms median, `metric`).
+fn metric_points(techniques: &[&TechniqueReport], metric: Metric) -> Vec<TradeoffPoint> {
+    techniques
+        .iter()
+        .filter_map(|t| {
+            t.quality.map(|q| TradeoffPoint {
+                name: t.name.clone(),
+                cost: t.total_ms.median,
+                quality: metric_value(&q, metric),
+                group: 0,
+                upscaled: t.render_scale < 1.0,
+            })
+        })
+        .collect()
 }
 
 impl RunReport {
@@ -274,23 +348,87 @@ pub(super) fn scene_label(run: &RunReport) -> String {
     }
 }
 
-/// The techniques of a run that scored quality, as (name, total GPU ms median, SSIM).
-pub(super) fn tradeoff_points(run: &RunReport) -> Vec<TradeoffPoint> {
-    run.techniques
-        .iter()
-        .filter_map(|t| {
-            t.quality.map(|q| TradeoffPoint {
-                name: t.name.clone(),
-                cost: t.total_ms.median,
-                quality: q.ssim,
-            })
-        })
-        .collect()
+/// The techniques of a run that scored quality as points of `metric` against their total GPU
+/// ms (median), with the groups' names. In a scale sweep (`by_scale`) a technique's points at
+/// every scale form one group, each labelled with its scale and upscaler; otherwise each point
+/// is labelled with its technique's name, in one group.
+fn tradeoff_points(
+    run: &RunReport,
+    metric: Metric,
+    by_scale: bool,
+) -> (Vec<TradeoffPoint>, Vec<String>) {
+    let scored: Vec<&TechniqueReport> = run.techniques.iter().collect();
+    let mut points = metric_points(&scored, metric);
+    if !by_scale {
+        return (points, Vec::new());
+    }
+    let mut groups: Vec<(String, String)> = Vec::new();
+    let scored = run.techniques.iter().filter(|t| t.quality.is_some());
+    for (point, technique) in points.iter_mut().zip(scored) {
+        let Ok(combo) = Combo::parse(&technique.id) else {
+            continue;
+        };
+        let key = Combo {
+            scale: 1.0,
+            ..combo.clone()
+        }
+        .id();
+        point.group = groups
+            .iter()
+            .position(|(k, _)| *k == key)
+            .unwrap_or_else(|| {
+                groups.push((key, unscaled_name(&combo)));
+                groups.len() - 1
+            });
+        point.name = scale_label(&combo);
+    }
+    (points, groups.into_iter().map(|(_, name)| name).collect())
 }
 
-/// File name of a run's quality-against-cost chart.
-pub(super) fn tradeoff_chart_name(run: &RunReport) -> String {
-    format!("quality-cost-{}.png", run.key())
+/// The display name of a combination's technique without its render scale (with its
+/// sharpening): `SMAA 1x + RCAS 0.2`.
+pub(super) fn unscaled_name(combo: &Combo) -> String {
+    let native = Combo {
+        scale: 1.0,
+        ..combo.clone()
+    };
+    aa::registry::display_name(&native.base) + &native.label_suffix()
+}
+
+/// `native`, or the render scale in percent per axis with the upscaler (`50% EASU`).
+pub(super) fn scale_label(combo: &Combo) -> String {
+    let unsharpened = Combo {
+        sharpen: None,
+        ..combo.clone()
+    };
+    let suffix = unsharpened.label_suffix();
+    match suffix.trim_start().strip_prefix('@') {
+        Some(scale) => scale.trim().to_owned(),
+        None => "native".to_owned(),
+    }
+}
+
+/// The quantity a load sweep varies (`resolution`, `density`): not a [`SCALE_SWEEP`], which
+/// varies the techniques within each run.
+pub(super) fn scaling_sweep(report: &BenchReport) -> Option<&str> {
+    report
+        .settings
+        .sweep
+        .as_deref()
+        .filter(|by| *by != SCALE_SWEEP)
+}
+
+/// Whether the report is a sweep over render scales.
+pub(super) fn is_scale_sweep(report: &BenchReport) -> bool {
+    report.settings.sweep.as_deref() == Some(SCALE_SWEEP)
+}
+
+/// File name of a run's chart of `metric` against cost.
+pub(super) fn tradeoff_chart_name(run: &RunReport, metric: Metric) -> String {
+    match metric {
+        Metric::Ssim => format!("quality-cost-{}.png", run.key()),
+        other => format!("{}-cost-{}.png", other.name(), run.key()),
+    }
 }
 
 /// One point of a scaling curve.
@@ -349,8 +487,9 @@ pub(super) fn scenes(report: &BenchReport) -> Vec<String> {
 
 /// Writes the report's charts into `dir` and returns their paths: per run, GPU time per
 /// technique (scene input and own passes stacked) and, with quality, SSIM against GPU ms with
-/// the Pareto front; per scene, SSIM per technique (one series per size); per scene of a
-/// sweep, the scaling curves (total and overhead over No AA).
+/// the Pareto front (FLIP too in a scale sweep); per scene, SSIM per technique (one series
+/// per size); per scene of a resolution or density sweep, the scaling curves (total and
+/// overhead over No AA).
 pub fn write_charts(
     report: &BenchReport,
     dir: &Path,
@@ -358,10 +497,10 @@ pub fn write_charts(
 ) -> Result<Vec<PathBuf>, ChartError> {
     let mut written = time_charts(report, dir, policy)?;
     if report.settings.quality {
-        written.extend(tradeoff_charts(report, dir)?);
+        written.extend(tradeoff_charts(report, dir, policy)?);
         written.extend(ssim_charts(report, dir, policy)?);
     }
-    if let Some(by) = report.settings.sweep.as_deref() {
+    if let Some(by) = scaling_sweep(report) {
         written.extend(scaling_charts(report, by, dir, policy)?);
     }
     Ok(written)
@@ -413,29 +552,58 @@ fn time_charts(
     Ok(written)
 }
 
-/// Per run: SSIM against GPU time, one point per technique.
-fn tradeoff_charts(report: &BenchReport, dir: &Path) -> Result<Vec<PathBuf>, ChartError> {
+/// Per run: SSIM against GPU time, one point per technique and the Pareto front; in a scale
+/// sweep also FLIP, each technique's points at every scale in its colour.
+fn tradeoff_charts(
+    report: &BenchReport,
+    dir: &Path,
+    policy: &Overwrite,
+) -> Result<Vec<PathBuf>, ChartError> {
+    let by_scale = is_scale_sweep(report);
+    let metrics: &[Metric] = if by_scale {
+        &[Metric::Ssim, Metric::Flip]
+    } else {
+        &[Metric::Ssim]
+    };
     let mut written = Vec::new();
     for run in &report.runs {
-        let points = tradeoff_points(run);
-        if points.is_empty() {
-            continue;
+        for &metric in metrics {
+            let (points, groups) = tradeoff_points(run, metric, by_scale);
+            if points.is_empty() {
+                continue;
+            }
+            let path = dir.join(tradeoff_chart_name(run, metric));
+            let title = format!(
+                "{} against cost{}, {} {}x{} ({})",
+                metric.name().to_uppercase(),
+                if by_scale {
+                    " at every render scale"
+                } else {
+                    ""
+                },
+                run.scene,
+                run.width,
+                run.height,
+                report.adapter.adapter_name
+            );
+            let y_label = match metric {
+                Metric::Flip => "FLIP against the 64-sample reference (lower is better)",
+                _ => "SSIM against the 64-sample reference",
+            };
+            draw_tradeoff(
+                &path,
+                &TradeoffChart {
+                    title: &title,
+                    x_label: "GPU milliseconds per frame (median), technique alone",
+                    y_label,
+                    points: &points,
+                    lower_is_better: metric == Metric::Flip,
+                    groups: &groups,
+                },
+                policy,
+            )?;
+            written.push(path);
         }
-        let path = dir.join(tradeoff_chart_name(run));
-        let title = format!(
-            "Quality against cost, {} {}x{} ({})",
-            run.scene, run.width, run.height, report.adapter.adapter_name
-        );
-        draw_tradeoff(
-            &path,
-            &TradeoffChart {
-                title: &title,
-                x_label: "GPU milliseconds per frame (median), technique alone",
-                y_label: "SSIM against the 64-sample reference",
-                points: &points,
-            },
-        )?;
-        written.push(path);
     }
     Ok(written)
 }

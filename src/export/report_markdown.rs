@@ -1,15 +1,18 @@
 //! `report.md`: the bench report as Markdown tables for people, from the same
 //! [`BenchReport`] that `report.json` serialises: the run's heading and what the numbers mean,
 //! costs (alone, relative to No AA, as multiples of the copy floor, shared scene renders),
-//! quality, flicker and ghosting, shading work, memory, the scaling sweeps and every pass.
+//! quality, flicker and ghosting, the Pareto fronts of quality against cost (in a scale sweep,
+//! which technique at which render scale for a budget), shading work, memory, the scaling
+//! sweeps and every pass.
 
 use std::fmt::Write as _;
 
-use super::charts::pareto_front;
 use super::report::{
-    BenchReport, RunReport, TechniqueReport, fmt_ms, scaling_curves, scene_label, scenes,
-    technique_columns, tradeoff_chart_name, tradeoff_points,
+    BenchReport, RunReport, TechniqueReport, fmt_ms, is_scale_sweep, scale_label, scaling_curves,
+    scaling_sweep, scene_label, scenes, technique_columns, tradeoff_chart_name, unscaled_name,
 };
+use crate::aa::combo::Combo;
+use crate::metrics::Metric;
 
 fn mib(bytes: u64) -> String {
     format!("{:.1}", bytes as f64 / (1024.0 * 1024.0))
@@ -56,9 +59,13 @@ fn run_by_technique_table(
     out.push('\n');
 }
 
-/// The "which technique for my budget" section: per run, the Pareto front (cheapest first)
-/// and the chart.
+/// The "which technique for my budget" section: per run, the SSIM Pareto front (cheapest
+/// first) and the chart; in a scale sweep, [`scale_front_markdown`] instead.
 fn tradeoff_markdown(out: &mut String, report: &BenchReport) {
+    if is_scale_sweep(report) {
+        scale_front_markdown(out, report);
+        return;
+    }
     out.push_str(
         "## Quality against cost: which technique for a budget
 
@@ -68,16 +75,19 @@ Each technique is a point (GPU ms \
          technique at or below it is the best there is for it.\n\n",
     );
     for run in &report.runs {
-        let points = tradeoff_points(run);
-        let coords: Vec<(f64, f64)> = points.iter().map(|p| (p.cost, p.quality)).collect();
-        let front: Vec<String> = pareto_front(&coords)
-            .into_iter()
-            .map(|i| {
+        let Some(fronts) = &run.quality_fronts else {
+            continue;
+        };
+        let front: Vec<String> = fronts
+            .ssim
+            .iter()
+            .filter_map(|id| run.technique(id))
+            .map(|t| {
                 format!(
-                    "{} ({} ms, SSIM {:.4})",
-                    points[i].name,
-                    fmt_ms(points[i].cost),
-                    points[i].quality
+                    "{} ({} ms, SSIM {})",
+                    t.name,
+                    fmt_ms(t.total_ms.median),
+                    opt(t.quality.map(|q| q.ssim), 4)
                 )
             })
             .collect();
@@ -94,7 +104,69 @@ Each technique is a point (GPU ms \
             run.scene,
             run.width,
             run.height,
-            tradeoff_chart_name(run)
+            tradeoff_chart_name(run, Metric::Ssim)
+        );
+    }
+}
+
+/// The scale sweep's "which technique at which scale for my budget": per run, every technique
+/// at a render scale on the SSIM or the FLIP front, cheapest first, and both charts.
+fn scale_front_markdown(out: &mut String, report: &BenchReport) {
+    out.push_str(
+        "## Which technique at which scale for my budget\n\nEvery technique ran at every render \
+         scale, upscaled to the same output size and scored against the native 64-sample reference. \
+         The table lists the techniques at a scale that nothing cheaper matches in SSIM or in FLIP \
+         (the Pareto fronts), cheapest first: at a budget, the last row at or below it on the \
+         metric you trust is the best there is for it. In the charts, each technique's scales share \
+         a colour; circles are rendered at the output resolution, triangles below it and \
+         upscaled; filled points are on the front.\n\n",
+    );
+    for run in &report.runs {
+        let Some(fronts) = &run.quality_fronts else {
+            continue;
+        };
+        let mut rows: Vec<&TechniqueReport> = run
+            .techniques
+            .iter()
+            .filter(|t| fronts.ssim.contains(&t.id) || fronts.flip.contains(&t.id))
+            .collect();
+        rows.sort_by(|a, b| a.total_ms.median.total_cmp(&b.total_ms.median));
+        let _ = writeln!(
+            out,
+            "### {} {}x{}\n\n| GPU ms (alone) | technique | render scale | render size | SSIM | FLIP | front |\n|---:|---|---|---|---:|---:|---|",
+            scene_label(run),
+            run.width,
+            run.height
+        );
+        for t in rows {
+            let combo = Combo::parse(&t.id).ok();
+            let (name, scale, size) = combo.as_ref().map_or_else(
+                || (t.name.clone(), "-".to_owned(), "-".to_owned()),
+                |c| {
+                    let (w, h) = c.render_size((run.width, run.height));
+                    (unscaled_name(c), scale_label(c), format!("{w}x{h}"))
+                },
+            );
+            let on: Vec<&str> = [("SSIM", &fronts.ssim), ("FLIP", &fronts.flip)]
+                .into_iter()
+                .filter(|(_, front)| front.contains(&t.id))
+                .map(|(metric, _)| metric)
+                .collect();
+            let _ = writeln!(
+                out,
+                "| {} | {name} | {scale} | {size} | {} | {} | {} |",
+                fmt_ms(t.total_ms.median),
+                opt(t.quality.map(|q| q.ssim), 4),
+                opt(t.quality.map(|q| q.flip), 4),
+                on.join(", ")
+            );
+        }
+        let _ = writeln!(
+            out,
+            "\n| SSIM against cost | FLIP against cost |\n|---|---|\n| ![SSIM against cost, {key}]({}) | ![FLIP against cost, {key}]({}) |\n",
+            tradeoff_chart_name(run, Metric::Ssim),
+            tradeoff_chart_name(run, Metric::Flip),
+            key = run.key()
         );
     }
 }
@@ -305,7 +377,7 @@ fn work_markdown(out: &mut String, report: &BenchReport) {
 }
 
 fn scaling_markdown(out: &mut String, report: &BenchReport) {
-    let Some(by) = report.settings.sweep.as_deref() else {
+    let Some(by) = scaling_sweep(report) else {
         return;
     };
     let unit = if by == "density" {
