@@ -1253,7 +1253,7 @@ fn a_render_scale_combination_is_added_compared_at_the_output_size_and_remembere
         "rendered at half the size and upscaled, the image differs from the native one"
     );
     let remembered = first.state().settings().clone();
-    assert_eq!(remembered.combinations, [expected.clone()]);
+    assert_eq!(remembered.combinations, std::slice::from_ref(&expected));
 
     // The parts of a malformed combination are named.
     assert_eq!(first.state_mut().add_combination("smaa@0.1"), None);
