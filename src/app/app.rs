@@ -16,9 +16,9 @@ use super::bench::BenchFeature;
 use super::blind;
 use super::camera::CameraController;
 use super::clip_bar;
-use super::context::{Command, Level, NOTICE_SECONDS, Notice};
+use super::context::{Command, Context, Level, NOTICE_SECONDS, Notice};
 use super::engine::DisplayPath;
-use super::magnifier::MagnifierPanel;
+use super::magnifier::{MagnifierPanel, PanelInputs};
 use super::metrics_panel;
 use super::panels;
 use super::quality::Figures;
@@ -133,7 +133,7 @@ impl AaLabApp {
         if let Some(scene) = &options.scene {
             settings.scene = scene.clone();
         }
-        let mut ws = Workspace::new(gpu, settings, notices, state, &options);
+        let mut ws = Workspace::new(Context::new(gpu, settings, notices, state, &options));
         let scene = ws.cx.settings.scene.clone();
         ws.cx.load_scene(&cc.egui_ctx, &scene);
         if !options.images.is_empty() {
@@ -625,13 +625,12 @@ impl eframe::App for AaLabApp {
         }
         if self.ws.cx.settings.show_magnifier {
             let figures = self.ws.pane_figures();
-            self.magnifier.ui(
-                ui,
-                &mut self.ws.cx,
-                &self.ws.magnifier,
-                &|id| figures.get(id).cloned(),
-                self.viewport.hover_pixel(),
-            );
+            let inputs = PanelInputs {
+                state: &self.ws.magnifier,
+                figures: &|id| figures.get(id).cloned(),
+                viewport_hover: self.viewport.hover_pixel(),
+            };
+            self.magnifier.ui(ui, &mut self.ws.cx, inputs);
         }
         self.viewport.ui(ui, &mut self.ws.cx);
         shortcuts::help_overlay(&ctx, &mut self.help_open);

@@ -358,6 +358,17 @@ pub(super) struct MagnifierPanel {
     hover: Option<(u32, u32)>,
 }
 
+/// What the panel reads besides the context.
+#[derive(Clone, Copy)]
+pub(super) struct PanelInputs<'a> {
+    /// The heatmaps and captions.
+    pub state: &'a MagnifierState,
+    /// The figures line of a compared technique (the quality feature's).
+    pub figures: &'a dyn Fn(&str) -> Option<String>,
+    /// The frame pixel under the pointer in the viewport, for the crosshair.
+    pub viewport_hover: Option<(u32, u32)>,
+}
+
 impl MagnifierPanel {
     /// The frame pixel under the pointer in a pane, in the last frame.
     pub(super) fn hover(&self) -> Option<(u32, u32)> {
@@ -365,14 +376,7 @@ impl MagnifierPanel {
     }
 
     /// The magnifier panel (bottom of the window).
-    pub(super) fn ui(
-        &mut self,
-        ui: &mut egui::Ui,
-        cx: &mut Context,
-        state: &MagnifierState,
-        figures: &dyn Fn(&str) -> Option<String>,
-        viewport_hover: Option<(u32, u32)>,
-    ) {
+    pub(super) fn ui(&mut self, ui: &mut egui::Ui, cx: &mut Context, inputs: PanelInputs<'_>) {
         profiling::function_scope!();
         egui::Panel::bottom("magnifier")
             .resizable(true)
@@ -387,18 +391,16 @@ impl MagnifierPanel {
                 ui.set_min_height(ui.available_height());
                 header(ui, cx);
                 ui.add_space(4.0);
-                self.panes(ui, cx, state, figures, viewport_hover);
+                self.panes(ui, cx, &inputs);
             });
     }
 
-    fn panes(
-        &mut self,
-        ui: &mut egui::Ui,
-        cx: &mut Context,
-        state: &MagnifierState,
-        figures: &dyn Fn(&str) -> Option<String>,
-        viewport_hover: Option<(u32, u32)>,
-    ) {
+    fn panes(&mut self, ui: &mut egui::Ui, cx: &mut Context, inputs: &PanelInputs<'_>) {
+        let PanelInputs {
+            state,
+            figures,
+            viewport_hover,
+        } = *inputs;
         let ppp = ui.ctx().pixels_per_point();
         let sources = cx.magnifier_sources();
         let zoom = cx.settings.magnifier.zoom.max(1);

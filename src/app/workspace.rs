@@ -11,12 +11,10 @@
 
 use std::collections::BTreeMap;
 
-use super::context::{Command, Context, Notice};
+use super::context::{Command, Context};
 use super::export::ExportState;
 use super::magnifier::MagnifierState;
 use super::quality::{Figures, QualityTracker};
-use super::settings::Settings;
-use crate::gpu::Gpu;
 
 /// The context and the features (see the module docs).
 pub(super) struct Workspace {
@@ -31,17 +29,10 @@ pub(super) struct Workspace {
 }
 
 impl Workspace {
-    /// The workspace of a viewer on eframe's device `gpu` (its wgpu state `state`) with
-    /// `settings`; `notices` are raised at start. No scene is loaded yet.
-    pub(super) fn new(
-        gpu: Gpu,
-        settings: Settings,
-        notices: Vec<Notice>,
-        state: &egui_wgpu::RenderState,
-        options: &super::LaunchOptions,
-    ) -> Self {
+    /// The workspace around `cx`, its features not started yet.
+    pub(super) fn new(cx: Context) -> Self {
         Self {
-            cx: Context::new(gpu, settings, notices, state, options),
+            cx,
             magnifier: MagnifierState::default(),
             quality: QualityTracker::default(),
             export: ExportState::default(),

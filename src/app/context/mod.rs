@@ -121,7 +121,7 @@ pub(super) struct Context {
 }
 
 impl Context {
-    /// The workspace of a viewer on eframe's device `gpu` (its wgpu state `state`) with
+    /// The context of a viewer on eframe's device `gpu` (its wgpu state `state`) with
     /// `settings`; `notices` are raised at start. No scene is loaded yet.
     pub(super) fn new(
         gpu: Gpu,
