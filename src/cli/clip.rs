@@ -39,6 +39,7 @@ use crate::export::sheet::{self, Rect};
 use crate::files;
 use crate::gpu::{Gpu, read_texture_rgba8};
 use crate::graph::{FrameGraph, FrameScope};
+use crate::metrics::jod::{self, JodScorer};
 use crate::metrics::stability::{ClipMetrics, TemporalScores};
 use crate::scene::Scene;
 use crate::scene::motion::{DEFAULT_SPEED_PX, Motion};
@@ -104,6 +105,15 @@ pub struct ClipArgs {
     /// with --region: every frame is embedded losslessly).
     #[arg(long)]
     pub html: bool,
+    /// Also score every technique with ColorVideoVDP: how visible its difference from the
+    /// reference is to a person watching the clip, in JOD (10: none). Keeps the clip's whole
+    /// frames in memory and takes seconds per technique.
+    #[arg(long)]
+    pub jod: bool,
+    /// The display model --jod scores for: one of ColorVideoVDP's standard displays (e.g.
+    /// standard_fhd, standard_4k, standard_phone, standard_hmd).
+    #[arg(long, default_value = jod::DEFAULT_DISPLAY, value_name = "NAME", requires = "jod")]
+    pub jod_display: String,
     /// Threads compressing frames while the next ones render (default: one per core).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
@@ -125,6 +135,18 @@ pub struct ClipTechnique {
     /// The same over the `--region` pixels only (what the animation shows), with a region.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub region: Option<TemporalScores>,
+    /// ColorVideoVDP's JOD of the whole frames against the reference's, with `--jod`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jod: Option<f64>,
+}
+
+/// How the JOD figures were computed.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct JodSetting {
+    /// The display model, by its ColorVideoVDP name.
+    pub display: String,
+    /// The model's calibration version.
+    pub model: &'static str,
 }
 
 /// What `<out>.json` (and the animation's `aa-lab` text chunk) holds.
@@ -162,6 +184,9 @@ pub struct ClipRecord {
     /// The same over the region, with one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub region_reference_mean_change: Option<f64>,
+    /// The display model and version of the `jod` figures, with `--jod`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jod: Option<JodSetting>,
     /// Per technique, in pane order.
     pub techniques: Vec<ClipTechnique>,
 }
@@ -222,6 +247,8 @@ struct Recorded {
     metrics: ClipMetrics,
     region_metrics: Option<ClipMetrics>,
     first_crops: Vec<image::RgbaImage>,
+    /// With `--jod`, every clip frame's whole panes (the reference's last).
+    whole_frames: Vec<Vec<image::RgbaImage>>,
 }
 
 /// The progress bar of a clip: frames rendered (warm-up included) with an ETA.
@@ -277,6 +304,8 @@ struct CliFrames<'a> {
     writer: Option<ClipWriter>,
     page: Option<HtmlPage>,
     first_crops: Vec<image::RgbaImage>,
+    /// With `--jod`, every clip frame's whole panes (the reference's last).
+    whole_frames: Vec<Vec<image::RgbaImage>>,
 }
 
 impl CliFrames<'_> {
@@ -338,7 +367,18 @@ impl ClipFrames for CliFrames<'_> {
     }
 
     fn deliver(&mut self, number: usize, frame: PaneImages) -> anyhow::Result<()> {
-        let panes = frame.crops.unwrap_or(frame.whole);
+        let panes = match (frame.crops, self.rec.args.jod) {
+            (Some(crops), true) => {
+                self.whole_frames.push(frame.whole);
+                crops
+            }
+            (Some(crops), false) => crops,
+            (None, true) => {
+                self.whole_frames.push(frame.whole.clone());
+                frame.whole
+            }
+            (None, false) => frame.whole,
+        };
         let refs: Vec<&image::RgbaImage> = panes.iter().collect();
         if let Some(page) = &mut self.page {
             page.push(&refs)?;
@@ -386,6 +426,7 @@ fn record(
         writer: None,
         page,
         first_crops: Vec::new(),
+        whole_frames: Vec::new(),
     };
     let clip = recorder.record(&mut frames)?;
     frames.bar.finish_and_clear();
@@ -398,7 +439,33 @@ fn record(
         metrics: clip.metrics.context("the clip has no figures")?,
         region_metrics: clip.region_metrics,
         first_crops: frames.first_crops,
+        whole_frames: frames.whole_frames,
     })
+}
+
+/// Each technique's JOD over the clip's whole frames against the reference's (the last
+/// pane), played at the clip's rate.
+fn jod_figures(
+    scorer: &JodScorer,
+    frames: &[Vec<image::RgbaImage>],
+    labels: &[String],
+    fps: u16,
+) -> anyhow::Result<Vec<f64>> {
+    let techniques = labels.len().saturating_sub(1);
+    let reference: Vec<&image::RgbaImage> = frames.iter().filter_map(|f| f.last()).collect();
+    (0..techniques)
+        .map(|i| {
+            eprintln!(
+                "scoring {} with ColorVideoVDP ({}/{techniques})…",
+                labels[i],
+                i + 1
+            );
+            let test: Vec<&image::RgbaImage> = frames.iter().filter_map(|f| f.get(i)).collect();
+            scorer
+                .score(&test, &reference, f32::from(fps))
+                .with_context(|| format!("the JOD of {}", labels[i]))
+        })
+        .collect()
 }
 
 /// The layout of every frame, with the captions left empty (the figures come at the end).
@@ -456,6 +523,7 @@ fn technique_figures(
     labels: &[String],
     scores: &[TemporalScores],
     region_scores: Option<&[TemporalScores]>,
+    jods: Option<&[f64]>,
 ) -> Vec<ClipTechnique> {
     ids.iter()
         .zip(labels)
@@ -466,6 +534,7 @@ fn technique_figures(
             label: label.clone(),
             scores: *scores,
             region: region_scores.and_then(|r| r.get(i).copied()),
+            jod: jods.and_then(|j| j.get(i).copied()),
         })
         .collect()
 }
@@ -513,6 +582,10 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     }
     let techniques = technique_specs(&gpu, &args.techniques)?;
     let reference = reference_spec(&gpu)?;
+    let scorer = args
+        .jod
+        .then(|| JodScorer::new(&args.jod_display))
+        .transpose()?;
     let pane = region.unwrap_or(Rect {
         x: 0,
         y: 0,
@@ -597,6 +670,15 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         shown_metrics.reference().mean_change(),
         pane.width * zoom,
     );
+    let jods = match &scorer {
+        Some(scorer) => Some(jod_figures(
+            scorer,
+            &recorded.whole_frames,
+            &labels,
+            args.fps,
+        )?),
+        None => None,
+    };
     let first_refs: Vec<&image::RgbaImage> = recorded.first_crops.iter().collect();
     let first = layout.compose(0, args.frames as usize, &first_refs)?;
 
@@ -621,7 +703,17 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
             .and_then(|m| m.reference().mean_change()),
         moving_fraction: metrics.moving_fraction(),
         reference_mean_change: metrics.reference().mean_change(),
-        techniques: technique_figures(&ids, &labels, &scores, region_scores.as_deref()),
+        jod: scorer.as_ref().map(|s| JodSetting {
+            display: s.display().to_owned(),
+            model: jod::MODEL_VERSION,
+        }),
+        techniques: technique_figures(
+            &ids,
+            &labels,
+            &scores,
+            region_scores.as_deref(),
+            jods.as_deref(),
+        ),
     };
     let text = serde_json::to_string_pretty(&record)? + "\n";
     if matches!(format, ClipFormat::Video(_)) {
@@ -654,8 +746,12 @@ fn print_table(record: &ClipRecord) {
         v.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
     };
     let regional = record.region.is_some();
+    let jod_head = record
+        .jod
+        .as_ref()
+        .map_or_else(String::new, |j| format!("  | JOD ({})", j.display));
     println!(
-        "{:<24} {:>12} {:>12} {:>10}{}",
+        "{:<24} {:>12} {:>12} {:>10}{}{jod_head}",
         "technique",
         "instability",
         "mean change",
@@ -674,8 +770,11 @@ fn print_table(record: &ClipRecord) {
                 figure(r.ghosting, 2)
             )
         });
+        let jod = t
+            .jod
+            .map_or_else(String::new, |j| format!("  | {:>6}", figure(Some(j), 2)));
         println!(
-            "{:<24} {:>12} {:>12} {:>10}{region}",
+            "{:<24} {:>12} {:>12} {:>10}{region}{jod}",
             t.label,
             figure(t.scores.temporal_instability, 3),
             figure(t.scores.mean_change, 3),

@@ -105,10 +105,13 @@ function metricsTable() {
   const head = ["technique", "temporal instability", "mean change", "ghosting"];
   const regional = RECORD.techniques.some((t) => t.region);
   if (regional) head.push("region: instability", "region: ghosting");
+  const judged = RECORD.techniques.some((t) => typeof t.jod === "number");
+  if (judged) head.push(`JOD (${RECORD.jod ? RECORD.jod.display : "ColorVideoVDP"})`);
   table.insertRow().append(...head.map((h) => Object.assign(document.createElement("th"), { textContent: h })));
   for (const t of RECORD.techniques) {
     const cells = [t.label, figure(t.temporal_instability, 3), figure(t.mean_change, 3), figure(t.ghosting, 2)];
     if (regional) cells.push(figure(t.region && t.region.temporal_instability, 3), figure(t.region && t.region.ghosting, 2));
+    if (judged) cells.push(figure(t.jod, 2));
     const row = table.insertRow();
     cells.forEach((c) => (row.insertCell().textContent = c));
   }

@@ -4,6 +4,7 @@
 //! - [`ssim`]: SSIM on BT.601 luma, mean and per-pixel map, agreeing with scikit-image;
 //! - [`pixel`]: mean absolute error and PSNR on sRGB-encoded R'G'B';
 //! - [`flip`]: NVIDIA's FLIP (LDR) error map and mean, through `nv-flip`;
+//! - [`jod`]: ColorVideoVDP's perceptual video quality in JOD, through `colorvideovdp`;
 //! - [`gpu`]: SSIM, MAE and PSNR in compute shaders, for live measurement at 1080p; the CPU
 //!   functions above are the reference it is tested against;
 //! - [`temporal`]: frame-to-frame change and the flicker ratio against a reference;
@@ -19,6 +20,7 @@
 pub mod coverage;
 pub mod flip;
 pub mod gpu;
+pub mod jod;
 pub mod map;
 pub mod pixel;
 pub mod ssim;
@@ -65,6 +67,9 @@ pub enum MetricsError {
         /// Images given.
         got: usize,
     },
+    /// ColorVideoVDP refused the frames or the display model (see [`jod`]).
+    #[error("ColorVideoVDP: {0}")]
+    Jod(String),
     /// A temporal map was asked of two still images.
     #[error("temporal instability is measured over a recorded clip, not between two images")]
     NotTemporal,

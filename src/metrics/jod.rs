@@ -1,0 +1,188 @@
+//! ColorVideoVDP (Mantiuk, Hanji, Ashraf, Asano and Chapiro, "ColorVideoVDP: A visual difference
+//! predictor for image, video and display distortions", SIGGRAPH 2024): how visible the
+//! difference between a test clip and its reference is to a person watching it on a given
+//! display, in JOD units (10: no visible difference; one JOD apart, 75 % of observers prefer the
+//! higher-scoring clip). Unlike SSIM, PSNR and FLIP, which score one frame at a time, it models
+//! the eye's temporal channels, so a technique that flickers or crawls scores lower than its
+//! per-frame error alone says: the calibrated counterpart of aa-lab's own instability figure.
+//!
+//! The model is the pure-Rust port `colorvideovdp` (MIT, calibrated base model v0.5.7, which its
+//! authors check against the reference PyTorch implementation `cvvdp`); this file only hands it
+//! aa-lab's frames: sRGB-encoded 8-bit RGBA, alpha dropped, as `Color::Srgb` on the chosen
+//! display model ([`JodScorer::new`]: the reference's standard displays by name, e.g.
+//! `standard_fhd`, a 24-inch 1920x1080 200 cd/m² monitor seen from 0.6 m under office light,
+//! [`DEFAULT_DISPLAY`]). A clip is scored as a video at its playback rate; one frame as an image.
+//!
+//! Cost: the model keeps each clip's frames as 32-bit floats (12 bytes a pixel, so a 48-frame
+//! 1280x720 clip and its reference take about 1 GB together) and works on every core.
+
+use std::borrow::Borrow;
+
+use colorvideovdp::{Color, Cvvdp, DisplayModel, Image, Options};
+
+use super::MetricsError;
+
+/// The display model clips are scored for unless one is named.
+pub const DEFAULT_DISPLAY: &str = "standard_fhd";
+
+/// The ColorVideoVDP version of the calibrated model.
+pub const MODEL_VERSION: &str = Cvvdp::MODEL_VERSION;
+
+/// Scores clips against their reference on one display model.
+pub struct JodScorer {
+    metric: Cvvdp,
+    display: String,
+}
+
+fn error(err: colorvideovdp::Error) -> MetricsError {
+    MetricsError::Jod(err.to_string())
+}
+
+impl JodScorer {
+    /// A scorer for the standard display model `display` (see [`JodScorer::displays`]).
+    pub fn new(display: &str) -> Result<Self, MetricsError> {
+        let model = DisplayModel::from_name(display).map_err(|err| {
+            MetricsError::Jod(format!(
+                "{err}; display models: {}",
+                Self::displays().join(", ")
+            ))
+        })?;
+        Ok(Self {
+            metric: Cvvdp::new(model, Options::default()).map_err(error)?,
+            display: display.to_owned(),
+        })
+    }
+
+    /// The names of the display models the model ships with.
+    pub fn displays() -> Vec<&'static str> {
+        DisplayModel::names().unwrap_or_default()
+    }
+
+    /// The display model's name.
+    pub fn display(&self) -> &str {
+        &self.display
+    }
+
+    /// The JOD of `test` against `reference`, frame by frame in order, played at `fps`
+    /// frames per second (a single frame is scored as an image).
+    pub fn score<T, R>(&self, test: &[T], reference: &[R], fps: f32) -> Result<f64, MetricsError>
+    where
+        T: Borrow<image::RgbaImage>,
+        R: Borrow<image::RgbaImage>,
+    {
+        if test.len() != reference.len() {
+            return Err(MetricsError::FrameCount {
+                expected: reference.len(),
+                got: test.len(),
+            });
+        }
+        for (t, r) in test.iter().zip(reference) {
+            let (t, r) = (t.borrow(), r.borrow());
+            if t.dimensions() != r.dimensions() {
+                return Err(MetricsError::SizeMismatch {
+                    reference: r.dimensions(),
+                    test: t.dimensions(),
+                });
+            }
+        }
+        let test: Vec<Image> = test
+            .iter()
+            .map(|i| linear_input(i.borrow()))
+            .collect::<Result<_, _>>()?;
+        let reference: Vec<Image> = reference
+            .iter()
+            .map(|i| linear_input(i.borrow()))
+            .collect::<Result<_, _>>()?;
+        let prediction = match test.len() {
+            1 => self
+                .metric
+                .predict_image(&test[0], &reference[0], Color::Srgb),
+            _ => self
+                .metric
+                .predict_video(&test, &reference, fps, Color::Srgb),
+        }
+        .map_err(error)?;
+        Ok(f64::from(prediction.jod))
+    }
+}
+
+/// An RGBA8 frame as the model's interleaved RGB floats in [0, 1] (still sRGB-encoded).
+fn linear_input(rgba: &image::RgbaImage) -> Result<Image, MetricsError> {
+    let data = rgba
+        .pixels()
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .map(|v| f32::from(v) / 255.0)
+        .collect();
+    Image::new(rgba.width() as usize, rgba.height() as usize, 3, data).map_err(error)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn noise(width: u32, height: u32, seed: u32, amplitude: i32) -> image::RgbaImage {
+        image::RgbaImage::from_fn(width, height, |x, y| {
+            let base = ((x * 7 + y * 3) % 64) as i32 + 96;
+            let h =
+                (x.wrapping_mul(73856093) ^ y.wrapping_mul(19349663) ^ seed.wrapping_mul(83492791))
+                    % 1000;
+            let v = (base + (h as i32 % (2 * amplitude + 1)) - amplitude).clamp(0, 255) as u8;
+            image::Rgba([v, v, v, 255])
+        })
+    }
+
+    /// `image` with every channel raised by `delta` levels.
+    fn brighter(image: &image::RgbaImage, delta: i32) -> image::RgbaImage {
+        let mut out = image.clone();
+        for p in out.pixels_mut() {
+            for c in &mut p.0[..3] {
+                *c = (i32::from(*c) + delta).clamp(0, 255) as u8;
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn identical_clips_score_ten_and_flicker_scores_lower_than_a_steady_error() {
+        let scorer = JodScorer::new(DEFAULT_DISPLAY).expect("standard display");
+        let reference: Vec<_> = (0..8).map(|_| noise(64, 48, 0, 0)).collect();
+        let same = scorer.score(&reference, &reference, 30.0).expect("score");
+        assert!((same - 10.0).abs() < 1e-3, "identical clips: {same}");
+        // The same brightness error on every frame, and one that alternates in sign (a 15 Hz
+        // flicker of the same size): the eye sees the flicker far more.
+        let steady: Vec<_> = reference.iter().map(|f| brighter(f, 8)).collect();
+        let flicker: Vec<_> = reference
+            .iter()
+            .enumerate()
+            .map(|(i, f)| brighter(f, if i % 2 == 0 { 8 } else { -8 }))
+            .collect();
+        let steady = scorer.score(&steady, &reference, 30.0).expect("score");
+        let flicker = scorer.score(&flicker, &reference, 30.0).expect("score");
+        assert!(steady < 10.0, "a visible error: {steady}");
+        assert!(
+            flicker < steady - 0.5,
+            "flicker {flicker} should score well below the steady error {steady}"
+        );
+    }
+
+    #[test]
+    fn unknown_displays_and_mismatched_clips_are_refused_clearly() {
+        let err = JodScorer::new("crt_1995")
+            .err()
+            .expect("refused")
+            .to_string();
+        assert!(err.contains("standard_fhd"), "{err}");
+        let scorer = JodScorer::new(DEFAULT_DISPLAY).expect("display");
+        let a = [noise(16, 16, 0, 0)];
+        let b = [noise(16, 16, 0, 0), noise(16, 16, 0, 0)];
+        assert!(matches!(
+            scorer.score(&a, &b, 30.0),
+            Err(MetricsError::FrameCount { .. })
+        ));
+        let c = [noise(8, 16, 0, 0)];
+        assert!(matches!(
+            scorer.score(&c, &a, 30.0),
+            Err(MetricsError::SizeMismatch { .. })
+        ));
+    }
+}
