@@ -287,5 +287,54 @@ fn bad_clip_input_is_a_clear_error() {
     let _gpu = common::gpu();
     fails_with(&with(&["--technique", "bogus"]), &["bogus"]);
     fails_with(&with(&["--camera-motion", "still"]), &["--motion"]);
+    fails_with(
+        &with(&["--jod", "--jod-display", "crt_1995"]),
+        &["crt_1995", "standard_fhd"],
+    );
+    fails_with(&with(&["--jod-display", "standard_4k"]), &["--jod"]);
     assert!(!Path::new(out).exists(), "nothing written on bad input");
+}
+
+/// Issue 27, item 2: `--jod` scores every technique with ColorVideoVDP against the reference
+/// (whole frames, the clip's rate, the named display) into the record, the table and the
+/// HTML page; a clip of the reference's own technique scores as no visible difference.
+#[test]
+fn jod_scores_every_technique_against_the_reference() {
+    let _gpu = common::gpu();
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("j.png");
+    let run = clip(&out, &["--jod", "--jod-display", "standard_4k", "--html"]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(stdout.contains("JOD (standard_4k)"), "{stdout}");
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("j.json")).expect("record"),
+    )
+    .expect("JSON");
+    assert_eq!(json["jod"]["display"], "standard_4k");
+    assert_eq!(json["jod"]["model"], "0.5.7");
+    let jod = |id: &str| {
+        json["techniques"]
+            .as_array()
+            .expect("techniques")
+            .iter()
+            .find(|t| t["id"] == id)
+            .and_then(|t| t["jod"].as_f64())
+            .unwrap_or_else(|| panic!("a JOD for {id}: {json}"))
+    };
+    for id in ["none", "fxaa", "taa", "msaa4"] {
+        let value = jod(id);
+        assert!(value.is_finite() && value <= 10.0, "{id}: {value}");
+    }
+    // The chart's aliased edges crawl under the pan; antialiasing hides them.
+    assert!(jod("msaa4") > jod("none"), "{json}");
+    let page = std::fs::read_to_string(dir.path().join("j.html")).expect("page");
+    assert!(page.contains("\"jod\""), "the page carries the JOD figures");
+
+    // Without --jod the record has no JOD.
+    let plain = dir.path().join("p.png");
+    let run = clip(&plain, &[]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let record = std::fs::read_to_string(dir.path().join("p.json")).expect("record");
+    assert!(!record.contains("\"jod\""), "{record}");
 }
