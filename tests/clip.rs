@@ -307,10 +307,9 @@ fn jod_scores_every_technique_against_the_reference() {
     assert!(run.status.success(), "{}", stderr(&run));
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(stdout.contains("JOD (standard_4k)"), "{stdout}");
-    let json: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.path().join("j.json")).expect("record"),
-    )
-    .expect("JSON");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("j.json")).expect("record"))
+            .expect("JSON");
     assert_eq!(json["jod"]["display"], "standard_4k");
     assert_eq!(json["jod"]["model"], "0.5.7");
     let jod = |id: &str| {
@@ -331,10 +330,29 @@ fn jod_scores_every_technique_against_the_reference() {
     let page = std::fs::read_to_string(dir.path().join("j.html")).expect("page");
     assert!(page.contains("\"jod\""), "the page carries the JOD figures");
 
-    // Without --jod the record has no JOD.
+    // Without --jod the record has no JOD; --frames-dir writes every pane's frames, whole.
     let plain = dir.path().join("p.png");
-    let run = clip(&plain, &[]);
+    let frames = dir.path().join("frames");
+    let frames_arg = frames.to_str().expect("utf-8");
+    let run = clip(&plain, &["--frames-dir", frames_arg]);
     assert!(run.status.success(), "{}", stderr(&run));
     let record = std::fs::read_to_string(dir.path().join("p.json")).expect("record");
     assert!(!record.contains("\"jod\""), "{record}");
+    for pane in ["none", "fxaa", "taa", "msaa4", "reference"] {
+        for n in 0..4 {
+            let frame = image::open(frames.join(pane).join(format!("{n:04}.png")))
+                .unwrap_or_else(|e| panic!("{pane} frame {n}: {e}"));
+            assert_eq!((frame.width(), frame.height()), (64, 48));
+        }
+        assert!(!frames.join(pane).join("0004.png").exists());
+    }
+    // Frames already there are never replaced without --force.
+    let again = dir.path().join("q.png");
+    let run = clip(&again, &["--frames-dir", frames_arg]);
+    assert!(!run.status.success());
+    assert!(stderr(&run).contains("--force"), "{}", stderr(&run));
+    assert!(
+        !again.exists(),
+        "nothing written when the frames are refused"
+    );
 }

@@ -36,6 +36,7 @@ use crate::export::clip::{self, Definitions};
 use crate::export::clip_writer::{ClipFormat, ClipWriter};
 use crate::export::html::HtmlPage;
 use crate::export::sheet::{self, Rect};
+use crate::export::write_png;
 use crate::files;
 use crate::gpu::{Gpu, read_texture_rgba8};
 use crate::graph::{FrameGraph, FrameScope};
@@ -105,6 +106,11 @@ pub struct ClipArgs {
     /// with --region: every frame is embedded losslessly).
     #[arg(long)]
     pub html: bool,
+    /// Also write every pane's clip frames, whole, as numbered PNGs: DIR/<technique>/0000.png
+    /// and on, the reference's in DIR/reference/ (for other tools, or `aa-lab compare` on
+    /// sequences).
+    #[arg(long, value_name = "DIR")]
+    pub frames_dir: Option<PathBuf>,
     /// Also score every technique with ColorVideoVDP: how visible its difference from the
     /// reference is to a person watching the clip, in JOD (10: none). Keeps the clip's whole
     /// frames in memory and takes seconds per technique.
@@ -220,6 +226,40 @@ fn json_path(out: &Path) -> PathBuf {
     out.with_extension("json")
 }
 
+/// Frame `number` of a pane's folder in `--frames-dir`.
+fn frame_path(dir: &Path, number: usize) -> PathBuf {
+    dir.join(format!("{number:04}.png"))
+}
+
+/// Each pane's folder in `dir` (`--frames-dir`): the technique's id as a file name, and
+/// `reference` for the last pane; created here once every frame's path has passed `policy`.
+fn pane_dirs(
+    dir: &Path,
+    ids: &[String],
+    frames: u32,
+    policy: &files::Overwrite,
+) -> anyhow::Result<Vec<PathBuf>> {
+    let count = ids.len();
+    let dirs: Vec<PathBuf> = ids
+        .iter()
+        .enumerate()
+        .map(|(i, id)| match i + 1 == count {
+            true => dir.join("reference"),
+            false => dir.join(crate::aa::user::file_name_part(id).as_ref()),
+        })
+        .collect();
+    let paths: Vec<PathBuf> = dirs
+        .iter()
+        .flat_map(|d| (0..frames as usize).map(|n| frame_path(d, n)))
+        .collect();
+    policy.check_all(paths.iter().map(PathBuf::as_path))?;
+    for d in &dirs {
+        std::fs::create_dir_all(d)
+            .with_context(|| format!("cannot create directory {}", d.display()))?;
+    }
+    Ok(dirs)
+}
+
 /// `<out>` with the extension `.html`.
 fn html_path(out: &Path) -> PathBuf {
     out.with_extension("html")
@@ -238,6 +278,8 @@ struct Recording<'a> {
     format: ClipFormat,
     options: AnimationOptions,
     policy: &'a files::Overwrite,
+    /// With `--frames-dir`, the folder of each pane's frames (the reference's last).
+    pane_dirs: Option<Vec<PathBuf>>,
 }
 
 /// The figures of a recorded clip, and the first frame's panes (composed again with them).
@@ -367,6 +409,11 @@ impl ClipFrames for CliFrames<'_> {
     }
 
     fn deliver(&mut self, number: usize, frame: PaneImages) -> anyhow::Result<()> {
+        if let Some(dirs) = &self.rec.pane_dirs {
+            for (dir, image) in dirs.iter().zip(&frame.whole) {
+                write_png(&frame_path(dir, number), image, None, self.rec.policy)?;
+            }
+        }
         let panes = match (frame.crops, self.rec.args.jod) {
             (Some(crops), true) => {
                 self.whole_frames.push(frame.whole);
@@ -645,6 +692,11 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
                 .map_or_else(animation::default_threads, |t| t as usize),
         },
         policy: &policy,
+        pane_dirs: args
+            .frames_dir
+            .as_deref()
+            .map(|dir| pane_dirs(dir, &ids, args.frames, &policy))
+            .transpose()?,
     };
     let page = html
         .as_deref()
