@@ -302,6 +302,18 @@ fn a_recorded_clip_plays_every_pane_in_lockstep_and_exports_an_animation() {
         let instability = score.temporal_instability.expect("the reference moved");
         assert!(instability.is_finite() && instability > 0.0, "{score:?}");
     }
+    // ColorVideoVDP scores every technique in the background, shown as it comes.
+    wait(&mut harness, "the clip's JOD", |app| {
+        (0..scores.len()).all(|slot| app.clip_jod(slot).is_some())
+    });
+    for slot in 0..scores.len() {
+        let jod = harness
+            .state()
+            .clip_jod(slot)
+            .expect("scored")
+            .expect("a JOD");
+        assert!(jod.is_finite() && jod <= 10.0, "slot {slot}: {jod}");
+    }
 
     // Paused, the panes step together: every technique shows the same instant.
     harness.get_by_label("Pause clip").click();

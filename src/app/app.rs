@@ -369,6 +369,12 @@ impl AaLabApp {
         self.ws.cx.clip_scores()
     }
 
+    /// The ColorVideoVDP JOD of the shown clip's technique in pane `slot`, once scored (or
+    /// why it has none).
+    pub fn clip_jod(&self, slot: usize) -> Option<Result<f64, String>> {
+        self.ws.jod.figure(&self.ws.cx, slot).cloned()
+    }
+
     /// The index of the clip frame on screen (`None` when the live view is).
     pub fn shown_clip_frame(&self) -> Option<usize> {
         self.ws.cx.shown_clip_frame()

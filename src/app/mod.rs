@@ -50,6 +50,7 @@ mod blind;
 mod blit;
 mod camera;
 mod clip_bar;
+mod clip_jod;
 mod context;
 mod difference;
 mod engine;

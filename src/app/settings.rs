@@ -226,6 +226,8 @@ pub struct Settings {
     /// The combinations added (`aa::combo` ids such as `smaa@performance:easu+rcas=0.2`), in
     /// the order added: the viewer adds them again at the next start.
     pub combinations: Vec<String>,
+    /// The display model clips are scored for with ColorVideoVDP (`metrics::jod`).
+    pub jod_display: String,
     /// Camera bookmarks.
     pub bookmarks: Vec<Bookmark>,
     /// Folder exports go to.
@@ -263,6 +265,7 @@ impl Default for Settings {
             recent: Vec::new(),
             user_techniques: Vec::new(),
             combinations: Vec::new(),
+            jod_display: crate::metrics::jod::DEFAULT_DISPLAY.to_owned(),
             bookmarks: Vec::new(),
             export_dir: PathBuf::from("screenshots"),
             reference_samples: 64,

@@ -1,5 +1,5 @@
 //! [`Workspace`]: the viewer's shared [`Context`] and the features that own their state beside
-//! it (the magnifier's heatmaps, the quality figures, the exports), and the carrying out of
+//! it (the magnifier's heatmaps, the quality figures, the exports, the clip's JOD), and the carrying out of
 //! what features ask of one another ([`Command`]).
 //!
 //! Every UI frame the app calls [`Workspace::poll_background`] and [`Workspace::update`]
@@ -11,6 +11,7 @@
 
 use std::collections::BTreeMap;
 
+use super::clip_jod::ClipJod;
 use super::context::{Command, Context};
 use super::export::ExportState;
 use super::magnifier::MagnifierState;
@@ -26,6 +27,8 @@ pub(super) struct Workspace {
     pub(super) quality: QualityTracker,
     /// The running export and the files of the last one.
     pub(super) export: ExportState,
+    /// The shown clip's ColorVideoVDP figures.
+    pub(super) jod: ClipJod,
 }
 
 impl Workspace {
@@ -36,6 +39,7 @@ impl Workspace {
             magnifier: MagnifierState::default(),
             quality: QualityTracker::default(),
             export: ExportState::default(),
+            jod: ClipJod::default(),
         }
     }
 
@@ -49,10 +53,11 @@ impl Workspace {
         self.run_commands(ctx);
     }
 
-    /// Advances what changes with time before the panels draw: the clip's player, the quality
-    /// figures and the magnifier's heatmaps.
+    /// Advances what changes with time before the panels draw: the clip's player and its
+    /// JOD, the quality figures and the magnifier's heatmaps.
     pub(super) fn update(&mut self, ctx: &egui::Context) {
         self.cx.tick_clip(ctx);
+        self.jod.update(&mut self.cx, ctx);
         self.quality.update(&mut self.cx, ctx);
         self.magnifier.update(&mut self.cx, ctx);
     }

@@ -300,6 +300,11 @@ impl Clip {
         self.shown()?.outputs.get(slot)?.as_ref()
     }
 
+    /// When the recording started: it tells one clip from another.
+    pub fn started(&self) -> Instant {
+        self.started
+    }
+
     /// Seconds since the recording started.
     pub fn seconds(&self) -> f64 {
         self.started.elapsed().as_secs_f64()
