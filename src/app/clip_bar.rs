@@ -1,6 +1,7 @@
-//! The clip bar above the status bar (record, play, scrub, export) and what its buttons do
-//! to the workspace: recording the compared techniques along the chosen camera path within
-//! the memory cap, showing the clip or the live view, playback ticks.
+//! The clip bar above the status bar (record, play, scrub, export) and what its buttons ask
+//! of the context (`context/clip.rs` records the compared techniques along the chosen camera
+//! path within the memory cap, shows the clip or the live view, ticks playback) or, for an
+//! export, of the workspace (a `Command`).
 
 use egui::RichText;
 

@@ -1,8 +1,8 @@
 //! The panels of an open image set (image_set.rs): the left panel that replaces the
 //! techniques while images are shown (the files in pane order, the reference, the way back
 //! to the scene), the reference choice in the toolbar, and the quality table of the metrics
-//! panel (every image against the chosen reference): stateless functions of the
-//! [`Workspace`] ([`ui`], [`strip`], [`quality_section`]).
+//! panel (every image against the chosen reference): stateless functions of the context
+//! ([`ui`], [`strip`]) and of the workspace ([`quality_section`], which reads the figures).
 
 use egui::RichText;
 

@@ -46,9 +46,9 @@ struct PaneHeat {
     result: Result<(TextureHandle, Region, f64), String>,
 }
 
-/// The lens size and the heatmaps, kept between frames in the workspace: the viewport draws
-/// and moves the lens, exports and blind answers record it; export sheets and the test API
-/// read the heatmaps, which scene and image set changes forget with the quality figures.
+/// The heatmaps, kept between frames by the workspace: export sheets and the test API read
+/// them, and scene and image set changes forget them with the quality figures
+/// (`Command::ForgetMeasurements`).
 #[derive(Default)]
 pub struct MagnifierState {
     worker: Option<Worker<HeatJob, HeatResult>>,
@@ -350,8 +350,8 @@ impl MagnifierState {
     }
 }
 
-/// The magnifier panel; the lens size it decides and the heatmaps are the workspace's
-/// ([`MagnifierState`]).
+/// The magnifier panel; the lens size it decides is the context's, the heatmaps the
+/// [`MagnifierState`]'s.
 #[derive(Default)]
 pub(super) struct MagnifierPanel {
     /// The frame pixel under the pointer in a pane.

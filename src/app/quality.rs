@@ -75,7 +75,7 @@ pub struct Measured<T> {
     pub on: &'static str,
 }
 
-/// The current quality figures of one technique (see [`Workspace::quality_figures`]).
+/// The current quality figures of one technique (see [`QualityTracker::figures`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Figures {
     /// SSIM, PSNR and MAE.
@@ -296,7 +296,7 @@ impl QualityTracker {
 
     /// The SSIM, PSNR and MAE measurement of a technique (or image) if it is valid for what
     /// is on screen now: `key` is the view and settings revision it must have been made at
-    /// ([`Workspace::measure_key`]).
+    /// (`Context::measure_key`).
     pub fn current_pixels(
         &self,
         id: &str,

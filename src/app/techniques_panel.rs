@@ -1,8 +1,8 @@
 //! The techniques panel (left side): every registry technique with its switch, comparison
 //! mark, presets, parameters, debug views and trade-off tooltip, unavailable ones greyed out
-//! with the reason, and the user techniques with their files' errors. A stateless function of
-//! the [`Workspace`]; while an image set is open the images panel (image_panel.rs) takes its
-//! place.
+//! with the reason, the user techniques with their files' errors, the combinations added, and
+//! the Render scale form (scale_form.rs). A stateless function of the context; while an image
+//! set is open the images panel (image_panel.rs) takes its place.
 
 use egui::{Button, Color32, RichText};
 

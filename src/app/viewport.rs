@@ -10,7 +10,7 @@
 //!
 //! [`ViewportPanel`] owns what only the viewport uses between frames (the drag in progress,
 //! the pixel under the pointer, where image A was drawn); the render size it decides is the
-//! workspace's ([`Workspace::render_size`]), and so is the lens it draws and moves.
+//! context's (`Context::render_size`), and so is the lens it draws and moves.
 
 use egui::{Color32, CursorIcon, Pos2, Rect, Sense, Stroke, Vec2, pos2, vec2};
 
@@ -37,7 +37,7 @@ enum Drag {
 }
 
 /// The viewport panel and what it keeps between frames. The size the techniques render at,
-/// which its layout decides, is the workspace's ([`Workspace::render_size`]).
+/// which its layout decides, is the context's (`Context::render_size`).
 #[derive(Debug, Default)]
 pub(super) struct ViewportPanel {
     /// The render size changed in the last layout (the next frame renders at the new size).

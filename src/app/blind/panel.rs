@@ -1,6 +1,7 @@
 //! The blind comparison's panel and keys (which pane looks better: a digit, or the
-//! buttons), and what they do to the workspace: starting a session from the compared
-//! techniques, answering a trial with what was on screen, moving to the next trial.
+//! buttons), returned as a [`BlindAction`] that the context carries out
+//! (`context/blind.rs`: starting a session from the compared techniques, answering a trial
+//! with what was on screen, moving to the next trial).
 
 use super::*;
 
