@@ -545,7 +545,7 @@ fn settings_and_presets_are_data() {
     let input = taa.scene_input(&frame).expect("taa reads a scene render");
     assert!(input.motion());
     assert_eq!(input.mip_bias(), -1.0);
-    assert!((input.offset() - aa::taa::jitter_offset(3, 16)).length() < 1e-4);
+    assert!((input.offset() - aa::common::temporal::jitter_offset(3, 16)).length() < 1e-4);
     assert!(taa.temporal());
 }
 

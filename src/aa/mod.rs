@@ -140,6 +140,7 @@ pub fn create(gpu: &Gpu, id: &str) -> Result<Box<dyn Technique>, TechniqueError>
         return create_plain(gpu, &combo.base);
     }
     let inner = create_plain(gpu, &combo.base)?;
+    let combo = combo.resolve(inner.reconstructs_at_output())?;
     info::needs_encoded_views(&gpu.caps).map_err(|reason| TechniqueError::Unavailable {
         technique: id.to_owned(),
         reason: format!("its upscale and sharpening passes cannot run: {reason}"),

@@ -59,7 +59,7 @@ pub use settings::{
 use glam::Vec2;
 
 use crate::aa::common::pass::{self, Binding};
-use crate::aa::common::sampling::halton;
+use crate::aa::common::temporal::{PingPong, cleared_black, continues, jitter_offset};
 use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, encoded_view};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
@@ -97,14 +97,6 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
 
 /// Format of the accumulated history.
 pub const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-
-/// The jitter offset of a frame, in pixels (content moves by it; the pixel's sample sits at
-/// its centre minus the offset): element `frame mod samples` + 1 of Halton(2,3), centred, so
-/// offsets lie in [-0.5, 0.5). Index 0 of the sequence (the origin) is skipped.
-pub fn jitter_offset(frame: u64, samples: u32) -> Vec2 {
-    let index = (frame % u64::from(samples.max(1))) as u32 + 1;
-    Vec2::new(halton(index, 2), halton(index, 3)) - Vec2::splat(0.5)
-}
 
 /// The current frame's filter weights for the 3x3 taps (row by row, padded to three vec4s),
 /// normalised over the taps of the colour neighbourhood: the Gaussian of each sample's
@@ -153,39 +145,6 @@ struct TaaUniform {
     current_filter: [[f32; 4]; 3],
 }
 
-/// The two history textures and which holds the latest result.
-struct History {
-    textures: [wgpu::Texture; 2],
-    latest: usize,
-    /// False until a frame has been resolved into `textures[latest]`.
-    valid: bool,
-}
-
-impl History {
-    fn new(device: &wgpu::Device, size: (u32, u32)) -> Self {
-        let texture = |label: &str| {
-            crate::gpu::texture_2d(
-                device,
-                &crate::gpu::Texture2d::new(
-                    label,
-                    size,
-                    HISTORY_FORMAT,
-                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-                ),
-            )
-        };
-        Self {
-            textures: [texture("taa history a"), texture("taa history b")],
-            latest: 0,
-            valid: false,
-        }
-    }
-
-    fn size(&self) -> (u32, u32) {
-        (self.textures[0].width(), self.textures[0].height())
-    }
-}
-
 /// The TAA technique.
 pub struct Taa {
     settings: TaaSettings,
@@ -196,25 +155,13 @@ pub struct Taa {
     sampler: wgpu::Sampler,
     uniform: wgpu::Buffer,
     pipelines: PipelineCache<PipelineKey>,
-    history: Option<History>,
+    history: Option<PingPong>,
     /// A setting changed since the last frame: the next frame starts a new history.
     reset_pending: bool,
     /// The camera of the frame the history holds, to recognise a discontinuous camera.
     last_camera: Option<FrameCamera>,
     debug_enabled: bool,
     debug: Option<TaaDebug>,
-}
-
-fn color_attachment(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAttachment<'_>> {
-    Some(wgpu::RenderPassColorAttachment {
-        view,
-        depth_slice: None,
-        resolve_target: None,
-        ops: wgpu::Operations {
-            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-            store: wgpu::StoreOp::Store,
-        },
-    })
 }
 
 impl Taa {
@@ -310,12 +257,6 @@ impl Taa {
     }
 }
 
-fn continues(last: &FrameCamera, next: &FrameCamera) -> bool {
-    let same = next.frame == last.frame && next.pose == last.pose;
-    let following = next.frame == last.frame + 1 && next.prev_pose == last.pose;
-    (same || following) && next.size == last.size
-}
-
 impl Technique for Taa {
     fn id(&self) -> &'static str {
         ID
@@ -350,7 +291,7 @@ impl Technique for Taa {
         };
         let size = input.desc.size;
         if self.history.as_ref().is_none_or(|h| h.size() != size) {
-            self.history = Some(History::new(&self.device, size));
+            self.history = Some(PingPong::new(&self.device, "taa history", size, HISTORY_FORMAT));
         }
         let debug = self.debug_enabled;
         if debug {
@@ -400,12 +341,10 @@ impl Technique for Taa {
             .queue
             .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
 
-        let read = history.latest;
-        let write = 1 - read;
         let current_view = input.color.create_view(&Default::default());
         let depth_view = input.depth.create_view(&Default::default());
         let motion_view = motion.create_view(&Default::default());
-        let history_view = history.textures[read].create_view(&Default::default());
+        let history_view = history.read().create_view(&Default::default());
         let texture = |binding, view| wgpu::BindGroupEntry {
             binding,
             resource: wgpu::BindingResource::TextureView(view),
@@ -429,23 +368,22 @@ impl Technique for Taa {
             ],
         });
         let output_view = output.create_view(&Default::default());
-        let next_view = history.textures[write].create_view(&Default::default());
+        let next_view = history.write().create_view(&Default::default());
         let rejection_view = self
             .debug
             .as_ref()
             .filter(|_| debug)
             .map(|d| encoded_view(&d.rejection));
-        let mut attachments = vec![color_attachment(&output_view), color_attachment(&next_view)];
+        let mut attachments = vec![cleared_black(&output_view), cleared_black(&next_view)];
         if let Some(view) = &rejection_view {
-            attachments.push(color_attachment(view));
+            attachments.push(cleared_black(view));
         }
         ctx.render_pass("resolve", &attachments, None, |pass| {
             pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
             pass.draw(0..3, 0..1);
         });
-        history.latest = write;
-        history.valid = true;
+        history.swap();
         if let Some(views) = self.debug.as_ref().filter(|_| debug) {
             views.encode(ctx, &self.device, motion, self.settings.samples.count());
         }
@@ -523,58 +461,6 @@ impl Technique for Taa {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn jitter_is_centred_halton_and_repeats() {
-        assert_eq!(jitter_offset(0, 8), Vec2::new(0.0, 1.0 / 3.0 - 0.5));
-        assert_eq!(jitter_offset(1, 8), Vec2::new(-0.25, 2.0 / 3.0 - 0.5));
-        for samples in [8u32, 16] {
-            let offsets: Vec<Vec2> = (0..u64::from(samples))
-                .map(|f| jitter_offset(f, samples))
-                .collect();
-            assert!(
-                offsets
-                    .iter()
-                    .all(|o| o.cmpge(Vec2::splat(-0.5)).all() && o.cmplt(Vec2::splat(0.5)).all())
-            );
-            // Distinct positions, no repeat within a cycle, then the cycle repeats.
-            for (i, a) in offsets.iter().enumerate() {
-                for b in &offsets[i + 1..] {
-                    assert!((*a - *b).length() > 1e-3);
-                }
-            }
-            assert_eq!(jitter_offset(u64::from(samples) + 3, samples), offsets[3]);
-            // Low discrepancy: the mean offset of a cycle is near the pixel centre.
-            let mean = offsets.iter().copied().sum::<Vec2>() / samples as f32;
-            assert!(mean.length() < 0.08, "{samples}: {mean}");
-            // Every quadrant of the pixel gets samples.
-            for quadrant in 0..4 {
-                let (sx, sy) = (quadrant % 2 == 0, quadrant / 2 == 0);
-                assert!(
-                    offsets
-                        .iter()
-                        .any(|o| (o.x < 0.0) == sx && (o.y < 0.0) == sy),
-                    "{samples} {quadrant}"
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn a_camera_continues_on_the_next_frame_from_its_own_pose_or_on_a_repeat() {
-        let rig = crate::scene::CameraRig::default();
-        let at = |frame| FrameCamera::from_rig(&rig, frame, (64, 36));
-        assert!(continues(&at(4), &at(5)));
-        assert!(continues(&at(5), &at(5)));
-        assert!(!continues(&at(4), &at(6)), "a skipped frame");
-        assert!(!continues(&at(5), &at(4)), "going back");
-        let mut moved = at(5);
-        moved.prev_pose.distance += 1.0;
-        assert!(!continues(&at(4), &moved), "a cut");
-        let mut resized = at(5);
-        resized.size = (32, 18);
-        assert!(!continues(&at(4), &resized), "a resize");
-    }
 
     #[test]
     fn presets_and_names_round_trip() {

@@ -1,0 +1,155 @@
+//! What the temporal techniques (TAA, the temporal upscaler) share: the Halton(2,3) jitter
+//! sequence, the test that a camera continues the history's, and a ping-pong pair of history
+//! textures. Each technique keeps its own resolve; these are the pieces that mean the same in
+//! both.
+
+use glam::Vec2;
+
+use super::sampling::halton;
+use crate::scene::camera::FrameCamera;
+
+/// The jitter offset of a frame in render pixels (content moves by it; the pixel's sample sits
+/// at its centre minus the offset): element `frame mod phases` + 1 of Halton(2,3), centred, so
+/// offsets lie in [-0.5, 0.5). Index 0 of the sequence (the origin) is skipped.
+pub fn jitter_offset(frame: u64, phases: u32) -> Vec2 {
+    let index = (frame % u64::from(phases.max(1))) as u32 + 1;
+    Vec2::new(halton(index, 2), halton(index, 3)) - Vec2::splat(0.5)
+}
+
+/// Whether `next` continues the history made with `last`: the same frame again, or the next
+/// frame from the pose the history was made with, at the same size.
+pub fn continues(last: &FrameCamera, next: &FrameCamera) -> bool {
+    let same = next.frame == last.frame && next.pose == last.pose;
+    let following = next.frame == last.frame + 1 && next.prev_pose == last.pose;
+    (same || following) && next.size == last.size && next.render_size == last.render_size
+}
+
+/// A colour attachment cleared to black and stored.
+pub fn cleared_black(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+            store: wgpu::StoreOp::Store,
+        },
+    })
+}
+
+/// Two textures a temporal resolve reads one of and writes the other, in turn.
+pub struct PingPong {
+    /// The pair.
+    pub textures: [wgpu::Texture; 2],
+    /// Which holds the latest result.
+    pub latest: usize,
+    /// False until a frame has been resolved into `textures[latest]`.
+    pub valid: bool,
+}
+
+impl PingPong {
+    /// A pair of render-target textures of `size` and `format`, labelled `LABEL a` and `b`.
+    pub fn new(
+        device: &wgpu::Device,
+        label: &str,
+        size: (u32, u32),
+        format: wgpu::TextureFormat,
+    ) -> Self {
+        let texture = |suffix: &str| {
+            crate::gpu::texture_2d(
+                device,
+                &crate::gpu::Texture2d::new(
+                    &format!("{label} {suffix}"),
+                    size,
+                    format,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                ),
+            )
+        };
+        Self {
+            textures: [texture("a"), texture("b")],
+            latest: 0,
+            valid: false,
+        }
+    }
+
+    /// The size of the textures.
+    pub fn size(&self) -> (u32, u32) {
+        (self.textures[0].width(), self.textures[0].height())
+    }
+
+    /// The texture holding the latest result.
+    pub fn read(&self) -> &wgpu::Texture {
+        &self.textures[self.latest]
+    }
+
+    /// The texture the next result goes to.
+    pub fn write(&self) -> &wgpu::Texture {
+        &self.textures[1 - self.latest]
+    }
+
+    /// Makes the texture just written the latest.
+    pub fn swap(&mut self) {
+        self.latest = 1 - self.latest;
+        self.valid = true;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn jitter_is_centred_halton_and_repeats() {
+        assert_eq!(jitter_offset(0, 8), Vec2::new(0.0, 1.0 / 3.0 - 0.5));
+        assert_eq!(jitter_offset(1, 8), Vec2::new(-0.25, 2.0 / 3.0 - 0.5));
+        for phases in [8u32, 16, 18, 32] {
+            let offsets: Vec<Vec2> = (0..u64::from(phases))
+                .map(|f| jitter_offset(f, phases))
+                .collect();
+            assert!(
+                offsets
+                    .iter()
+                    .all(|o| o.cmpge(Vec2::splat(-0.5)).all() && o.cmplt(Vec2::splat(0.5)).all())
+            );
+            // Distinct positions, no repeat within a cycle, then the cycle repeats.
+            for (i, a) in offsets.iter().enumerate() {
+                for b in &offsets[i + 1..] {
+                    assert!((*a - *b).length() > 1e-3);
+                }
+            }
+            assert_eq!(jitter_offset(u64::from(phases) + 3, phases), offsets[3]);
+            // Low discrepancy: the mean offset of a cycle is near the pixel centre.
+            let mean = offsets.iter().copied().sum::<Vec2>() / phases as f32;
+            assert!(mean.length() < 0.08, "{phases}: {mean}");
+            // Every quadrant of the pixel gets samples.
+            for quadrant in 0..4 {
+                let (sx, sy) = (quadrant % 2 == 0, quadrant / 2 == 0);
+                assert!(
+                    offsets
+                        .iter()
+                        .any(|o| (o.x < 0.0) == sx && (o.y < 0.0) == sy),
+                    "{phases} {quadrant}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_camera_continues_on_the_next_frame_from_its_own_pose_or_on_a_repeat() {
+        let rig = crate::scene::CameraRig::default();
+        let at = |frame| FrameCamera::from_rig(&rig, frame, (64, 36));
+        assert!(continues(&at(4), &at(5)));
+        assert!(continues(&at(5), &at(5)));
+        assert!(!continues(&at(4), &at(6)), "a skipped frame");
+        assert!(!continues(&at(5), &at(4)), "going back");
+        let mut moved = at(5);
+        moved.prev_pose.distance += 1.0;
+        assert!(!continues(&at(4), &moved), "a cut");
+        let mut resized = at(5);
+        resized.size = (32, 18);
+        assert!(!continues(&at(4), &resized), "a resize");
+        let rescaled = at(5).at_render_size((32, 18));
+        assert!(!continues(&at(4), &rescaled), "a new render size");
+    }
+}
