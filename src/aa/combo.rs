@@ -10,8 +10,8 @@
 //! technique's id everywhere (command line, records, file names), so a record reproduces the
 //! combination. [`Combo::id`] writes the one canonical form of a combination: the scale as a
 //! preset name where it is one, else the shortest number that reads back to it; the upscaler
-//! always when the scale is below 1 and never at native (nothing is upscaled there); the
-//! strength always. A plain id (native, no sharpening) stays the technique's own.
+//! always when the scale is below 1 (unless the technique takes none) and never at native
+//! (nothing is upscaled there); the strength always. A plain id (native, no sharpening) stays the technique's own.
 //!
 //! The modifiers are read from the right, and each only where its text has no `/`, so the id
 //! of a user technique (`user:PATH`, whose path may hold `:` or `+`) keeps its path.
@@ -157,7 +157,8 @@ pub enum ComboError {
     },
     /// An upscaler after a technique that reconstructs at the output size itself.
     #[error(
-        "`{id}`: {base} reconstructs at the output size itself and takes no upscaler; drop          `:{upscaler}`"
+        "`{id}`: {base} reconstructs at the output size itself and takes no upscaler; drop \
+         `:{upscaler}`"
     )]
     OwnReconstruction {
         /// The whole string.
@@ -425,13 +426,18 @@ mod tests {
     #[test]
     fn a_technique_that_reconstructs_itself_takes_no_upscaler() {
         let own = |text: &str| Combo::parse(text).and_then(|c| c.resolve(true));
-        assert_eq!(own("taau@0.5").map(|c| c.id()), Ok("taau@performance".into()));
+        assert_eq!(
+            own("taau@0.5").map(|c| c.id()),
+            Ok("taau@performance".into())
+        );
         assert_eq!(
             own("taau@quality+rcas").map(|c| c.id()),
             Ok("taau@quality+rcas=0.5".into())
         );
         assert_eq!(own("taau").map(|c| c.id()), Ok("taau".into()));
-        let error = own("taau@quality:easu").expect_err("an upscaler").to_string();
+        let error = own("taau@quality:easu")
+            .expect_err("an upscaler")
+            .to_string();
         for needle in ["taau@quality:easu", "reconstructs", "drop `:easu`"] {
             assert!(error.contains(needle), "`{needle}` not in: {error}");
         }

@@ -28,6 +28,7 @@ pub mod scaled;
 pub mod smaa;
 pub mod ssaa;
 pub mod taa;
+pub mod taau;
 pub mod user;
 
 pub use crate::graph::params::{self, Named, Param, ParamError, ParamKind, ParamMap, ParamValue};

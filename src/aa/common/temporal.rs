@@ -1,12 +1,36 @@
 //! What the temporal techniques (TAA, the temporal upscaler) share: the Halton(2,3) jitter
-//! sequence, the test that a camera continues the history's, and a ping-pong pair of history
-//! textures. Each technique keeps its own resolve; these are the pieces that mean the same in
-//! both.
+//! sequence, the test that a camera continues the history's, a ping-pong pair of history
+//! textures and the choices of history filter and rectification. Each technique keeps its
+//! own resolve; these are the pieces that mean the same in both.
 
 use glam::Vec2;
 
 use super::sampling::halton;
 use crate::scene::camera::FrameCamera;
+
+crate::named_enum! {
+    /// How the reprojected history is read.
+    pub enum HistoryFilter {
+        /// One bilinear tap (cheap, blurs a little more every frame the camera moves).
+        Bilinear => "bilinear",
+        /// Five-tap bilinear-optimised Catmull-Rom (keeps the history sharp under motion).
+        CatmullRom => "catmull-rom",
+    }
+}
+
+crate::named_enum! {
+    /// How the history is made consistent with the current frame.
+    pub enum Rectify {
+        /// Not at all: moving content leaves ghost trails (for comparison).
+        None => "none",
+        /// Per-channel clamp to the 3x3 neighbourhood's RGB min/max.
+        Clamp => "clamp",
+        /// Clip towards the centre of the neighbourhood's YCoCg min/max box (Karis).
+        Clip => "clip",
+        /// Clip to the YCoCg variance box mean +/- gamma sigma, within min/max (Salvi).
+        Variance => "variance",
+    }
+}
 
 /// The jitter offset of a frame in render pixels (content moves by it; the pixel's sample sits
 /// at its centre minus the offset): element `frame mod phases` + 1 of Halton(2,3), centred, so

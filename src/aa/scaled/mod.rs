@@ -27,12 +27,12 @@
 pub mod passes;
 
 use crate::aa::combo::Combo;
+use crate::aa::combo::Upscaler;
 use crate::aa::common::{debug_texture, intern};
 use crate::aa::{DebugView, FrameInfo, ParamError, ParamValue, SceneInput, Technique};
 use crate::graph::params::{Named, Param};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
-use crate::aa::combo::Upscaler;
 use passes::Resampler;
 
 /// The shaders of every scaled technique, which the naga test validates.

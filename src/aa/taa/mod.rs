@@ -291,7 +291,12 @@ impl Technique for Taa {
         };
         let size = input.desc.size;
         if self.history.as_ref().is_none_or(|h| h.size() != size) {
-            self.history = Some(PingPong::new(&self.device, "taa history", size, HISTORY_FORMAT));
+            self.history = Some(PingPong::new(
+                &self.device,
+                "taa history",
+                size,
+                HISTORY_FORMAT,
+            ));
         }
         let debug = self.debug_enabled;
         if debug {
