@@ -1,11 +1,22 @@
 //! What the temporal techniques (TAA, the temporal upscaler) share: the Halton(2,3) jitter
-//! sequence, the test that a camera continues the history's, a ping-pong pair of history
-//! textures and the choices of history filter and rectification. Each technique keeps its
+//! sequence, the test that a camera continues the history's and when the history restarts,
+//! a ping-pong pair of history textures, the pieces a resolve pass is built from, and the
+//! choices of history filter and rectification. Each technique keeps its
 //! own resolve; these are the pieces that mean the same in both.
+
+use std::fmt::Debug;
+use std::hash::Hash;
 
 use glam::Vec2;
 
+use super::pass::{self, Binding};
 use super::sampling::halton;
+use super::{PipelineCache, bilinear_clamp_sampler};
+use crate::aa::FrameInfo;
+use crate::gpu::Gpu;
+use crate::gpu::fullscreen::FragmentDesc;
+use crate::gpu::shader::Shader;
+use crate::graph::PassContext;
 use crate::scene::camera::FrameCamera;
 
 crate::named_enum! {
@@ -116,6 +127,123 @@ impl PingPong {
     pub fn swap(&mut self) {
         self.latest = 1 - self.latest;
         self.valid = true;
+    }
+}
+
+/// When a temporal technique's history must start again: on the frame's request, after a
+/// setting changed ([`HistoryReset::invalidate`]), and when the camera does not continue the
+/// one the history was made with.
+pub struct HistoryReset {
+    pending: bool,
+    last_camera: Option<FrameCamera>,
+}
+
+impl Default for HistoryReset {
+    fn default() -> Self {
+        Self {
+            pending: true,
+            last_camera: None,
+        }
+    }
+}
+
+impl HistoryReset {
+    /// The next frame starts a new history.
+    pub fn invalidate(&mut self) {
+        self.pending = true;
+    }
+
+    /// Whether `frame` starts a new history; remembers its camera.
+    pub fn restarts(&mut self, frame: &FrameInfo) -> bool {
+        let camera = frame.camera;
+        let reset = frame.reset_history
+            || self.pending
+            || !self
+                .last_camera
+                .is_some_and(|last| continues(&last, &camera));
+        self.pending = false;
+        self.last_camera = Some(camera);
+        reset
+    }
+}
+
+/// What a temporal resolve is built from: its shader module, one explicit bind-group layout
+/// that every pipeline variant shares (whatever bindings its override constants leave
+/// unused), the history's bilinear sampler, a uniform buffer, and the pipeline variants by
+/// what they are specialised on.
+pub struct ResolvePass<K> {
+    /// The device.
+    pub device: wgpu::Device,
+    /// The bind-group layout.
+    pub layout: wgpu::BindGroupLayout,
+    /// The history sampler (bilinear, clamped).
+    pub sampler: wgpu::Sampler,
+    /// The uniform buffer.
+    pub uniform: wgpu::Buffer,
+    label: &'static str,
+    module: wgpu::ShaderModule,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: PipelineCache<K>,
+}
+
+impl<K: Eq + Hash + Debug> ResolvePass<K> {
+    /// The pieces of the resolve `label` in `shader`, with `bindings` and a uniform of `U`.
+    pub fn new<U>(
+        gpu: &Gpu,
+        label: &'static str,
+        shader: &Shader,
+        bindings: &[(u32, Binding)],
+    ) -> Self {
+        let device = &gpu.device;
+        let layout = pass::layout(device, label, bindings);
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        Self {
+            device: device.clone(),
+            sampler: bilinear_clamp_sampler(device, &format!("{label} history")),
+            uniform: pass::uniform_buffer::<U>(device, &format!("{label} params")),
+            module: shader.module(device),
+            label,
+            layout,
+            pipeline_layout,
+            pipelines: PipelineCache::default(),
+        }
+    }
+
+    /// The pipeline of `key`: `entry_point` writing `targets`, with override `constants`.
+    pub fn pipeline(
+        &mut self,
+        ctx: &PassContext<'_>,
+        key: K,
+        entry_point: &str,
+        targets: &[wgpu::TextureFormat],
+        constants: &[(&str, f64)],
+    ) -> wgpu::RenderPipeline {
+        let (device, module, layout) = (&self.device, &self.module, &self.pipeline_layout);
+        let label = self.label;
+        self.pipelines.get_or_build(key, |key| {
+            ctx.fullscreen.pipeline(
+                device,
+                &FragmentDesc {
+                    label: &format!("{label} {entry_point} {key:?}"),
+                    module,
+                    entry_point,
+                    targets,
+                    constants,
+                    layout: Some(layout),
+                },
+            )
+        })
+    }
+
+    /// Writes this frame's uniform block.
+    pub fn write_uniform<U: bytemuck::Pod>(&self, ctx: &PassContext<'_>, uniform: &U) {
+        ctx.gpu
+            .queue
+            .write_buffer(&self.uniform, 0, bytemuck::bytes_of(uniform));
     }
 }
 

@@ -58,17 +58,17 @@ pub use settings::{
 
 use glam::Vec2;
 
-use crate::aa::common::pass::{self, Binding};
-use crate::aa::common::temporal::{PingPong, cleared_black, continues, jitter_offset};
-use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, encoded_view};
+use crate::aa::common::encoded_view;
+use crate::aa::common::pass::Binding;
+use crate::aa::common::temporal::{
+    HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset,
+};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
-use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
 use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu};
 use crate::graph::{MemoryItem, PassContext};
-use crate::scene::camera::FrameCamera;
 use crate::scene::renderer::SceneTargets;
 use debug::TaaDebug;
 
@@ -148,18 +148,9 @@ struct TaaUniform {
 /// The TAA technique.
 pub struct Taa {
     settings: TaaSettings,
-    device: wgpu::Device,
-    module: wgpu::ShaderModule,
-    layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
-    sampler: wgpu::Sampler,
-    uniform: wgpu::Buffer,
-    pipelines: PipelineCache<PipelineKey>,
+    resolve: ResolvePass<PipelineKey>,
     history: Option<PingPong>,
-    /// A setting changed since the last frame: the next frame starts a new history.
-    reset_pending: bool,
-    /// The camera of the frame the history holds, to recognise a discontinuous camera.
-    last_camera: Option<FrameCamera>,
+    reset: HistoryReset,
     debug_enabled: bool,
     debug: Option<TaaDebug>,
 }
@@ -172,38 +163,19 @@ impl Taa {
 
     /// TAA with the given settings.
     pub fn with_settings(gpu: &Gpu, settings: TaaSettings) -> Self {
-        let device = &gpu.device;
-        // An explicit layout: every pipeline variant shares it, whatever bindings its override
-        // constants leave unused.
-        let layout = pass::layout(
-            device,
-            "taa resolve",
-            &[
-                (0, Binding::Texture),
-                (1, Binding::Depth),
-                (2, Binding::Texture),
-                (3, Binding::Texture),
-                (4, Binding::Sampler),
-                (5, Binding::Uniform),
-            ],
-        );
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("taa resolve"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+        let bindings = [
+            (0, Binding::Texture),
+            (1, Binding::Depth),
+            (2, Binding::Texture),
+            (3, Binding::Texture),
+            (4, Binding::Sampler),
+            (5, Binding::Uniform),
+        ];
         Self {
             settings,
-            module: WGSL.module(device),
-            sampler: bilinear_clamp_sampler(device, "taa history"),
-            uniform: pass::uniform_buffer::<TaaUniform>(device, "taa params"),
-            layout,
-            pipeline_layout,
-            device: device.clone(),
-            pipelines: PipelineCache::default(),
+            resolve: ResolvePass::new::<TaaUniform>(gpu, "taa resolve", &WGSL, &bindings),
             history: None,
-            reset_pending: true,
-            last_camera: None,
+            reset: HistoryReset::default(),
             debug_enabled: false,
             debug: None,
         }
@@ -217,7 +189,7 @@ impl Taa {
     /// Replaces the settings; the next frame starts a new history.
     pub fn set_settings(&mut self, settings: TaaSettings) {
         self.settings = settings;
-        self.reset_pending = true;
+        self.reset.invalidate();
     }
 
     fn resolve_pipeline(&mut self, ctx: &PassContext<'_>, debug: bool) -> wgpu::RenderPipeline {
@@ -230,30 +202,16 @@ impl Taa {
             neighbourhood: s.neighbourhood,
             debug,
         };
-        let (device, module, layout) = (&self.device, &self.module, &self.pipeline_layout);
-        self.pipelines.get_or_build(key, |key| {
-            let targets: &[wgpu::TextureFormat] = if debug {
-                &[COLOR_FORMAT, HISTORY_FORMAT, COLOR_FORMAT_ENCODED_VIEW]
-            } else {
-                &[COLOR_FORMAT, HISTORY_FORMAT]
-            };
-            let entry_point = if debug {
-                "fs_resolve_debug"
-            } else {
-                "fs_resolve"
-            };
-            ctx.fullscreen.pipeline(
-                device,
-                &FragmentDesc {
-                    label: &format!("taa {entry_point} {key:?}"),
-                    module,
-                    entry_point,
-                    targets,
-                    constants: &s.constants(),
-                    layout: Some(layout),
-                },
+        let (entry_point, targets): (&str, &[wgpu::TextureFormat]) = if debug {
+            (
+                "fs_resolve_debug",
+                &[COLOR_FORMAT, HISTORY_FORMAT, COLOR_FORMAT_ENCODED_VIEW],
             )
-        })
+        } else {
+            ("fs_resolve", &[COLOR_FORMAT, HISTORY_FORMAT])
+        };
+        self.resolve
+            .pipeline(ctx, key, entry_point, targets, &s.constants())
     }
 }
 
@@ -292,7 +250,7 @@ impl Technique for Taa {
         let size = input.desc.size;
         if self.history.as_ref().is_none_or(|h| h.size() != size) {
             self.history = Some(PingPong::new(
-                &self.device,
+                &self.resolve.device,
                 "taa history",
                 size,
                 HISTORY_FORMAT,
@@ -302,18 +260,12 @@ impl Technique for Taa {
         if debug {
             let stale = self.debug.as_ref().is_none_or(|d| d.size() != size);
             if stale {
-                self.debug = Some(TaaDebug::new(ctx, &self.device, &DEBUG_WGSL, size));
+                self.debug = Some(TaaDebug::new(ctx, &self.resolve.device, &DEBUG_WGSL, size));
             }
         }
         let pipeline = self.resolve_pipeline(ctx, debug);
         let camera = ctx.frame.camera;
-        let reset = ctx.frame.reset_history
-            || self.reset_pending
-            || !self
-                .last_camera
-                .is_some_and(|last| continues(&last, &camera));
-        self.reset_pending = false;
-        self.last_camera = Some(camera);
+        let reset = self.reset.restarts(ctx.frame);
         let Some(history) = &mut self.history else {
             return;
         };
@@ -342,9 +294,8 @@ impl Technique for Taa {
                 jitter_offset(camera.frame, self.settings.samples.count()),
             ),
         };
-        ctx.gpu
-            .queue
-            .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
+        self.resolve.write_uniform(ctx, &uniform);
+        let resolve = &self.resolve;
 
         let current_view = input.color.create_view(&Default::default());
         let depth_view = input.depth.create_view(&Default::default());
@@ -354,24 +305,26 @@ impl Technique for Taa {
             binding,
             resource: wgpu::BindingResource::TextureView(view),
         };
-        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("taa resolve"),
-            layout: &self.layout,
-            entries: &[
-                texture(0, &current_view),
-                texture(1, &depth_view),
-                texture(2, &motion_view),
-                texture(3, &history_view),
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::Sampler(&self.sampler),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: self.uniform.as_entire_binding(),
-                },
-            ],
-        });
+        let bind_group = resolve
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("taa resolve"),
+                layout: &resolve.layout,
+                entries: &[
+                    texture(0, &current_view),
+                    texture(1, &depth_view),
+                    texture(2, &motion_view),
+                    texture(3, &history_view),
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: wgpu::BindingResource::Sampler(&resolve.sampler),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 5,
+                        resource: resolve.uniform.as_entire_binding(),
+                    },
+                ],
+            });
         let output_view = output.create_view(&Default::default());
         let next_view = history.write().create_view(&Default::default());
         let rejection_view = self
@@ -390,12 +343,12 @@ impl Technique for Taa {
         });
         history.swap();
         if let Some(views) = self.debug.as_ref().filter(|_| debug) {
-            views.encode(ctx, &self.device, motion, self.settings.samples.count());
+            views.encode(ctx, &resolve.device, motion, self.settings.samples.count());
         }
     }
 
     fn memory(&self) -> Vec<MemoryItem> {
-        let mut items = vec![MemoryItem::buffer("taa params", &self.uniform)];
+        let mut items = vec![MemoryItem::buffer("taa params", &self.resolve.uniform)];
         if let Some(h) = &self.history {
             items.push(MemoryItem::texture("taa history a", &h.textures[0]));
             items.push(MemoryItem::texture("taa history b", &h.textures[1]));

@@ -41,16 +41,15 @@ pub use settings::{Kernel, PhasesPerPixel, Preset, TaauSettings};
 use glam::Mat4;
 
 use crate::aa::common::pass::{self, Binding};
-use crate::aa::common::temporal::{PingPong, cleared_black, continues, jitter_offset};
-use crate::aa::common::{PipelineCache, bilinear_clamp_sampler};
+use crate::aa::common::temporal::{
+    HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset,
+};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
-use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
 use crate::gpu::{COLOR_FORMAT, Gpu};
 use crate::graph::{MemoryItem, PassContext};
-use crate::scene::camera::FrameCamera;
 use crate::scene::renderer::SceneTargets;
 use debug::{STATE_FORMAT, TaauDebug};
 
@@ -119,18 +118,9 @@ struct History {
 /// The temporal upscaler.
 pub struct Taau {
     settings: TaauSettings,
-    device: wgpu::Device,
-    module: wgpu::ShaderModule,
-    layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
-    sampler: wgpu::Sampler,
-    uniform: wgpu::Buffer,
-    pipelines: PipelineCache<PipelineKey>,
+    resolve: ResolvePass<PipelineKey>,
     history: Option<History>,
-    /// A setting changed since the last frame: the next frame starts a new history.
-    reset_pending: bool,
-    /// The camera of the frame the history holds, to recognise a discontinuous camera.
-    last_camera: Option<FrameCamera>,
+    reset: HistoryReset,
     debug_enabled: bool,
     debug: Option<TaauDebug>,
 }
@@ -143,37 +133,20 @@ impl Taau {
 
     /// The temporal upscaler with the given settings.
     pub fn with_settings(gpu: &Gpu, settings: TaauSettings) -> Self {
-        let device = &gpu.device;
-        let layout = pass::layout(
-            device,
-            "taau resolve",
-            &[
-                (0, Binding::Texture),
-                (1, Binding::Depth),
-                (2, Binding::Texture),
-                (3, Binding::Texture),
-                (4, Binding::UnfilterableTexture),
-                (5, Binding::Sampler),
-                (6, Binding::Uniform),
-            ],
-        );
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("taau resolve"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+        let bindings = [
+            (0, Binding::Texture),
+            (1, Binding::Depth),
+            (2, Binding::Texture),
+            (3, Binding::Texture),
+            (4, Binding::UnfilterableTexture),
+            (5, Binding::Sampler),
+            (6, Binding::Uniform),
+        ];
         Self {
             settings,
-            module: WGSL.module(device),
-            sampler: bilinear_clamp_sampler(device, "taau history"),
-            uniform: pass::uniform_buffer::<TaauUniform>(device, "taau params"),
-            layout,
-            pipeline_layout,
-            device: device.clone(),
-            pipelines: PipelineCache::default(),
+            resolve: ResolvePass::new::<TaauUniform>(gpu, "taau resolve", &WGSL, &bindings),
             history: None,
-            reset_pending: true,
-            last_camera: None,
+            reset: HistoryReset::default(),
             debug_enabled: false,
             debug: None,
         }
@@ -187,7 +160,7 @@ impl Taau {
     /// Replaces the settings; the next frame starts a new history.
     pub fn set_settings(&mut self, settings: TaauSettings) {
         self.settings = settings;
-        self.reset_pending = true;
+        self.reset.invalidate();
     }
 
     /// This frame's jitter in render pixels.
@@ -204,30 +177,16 @@ impl Taau {
             constants: constants.map(|(name, value)| (name, value.to_bits())),
             debug,
         };
-        let (device, module, layout) = (&self.device, &self.module, &self.pipeline_layout);
-        self.pipelines.get_or_build(key, |key| {
-            let targets: &[wgpu::TextureFormat] = if debug {
-                &[COLOR_FORMAT, HISTORY_FORMAT, AUX_FORMAT, STATE_FORMAT]
-            } else {
-                &[COLOR_FORMAT, HISTORY_FORMAT, AUX_FORMAT]
-            };
-            let entry_point = if debug {
-                "fs_resolve_debug"
-            } else {
-                "fs_resolve"
-            };
-            ctx.fullscreen.pipeline(
-                device,
-                &FragmentDesc {
-                    label: &format!("taau {entry_point} {key:?}"),
-                    module,
-                    entry_point,
-                    targets,
-                    constants: &constants,
-                    layout: Some(layout),
-                },
+        let (entry_point, targets): (&str, &[wgpu::TextureFormat]) = if debug {
+            (
+                "fs_resolve_debug",
+                &[COLOR_FORMAT, HISTORY_FORMAT, AUX_FORMAT, STATE_FORMAT],
             )
-        })
+        } else {
+            ("fs_resolve", &[COLOR_FORMAT, HISTORY_FORMAT, AUX_FORMAT])
+        };
+        self.resolve
+            .pipeline(ctx, key, entry_point, targets, &constants)
     }
 
     /// The uniform block of a frame.
@@ -267,25 +226,18 @@ impl Taau {
             .as_ref()
             .is_some_and(|h| h.colour.size() == output_size && h.render_size == render_size);
         if !fits {
+            let device = &self.resolve.device;
             self.history = Some(History {
-                colour: PingPong::new(&self.device, "taau history", output_size, HISTORY_FORMAT),
-                aux: PingPong::new(&self.device, "taau depth", output_size, AUX_FORMAT),
+                colour: PingPong::new(device, "taau history", output_size, HISTORY_FORMAT),
+                aux: PingPong::new(device, "taau depth", output_size, AUX_FORMAT),
                 render_size,
             });
         }
+        let device = &self.resolve.device;
         if self.debug_enabled && self.debug.as_ref().is_none_or(|d| d.size() != output_size) {
-            self.debug = Some(TaauDebug::new(ctx, &self.device, &DEBUG_WGSL, output_size));
+            self.debug = Some(TaauDebug::new(ctx, device, &DEBUG_WGSL, output_size));
         }
-        let camera = ctx.frame.camera;
-        let reset = ctx.frame.reset_history
-            || self.reset_pending
-            || !self
-                .last_camera
-                .is_some_and(|last| continues(&last, &camera))
-            || self.history.as_ref().is_none_or(|h| !h.colour.valid);
-        self.reset_pending = false;
-        self.last_camera = Some(camera);
-        reset
+        self.reset.restarts(ctx.frame) || self.history.as_ref().is_none_or(|h| !h.colour.valid)
     }
 }
 
@@ -327,10 +279,8 @@ impl Technique for Taau {
         let reset = self.prepare(ctx, input.desc.size);
         let debug = self.debug_enabled;
         let pipeline = self.resolve_pipeline(ctx, debug);
-        let uniform = self.uniform(ctx.frame, reset);
-        ctx.gpu
-            .queue
-            .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
+        self.resolve
+            .write_uniform(ctx, &self.uniform(ctx.frame, reset));
         let Some(history) = &mut self.history else {
             return;
         };
@@ -347,9 +297,11 @@ impl Technique for Taau {
             .zip(0..)
             .map(|(view, binding)| (binding, wgpu::BindingResource::TextureView(view)))
             .collect();
-        resources.push((5, wgpu::BindingResource::Sampler(&self.sampler)));
-        resources.push((6, self.uniform.as_entire_binding()));
-        let bind_group = pass::bind_group(&self.device, "taau resolve", &self.layout, &resources);
+        let resolve = &self.resolve;
+        resources.push((5, wgpu::BindingResource::Sampler(&resolve.sampler)));
+        resources.push((6, resolve.uniform.as_entire_binding()));
+        let bind_group =
+            pass::bind_group(&resolve.device, "taau resolve", &resolve.layout, &resources);
         let targets = [output, history.colour.write(), history.aux.write()]
             .map(|t| t.create_view(&Default::default()));
         let state_view = self
@@ -370,12 +322,12 @@ impl Technique for Taau {
         history.colour.swap();
         history.aux.swap();
         if let Some(views) = self.debug.as_ref().filter(|_| debug) {
-            views.encode(ctx, &self.device, motion, self.settings.max_samples);
+            views.encode(ctx, &resolve.device, motion, self.settings.max_samples);
         }
     }
 
     fn memory(&self) -> Vec<MemoryItem> {
-        let mut items = vec![MemoryItem::buffer("taau params", &self.uniform)];
+        let mut items = vec![MemoryItem::buffer("taau params", &self.resolve.uniform)];
         if let Some(h) = &self.history {
             for (pair, label) in [(&h.colour, "taau history"), (&h.aux, "taau depth")] {
                 items.push(MemoryItem::texture(format!("{label} a"), &pair.textures[0]));

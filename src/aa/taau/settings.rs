@@ -48,7 +48,8 @@ pub struct TaauSettings {
     pub phases: PhasesPerPixel,
     /// The new samples' kernel.
     pub kernel: Kernel,
-    /// Kernel width in output pixels (1: the spread of one pixel).
+    /// Kernel width in output pixels (1: the spread of one pixel) of the samples where the
+    /// history is resampled (on a still camera the samples inside the pixel count alike).
     pub kernel_width: f32,
     /// How the history is read at the reprojected position.
     pub history_filter: HistoryFilter,
@@ -75,12 +76,12 @@ impl Default for TaauSettings {
         Self {
             phases: PhasesPerPixel::Eight,
             kernel: Kernel::Gaussian,
-            kernel_width: 1.0,
+            kernel_width: 1.3,
             history_filter: HistoryFilter::CatmullRom,
             rectify: Rectify::Variance,
             gamma: 1.0,
-            max_samples: 10.0,
-            motion_samples: 3.0,
+            max_samples: 6.0,
+            motion_samples: 1.5,
             velocity_tolerance: 1.0,
             depth_tolerance: 0.05,
             reactive: 0.0,
@@ -131,8 +132,9 @@ impl Tunable for TaauSettings {
             Param::float(
                 "kernel_width",
                 "Kernel width",
-                "Width of the sample kernel in output pixels: wider takes in more samples per \
-                 frame (less noise, softer), narrower keeps only the samples inside the pixel.",
+                "Width of the sample kernel in output pixels where the history is resampled \
+                 (motion): wider takes in more samples per frame (less noise, softer), narrower \
+                 fewer. On a still camera the samples inside the pixel count alike.",
                 0.5,
                 2.0,
                 s.kernel_width,
@@ -263,7 +265,7 @@ impl TaauSettings {
             },
             Preset::Quality => Self {
                 phases: PhasesPerPixel::Sixteen,
-                max_samples: 16.0,
+                max_samples: 12.0,
                 ..default
             },
             Preset::Sharp => Self {

@@ -7,7 +7,7 @@
 //     output pixel count (1 each: the accumulation converges to the pixel's area average);
 //     where resampling blurs the history, the samples are weighted by their distance from the
 //     output pixel's centre (KERNEL: a Gaussian with the spread of one pixel, or radial
-//     Lanczos-2; both scaled by the kernel width, as is the box), by the same measure. The
+//     Lanczos-2; both scaled by the kernel width), by the same measure. The
 //     weighted sum is this frame's contribution and the sum of weights its confidence. A wide Gaussian over the same
 //     samples (half a render pixel) is the spatial estimate that fills in where the history
 //     holds too little (first frame, disocclusion).
@@ -173,7 +173,7 @@ fn gather_samples(centre: vec2<f32>) -> Samples {
             let rgb = textureLoad(current, inside, 0).rgb;
             // The sample's offset from the output pixel's centre, in render pixels.
             let offset = vec2<f32>(pixel) + 0.5 - jitter - centre;
-            let in_pixel = all(abs(offset * ratio) < vec2<f32>(0.5 * params.jitter.w));
+            let in_pixel = all(abs(offset * ratio) < vec2<f32>(0.5));
             let inside_weight = select(0.0, 1.0, in_pixel);
             s.box_sum += inside_weight * rgb;
             s.box_weight += inside_weight;
