@@ -8,10 +8,10 @@ mod common;
 use aa_lab::aa::{self, FrameInfo, Technique};
 use aa_lab::gpu::{Gpu, read_texture_rgba8};
 use aa_lab::graph::{FrameGraph, FrameScope};
-use aa_lab::scene::camera::{FrameCamera, OrbitPose};
+use aa_lab::scene::camera::FrameCamera;
 use aa_lab::scene::procedural::SceneOptions;
 use aa_lab::scene::source::load;
-use aa_lab::scene::{Material, Mesh, Scene, Spin, Vertex};
+use aa_lab::scene::{Material, Mesh, Scene, Vertex};
 use glam::Vec3;
 use image::RgbaImage;
 
@@ -46,16 +46,6 @@ fn render(graph: &mut FrameGraph, camera: FrameCamera, reset_history: bool) {
 /// on pixel borders, where No AA is already exact and any filter can only add error).
 const SLANTED_EDGE: (u32, u32, u32, u32) = (112, 40, 78, 100);
 
-/// Whether the (2r+1)^2 neighbourhood of (x, y) in `image` has one colour (never at the
-/// border).
-fn flat_within(image: &RgbaImage, x: u32, y: u32, r: u32) -> bool {
-    if x < r || y < r || x + r >= image.width() || y + r >= image.height() {
-        return false;
-    }
-    let centre = image.get_pixel(x, y);
-    (y - r..=y + r).all(|j| (x - r..=x + r).all(|i| image.get_pixel(i, j) == centre))
-}
-
 /// Counts, against the No AA image: flat pixels that moved by more than 1/255 (must be none)
 /// and edge pixels that changed at all.
 fn flat_and_edge_changes(no_aa: &RgbaImage, image: &RgbaImage) -> (Vec<(u32, u32, u8)>, usize) {
@@ -63,7 +53,7 @@ fn flat_and_edge_changes(no_aa: &RgbaImage, image: &RgbaImage) -> (Vec<(u32, u32
     let mut edge_changes = 0;
     for (x, y, p) in no_aa.enumerate_pixels() {
         let d = common::largest_channel_difference(p, image.get_pixel(x, y));
-        if flat_within(no_aa, x, y, 1) {
+        if common::temporal::flat_within(no_aa, x, y, 1) {
             if d > 1 {
                 flat_changes.push((x, y, d));
             }
@@ -92,7 +82,7 @@ fn with_reference_on(
     scene: &Scene,
     techniques: Vec<Box<dyn Technique>>,
     frames: u64,
-    camera: &CameraPath<'_>,
+    camera: &common::temporal::CameraPath<'_>,
 ) -> (RgbaImage, Vec<RgbaImage>) {
     let mut all = vec![common::technique(
         gpu,
@@ -347,111 +337,29 @@ fn taa_forgets_its_history_on_a_cut_a_resize_and_a_settings_change() {
     );
 }
 
-/// The camera of each frame number.
-type CameraPath<'a> = dyn Fn(u64) -> FrameCamera + 'a;
-
-/// A camera panning sideways at `speed` world units per frame (pure translation).
-fn panning(scene: &Scene, frame: u64, speed: f32, size: (u32, u32)) -> FrameCamera {
-    let pose = |f: u64| {
-        let mut pose = OrbitPose::at_frame(&scene.camera, 0);
-        pose.target.x += speed * f as f32;
-        pose
-    };
-    FrameCamera {
-        pose: pose(frame),
-        prev_pose: pose(frame.saturating_sub(1)),
-        frame,
-        size,
-        render_size: None,
-    }
-}
-
-/// The flat chart with the black quad spinning about its own centre (object motion).
-fn spinning_chart() -> Scene {
-    let mut scene = common::flat_chart(5.0);
-    scene.meshes[0].spin = Some(Spin {
-        pivot: Vec3::new(0.6, 0.0, 0.0),
-        axis: Vec3::Z,
-        radians_per_frame: 0.03,
-    });
-    scene
-}
-
-/// How TAA (with `settings`) matches the current No AA frame after 12 frames of motion, over
-/// the pixels whose content changed during the last four frames: the largest difference among
-/// those at least two pixels from any edge now (where the jittered 3x3 neighbourhood is flat,
-/// so any old content left is a ghost), and the mean difference over all of them (edges
-/// included, where TAA legitimately differs from No AA by its antialiasing).
-fn trail(
-    gpu: &Gpu,
-    scene: &Scene,
-    camera: &CameraPath<'_>,
-    settings: &[(&str, &str)],
-) -> (u8, f64) {
-    const FRAMES: u64 = 12;
-    const LOOK_BACK: u64 = 4;
-    let mut g = common::graph(
-        gpu,
-        scene,
-        vec![
-            common::technique(gpu, "none", &[]),
-            common::technique(gpu, "taa", settings),
-        ],
-    );
-    let mut recent = Vec::new();
-    for f in 0..=FRAMES {
-        render(&mut g, camera(f), f == 0);
-        if f + LOOK_BACK >= FRAMES {
-            recent.push(common::outputs(&mut g));
-        }
-    }
-    let current = recent.last().expect("frames ran");
-    let (no_aa, taa) = (&current[0], &current[1]);
-    let (mut interior, mut changed, mut total) = (0, 0, 0u64);
-    let mut worst = 0;
-    for (x, y, p) in no_aa.enumerate_pixels() {
-        let moved = recent[..recent.len() - 1]
-            .iter()
-            .any(|earlier| earlier[0].get_pixel(x, y) != p);
-        if !moved {
-            continue;
-        }
-        let d = common::largest_channel_difference(p, taa.get_pixel(x, y));
-        changed += 1;
-        total += u64::from(d);
-        if flat_within(no_aa, x, y, 2) {
-            interior += 1;
-            worst = worst.max(d);
-        }
-    }
-    assert!(
-        interior > 200,
-        "only {interior} interior pixels changed: the test moves too little"
-    );
-    (worst, total as f64 / changed as f64)
-}
-
 #[test]
 fn taa_leaves_no_ghost_trail_behind_camera_or_object_motion() {
     let gpu = common::gpu();
     let chart = common::flat_chart(5.0);
-    let spinning = spinning_chart();
-    let pan = |f| panning(&chart, f, 0.03, SIZE);
+    let spinning = common::temporal::spinning_chart();
+    let pan = |f| common::temporal::panning(&chart, f, 0.03, SIZE);
     let spin = |f| still(&spinning, f, SIZE);
-    let cases: [(&str, &Scene, &CameraPath<'_>); 2] = [
+    let cases: [(&str, &Scene, &common::temporal::CameraPath<'_>); 2] = [
         ("camera pan", &chart, &pan),
         ("spinning object", &spinning, &spin),
     ];
     for (name, scene, camera) in cases {
         // Without rectification the history keeps the old content: the measure sees ghosts.
-        let (ghost, ghost_mean) = trail(&gpu, scene, camera, &[("rectify", "none")]);
+        let (ghost, ghost_mean) =
+            common::temporal::trail(&gpu, "taa", scene, camera, &[("rectify", "none")]);
         println!("{name}, none: worst {ghost}, mean {ghost_mean:.2}");
         assert!(
             ghost > 64,
             "{name}: no ghost without rectification ({ghost})"
         );
         for rectify in ["clamp", "clip", "variance"] {
-            let (worst, mean) = trail(&gpu, scene, camera, &[("rectify", rectify)]);
+            let (worst, mean) =
+                common::temporal::trail(&gpu, "taa", scene, camera, &[("rectify", rectify)]);
             println!("{name}, {rectify}: worst {worst}, mean {mean:.2}");
             assert!(
                 worst <= 2,
@@ -478,7 +386,11 @@ fn debug_views_have_the_output_size_and_show_something() {
     }
     let mut g = common::graph(&gpu, &scene, techniques);
     for f in 0..3 {
-        render(&mut g, panning(&scene, f, 0.02, SIZE), f == 0);
+        render(
+            &mut g,
+            common::temporal::panning(&scene, f, 0.02, SIZE),
+            f == 0,
+        );
     }
     g.finish();
     let mut names = Vec::new();
@@ -545,7 +457,7 @@ fn settings_and_presets_are_data() {
     let input = taa.scene_input(&frame).expect("taa reads a scene render");
     assert!(input.motion());
     assert_eq!(input.mip_bias(), -1.0);
-    assert!((input.offset() - aa::taa::jitter_offset(3, 16)).length() < 1e-4);
+    assert!((input.offset() - aa::common::temporal::jitter_offset(3, 16)).length() < 1e-4);
     assert!(taa.temporal());
 }
 
@@ -650,7 +562,7 @@ fn taa_keeps_thin_lines_on_a_moving_camera() {
                 common::technique(&gpu, "taa", &[]),
             ],
             33,
-            &|f| panning(&scene, f, speed, SIZE),
+            &|f| common::temporal::panning(&scene, f, speed, SIZE),
         );
         let [none, taa] = [0, 1].map(|i| common::mean_error(&images[i], &reference));
         let kept = ink(&images[1]) / ink(&reference);

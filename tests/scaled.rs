@@ -410,7 +410,7 @@ fn a_combination_round_trips_through_its_record_and_reproduces_its_image() {
         "--frame",
         "2",
         "--technique",
-        "smaa@performance:easu+rcas=0.2,taa@0.6:lanczos,fxaa+cas",
+        "smaa@performance:easu+rcas=0.2,taa@0.6:lanczos,fxaa+cas,taau@0.5+rcas=0.2",
         "--out",
         out.to_str().expect("utf-8"),
     ]);
@@ -421,8 +421,8 @@ fn a_combination_round_trips_through_its_record_and_reproduces_its_image() {
         .filter(|p| p.extension().is_some_and(|e| e == "png"))
         .collect();
     files.sort();
-    assert_eq!(files.len(), 3, "{files:?}");
-    // Each image's record lists all three techniques: one `render --from` renders them again.
+    assert_eq!(files.len(), 4, "{files:?}");
+    // Each image's record lists all four techniques: one `render --from` renders them again.
     let again = dir.path().join("again");
     let ok = common::aa_lab(&[
         "render",
@@ -443,7 +443,8 @@ fn a_combination_round_trips_through_its_record_and_reproduces_its_image() {
             [
                 "smaa@performance:easu+rcas=0.2",
                 "taa@0.6:lanczos",
-                "fxaa+cas=0.5"
+                "fxaa+cas=0.5",
+                "taau@performance+rcas=0.2"
             ]
         );
         let name = file.file_name().expect("a file name");
@@ -460,6 +461,10 @@ fn bad_combinations_are_refused_with_what_is_accepted() {
         ("smaa@1.5", &["`1.5`", "out of range"]),
         ("smaa@quality:nearest", &["upscaler `nearest`", "easu"]),
         ("smaa+cas=abc", &["strength `abc`", "0 to 1"]),
+        (
+            "taau@quality:easu",
+            &["reconstructs at the output size itself", "drop `:easu`"],
+        ),
     ] {
         common::fails_with(
             &[

@@ -4,12 +4,14 @@
 //! SCALE is a number in [[`MIN_SCALE`], 1] or one of the engines' presets (`native` 1,
 //! `quality` 1/1.5, `balanced` 1/1.7, `performance` 1/2, `ultra-performance` 1/3, as AMD's
 //! FSR 2 names them); UPSCALER one of [`Upscaler`]'s names (default: `easu`, the best); SHARPEN
-//! `cas` or `rcas`, STRENGTH in [0, 1] (default [`DEFAULT_STRENGTH`]). The same string is the
+//! `cas` or `rcas`, STRENGTH in [0, 1] (default [`DEFAULT_STRENGTH`]). A technique that
+//! reconstructs at the output size itself (the temporal upscaler) takes no upscaler:
+//! [`Combo::resolve`] refuses one there and fills in the default elsewhere. The same string is the
 //! technique's id everywhere (command line, records, file names), so a record reproduces the
 //! combination. [`Combo::id`] writes the one canonical form of a combination: the scale as a
 //! preset name where it is one, else the shortest number that reads back to it; the upscaler
-//! always when the scale is below 1 and never at native (nothing is upscaled there); the
-//! strength always. A plain id (native, no sharpening) stays the technique's own.
+//! always when the scale is below 1 (unless the technique takes none) and never at native
+//! (nothing is upscaled there); the strength always. A plain id (native, no sharpening) stays the technique's own.
 //!
 //! The modifiers are read from the right, and each only where its text has no `/`, so the id
 //! of a user technique (`user:PATH`, whose path may hold `:` or `+`) keeps its path.
@@ -96,8 +98,10 @@ pub struct Combo {
     pub base: String,
     /// Render scale per axis, in [`MIN_SCALE`, 1].
     pub scale: f32,
-    /// The upscaler (unused at scale 1).
-    pub upscaler: Upscaler,
+    /// The upscaler (unused at scale 1): `None` where the string names none, until
+    /// [`Combo::resolve`] fills in the default, and always for a technique that reconstructs
+    /// at the output size itself.
+    pub upscaler: Option<Upscaler>,
     /// Sharpening after the upscale, if any.
     pub sharpen: Option<Sharpening>,
 }
@@ -150,6 +154,19 @@ pub enum ComboError {
         text: String,
         /// What is wrong with it.
         why: &'static str,
+    },
+    /// An upscaler after a technique that reconstructs at the output size itself.
+    #[error(
+        "`{id}`: {base} reconstructs at the output size itself and takes no upscaler; drop \
+         `:{upscaler}`"
+    )]
+    OwnReconstruction {
+        /// The whole string.
+        id: String,
+        /// The technique's own id.
+        base: String,
+        /// The upscaler's name.
+        upscaler: &'static str,
     },
     /// Nothing before the modifiers.
     #[error("`{0}`: no technique id before the render scale, upscaler or sharpening")]
@@ -205,9 +222,30 @@ impl Combo {
         Ok(Self {
             base: rest.to_owned(),
             scale: scale.unwrap_or(1.0),
-            upscaler: upscaler.unwrap_or(Upscaler::Easu),
+            upscaler,
             sharpen,
         })
+    }
+
+    /// The combination for its technique: one that reconstructs at the output size itself
+    /// refuses an upscaler (below native, where one would run); any other gets the default
+    /// upscaler where none is named.
+    pub fn resolve(mut self, reconstructs_at_output: bool) -> Result<Self, ComboError> {
+        match (reconstructs_at_output, self.upscaler) {
+            (true, Some(upscaler)) if self.scale < 1.0 => Err(ComboError::OwnReconstruction {
+                id: self.id(),
+                base: self.base,
+                upscaler: upscaler.name(),
+            }),
+            (true, _) => {
+                self.upscaler = None;
+                Ok(self)
+            }
+            (false, _) => {
+                self.upscaler.get_or_insert(Upscaler::Easu);
+                Ok(self)
+            }
+        }
     }
 
     /// Whether the combination is the plain technique (native, no sharpening).
@@ -223,7 +261,10 @@ impl Combo {
                 .iter()
                 .find(|p| p.scale() == self.scale)
                 .map_or_else(|| self.scale.to_string(), |p| p.name().to_owned());
-            id += &format!("@{scale}:{}", self.upscaler.name());
+            id += &format!("@{scale}");
+            if let Some(upscaler) = self.upscaler {
+                id += &format!(":{}", upscaler.name());
+            }
         }
         if let Some(s) = self.sharpen {
             id += &format!("+{}={}", s.filter.name(), s.strength);
@@ -244,11 +285,10 @@ impl Combo {
     pub fn label_suffix(&self) -> String {
         let mut suffix = String::new();
         if self.scale < 1.0 {
-            suffix += &format!(
-                " @ {:.0}% {}",
-                self.scale * 100.0,
-                self.upscaler.name().to_uppercase()
-            );
+            suffix += &format!(" @ {:.0}%", self.scale * 100.0);
+            if let Some(upscaler) = self.upscaler {
+                suffix += &format!(" {}", upscaler.name().to_uppercase());
+            }
         }
         if let Some(s) = self.sharpen {
             suffix += &format!(" + {} {}", s.filter.name().to_uppercase(), s.strength);
@@ -313,7 +353,7 @@ mod tests {
         let combo = Combo::parse("smaa@performance:bilinear+rcas=0.2").expect("valid");
         assert_eq!(combo.base, "smaa");
         assert_eq!(combo.scale, 0.5);
-        assert_eq!(combo.upscaler, Upscaler::Bilinear);
+        assert_eq!(combo.upscaler, Some(Upscaler::Bilinear));
         assert_eq!(
             combo.sharpen,
             Some(Sharpening {
@@ -340,7 +380,9 @@ mod tests {
             Ok("smaa".into())
         );
         assert_eq!(
-            Combo::parse("smaa@0.5").map(|c| c.id()),
+            Combo::parse("smaa@0.5")
+                .and_then(|c| c.resolve(false))
+                .map(|c| c.id()),
             Ok("smaa@performance:easu".into())
         );
         assert_eq!(
@@ -382,11 +424,33 @@ mod tests {
     }
 
     #[test]
+    fn a_technique_that_reconstructs_itself_takes_no_upscaler() {
+        let own = |text: &str| Combo::parse(text).and_then(|c| c.resolve(true));
+        assert_eq!(
+            own("taau@0.5").map(|c| c.id()),
+            Ok("taau@performance".into())
+        );
+        assert_eq!(
+            own("taau@quality+rcas").map(|c| c.id()),
+            Ok("taau@quality+rcas=0.5".into())
+        );
+        assert_eq!(own("taau").map(|c| c.id()), Ok("taau".into()));
+        let error = own("taau@quality:easu")
+            .expect_err("an upscaler")
+            .to_string();
+        for needle in ["taau@quality:easu", "reconstructs", "drop `:easu`"] {
+            assert!(error.contains(needle), "`{needle}` not in: {error}");
+        }
+        let canonical = own("taau@0.6+cas=1").expect("valid").id();
+        assert_eq!(own(&canonical).map(|c| c.id()), Ok(canonical));
+    }
+
+    #[test]
     fn render_sizes_round_and_stay_at_least_one_pixel() {
         let at = |scale| Combo {
             base: "none".into(),
             scale,
-            upscaler: Upscaler::Easu,
+            upscaler: Some(Upscaler::Easu),
             sharpen: None,
         };
         assert_eq!(at(0.5).render_size((1280, 720)), (640, 360));

@@ -28,6 +28,7 @@ pub mod scaled;
 pub mod smaa;
 pub mod ssaa;
 pub mod taa;
+pub mod taau;
 pub mod user;
 
 pub use crate::graph::params::{self, Named, Param, ParamError, ParamKind, ParamMap, ParamValue};
@@ -140,6 +141,7 @@ pub fn create(gpu: &Gpu, id: &str) -> Result<Box<dyn Technique>, TechniqueError>
         return create_plain(gpu, &combo.base);
     }
     let inner = create_plain(gpu, &combo.base)?;
+    let combo = combo.resolve(inner.reconstructs_at_output())?;
     info::needs_encoded_views(&gpu.caps).map_err(|reason| TechniqueError::Unavailable {
         technique: id.to_owned(),
         reason: format!("its upscale and sharpening passes cannot run: {reason}"),

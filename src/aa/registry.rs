@@ -4,7 +4,7 @@
 //! techniques themselves never import this file (it imports them).
 
 use super::info::TechniqueInfo;
-use super::{cmaa2, fxaa, mlaa, msaa, none, smaa, ssaa, taa};
+use super::{cmaa2, fxaa, mlaa, msaa, none, smaa, ssaa, taa, taau};
 
 /// Every technique, in the order front ends list them: each technique folder provides its
 /// entries (`INFO`, or `INFOS` for a family of fixed variants), and adding a technique is one
@@ -19,6 +19,7 @@ pub fn registry() -> Vec<TechniqueInfo> {
         &smaa::INFOS,
         &[smaa::x4::INFO],
         &[taa::INFO],
+        &[taau::INFO],
         &[cmaa2::INFO],
     ]
     .concat()

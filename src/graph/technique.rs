@@ -169,6 +169,15 @@ pub trait Technique: Send {
         frame.size()
     }
 
+    /// Whether the technique reconstructs the output-size image itself from a scene input
+    /// rendered at the render size (a temporal upscaler). At a render scale (`aa::scaled`) it
+    /// is handed the frame at the render size ([`FrameInfo::size`]; [`FrameInfo::output_size`]
+    /// stays the output's) and an output-size target, and no upscale runs after it; other
+    /// techniques write a render-size image that is upscaled.
+    fn reconstructs_at_output(&self) -> bool {
+        false
+    }
+
     /// Whether the technique keeps state across frames, so that frame N means running frames
     /// 0..=N.
     fn temporal(&self) -> bool {

@@ -5,6 +5,8 @@
 
 #![allow(dead_code)]
 
+pub mod temporal;
+
 use std::ops::RangeInclusive;
 
 use aa_lab::aa::{self, FrameInfo, Technique};

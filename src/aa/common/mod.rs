@@ -1,7 +1,8 @@
 //! What several techniques share, kept once: the colour maths the shaders mirror ([`color`]),
-//! sample patterns and reconstruction filters ([`sampling`]), and the GPU pieces of
-//! post-process passes: the bilinear sampler, encoded (`Rgba8Unorm`) views of the sRGB colour
-//! targets, debug-view textures and a cache of full-screen pipelines keyed by what they are
+//! sample patterns and reconstruction filters ([`sampling`]), what the temporal techniques
+//! share (jitter sequence, camera continuity, ping-pong history: [`temporal`]), and the GPU
+//! pieces of post-process passes: the bilinear sampler, encoded (`Rgba8Unorm`) views of the
+//! sRGB colour targets, debug-view textures and a cache of full-screen pipelines keyed by what they are
 //! specialised on ([`PipelineCache`]). The full-screen vertex stage and pipeline builder itself
 //! is `crate::gpu::fullscreen` (the frame graph hands it to every pass). And
 //! two macros that write `Technique` methods once: `shared_1x_post_process!`, the ones every
@@ -12,6 +13,7 @@ pub mod color;
 pub mod morphology;
 pub mod pass;
 pub mod sampling;
+pub mod temporal;
 
 /// Writes, inside an `impl Technique` block, the methods that every post-process of the shared
 /// one-sample render spells the same way: `id` and `label` (the id and name of the technique's

@@ -11,9 +11,13 @@
 //! inner technique writes a render-size image of its own; an upscale pass brings it to the
 //! output size and a sharpening pass follows when asked for. Both are passes of the technique
 //! (`ID@…/upscale`, `ID@…/sharpen`), timed like any other, and their images are in its memory
-//! report. A temporal technique keeps its history at the render size. Debug views are shown
-//! at the output size, each render pixel as a block (nearest neighbour). At scale 1 with
-//! sharpening, no upscale runs; a plain id (scale 1, no sharpening) is never wrapped.
+//! report. A temporal technique keeps its history at the render size. A technique that
+//! reconstructs at the output size itself (`Technique::reconstructs_at_output`, the temporal
+//! upscaler) gets the same render-size frame but writes the output-size image (straight into
+//! the output, or into the image the sharpening reads), and no upscale runs after it. Debug
+//! views are shown at the output size, each render pixel as a block (nearest neighbour). At
+//! scale 1 with sharpening, no upscale runs; a plain id (scale 1, no sharpening) is never
+//! wrapped.
 //!
 //! The upscalers and sharpening filters are in `resample.wgsl`; the edge-adaptive upscaler
 //! and the two sharpening filters follow the ideas AMD documents for FidelityFX FSR 1 (EASU
@@ -23,6 +27,7 @@
 pub mod passes;
 
 use crate::aa::combo::Combo;
+use crate::aa::combo::Upscaler;
 use crate::aa::common::{debug_texture, intern};
 use crate::aa::{DebugView, FrameInfo, ParamError, ParamValue, SceneInput, Technique};
 use crate::graph::params::{Named, Param};
@@ -140,27 +145,41 @@ impl Technique for Scaled {
     ) {
         let output_size = (output.width(), output.height());
         let inner_frame = self.inner_frame(ctx.frame);
-        let render_size = inner_frame.size();
-        let gpu = &self.gpu;
-        let rendered = sized(&mut self.rendered, render_size, || {
-            crate::graph::output_texture(gpu, &format!("{} render", self.id), render_size)
-        });
+        // What the inner technique writes: its render-size image, or the output-size image
+        // where it reconstructs at the output size itself.
+        let written_size = if self.inner.reconstructs_at_output() {
+            output_size
+        } else {
+            inner_frame.size()
+        };
         let inner = &mut self.inner;
-        ctx.with_frame(&inner_frame, |ctx| inner.encode(ctx, input, rendered));
-        match (render_size != output_size, self.combo.sharpen) {
-            (true, None) => self
-                .resampler
-                .upscale(ctx, self.combo.upscaler, rendered, output),
-            (true, Some(sharpening)) => {
-                let upscaled = sized(&mut self.upscaled, output_size, || {
-                    crate::graph::output_texture(gpu, &format!("{} upscaled", self.id), output_size)
+        match (written_size != output_size, self.combo.sharpen) {
+            (false, None) => ctx.with_frame(&inner_frame, |ctx| inner.encode(ctx, input, output)),
+            (resample, sharpen) => {
+                let gpu = &self.gpu;
+                let rendered = sized(&mut self.rendered, written_size, || {
+                    crate::graph::output_texture(gpu, &format!("{} render", self.id), written_size)
                 });
-                self.resampler
-                    .upscale(ctx, self.combo.upscaler, rendered, upscaled);
-                self.resampler.sharpen(ctx, sharpening, upscaled, output);
+                ctx.with_frame(&inner_frame, |ctx| inner.encode(ctx, input, rendered));
+                let upscaler = self.combo.upscaler.unwrap_or(Upscaler::Easu);
+                match sharpen {
+                    None => self.resampler.upscale(ctx, upscaler, rendered, output),
+                    Some(sharpening) if !resample => {
+                        self.resampler.sharpen(ctx, sharpening, rendered, output)
+                    }
+                    Some(sharpening) => {
+                        let upscaled = sized(&mut self.upscaled, output_size, || {
+                            crate::graph::output_texture(
+                                gpu,
+                                &format!("{} upscaled", self.id),
+                                output_size,
+                            )
+                        });
+                        self.resampler.upscale(ctx, upscaler, rendered, upscaled);
+                        self.resampler.sharpen(ctx, sharpening, upscaled, output);
+                    }
+                }
             }
-            (false, Some(sharpening)) => self.resampler.sharpen(ctx, sharpening, rendered, output),
-            (false, None) => ctx.copy_texture("copy", rendered, output),
         }
         if self.debug_enabled {
             self.upscale_debug_views(ctx, output_size);
@@ -227,11 +246,15 @@ impl Technique for Scaled {
     }
 
     fn path_note(&self) -> Option<String> {
-        let own = match (self.combo.scale < 1.0, self.combo.sharpen) {
-            (true, _) => format!(
+        let own = match (self.combo.scale < 1.0, self.combo.upscaler) {
+            (true, Some(upscaler)) => format!(
                 "rendered at {:.1}% per axis, upscaled with {}",
                 self.combo.scale * 100.0,
-                self.combo.upscaler.name()
+                upscaler.name()
+            ),
+            (true, None) => format!(
+                "rendered at {:.1}% per axis, reconstructed at the output size by the technique",
+                self.combo.scale * 100.0
             ),
             (false, _) => "rendered at the output size".to_owned(),
         };

@@ -4,8 +4,8 @@
 
 use glam::Vec2;
 
-use super::jitter_offset;
 use crate::aa::common::pass;
+use crate::aa::common::temporal::jitter_offset;
 use crate::aa::common::{debug_texture, encoded_view};
 use crate::gpu::COLOR_FORMAT_ENCODED_VIEW;
 use crate::gpu::fullscreen::FragmentDesc;

@@ -58,17 +58,17 @@ pub use settings::{
 
 use glam::Vec2;
 
-use crate::aa::common::pass::{self, Binding};
-use crate::aa::common::sampling::halton;
-use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, encoded_view};
+use crate::aa::common::encoded_view;
+use crate::aa::common::pass::Binding;
+use crate::aa::common::temporal::{
+    HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset,
+};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
-use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
 use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu};
 use crate::graph::{MemoryItem, PassContext};
-use crate::scene::camera::FrameCamera;
 use crate::scene::renderer::SceneTargets;
 use debug::TaaDebug;
 
@@ -97,14 +97,6 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
 
 /// Format of the accumulated history.
 pub const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-
-/// The jitter offset of a frame, in pixels (content moves by it; the pixel's sample sits at
-/// its centre minus the offset): element `frame mod samples` + 1 of Halton(2,3), centred, so
-/// offsets lie in [-0.5, 0.5). Index 0 of the sequence (the origin) is skipped.
-pub fn jitter_offset(frame: u64, samples: u32) -> Vec2 {
-    let index = (frame % u64::from(samples.max(1))) as u32 + 1;
-    Vec2::new(halton(index, 2), halton(index, 3)) - Vec2::splat(0.5)
-}
 
 /// The current frame's filter weights for the 3x3 taps (row by row, padded to three vec4s),
 /// normalised over the taps of the colour neighbourhood: the Gaussian of each sample's
@@ -153,68 +145,14 @@ struct TaaUniform {
     current_filter: [[f32; 4]; 3],
 }
 
-/// The two history textures and which holds the latest result.
-struct History {
-    textures: [wgpu::Texture; 2],
-    latest: usize,
-    /// False until a frame has been resolved into `textures[latest]`.
-    valid: bool,
-}
-
-impl History {
-    fn new(device: &wgpu::Device, size: (u32, u32)) -> Self {
-        let texture = |label: &str| {
-            crate::gpu::texture_2d(
-                device,
-                &crate::gpu::Texture2d::new(
-                    label,
-                    size,
-                    HISTORY_FORMAT,
-                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-                ),
-            )
-        };
-        Self {
-            textures: [texture("taa history a"), texture("taa history b")],
-            latest: 0,
-            valid: false,
-        }
-    }
-
-    fn size(&self) -> (u32, u32) {
-        (self.textures[0].width(), self.textures[0].height())
-    }
-}
-
 /// The TAA technique.
 pub struct Taa {
     settings: TaaSettings,
-    device: wgpu::Device,
-    module: wgpu::ShaderModule,
-    layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
-    sampler: wgpu::Sampler,
-    uniform: wgpu::Buffer,
-    pipelines: PipelineCache<PipelineKey>,
-    history: Option<History>,
-    /// A setting changed since the last frame: the next frame starts a new history.
-    reset_pending: bool,
-    /// The camera of the frame the history holds, to recognise a discontinuous camera.
-    last_camera: Option<FrameCamera>,
+    resolve: ResolvePass<PipelineKey>,
+    history: Option<PingPong>,
+    reset: HistoryReset,
     debug_enabled: bool,
     debug: Option<TaaDebug>,
-}
-
-fn color_attachment(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAttachment<'_>> {
-    Some(wgpu::RenderPassColorAttachment {
-        view,
-        depth_slice: None,
-        resolve_target: None,
-        ops: wgpu::Operations {
-            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-            store: wgpu::StoreOp::Store,
-        },
-    })
 }
 
 impl Taa {
@@ -225,38 +163,19 @@ impl Taa {
 
     /// TAA with the given settings.
     pub fn with_settings(gpu: &Gpu, settings: TaaSettings) -> Self {
-        let device = &gpu.device;
-        // An explicit layout: every pipeline variant shares it, whatever bindings its override
-        // constants leave unused.
-        let layout = pass::layout(
-            device,
-            "taa resolve",
-            &[
-                (0, Binding::Texture),
-                (1, Binding::Depth),
-                (2, Binding::Texture),
-                (3, Binding::Texture),
-                (4, Binding::Sampler),
-                (5, Binding::Uniform),
-            ],
-        );
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("taa resolve"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+        let bindings = [
+            (0, Binding::Texture),
+            (1, Binding::Depth),
+            (2, Binding::Texture),
+            (3, Binding::Texture),
+            (4, Binding::Sampler),
+            (5, Binding::Uniform),
+        ];
         Self {
             settings,
-            module: WGSL.module(device),
-            sampler: bilinear_clamp_sampler(device, "taa history"),
-            uniform: pass::uniform_buffer::<TaaUniform>(device, "taa params"),
-            layout,
-            pipeline_layout,
-            device: device.clone(),
-            pipelines: PipelineCache::default(),
+            resolve: ResolvePass::new::<TaaUniform>(gpu, "taa resolve", &WGSL, &bindings),
             history: None,
-            reset_pending: true,
-            last_camera: None,
+            reset: HistoryReset::default(),
             debug_enabled: false,
             debug: None,
         }
@@ -270,7 +189,7 @@ impl Taa {
     /// Replaces the settings; the next frame starts a new history.
     pub fn set_settings(&mut self, settings: TaaSettings) {
         self.settings = settings;
-        self.reset_pending = true;
+        self.reset.invalidate();
     }
 
     fn resolve_pipeline(&mut self, ctx: &PassContext<'_>, debug: bool) -> wgpu::RenderPipeline {
@@ -283,37 +202,17 @@ impl Taa {
             neighbourhood: s.neighbourhood,
             debug,
         };
-        let (device, module, layout) = (&self.device, &self.module, &self.pipeline_layout);
-        self.pipelines.get_or_build(key, |key| {
-            let targets: &[wgpu::TextureFormat] = if debug {
-                &[COLOR_FORMAT, HISTORY_FORMAT, COLOR_FORMAT_ENCODED_VIEW]
-            } else {
-                &[COLOR_FORMAT, HISTORY_FORMAT]
-            };
-            let entry_point = if debug {
-                "fs_resolve_debug"
-            } else {
-                "fs_resolve"
-            };
-            ctx.fullscreen.pipeline(
-                device,
-                &FragmentDesc {
-                    label: &format!("taa {entry_point} {key:?}"),
-                    module,
-                    entry_point,
-                    targets,
-                    constants: &s.constants(),
-                    layout: Some(layout),
-                },
+        let (entry_point, targets): (&str, &[wgpu::TextureFormat]) = if debug {
+            (
+                "fs_resolve_debug",
+                &[COLOR_FORMAT, HISTORY_FORMAT, COLOR_FORMAT_ENCODED_VIEW],
             )
-        })
+        } else {
+            ("fs_resolve", &[COLOR_FORMAT, HISTORY_FORMAT])
+        };
+        self.resolve
+            .pipeline(ctx, key, entry_point, targets, &s.constants())
     }
-}
-
-fn continues(last: &FrameCamera, next: &FrameCamera) -> bool {
-    let same = next.frame == last.frame && next.pose == last.pose;
-    let following = next.frame == last.frame + 1 && next.prev_pose == last.pose;
-    (same || following) && next.size == last.size
 }
 
 impl Technique for Taa {
@@ -350,24 +249,23 @@ impl Technique for Taa {
         };
         let size = input.desc.size;
         if self.history.as_ref().is_none_or(|h| h.size() != size) {
-            self.history = Some(History::new(&self.device, size));
+            self.history = Some(PingPong::new(
+                &self.resolve.device,
+                "taa history",
+                size,
+                HISTORY_FORMAT,
+            ));
         }
         let debug = self.debug_enabled;
         if debug {
             let stale = self.debug.as_ref().is_none_or(|d| d.size() != size);
             if stale {
-                self.debug = Some(TaaDebug::new(ctx, &self.device, &DEBUG_WGSL, size));
+                self.debug = Some(TaaDebug::new(ctx, &self.resolve.device, &DEBUG_WGSL, size));
             }
         }
         let pipeline = self.resolve_pipeline(ctx, debug);
         let camera = ctx.frame.camera;
-        let reset = ctx.frame.reset_history
-            || self.reset_pending
-            || !self
-                .last_camera
-                .is_some_and(|last| continues(&last, &camera));
-        self.reset_pending = false;
-        self.last_camera = Some(camera);
+        let reset = self.reset.restarts(ctx.frame);
         let Some(history) = &mut self.history else {
             return;
         };
@@ -396,63 +294,61 @@ impl Technique for Taa {
                 jitter_offset(camera.frame, self.settings.samples.count()),
             ),
         };
-        ctx.gpu
-            .queue
-            .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
+        self.resolve.write_uniform(ctx, &uniform);
+        let resolve = &self.resolve;
 
-        let read = history.latest;
-        let write = 1 - read;
         let current_view = input.color.create_view(&Default::default());
         let depth_view = input.depth.create_view(&Default::default());
         let motion_view = motion.create_view(&Default::default());
-        let history_view = history.textures[read].create_view(&Default::default());
+        let history_view = history.read().create_view(&Default::default());
         let texture = |binding, view| wgpu::BindGroupEntry {
             binding,
             resource: wgpu::BindingResource::TextureView(view),
         };
-        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("taa resolve"),
-            layout: &self.layout,
-            entries: &[
-                texture(0, &current_view),
-                texture(1, &depth_view),
-                texture(2, &motion_view),
-                texture(3, &history_view),
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::Sampler(&self.sampler),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: self.uniform.as_entire_binding(),
-                },
-            ],
-        });
+        let bind_group = resolve
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("taa resolve"),
+                layout: &resolve.layout,
+                entries: &[
+                    texture(0, &current_view),
+                    texture(1, &depth_view),
+                    texture(2, &motion_view),
+                    texture(3, &history_view),
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: wgpu::BindingResource::Sampler(&resolve.sampler),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 5,
+                        resource: resolve.uniform.as_entire_binding(),
+                    },
+                ],
+            });
         let output_view = output.create_view(&Default::default());
-        let next_view = history.textures[write].create_view(&Default::default());
+        let next_view = history.write().create_view(&Default::default());
         let rejection_view = self
             .debug
             .as_ref()
             .filter(|_| debug)
             .map(|d| encoded_view(&d.rejection));
-        let mut attachments = vec![color_attachment(&output_view), color_attachment(&next_view)];
+        let mut attachments = vec![cleared_black(&output_view), cleared_black(&next_view)];
         if let Some(view) = &rejection_view {
-            attachments.push(color_attachment(view));
+            attachments.push(cleared_black(view));
         }
         ctx.render_pass("resolve", &attachments, None, |pass| {
             pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
             pass.draw(0..3, 0..1);
         });
-        history.latest = write;
-        history.valid = true;
+        history.swap();
         if let Some(views) = self.debug.as_ref().filter(|_| debug) {
-            views.encode(ctx, &self.device, motion, self.settings.samples.count());
+            views.encode(ctx, &resolve.device, motion, self.settings.samples.count());
         }
     }
 
     fn memory(&self) -> Vec<MemoryItem> {
-        let mut items = vec![MemoryItem::buffer("taa params", &self.uniform)];
+        let mut items = vec![MemoryItem::buffer("taa params", &self.resolve.uniform)];
         if let Some(h) = &self.history {
             items.push(MemoryItem::texture("taa history a", &h.textures[0]));
             items.push(MemoryItem::texture("taa history b", &h.textures[1]));
@@ -523,58 +419,6 @@ impl Technique for Taa {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn jitter_is_centred_halton_and_repeats() {
-        assert_eq!(jitter_offset(0, 8), Vec2::new(0.0, 1.0 / 3.0 - 0.5));
-        assert_eq!(jitter_offset(1, 8), Vec2::new(-0.25, 2.0 / 3.0 - 0.5));
-        for samples in [8u32, 16] {
-            let offsets: Vec<Vec2> = (0..u64::from(samples))
-                .map(|f| jitter_offset(f, samples))
-                .collect();
-            assert!(
-                offsets
-                    .iter()
-                    .all(|o| o.cmpge(Vec2::splat(-0.5)).all() && o.cmplt(Vec2::splat(0.5)).all())
-            );
-            // Distinct positions, no repeat within a cycle, then the cycle repeats.
-            for (i, a) in offsets.iter().enumerate() {
-                for b in &offsets[i + 1..] {
-                    assert!((*a - *b).length() > 1e-3);
-                }
-            }
-            assert_eq!(jitter_offset(u64::from(samples) + 3, samples), offsets[3]);
-            // Low discrepancy: the mean offset of a cycle is near the pixel centre.
-            let mean = offsets.iter().copied().sum::<Vec2>() / samples as f32;
-            assert!(mean.length() < 0.08, "{samples}: {mean}");
-            // Every quadrant of the pixel gets samples.
-            for quadrant in 0..4 {
-                let (sx, sy) = (quadrant % 2 == 0, quadrant / 2 == 0);
-                assert!(
-                    offsets
-                        .iter()
-                        .any(|o| (o.x < 0.0) == sx && (o.y < 0.0) == sy),
-                    "{samples} {quadrant}"
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn a_camera_continues_on_the_next_frame_from_its_own_pose_or_on_a_repeat() {
-        let rig = crate::scene::CameraRig::default();
-        let at = |frame| FrameCamera::from_rig(&rig, frame, (64, 36));
-        assert!(continues(&at(4), &at(5)));
-        assert!(continues(&at(5), &at(5)));
-        assert!(!continues(&at(4), &at(6)), "a skipped frame");
-        assert!(!continues(&at(5), &at(4)), "going back");
-        let mut moved = at(5);
-        moved.prev_pose.distance += 1.0;
-        assert!(!continues(&at(4), &moved), "a cut");
-        let mut resized = at(5);
-        resized.size = (32, 18);
-        assert!(!continues(&at(4), &resized), "a resize");
-    }
 
     #[test]
     fn presets_and_names_round_trip() {

@@ -3,6 +3,7 @@
 //! parameter as data for the CLI, viewer and sidecars (its [`Tunable`] implementation) and the
 //! override constants the structural choices become.
 
+pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
 use crate::graph::params::{Named, Param, ParamValue, Tunable, as_bool, as_f32, as_named};
 
 crate::named_enum! {
@@ -22,30 +23,6 @@ impl JitterSamples {
             Self::Eight => 8,
             Self::Sixteen => 16,
         }
-    }
-}
-
-crate::named_enum! {
-    /// How the reprojected history is read.
-    pub enum HistoryFilter {
-        /// One bilinear tap (cheap, blurs a little more every frame the camera moves).
-        Bilinear => "bilinear",
-        /// Five-tap bilinear-optimised Catmull-Rom (keeps the history sharp under motion).
-        CatmullRom => "catmull-rom",
-    }
-}
-
-crate::named_enum! {
-    /// How the history is made consistent with the current frame.
-    pub enum Rectify {
-        /// Not at all: moving content leaves ghost trails (for comparison).
-        None => "none",
-        /// Per-channel clamp to the 3x3 neighbourhood's RGB min/max.
-        Clamp => "clamp",
-        /// Clip towards the centre of the neighbourhood's YCoCg min/max box (Karis).
-        Clip => "clip",
-        /// Clip to the YCoCg variance box mean +/- gamma sigma, within min/max (Salvi).
-        Variance => "variance",
     }
 }
 

@@ -1,0 +1,293 @@
+//! The temporal upscaler's settings: the typed choices (jitter phases, sample kernel, history
+//! filter, rectification), the weights, the named presets, every parameter as data for the
+//! CLI, viewer and sidecars (its [`Tunable`] implementation) and the override constants the
+//! structural choices become.
+
+pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
+use crate::graph::params::{Named, Param, ParamValue, Tunable, as_f32, as_named};
+
+crate::named_enum! {
+    /// Jitter phases per output pixel: the Halton(2,3) sequence has this many positions times
+    /// the square of the upscale ratio (FSR 2's 8 x ratio^2), so every output pixel is sampled
+    /// about this many times per cycle whatever the scale.
+    pub enum PhasesPerPixel {
+        /// Eight: converges faster.
+        Eight => "8",
+        /// Sixteen: resolves finer detail on a still image.
+        Sixteen => "16",
+    }
+}
+
+impl PhasesPerPixel {
+    /// The number of phases at an upscale ratio (output / render per axis, at least 1).
+    pub fn phases(self, ratio: f32) -> u32 {
+        let base = match self {
+            Self::Eight => 8.0,
+            Self::Sixteen => 16.0,
+        };
+        (base * ratio.max(1.0).powi(2)).ceil() as u32
+    }
+}
+
+crate::named_enum! {
+    /// How a new sample is weighted by its distance from an output pixel's centre.
+    pub enum Kernel {
+        /// A Gaussian whose spread at width 1 is that of a one-pixel box (variance 1/12 per
+        /// axis): converges to the pixel's area average.
+        Gaussian => "gaussian",
+        /// Radial Lanczos-2 (a negative lobe from one pixel out, scaled by the width): sharper;
+        /// the current frame's estimate is clamped to its neighbourhood, so it cannot ring.
+        Lanczos => "lanczos",
+    }
+}
+
+/// Every setting of the temporal upscaler.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TaauSettings {
+    /// Jitter phases per output pixel.
+    pub phases: PhasesPerPixel,
+    /// The new samples' kernel.
+    pub kernel: Kernel,
+    /// Kernel width in output pixels (1: the spread of one pixel) of the samples where the
+    /// history is resampled (on a still camera the samples inside the pixel count alike).
+    pub kernel_width: f32,
+    /// How the history is read at the reprojected position.
+    pub history_filter: HistoryFilter,
+    /// How the history is made to agree with the current frame.
+    pub rectify: Rectify,
+    /// Variance clip: half-width of the box in standard deviations.
+    pub gamma: f32,
+    /// The most samples (kernel weight) the history keeps on a still camera.
+    pub max_samples: f32,
+    /// The most samples where reading the history between texels blurs it most.
+    pub motion_samples: f32,
+    /// Change of speed (output pixels per frame) at which rectification applies in full.
+    pub velocity_tolerance: f32,
+    /// Relative depth difference beyond which the reprojected history shows another surface.
+    pub depth_tolerance: f32,
+    /// How far the reactive mask (surfaces moving on their own) leans on the current frame.
+    pub reactive: f32,
+    /// Texture mip bias added to the render scale's log2(render / output).
+    pub mip_bias: f32,
+}
+
+impl Default for TaauSettings {
+    fn default() -> Self {
+        Self {
+            phases: PhasesPerPixel::Eight,
+            kernel: Kernel::Gaussian,
+            kernel_width: 1.3,
+            history_filter: HistoryFilter::CatmullRom,
+            rectify: Rectify::Variance,
+            gamma: 1.0,
+            max_samples: 6.0,
+            motion_samples: 1.5,
+            velocity_tolerance: 1.0,
+            depth_tolerance: 0.05,
+            reactive: 0.0,
+            mip_bias: -1.0,
+        }
+    }
+}
+
+crate::named_enum! {
+    /// The named presets, in the order a UI offers them.
+    pub enum Preset {
+        /// The defaults.
+        Default => "default",
+        /// One bilinear history read and an RGB clamp: fewer reads, softer under motion.
+        Fast => "fast",
+        /// Sixteen phases per pixel and a longer history: finer detail on a still image,
+        /// slower to settle.
+        Quality => "quality",
+        /// The Lanczos-2 kernel: sharper samples, a little more aliasing.
+        Sharp => "sharp",
+        /// No rectification: shows the ghosting that rectification exists to remove.
+        Unrectified => "unrectified",
+    }
+}
+
+impl Tunable for TaauSettings {
+    type Preset = Preset;
+
+    fn params(&self) -> Vec<Param> {
+        let s = self;
+        vec![
+            Param::named(
+                "phases",
+                "Jitter phases per pixel",
+                "Length of the Halton(2,3) jitter sequence per output pixel: the sequence has \
+                 this many positions times the square of the upscale ratio (FSR 2 uses 8), so \
+                 each output pixel is sampled about this many times per cycle.",
+                s.phases,
+            ),
+            Param::named(
+                "kernel",
+                "Sample kernel",
+                "How each new sample is weighted by its distance from the output pixel's centre \
+                 before it joins the history: gaussian (the spread of one pixel at width 1) or \
+                 lanczos (Lanczos-2, sharper; clamped to the neighbourhood so it cannot ring).",
+                s.kernel,
+            ),
+            Param::float(
+                "kernel_width",
+                "Kernel width",
+                "Width of the sample kernel in output pixels where the history is resampled \
+                 (motion): wider takes in more samples per frame (less noise, softer), narrower \
+                 fewer. On a still camera the samples inside the pixel count alike.",
+                0.5,
+                2.0,
+                s.kernel_width,
+            ),
+            Param::named(
+                "history_filter",
+                "History filter",
+                "How the output-resolution history is read at the reprojected position: \
+                 bilinear (cheap, softens under motion) or catmull-rom (five bilinear taps, \
+                 sharp).",
+                s.history_filter,
+            ),
+            Param::named(
+                "rectify",
+                "History rectification",
+                "How the history is made to agree with the current frame's samples around the \
+                 pixel: none (ghost trails, for comparison), clamp (RGB min/max), clip (towards \
+                 the YCoCg box centre) or variance (mean +/- gamma standard deviations).",
+                s.rectify,
+            ),
+            Param::float(
+                "gamma",
+                "Variance gamma",
+                "Variance clipping only: half-width of the colour box in standard deviations.",
+                0.25,
+                3.0,
+                s.gamma,
+            ),
+            Param::float(
+                "max_samples",
+                "History samples",
+                "The most samples the history accumulates (in kernel weight: a sample at the \
+                 pixel's centre counts 1): more converges further on a still image and reacts \
+                 slower.",
+                1.0,
+                64.0,
+                s.max_samples,
+            ),
+            Param::float(
+                "motion_samples",
+                "History samples in motion",
+                "The most samples the history keeps where reading it between texels blurs it \
+                 most (half-pixel motion): fewer keeps moving detail sharp, more keeps it calm.",
+                1.0,
+                64.0,
+                s.motion_samples,
+            ),
+            Param::float(
+                "velocity_tolerance",
+                "Velocity tolerance",
+                "Change of speed in output pixels per frame between the history and the pixel \
+                 at which rectification applies in full; where the content moves as it did, \
+                 the history shows the same surface and rectification eases off, so thin \
+                 features the current samples missed are kept. 0 always rectifies in full.",
+                0.0,
+                4.0,
+                s.velocity_tolerance,
+            ),
+            Param::float(
+                "depth_tolerance",
+                "Disocclusion depth tolerance",
+                "Relative depth difference between the surface now and the one the history \
+                 held at the reprojected place beyond which the history is dropped there \
+                 (disocclusion). 1 never drops it.",
+                0.005,
+                1.0,
+                s.depth_tolerance,
+            ),
+            Param::float(
+                "reactive",
+                "Reactive mask",
+                "How far surfaces that move on their own (their motion differs from what the \
+                 camera explains) lean on the current frame: 0 treats them like the rest, 1 \
+                 keeps almost no history there.",
+                0.0,
+                1.0,
+                s.reactive,
+            ),
+            Param::float(
+                "mip_bias",
+                "Texture mip bias",
+                "Texture level-of-detail bias added to the render scale's log2(render / \
+                 output); -1 (FSR 2's recommendation) samples textures at twice the output's \
+                 detail, whose aliasing the accumulation averages away.",
+                -2.0,
+                0.0,
+                s.mip_bias,
+            ),
+        ]
+    }
+
+    fn set(&mut self, key: &str, value: &ParamValue) -> bool {
+        let s = self;
+        match key {
+            "phases" => s.phases = as_named(value).unwrap_or(s.phases),
+            "kernel" => s.kernel = as_named(value).unwrap_or(s.kernel),
+            "kernel_width" => s.kernel_width = as_f32(value),
+            "history_filter" => s.history_filter = as_named(value).unwrap_or(s.history_filter),
+            "rectify" => s.rectify = as_named(value).unwrap_or(s.rectify),
+            "gamma" => s.gamma = as_f32(value),
+            "max_samples" => s.max_samples = as_f32(value),
+            "motion_samples" => s.motion_samples = as_f32(value),
+            "velocity_tolerance" => s.velocity_tolerance = as_f32(value),
+            "depth_tolerance" => s.depth_tolerance = as_f32(value),
+            "reactive" => s.reactive = as_f32(value),
+            "mip_bias" => s.mip_bias = as_f32(value),
+            _ => return false,
+        }
+        true
+    }
+
+    /// Replaces every setting with the preset's.
+    fn apply_preset(&mut self, preset: Preset) {
+        *self = Self::preset(preset);
+    }
+}
+
+impl TaauSettings {
+    /// The settings of a preset.
+    pub fn preset(preset: Preset) -> Self {
+        let default = Self::default();
+        match preset {
+            Preset::Default => default,
+            Preset::Fast => Self {
+                history_filter: HistoryFilter::Bilinear,
+                rectify: Rectify::Clamp,
+                ..default
+            },
+            Preset::Quality => Self {
+                phases: PhasesPerPixel::Sixteen,
+                max_samples: 12.0,
+                ..default
+            },
+            Preset::Sharp => Self {
+                kernel: Kernel::Lanczos,
+                ..default
+            },
+            Preset::Unrectified => Self {
+                rectify: Rectify::None,
+                ..default
+            },
+        }
+    }
+
+    /// The override constants of the structural settings.
+    pub(super) fn constants(&self) -> [(&'static str, f64); 3] {
+        [
+            (
+                "HISTORY_FILTER",
+                f64::from(u8::from(self.history_filter == HistoryFilter::CatmullRom)),
+            ),
+            ("RECTIFY", self.rectify.index() as f64),
+            ("KERNEL", self.kernel.index() as f64),
+        ]
+    }
+}

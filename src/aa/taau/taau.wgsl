@@ -1,0 +1,370 @@
+// Temporal upscaler resolve: one fullscreen pass at the OUTPUT resolution that reconstructs
+// each output pixel from jittered renders at the (lower or equal) render resolution,
+// accumulating into an output-resolution history. The ideas follow AMD's FidelityFX Super
+// Resolution 2 as its documentation describes them (written anew here):
+//  1. The new samples: the 3x3 render pixels around the output pixel, each a point sample at
+//     its pixel's centre minus this frame's jitter. On a still camera the samples inside the
+//     output pixel count (1 each: the accumulation converges to the pixel's area average);
+//     where resampling blurs the history, the samples are weighted by their distance from the
+//     output pixel's centre (KERNEL: a Gaussian with the spread of one pixel, or radial
+//     Lanczos-2; both scaled by the kernel width), by the same measure. The
+//     weighted sum is this frame's contribution and the sum of weights its confidence. A wide Gaussian over the same
+//     samples (half a render pixel) is the spatial estimate that fills in where the history
+//     holds too little (first frame, disocclusion).
+//  2. Motion: of the nearest surface (reverse-Z: largest depth) among the 3x3 render pixels, so
+//     silhouettes move with the foreground.
+//  3. Disocclusion: the history keeps the farthest depth of the render pixels it was written
+//     from; where the nearest surface now lies behind everything the history saw at the
+//     reprojected place (four texels; relative distance beyond the tolerance), that surface
+//     was hidden before and the history is dropped. (The farthest against the nearest, so the
+//     jitter moving the 3x3 window over a silhouette on a still camera drops nothing.)
+//  4. Rectification: the history is clipped to the colour box of the 3x3 current samples
+//     (clamp, YCoCg clip or variance clip), eased off where the pixel moves at the speed the
+//     history was written with (thin features the current samples missed are kept, as in
+//     this project's TAA).
+//  5. Accumulation: the history's confidence (samples accumulated, in kernel weight) is capped
+//     (fewer where reading the history between texels blurs it, fewer still on the reactive
+//     mask: surfaces moving on their own), and the new samples are added with their weights:
+//     colour = (history * n + sum(w c)) / (n + sum(w)).
+// Colour is linear (the sRGB input decodes on load, the sRGB output encodes on store).
+
+struct TaauParams {
+    // xy: output size in pixels, zw: one output pixel in UV.
+    output: vec4<f32>,
+    // xy: render size in pixels, zw: one render pixel in UV.
+    render: vec4<f32>,
+    // xy: this frame's jitter in render pixels (the sample sits at the pixel centre minus it),
+    // z: 1 when the history must be ignored, w: kernel width in output pixels.
+    jitter: vec4<f32>,
+    // x: most samples kept, y: most samples where the history read blurs most, z: variance
+    // gamma, w: velocity tolerance (output pixels per frame; 0: always rectify in full).
+    accumulate: vec4<f32>,
+    // x: relative depth tolerance of the disocclusion test, y: reactive strength, z: the
+    // confidence below which the spatial estimate fills in, w: unused.
+    guard: vec4<f32>,
+    // Current frame's NDC (x, y, depth) to the previous frame's clip space, camera only.
+    reproject: mat4x4<f32>,
+}
+
+@group(0) @binding(0) var current: texture_2d<f32>;
+@group(0) @binding(1) var depth: texture_depth_2d;
+@group(0) @binding(2) var motion: texture_2d<f32>;
+@group(0) @binding(3) var history: texture_2d<f32>;
+@group(0) @binding(4) var history_aux: texture_2d<f32>;
+@group(0) @binding(5) var bilinear: sampler;
+@group(0) @binding(6) var<uniform> params: TaauParams;
+
+// 0: bilinear history, 1: five-tap Catmull-Rom.
+override HISTORY_FILTER: u32 = 1u;
+// 0: none, 1: RGB clamp, 2: YCoCg clip towards the box centre, 3: YCoCg variance clip.
+override RECTIFY: u32 = 3u;
+// 0: Gaussian, 1: radial Lanczos-2.
+override KERNEL: u32 = 0u;
+
+// exp(-a d^2) with a = 6: the variance of a one-pixel box (1/12 per axis).
+const BOX_SHARPNESS: f32 = 6.0;
+
+fn to_ycocg(c: vec3<f32>) -> vec3<f32> {
+    let co = 0.5 * (c.r - c.b);
+    let t = c.b + co;
+    let cg = 0.5 * (c.g - t);
+    return vec3<f32>(t + cg, co, cg);
+}
+
+fn from_ycocg(c: vec3<f32>) -> vec3<f32> {
+    let t = c.x - c.z;
+    let g = c.x + c.z;
+    let b = t - c.y;
+    return vec3<f32>(b + 2.0 * c.y, g, b);
+}
+
+fn box_space(c: vec3<f32>) -> vec3<f32> {
+    return select(c, to_ycocg(c), RECTIFY >= 2u);
+}
+
+fn from_box_space(c: vec3<f32>) -> vec3<f32> {
+    return select(c, from_ycocg(c), RECTIFY >= 2u);
+}
+
+// The weight of a sample `offset` output pixels from the pixel centre.
+fn kernel_weight(offset: vec2<f32>) -> f32 {
+    let d = offset / params.jitter.w;
+    let d2 = dot(d, d);
+    if KERNEL == 1u {
+        // Radial Lanczos-2 on the distance, scaled so its main lobe matches the Gaussian's
+        // spread, zero beyond 2.
+        let x = min(sqrt(d2) * 1.5, 2.0);
+        let px = 3.14159265 * x;
+        return select(sin(px) * sin(0.5 * px) / (0.5 * px * px), 1.0, x < 1e-4);
+    }
+    return exp(-BOX_SHARPNESS * d2);
+}
+
+// The history at `uv`: colour and confidence (the centre tap's).
+fn history_at(uv: vec2<f32>) -> vec4<f32> {
+    if HISTORY_FILTER == 0u {
+        return textureSampleLevel(history, bilinear, uv, 0.0);
+    }
+    // Five bilinear taps of the 4x4 Catmull-Rom filter without its corners.
+    let position = uv * params.output.xy - 0.5;
+    let cell = floor(position);
+    let t = position - cell;
+    let t2 = t * t;
+    let t3 = t2 * t;
+    let w0 = -0.5 * t3 + t2 - 0.5 * t;
+    let w1 = 1.5 * t3 - 2.5 * t2 + 1.0;
+    let w2 = -1.5 * t3 + 2.0 * t2 + 0.5 * t;
+    let w3 = 0.5 * t3 - 0.5 * t2;
+    let w12 = w1 + w2;
+    let one = params.output.zw;
+    let at0 = (cell - 0.5) * one;
+    let at12 = (cell + 0.5 + w2 / w12) * one;
+    let at3 = (cell + 2.5) * one;
+    let centre = textureSampleLevel(history, bilinear, at12, 0.0);
+    let weighted = textureSampleLevel(history, bilinear, vec2<f32>(at12.x, at0.y), 0.0).rgb
+        * (w12.x * w0.y)
+        + textureSampleLevel(history, bilinear, vec2<f32>(at0.x, at12.y), 0.0).rgb
+        * (w0.x * w12.y)
+        + centre.rgb * (w12.x * w12.y)
+        + textureSampleLevel(history, bilinear, vec2<f32>(at3.x, at12.y), 0.0).rgb
+        * (w3.x * w12.y)
+        + textureSampleLevel(history, bilinear, vec2<f32>(at12.x, at3.y), 0.0).rgb
+        * (w12.x * w3.y);
+    let total = w12.x * (w0.y + w12.y + w3.y) + w12.y * (w0.x + w3.x);
+    return vec4<f32>(max(weighted / total, vec3<f32>(0.0)), centre.a);
+}
+
+// What the current frame's 3x3 render samples around an output pixel give.
+struct Samples {
+    // The samples inside the output pixel (box kernel): sum of colours and their count.
+    box_sum: vec3<f32>,
+    box_weight: f32,
+    // Kernel-weighted sum of colours and the sum of weights.
+    sum: vec3<f32>,
+    weight: f32,
+    // Wide-Gaussian sum and weight (the spatial estimate).
+    wide_sum: vec3<f32>,
+    wide_weight: f32,
+    // Colour box in box space.
+    low: vec3<f32>,
+    high: vec3<f32>,
+    moment1: vec3<f32>,
+    moment2: vec3<f32>,
+    count: f32,
+    // Nearest surface: its render pixel and depth; the farthest depth.
+    nearest: vec2<i32>,
+    nearest_depth: f32,
+    farthest_depth: f32,
+}
+
+fn gather_samples(centre: vec2<f32>) -> Samples {
+    let jitter = params.jitter.xy;
+    let ratio = params.output.xy * params.render.zw;
+    let base = vec2<i32>(floor(centre + jitter));
+    let last = vec2<i32>(params.render.xy) - 1;
+    let zero = vec3<f32>(0.0);
+    var s = Samples(
+        zero, 0.0, zero, 0.0, zero, 0.0, vec3<f32>(1e9), vec3<f32>(-1e9), zero, zero, 0.0, base, -1.0, 2.0,
+    );
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let pixel = base + vec2<i32>(dx, dy);
+            let inside = clamp(pixel, vec2<i32>(0), last);
+            let rgb = textureLoad(current, inside, 0).rgb;
+            // The sample's offset from the output pixel's centre, in render pixels.
+            let offset = vec2<f32>(pixel) + 0.5 - jitter - centre;
+            let in_pixel = all(abs(offset * ratio) < vec2<f32>(0.5));
+            let inside_weight = select(0.0, 1.0, in_pixel);
+            s.box_sum += inside_weight * rgb;
+            s.box_weight += inside_weight;
+            let w = kernel_weight(offset * ratio);
+            s.sum += w * rgb;
+            s.weight += w;
+            let wide = exp(-2.0 * dot(offset, offset));
+            s.wide_sum += wide * rgb;
+            s.wide_weight += wide;
+            // The colour box: the samples within 1/2 + 1/ratio render pixels of the centre
+            // (all nine at native; below it, those that can fall within about one output
+            // pixel's reach, so the box stays as tight in output pixels as at native).
+            let reach = 0.5 + 1.0 / max(ratio.x, ratio.y);
+            if all(abs(offset) <= vec2<f32>(reach)) {
+                let c = box_space(rgb);
+                s.low = min(s.low, c);
+                s.high = max(s.high, c);
+                s.moment1 += c;
+                s.moment2 += c * c;
+                s.count += 1.0;
+            }
+            let z = textureLoad(depth, inside, 0);
+            if z > s.nearest_depth {
+                s.nearest_depth = z;
+                s.nearest = inside;
+            }
+            s.farthest_depth = min(s.farthest_depth, z);
+        }
+    }
+    return s;
+}
+
+// How far (relative distance) the surface at reverse-Z depth `now` lies behind the one at
+// `before` (0 where it is not behind): reverse-Z depth is 1/distance, so the ratio of depths
+// is that of distances.
+fn behind(now: f32, before: f32) -> f32 {
+    return max(before - now, 0.0) / max(before, 1e-12);
+}
+
+struct Resolved {
+    colour: vec3<f32>,
+    // Samples accumulated after this frame.
+    confidence: f32,
+    // Farthest depth around the pixel and speed (output pixels per frame), kept for the next
+    // frame.
+    depth: f32,
+    speed: f32,
+    // 0 history kept, 0.5 dropped (reset or off screen), 1 dropped (disocclusion).
+    dropped: f32,
+    // The new samples' weight and the reactive mask.
+    weight: f32,
+    reactive: f32,
+}
+
+fn resolve(position: vec2<f32>) -> Resolved {
+    let uv = position * params.output.zw;
+    let centre = uv * params.render.xy;
+    let s = gather_samples(centre);
+
+    // Motion of the nearest surface, in UV, and the speed in output pixels.
+    let velocity = textureLoad(motion, s.nearest, 0).xy;
+    let speed = length(velocity * params.output.xy);
+    // The reactive mask: motion the camera does not explain (the surface moves on its own).
+    let ndc = vec3<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, s.nearest_depth);
+    let previous_clip = params.reproject * vec4<f32>(ndc, 1.0);
+    let camera_uv = vec2<f32>(0.5, -0.5) * previous_clip.xy / max(previous_clip.w, 1e-12) + 0.5;
+    let own_motion = length((uv - velocity - camera_uv) * params.output.xy);
+    let reactive = params.guard.y * saturate(own_motion);
+
+    let previous = uv - velocity;
+    let off_screen = any(previous < vec2<f32>(0.0)) || any(previous > vec2<f32>(1.0));
+    // How much reading the history between texels blurs it: 4 f (1 - f) of the fraction f
+    // past a texel centre, 0 on a texel, 1 half-way (and 1 where there is no history).
+    let f = fract(previous * params.output.xy - 0.5);
+    let blur2 = 4.0 * f * (1.0 - f);
+    let blur = select(max(blur2.x, blur2.y), 1.0, (params.jitter.z > 0.5) | off_screen);
+    // This frame's estimate: on a still camera (a sharp history) the samples inside the
+    // pixel, so the accumulation converges to the pixel's area average as the reference's
+    // box filter does; where resampling blurs the history, the kernel's wider estimate, by the
+    // same measure. The wide Gaussian is the spatial estimate.
+    let spatial = s.wide_sum / s.wide_weight;
+    let kernel_estimate = select(spatial, s.sum / s.weight, abs(s.weight) > 1e-4);
+    let box_estimate = select(spatial, s.box_sum / s.box_weight, s.box_weight > 0.5);
+    var estimate = mix(box_estimate, kernel_estimate, blur);
+    let weight = mix(s.box_weight, max(s.weight, 0.0), blur);
+    if KERNEL == 1u {
+        // Lanczos' negative lobe may overshoot: keep the estimate inside the box.
+        estimate = from_box_space(clamp(box_space(estimate), s.low, s.high));
+    }
+    var dropped = select(0.0, 0.5, (params.jitter.z > 0.5) | off_screen);
+    var kept = vec3<f32>(0.0);
+    var confidence = 0.0;
+    if dropped == 0.0 {
+        let sampled = history_at(previous);
+        // Disocclusion: the four history texels around the reprojected place.
+        let texel = vec2<i32>(floor(previous * params.output.xy - 0.5));
+        let last = vec2<i32>(params.output.xy) - 1;
+        let a = textureLoad(history_aux, clamp(texel, vec2<i32>(0), last), 0).xy;
+        let b = textureLoad(history_aux, clamp(texel + vec2<i32>(1, 0), vec2<i32>(0), last), 0).xy;
+        let c = textureLoad(history_aux, clamp(texel + vec2<i32>(0, 1), vec2<i32>(0), last), 0).xy;
+        let d = textureLoad(history_aux, clamp(texel + vec2<i32>(1, 1), vec2<i32>(0), last), 0).xy;
+        // The nearest surface now lies behind the farthest one the history saw there.
+        let farthest_before = min(min(a.x, b.x), min(c.x, d.x));
+        let revealed = behind(s.nearest_depth, farthest_before);
+        let here = textureLoad(
+            history_aux,
+            clamp(vec2<i32>(previous * params.output.xy), vec2<i32>(0), last),
+            0,
+        ).y;
+        if revealed > params.guard.x {
+            dropped = 1.0;
+        } else {
+            // Rectification.
+            let reprojected = sampled.rgb;
+            var clipped = reprojected;
+            if RECTIFY == 1u {
+                clipped = clamp(reprojected, s.low, s.high);
+            } else if RECTIFY >= 2u {
+                var low = s.low;
+                var high = s.high;
+                if RECTIFY == 3u {
+                    let mean = s.moment1 / s.count;
+                    let sigma = sqrt(max(s.moment2 / s.count - mean * mean, vec3<f32>(0.0)));
+                    low = max(mean - params.accumulate.z * sigma, s.low);
+                    high = min(mean + params.accumulate.z * sigma, s.high);
+                }
+                let middle = 0.5 * (low + high);
+                let extent = max(0.5 * (high - low), vec3<f32>(1e-6));
+                let offset = to_ycocg(reprojected) - middle;
+                let units = abs(offset / extent);
+                let largest = max(units.x, max(units.y, units.z));
+                clipped = from_ycocg(middle + offset / max(largest, 1.0));
+            }
+            // Thin features: where the content moves as it did, trust the history.
+            let tolerance = params.accumulate.w;
+            let trust = select(
+                0.0,
+                saturate(1.0 - abs(speed - here) / max(tolerance, 1e-6)),
+                tolerance > 0.0,
+            );
+            kept = mix(clipped, reprojected, trust);
+            // Reading between texels blurs the history: keep fewer samples the more it does.
+            let cap = mix(params.accumulate.x, min(params.accumulate.y, params.accumulate.x), blur);
+            confidence = min(sampled.a, cap) * (1.0 - reactive);
+        }
+    }
+    // Where the history and the new samples together hold too little, the spatial estimate
+    // fills in up to the floor.
+    let fill = max(params.guard.z - confidence - weight, 0.0);
+    let total = confidence + weight + fill;
+    let colour = (kept * confidence + estimate * weight + spatial * fill) / total;
+    return Resolved(colour, total, s.farthest_depth, speed, dropped, weight, reactive);
+}
+
+struct Varying {
+    @builtin(position) position: vec4<f32>,
+    @location(0) uv: vec2<f32>,
+}
+
+struct ResolveOutput {
+    @location(0) colour: vec4<f32>,
+    @location(1) history: vec4<f32>,
+    @location(2) aux: vec2<f32>,
+}
+
+@fragment
+fn fs_resolve(in: Varying) -> ResolveOutput {
+    let r = resolve(in.position.xy);
+    return ResolveOutput(
+        vec4<f32>(r.colour, 1.0),
+        vec4<f32>(r.colour, r.confidence),
+        vec2<f32>(r.depth, r.speed),
+    );
+}
+
+struct ResolveDebugOutput {
+    @location(0) colour: vec4<f32>,
+    @location(1) history: vec4<f32>,
+    @location(2) aux: vec2<f32>,
+    // x: dropped (0, 0.5 reset or off screen, 1 disocclusion), y: confidence, z: the new
+    // samples' weight, w: reactive mask.
+    @location(3) debug: vec4<f32>,
+}
+
+@fragment
+fn fs_resolve_debug(in: Varying) -> ResolveDebugOutput {
+    let r = resolve(in.position.xy);
+    return ResolveDebugOutput(
+        vec4<f32>(r.colour, 1.0),
+        vec4<f32>(r.colour, r.confidence),
+        vec2<f32>(r.depth, r.speed),
+        vec4<f32>(r.dropped, r.confidence, r.weight, r.reactive),
+    );
+}
