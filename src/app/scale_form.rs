@@ -40,11 +40,13 @@ impl Draft {
         }
     }
 
-    fn combo(&self) -> Combo {
+    /// The combination; `own_upscaling` for a base that reconstructs at the output size
+    /// itself (it takes no upscaler).
+    fn combo(&self, own_upscaling: bool) -> Combo {
         Combo {
             base: self.base.clone(),
             scale: self.scale,
-            upscaler: self.upscaler,
+            upscaler: (!own_upscaling).then_some(self.upscaler),
             sharpen: self.sharpen.map(|filter| Sharpening {
                 filter,
                 strength: self.strength,
@@ -77,24 +79,28 @@ fn preset_label(preset: ScalePreset) -> String {
 pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
     let Some(engine) = &cx.engine else { return };
     // The techniques a combination can start from: those of the registry this adapter runs.
-    let bases: Vec<(&'static str, &'static str)> = engine
+    let bases: Vec<Base> = engine
         .entries()
         .iter()
         .filter(|e| e.available() && !e.removed && !super::engine::is_added(e.id))
-        .map(|e| (e.id, e.name))
+        .map(|e| Base {
+            id: e.id,
+            name: e.name,
+            own_upscaling: e.reconstructs_at_output(),
+        })
         .collect();
-    let Some(&(first, _)) = bases.first() else {
+    let Some(first) = bases.first().map(|b| b.id) else {
         return;
     };
     let start = cx
         .compared()
         .into_iter()
-        .find(|id| bases.iter().any(|(b, _)| b == id))
+        .find(|id| bases.iter().any(|b| b.id == *id))
         .unwrap_or(first);
     let memory = egui::Id::unique("render scale draft");
     let mut draft = ui
         .data(|d| d.get_temp::<Draft>(memory))
-        .filter(|d| bases.iter().any(|(b, _)| *b == d.base))
+        .filter(|d| bases.iter().any(|b| b.id == d.base))
         .unwrap_or_else(|| Draft::new(start));
     let output = cx.render_size;
     let mut add = None;
@@ -115,7 +121,8 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
                 .show(ui, |ui| {
                     form_rows(ui, &mut draft, &bases);
                 });
-            let combo = draft.combo();
+            let own_upscaling = bases.iter().any(|b| b.id == draft.base && b.own_upscaling);
+            let combo = draft.combo(own_upscaling);
             let id = combo.id();
             if output.0 > 0 {
                 let (w, h) = combo.render_size(output);
@@ -148,21 +155,27 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
     }
 }
 
+/// A technique a combination can start from.
+struct Base {
+    id: &'static str,
+    name: &'static str,
+    /// It reconstructs at the output size itself (a temporal upscaler): no upscaler.
+    own_upscaling: bool,
+}
+
 /// The form's rows: technique, scale, upscaler, sharpening.
-fn form_rows(ui: &mut egui::Ui, draft: &mut Draft, bases: &[(&'static str, &'static str)]) {
+fn form_rows(ui: &mut egui::Ui, draft: &mut Draft, bases: &[Base]) {
     ui.label("Technique");
-    let shown = bases
-        .iter()
-        .find(|(id, _)| *id == draft.base)
-        .map_or(draft.base.as_str(), |(_, name)| name);
+    let base = bases.iter().find(|b| b.id == draft.base);
     egui::ComboBox::from_id_salt("render scale base")
-        .selected_text(shown)
+        .selected_text(base.map_or(draft.base.as_str(), |b| b.name))
         .show_ui(ui, |ui| {
-            for (id, name) in bases {
-                ui.selectable_value(&mut draft.base, (*id).to_owned(), *name);
+            for b in bases {
+                ui.selectable_value(&mut draft.base, b.id.to_owned(), b.name);
             }
         });
     ui.end_row();
+    let own_upscaling = base.is_some_and(|b| b.own_upscaling);
 
     ui.label("Scale");
     ui.horizontal(|ui| {
@@ -185,9 +198,13 @@ fn form_rows(ui: &mut egui::Ui, draft: &mut Draft, bases: &[(&'static str, &'sta
     ui.end_row();
 
     ui.label("Upscaler");
-    ui.add_enabled_ui(draft.scale < 1.0, |ui| {
+    ui.add_enabled_ui(draft.scale < 1.0 && !own_upscaling, |ui| {
+        let shown = match own_upscaling {
+            true => "its own",
+            false => draft.upscaler.name(),
+        };
         egui::ComboBox::from_id_salt("render scale upscaler")
-            .selected_text(draft.upscaler.name())
+            .selected_text(shown)
             .show_ui(ui, |ui| {
                 for upscaler in Upscaler::ALL {
                     ui.selectable_value(&mut draft.upscaler, *upscaler, upscaler.name())
@@ -228,13 +245,14 @@ mod tests {
     #[test]
     fn the_draft_writes_the_canonical_id_the_command_line_takes() {
         let mut draft = Draft::new("smaa");
-        assert_eq!(draft.combo().id(), "smaa@performance:easu");
+        assert_eq!(draft.combo(false).id(), "smaa@performance:easu");
+        assert_eq!(draft.combo(true).id(), "smaa@performance");
         draft.sharpen = Some(Sharpen::Rcas);
         draft.strength = 0.2;
         draft.scale = ScalePreset::Quality.scale();
         draft.upscaler = Upscaler::Lanczos;
-        let id = draft.combo().id();
-        assert_eq!(Combo::parse(&id).unwrap(), draft.combo());
+        let id = draft.combo(false).id();
+        assert_eq!(Combo::parse(&id).unwrap(), draft.combo(false));
         assert!(id.starts_with("smaa@quality:lanczos+rcas"), "{id}");
         assert_eq!(preset_of(draft.scale), Some(ScalePreset::Quality));
         assert_eq!(preset_of(0.6), None);

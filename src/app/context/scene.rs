@@ -68,13 +68,20 @@ impl Context {
             );
             return None;
         };
-        if engine.entry(&combo.base).is_none() {
+        let Some(base) = engine.entry(&combo.base) else {
             self.notify(
                 Level::Error,
                 format!("{text}: no technique `{}` in this viewer", combo.base),
             );
             return None;
-        }
+        };
+        let combo = match combo.resolve(base.reconstructs_at_output()) {
+            Ok(combo) => combo,
+            Err(err) => {
+                self.notify(Level::Error, err.to_string());
+                return None;
+            }
+        };
         let id = crate::aa::user::intern(&combo.id());
         if !combo.is_plain() {
             engine.add_combination(id);

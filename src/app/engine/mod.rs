@@ -140,6 +140,14 @@ impl TechniqueEntry {
         self.building.map(|since| since.elapsed())
     }
 
+    /// Whether it reconstructs at the output size from a lower render itself (see
+    /// `aa::Technique::reconstructs_at_output`; `false` until the render thread is ready).
+    pub fn reconstructs_at_output(&self) -> bool {
+        self.settings
+            .as_ref()
+            .is_some_and(|s| s.reconstructs_at_output)
+    }
+
     /// Whether it can run here.
     pub fn available(&self) -> bool {
         self.availability.is_ok()

@@ -58,6 +58,9 @@ pub struct TechniqueSettings {
     pub path_note: Option<String>,
     /// Whether it keeps state across frames.
     pub temporal: bool,
+    /// Whether it reconstructs at the output size from a lower render itself (a temporal
+    /// upscaler): a combination of it takes no upscaler.
+    pub reconstructs_at_output: bool,
     /// The content hash of a user technique's file (see `aa::user`).
     pub source_hash: Option<String>,
 }
@@ -69,6 +72,7 @@ impl TechniqueSettings {
             presets: technique.presets(),
             path_note: technique.path_note(),
             temporal: technique.temporal(),
+            reconstructs_at_output: technique.reconstructs_at_output(),
             source_hash: technique.source_hash(),
         }
     }
