@@ -1,17 +1,18 @@
 //! The recorded clip's ColorVideoVDP figures ([`crate::metrics::jod`]): once a clip recorded
 //! with the reference is complete, every technique's JOD against the reference, as watched at
 //! the clip's real-time rate on the display model of the settings, computed on a thread of its
-//! own (a technique takes seconds) and shown in the metrics panel as they come, with progress.
+//! own (a technique takes seconds; one worker thread for every clip, so its memory is reused)
+//! and shown in the metrics panel as they come, with progress.
 //! A new clip, another display model or another real-time rate starts again; the frames are
 //! the clip's own (shared, not copied).
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
 use std::time::Instant;
 
-use super::context::Context;
+use super::context::{Context, Level};
 use super::engine::PlayRate;
+use super::worker::{Reporter, Worker};
 use crate::metrics::jod::JodScorer;
 
 /// What the figures describe: the clip (when its recording started), the display model and the
@@ -21,27 +22,57 @@ type Key = (Instant, String, u32);
 /// A technique's JOD, or why it has none.
 pub type Figure = Result<f64, String>;
 
-/// The scoring of one clip.
+/// A clip to score: each technique's frames and the reference's.
 struct Job {
     key: Key,
-    results: mpsc::Receiver<(usize, Figure)>,
+    tests: Vec<Vec<Arc<image::RgbaImage>>>,
+    reference: Vec<Arc<image::RgbaImage>>,
+    /// Set when a newer clip or display makes the job moot (checked between techniques).
     cancel: Arc<AtomicBool>,
+}
+
+/// One technique's figure, for the clip of `key`.
+struct Scored {
+    key: Key,
+    slot: usize,
+    figure: Figure,
+}
+
+/// Scores jobs one after the other on the worker's thread, keeping the scorer of the last
+/// display model (one thread for every clip, so its memory is reused).
+fn score(scorer: &mut Option<JodScorer>, job: Job, reporter: &Reporter<Scored>) {
+    let display = &job.key.1;
+    if scorer.as_ref().is_none_or(|s| s.display() != display) {
+        *scorer = JodScorer::new(display).ok();
+    }
+    for (slot, test) in job.tests.iter().enumerate() {
+        if job.cancel.load(Ordering::Relaxed) {
+            return;
+        }
+        let figure = match scorer {
+            Some(scorer) => scorer
+                .score(test, &job.reference, job.key.2 as f32)
+                .map_err(|e| e.to_string()),
+            None => Err(format!("ColorVideoVDP has no display model `{display}`")),
+        };
+        reporter.send(Scored {
+            key: job.key.clone(),
+            slot,
+            figure,
+        });
+    }
 }
 
 /// The figures of the shown clip (see the module docs).
 #[derive(Default)]
 pub struct ClipJod {
-    job: Option<Job>,
+    worker: Option<Worker<Job, Scored>>,
+    /// The job handed to the worker, with its cancel flag.
+    running: Option<(Key, Arc<AtomicBool>)>,
     /// What `figures` describe.
     scored: Option<Key>,
-    /// Per technique in pane order, once scored.
+    /// Per technique in pane order, as they come.
     figures: Vec<Option<Figure>>,
-}
-
-impl Drop for ClipJod {
-    fn drop(&mut self) {
-        self.stop();
-    }
 }
 
 impl ClipJod {
@@ -66,8 +97,12 @@ impl ClipJod {
             PlayRate::Fps30 | PlayRate::Slow => 30,
         };
         let key = (clip.started(), cx.settings.jod_display.clone(), fps);
-        if self.scored.as_ref() == Some(&key) || self.job.as_ref().is_some_and(|j| j.key == key) {
+        if self.scored.as_ref() == Some(&key) {
             return;
+        }
+        // A job for another clip or display is moot: it stops after its technique.
+        if let Some((_, cancel)) = &self.running {
+            cancel.store(true, Ordering::Relaxed);
         }
         let tests: Vec<Vec<Arc<image::RgbaImage>>> = (0..clip.techniques.len())
             .map(|slot| {
@@ -77,73 +112,54 @@ impl ClipJod {
                     .collect()
             })
             .collect();
-        self.stop();
-        self.figures = vec![None; tests.len()];
-        self.scored = Some(key.clone());
-        let scorer = match JodScorer::new(&key.1) {
-            Ok(scorer) => scorer,
-            Err(err) => {
-                self.figures = vec![Some(Err(err.to_string())); tests.len()];
-                return;
-            }
-        };
-        let (sender, results) = mpsc::channel();
-        let cancel = Arc::new(AtomicBool::new(false));
-        let stop = Arc::clone(&cancel);
-        let wake = ctx.clone();
-        let spawned = std::thread::Builder::new()
-            .name("aa-lab clip JOD".to_owned())
-            .spawn(move || {
-                super::worker::lower_priority();
-                for (slot, test) in tests.iter().enumerate() {
-                    if stop.load(Ordering::Relaxed) {
-                        return;
-                    }
-                    let figure = scorer
-                        .score(test, &reference, fps as f32)
-                        .map_err(|e| e.to_string());
-                    let _ = sender.send((slot, figure));
-                    super::request_one_frame(&wake);
+        if self.worker.is_none() {
+            let mut scorer = None;
+            match Worker::spawn("aa-lab clip JOD", ctx, move |job, reporter| {
+                score(&mut scorer, job, reporter)
+            }) {
+                Ok(worker) => self.worker = Some(worker),
+                Err(err) => {
+                    cx.notify(
+                        Level::Error,
+                        format!("no thread to score clips with ColorVideoVDP: {err}"),
+                    );
+                    self.scored = Some(key);
+                    return;
                 }
-            });
-        match spawned {
-            Ok(_) => {
-                self.job = Some(Job {
-                    key,
-                    results,
-                    cancel,
-                })
             }
-            Err(err) => {
-                let text = format!("no thread to score the clip: {err}");
-                self.figures = vec![Some(Err(text)); self.figures.len()];
-            }
+        }
+        let Some(worker) = &mut self.worker else {
+            return;
+        };
+        let cancel = Arc::new(AtomicBool::new(false));
+        let job = Job {
+            key: key.clone(),
+            tests,
+            reference,
+            cancel: Arc::clone(&cancel),
+        };
+        // The worker takes one job at a time: a newer clip waits for the moot one to stop.
+        if worker.submit(job) {
+            self.figures = vec![None; clip.techniques.len()];
+            self.scored = Some(key.clone());
+            self.running = Some((key, cancel));
         }
     }
 
     /// Takes the figures that finished.
     fn collect(&mut self) {
-        let Some(job) = &self.job else { return };
-        loop {
-            match job.results.try_recv() {
-                Ok((slot, figure)) => {
-                    if let Some(place) = self.figures.get_mut(slot) {
-                        *place = Some(figure);
-                    }
-                }
-                Err(mpsc::TryRecvError::Empty) => return,
-                Err(mpsc::TryRecvError::Disconnected) => {
-                    self.job = None;
-                    return;
-                }
+        let Some(worker) = &mut self.worker else {
+            return;
+        };
+        for scored in worker.poll() {
+            if self.scored.as_ref() == Some(&scored.key)
+                && let Some(place) = self.figures.get_mut(scored.slot)
+            {
+                *place = Some(scored.figure);
             }
         }
-    }
-
-    /// Stops the scoring in progress (after the technique being scored).
-    fn stop(&mut self) {
-        if let Some(job) = self.job.take() {
-            job.cancel.store(true, Ordering::Relaxed);
+        if !worker.busy() {
+            self.running = None;
         }
     }
 
@@ -159,7 +175,7 @@ impl ClipJod {
 
     /// Techniques scored and to score while a scoring runs.
     pub fn progress(&self) -> Option<(usize, usize)> {
-        self.job.as_ref()?;
+        self.running.as_ref()?;
         let done = self.figures.iter().filter(|f| f.is_some()).count();
         Some((done, self.figures.len()))
     }

@@ -12,6 +12,7 @@
 mod bench;
 mod camera;
 mod clip;
+mod clip_record;
 mod compare;
 mod info;
 mod render;
