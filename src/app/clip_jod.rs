@@ -173,6 +173,18 @@ impl ClipJod {
             .flatten()
     }
 
+    /// The shown clip's figures by technique id, those scored so far.
+    pub fn published(&self, cx: &Context) -> std::collections::BTreeMap<&'static str, f64> {
+        let Some(clip) = cx.engine.as_ref().and_then(|e| e.clip()) else {
+            return Default::default();
+        };
+        clip.techniques
+            .iter()
+            .enumerate()
+            .filter_map(|(slot, id)| Some((*id, *self.figure(cx, slot)?.as_ref().ok()?)))
+            .collect()
+    }
+
     /// Techniques scored and to score while a scoring runs.
     pub fn progress(&self) -> Option<(usize, usize)> {
         self.running.as_ref()?;

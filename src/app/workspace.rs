@@ -58,6 +58,7 @@ impl Workspace {
     pub(super) fn update(&mut self, ctx: &egui::Context) {
         self.cx.tick_clip(ctx);
         self.jod.update(&mut self.cx, ctx);
+        self.cx.clip_jod = self.jod.published(&self.cx);
         self.quality.update(&mut self.cx, ctx);
         self.magnifier.update(&mut self.cx, ctx);
     }

@@ -22,6 +22,39 @@ pub(super) struct Summary {
     pub(super) ties: usize,
     /// Per technique, in the session's order.
     pub(super) wins: Vec<Wins>,
+    /// How often a choice agreed with ColorVideoVDP's ranking, over the answers given while
+    /// a scored clip was on screen (`None`: no such answer).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) jod_agreement: Option<JodAgreement>,
+}
+
+/// Answers that chose a pane while every pane's JOD was known, and those of them whose choice
+/// had the highest JOD of the panes.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub(super) struct JodAgreement {
+    pub(super) answers: usize,
+    pub(super) agreed: usize,
+}
+
+impl JodAgreement {
+    /// Over `trials`; `None` when none was scored.
+    pub(super) fn of(trials: &[Trial]) -> Option<Self> {
+        let judged: Vec<bool> = trials
+            .iter()
+            .filter_map(|trial| {
+                let answer = trial.answer?;
+                let jod = trial.context.jod.as_ref()?;
+                let scores: Option<Vec<f64>> =
+                    trial.panes.iter().map(|p| jod.get(p).copied()).collect();
+                let best = scores?.into_iter().fold(f64::MIN, f64::max);
+                Some(jod.get(answer).is_some_and(|&j| j >= best))
+            })
+            .collect();
+        (!judged.is_empty()).then(|| Self {
+            answers: judged.len(),
+            agreed: judged.iter().filter(|&&a| a).count(),
+        })
+    }
 }
 
 /// The answers file.

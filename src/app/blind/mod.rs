@@ -42,7 +42,7 @@ use crate::scene::camera::OrbitPose;
 mod answers;
 mod panel;
 
-use answers::{AnswersFile, Summary, Wins, Writer};
+use answers::{AnswersFile, JodAgreement, Summary, Wins, Writer};
 pub(super) use panel::panel;
 
 /// The panes' names while a session runs (the slot letters otherwise).
@@ -160,6 +160,10 @@ pub(super) struct TrialContext {
     /// The magnifier's lens when it is open (`None`: the whole frame).
     pub(in crate::app) region: Option<Lens>,
     pub(in crate::app) render_size: (u32, u32),
+    /// ColorVideoVDP's JOD of each technique over the clip on screen, when it has been scored
+    /// (the metrics panel's clip table).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(in crate::app) jod: Option<BTreeMap<&'static str, f64>>,
 }
 
 /// One answer.
@@ -236,6 +240,7 @@ impl Session {
             trials: self.trials.len(),
             ties: self.trials.iter().filter(|t| t.pane.is_none()).count(),
             wins,
+            jod_agreement: JodAgreement::of(&self.trials),
         }
     }
 
@@ -279,8 +284,14 @@ impl Session {
             .iter()
             .map(|w| format!("{} {}", w.name, w.wins))
             .collect();
+        let agreement = summary.jod_agreement.map_or_else(String::new, |a| {
+            format!(
+                "; agreed with ColorVideoVDP on {} of {} scored answers",
+                a.agreed, a.answers
+            )
+        });
         format!(
-            "{} answers, {} without preference; wins: {}",
+            "{} answers, {} without preference; wins: {}{agreement}",
             summary.trials,
             summary.ties,
             wins.join(", ")
@@ -469,6 +480,7 @@ mod tests {
             layout: Layout::Grid,
             region: None,
             render_size: (64, 32),
+            jod: None,
         }
     }
 
@@ -548,6 +560,50 @@ mod tests {
         assert!(file["trials"][2]["answer"].is_null());
         assert_eq!(file["trials"][1]["in_motion"], true);
         assert_eq!(file["trials"][1]["scene"], "chart");
+    }
+
+    #[test]
+    fn the_summary_counts_how_often_answers_agree_with_the_jod_ranking() {
+        let dir = tempfile::tempdir().unwrap();
+        let ctx = egui::Context::default();
+        let mut state = BlindState::default();
+        let techniques = vec![("none", "No AA".to_owned()), ("taa", "TAA".to_owned())];
+        state
+            .start(
+                techniques,
+                7,
+                dir.path().join("a.json"),
+                "t".to_owned(),
+                &ctx,
+            )
+            .unwrap();
+        let scored = |in_motion| TrialContext {
+            jod: Some(BTreeMap::from([("none", 7.2), ("taa", 8.8)])),
+            ..context(in_motion)
+        };
+        // TAA chosen (agrees), No AA chosen (disagrees), no preference and an unscored
+        // answer (neither counts).
+        for (choice, trial) in [("taa", scored(true)), ("none", scored(true))] {
+            let pane = state.panes().unwrap().iter().position(|p| *p == choice);
+            assert!(state.answer(Choice::Pane(pane.unwrap()), trial));
+        }
+        assert!(state.answer(Choice::NoPreference, scored(true)));
+        assert!(state.answer(Choice::Pane(0), context(false)));
+        let session = state.session.as_ref().unwrap();
+        assert_eq!(
+            session.summary().jod_agreement,
+            Some(JodAgreement {
+                answers: 2,
+                agreed: 1
+            })
+        );
+        assert!(
+            session
+                .summary_line()
+                .contains("agreed with ColorVideoVDP on 1 of 2"),
+            "{}",
+            session.summary_line()
+        );
     }
 
     #[test]

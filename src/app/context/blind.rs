@@ -131,6 +131,10 @@ impl Context {
             in_motion,
             shown,
             layout: self.settings.layout,
+            jod: clip
+                .is_some()
+                .then(|| self.clip_jod.clone())
+                .filter(|jod| !jod.is_empty()),
             region,
             render_size: self.render_size,
         }

@@ -106,6 +106,9 @@ pub(super) struct Context {
     pub(super) images: ImageSetState,
     /// The blind comparison: its session decides what every panel calls the panes.
     pub(super) blind: BlindState,
+    /// The shown clip's ColorVideoVDP JOD per technique, as the clip's JOD feature last
+    /// published it (blind answers record it).
+    pub(super) clip_jod: std::collections::BTreeMap<&'static str, f64>,
     /// Frame pixels a magnifier pane covers (the magnifier sizes it to its panes): with the
     /// settings' centre it places the lens ([`Context::lens`]).
     pub(super) lens_side: u32,
@@ -143,6 +146,7 @@ impl Context {
             notices,
             render_size: (0, 0),
             lens_side: 0,
+            clip_jod: Default::default(),
             images: ImageSetState::new(super::blit::Uploader::new(state)),
             blind: BlindState::default(),
             file_dialog: None,
