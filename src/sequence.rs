@@ -354,6 +354,11 @@ impl Sequence {
         self.frames.get(index).map(|f| f.path.as_path())
     }
 
+    /// The frame files, in playing order.
+    pub fn paths(&self) -> impl Iterator<Item = &Path> {
+        self.frames.iter().map(|f| f.path.as_path())
+    }
+
     /// The frame number in the file name of frame `index` (0-based), if there is one.
     pub fn number(&self, index: usize) -> Option<u64> {
         self.frames.get(index).map(|f| f.number)

@@ -283,6 +283,18 @@ fn compare_refuses_sequences_that_differ_and_never_overwrites() {
     ];
     fails_with(&args, &["exists", "--force"]);
     assert_eq!(std::fs::read(&heatmap).expect("kept"), b"keep me");
+    let frame = reference.join("frame_0002.png");
+    fails_with(
+        &[
+            "compare",
+            &path(&reference),
+            &path(&reference),
+            "--heatmap",
+            &path(&frame),
+            "--force",
+        ],
+        &["it is an input of this command"],
+    );
     let mut forced = args.to_vec();
     forced.push("--force");
     let out = common::aa_lab(&forced);

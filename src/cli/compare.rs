@@ -126,6 +126,21 @@ pub(super) fn write_metric_heatmap(
     Ok(())
 }
 
+/// The overwrite policy of `--heatmap` with `inputs` (the compared files) never written,
+/// checked against the heatmap's path before any work is done.
+pub(super) fn heatmap_policy<'p>(
+    args: &CompareArgs,
+    inputs: impl IntoIterator<Item = &'p Path>,
+) -> anyhow::Result<Overwrite> {
+    let policy = inputs
+        .into_iter()
+        .fold(Overwrite::new(args.force), Overwrite::with_input);
+    if let Some(path) = &args.heatmap {
+        policy.check(path)?;
+    }
+    Ok(policy)
+}
+
 /// Runs `aa-lab compare`: two images, or two sequences ([`super::compare_sequences`]).
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     match (
@@ -146,12 +161,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             }
         ),
     }
-    let policy = Overwrite::new(args.force)
-        .with_input(&args.reference)
-        .with_input(&args.test);
-    if let Some(path) = &args.heatmap {
-        policy.check(path)?;
-    }
+    let policy = heatmap_policy(args, [args.reference.as_path(), args.test.as_path()])?;
     let read = |path: &Path| read_image_limited(path, MAX_COMPARE_PIXELS, "compare");
     let reference = read(&args.reference)?;
     let test = read(&args.test)?;

@@ -12,9 +12,8 @@ use std::path::Path;
 
 use anyhow::Context;
 
-use super::compare::{CompareArgs, MAX_COMPARE_PIXELS, write_metric_heatmap};
+use super::compare::{CompareArgs, MAX_COMPARE_PIXELS, heatmap_policy, write_metric_heatmap};
 use crate::export::clip::{Definitions, figure};
-use crate::files::Overwrite;
 use crate::metrics::pixel::psnr_from_mse;
 use crate::metrics::stability::{ClipMetrics, TemporalScores};
 use crate::metrics::{Comparison, Plane, compare_with_maps};
@@ -81,15 +80,11 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         !args.gpu,
         "--gpu scores two images; sequences are scored on the CPU (leave out --gpu)"
     );
-    let policy = Overwrite::new(args.force)
-        .with_input(&args.reference)
-        .with_input(&args.test);
-    if let Some(path) = &args.heatmap {
-        policy.check(path)?;
-    }
     let reference = open(&args.reference)?;
     let test = open(&args.test)?;
     check_same_shape(&reference, &test)?;
+    // Every frame is an input: the heatmap is never written over one, even with --force.
+    let policy = heatmap_policy(args, reference.paths().chain(test.paths()))?;
     let (width, height) = reference.size();
     let mut per_frame = Vec::with_capacity(reference.len());
     let mut temporal = ClipMetrics::new(1);
