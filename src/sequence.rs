@@ -132,8 +132,8 @@ pub enum SequenceError {
     },
     /// Frame numbers skip.
     #[error(
-        "frames {first_missing} to {last_missing} are missing: {} is followed by {}",
-        before.display(), after.display()
+        "{} missing: {} is followed by {}",
+        missing_frames(*first_missing, *last_missing), before.display(), after.display()
     )]
     Missing {
         /// The first number missing.
@@ -195,6 +195,15 @@ pub enum SequenceError {
     /// Two sequences compared differ in frame count or size.
     #[error("{0}")]
     Mismatch(String),
+}
+
+/// `frame 3 is` or `frames 3 to 5 are`, for [`SequenceError::Missing`].
+fn missing_frames(first: u64, last: u64) -> String {
+    if first == last {
+        format!("frame {first} is")
+    } else {
+        format!("frames {first} to {last} are")
+    }
 }
 
 /// One file of a sequence.

@@ -146,6 +146,15 @@ fn gaps_duplicates_strays_and_empty_folders_are_errors_naming_the_files() {
             && err.contains("frame_0005.png"),
         "{err}"
     );
+    std::fs::remove_file(gap.join("frame_0006.png")).expect("removed");
+    bar_frame(0, WIDTH)
+        .save(gap.join("frame_0003.png"))
+        .expect("frame");
+    let err = open_error(&gap);
+    assert!(
+        err.contains("frame 4 is missing") && err.contains("frame_0003.png is followed by"),
+        "{err}"
+    );
     let twice = write_sequence(dir.path(), "twice", 0..FRAMES, 0);
     std::fs::copy(twice.join("frame_0003.png"), twice.join("frame_3.png")).expect("copy");
     let err = open_error(&twice);
