@@ -267,7 +267,8 @@ impl FrameCache {
 
     fn insert(&mut self, index: usize, frame: &Arc<RgbaImage>) {
         let size = frame.as_raw().len();
-        if size > self.cap {
+        // Two threads may decode the same frame at once: keep one copy.
+        if size > self.cap || self.frames.iter().any(|(i, _)| *i == index) {
             return;
         }
         while self.bytes + size > self.cap {
@@ -571,4 +572,45 @@ fn check_numbering(frames: &[FrameFile]) -> Result<(), SequenceError> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cache_evicts_the_least_recently_used_frame_and_keeps_one_copy() {
+        let frame = || Arc::new(RgbaImage::new(4, 4));
+        let mut cache = FrameCache {
+            frames: VecDeque::new(),
+            bytes: 0,
+            cap: 2 * 64,
+        };
+        cache.insert(0, &frame());
+        cache.insert(1, &frame());
+        cache.insert(1, &frame());
+        assert_eq!(cache.bytes, 128);
+        // Reading frame 0 makes frame 1 the least recently used: frame 2 evicts it.
+        assert!(cache.get(0).is_some());
+        cache.insert(2, &frame());
+        assert!(cache.get(1).is_none());
+        assert!(cache.get(0).is_some() && cache.get(2).is_some());
+        assert_eq!(cache.bytes, 128);
+        // A frame larger than the cap is not kept.
+        cache.insert(3, &Arc::new(RgbaImage::new(8, 8)));
+        assert!(cache.get(3).is_none());
+    }
+
+    #[test]
+    fn frame_numbers_are_the_last_run_of_digits() {
+        let name = FrameName::parse("shot2_0017.EXR").expect("numbered");
+        assert_eq!(
+            (name.prefix.as_str(), name.suffix.as_str(), name.number),
+            ("shot2_", ".exr", 17)
+        );
+        let name = FrameName::parse("f9b.png").expect("numbered");
+        assert_eq!((name.prefix.as_str(), name.suffix.as_str()), ("f", "b.png"));
+        assert!(FrameName::parse("thumbnail.png").is_none());
+        assert!(FrameName::parse("f123456789012345678901234.png").is_none());
+    }
 }
