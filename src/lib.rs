@@ -14,6 +14,8 @@
 //!   summaries;
 //! - [`export`]: PNG files with their render record;
 //! - [`files`]: bounded reads of user files, atomic writes and the overwrite policy;
+//! - [`sequence`]: image sequences (folders or globs of numbered PNG/JPEG/OpenEXR frames), read
+//!   on demand through a bounded cache;
 //! - [`srgb`]: the sRGB transfer function, once for the crate;
 //! - [`cli`]: the command-line subcommands;
 //! - [`app`]: the viewer (eframe/egui on the same frame graph);
@@ -32,5 +34,6 @@ pub mod metrics;
 #[cfg(feature = "profile")]
 pub mod profile;
 pub mod scene;
+pub mod sequence;
 pub mod spec;
 pub mod srgb;

@@ -3,6 +3,9 @@
 //! encode and decode through these. The GPU does the same conversions in hardware when it
 //! reads or writes the `*Srgb` texture formats.
 //!
+//! [`display_rgba8`] turns any decoded image (linear floating-point OpenEXR included) into the
+//! 8-bit sRGB-encoded RGBA the metrics take.
+//!
 //! Every function comes in `f32` and `f64` (suffix `_f64`) forms generated from one body, so
 //! each caller keeps its precision.
 
@@ -48,6 +51,25 @@ transfer!(
     encode_byte_f64,
     decode_byte_f64
 );
+
+/// The 8-bit sRGB-encoded RGBA of a decoded image, as the metrics and the viewer take it.
+/// Integer images are sRGB-encoded already and are converted as they are (16-bit channels
+/// scaled to 8). Floating-point images (OpenEXR) hold linear light: each colour channel is
+/// clamped to 0..1 and sRGB-encoded ([`encode_byte`]), alpha clamped and scaled. Clamping,
+/// not tonemapping: values above 1 show as an SDR display would show them, white.
+pub fn display_rgba8(image: image::DynamicImage) -> image::RgbaImage {
+    match image {
+        image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_) => {
+            let linear = image.into_rgba32f();
+            image::RgbaImage::from_fn(linear.width(), linear.height(), |x, y| {
+                let [r, g, b, a] = linear.get_pixel(x, y).0;
+                let alpha = (a.clamp(0.0, 1.0) * 255.0).round() as u8;
+                image::Rgba([encode_byte(r), encode_byte(g), encode_byte(b), alpha])
+            })
+        }
+        other => other.to_rgba8(),
+    }
+}
 
 #[cfg(test)]
 mod tests {

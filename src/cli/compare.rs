@@ -1,7 +1,8 @@
 //! `aa-lab compare REFERENCE TEST`: scores a test image against a reference with SSIM, PSNR,
 //! MAE and FLIP (see `metrics`), as text or JSON, and optionally writes a heatmap of one
 //! metric's per-pixel map. `--gpu` also runs the compute-shader path and prints its numbers
-//! next to the CPU reference's.
+//! next to the CPU reference's. Two sequences (folders or globs of numbered frames) are scored
+//! frame by frame and over time by [`super::compare_sequences`].
 
 use std::path::{Path, PathBuf};
 
@@ -13,13 +14,15 @@ use crate::files::{self, Overwrite};
 use crate::gpu::Gpu;
 use crate::metrics::gpu::{GpuMetrics, upload_image};
 use crate::metrics::{Comparison, Metric, MetricsError, compare_with_maps};
+use crate::sequence::is_sequence_path;
 
 /// Arguments of `aa-lab compare`.
 #[derive(Debug, clap::Args)]
 pub struct CompareArgs {
-    /// The reference image (e.g. a 64-sample SSAA render).
+    /// The reference image (e.g. a 64-sample SSAA render), or a sequence: a folder or a glob
+    /// (quoted: 'frames/ref_*.png') of numbered PNG, JPEG or OpenEXR frames.
     pub reference: PathBuf,
-    /// The image to score.
+    /// The image to score, or a sequence of as many frames of the reference's size.
     pub test: PathBuf,
     /// Print JSON instead of text.
     #[arg(long)]
@@ -96,14 +99,69 @@ fn heatmap_range(metric: Metric, map: &crate::metrics::Plane) -> (f32, f32) {
     }
 }
 
-/// Runs `aa-lab compare`.
-pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    let policy = Overwrite::new(args.force)
-        .with_input(&args.reference)
-        .with_input(&args.test);
+/// Writes the heatmap of `metric`'s `map` to `path` with a sidecar record holding `compare`
+/// (what was compared and the scores) and the build.
+pub(super) fn write_metric_heatmap(
+    path: &Path,
+    metric: Metric,
+    map: &crate::metrics::Plane,
+    compare: serde_json::Value,
+    policy: &Overwrite,
+) -> anyhow::Result<()> {
+    let sidecar = serde_json::json!({
+        "compare": compare,
+        "build": crate::spec::build_id(),
+    });
+    let replaced = write_heatmap(
+        path,
+        map,
+        &HeatmapStyle {
+            legend: metric.legend(),
+            range: heatmap_range(metric, map),
+        },
+        Some(&serde_json::to_string_pretty(&sidecar)?),
+        policy,
+    )?;
+    eprintln!("{}", files::wrote_line(path, replaced));
+    Ok(())
+}
+
+/// The overwrite policy of `--heatmap` with `inputs` (the compared files) never written,
+/// checked against the heatmap's path before any work is done.
+pub(super) fn heatmap_policy<'p>(
+    args: &CompareArgs,
+    inputs: impl IntoIterator<Item = &'p Path>,
+) -> anyhow::Result<Overwrite> {
+    let policy = inputs
+        .into_iter()
+        .fold(Overwrite::new(args.force), Overwrite::with_input);
     if let Some(path) = &args.heatmap {
         policy.check(path)?;
     }
+    Ok(policy)
+}
+
+/// Runs `aa-lab compare`: two images, or two sequences ([`super::compare_sequences`]).
+pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    match (
+        is_sequence_path(&args.reference),
+        is_sequence_path(&args.test),
+    ) {
+        (true, true) => return super::compare_sequences::run(args),
+        (false, false) => {}
+        (reference, _) => bail!(
+            "cannot compare {} with {}: {} is a sequence (a folder or a pattern of frames) and \
+             the other is not; compare two images or two sequences",
+            args.reference.display(),
+            args.test.display(),
+            if reference {
+                "the reference"
+            } else {
+                "the test"
+            }
+        ),
+    }
+    let policy = heatmap_policy(args, [args.reference.as_path(), args.test.as_path()])?;
     let read = |path: &Path| read_image_limited(path, MAX_COMPARE_PIXELS, "compare");
     let reference = read(&args.reference)?;
     let test = read(&args.test)?;
@@ -143,28 +201,15 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
                 .flatten()
                 .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok())
         };
-        let sidecar = serde_json::json!({
-            "compare": {
-                "reference": args.reference,
-                "test": args.test,
-                "metric": args.metric,
-                "scores": comparison,
-                "reference_record": record(&args.reference),
-                "test_record": record(&args.test),
-            },
-            "build": crate::spec::build_id(),
+        let compare = serde_json::json!({
+            "reference": args.reference,
+            "test": args.test,
+            "metric": args.metric,
+            "scores": comparison,
+            "reference_record": record(&args.reference),
+            "test_record": record(&args.test),
         });
-        let replaced = write_heatmap(
-            path,
-            &map,
-            &HeatmapStyle {
-                legend: args.metric.legend(),
-                range: heatmap_range(args.metric, &map),
-            },
-            Some(&serde_json::to_string_pretty(&sidecar)?),
-            &policy,
-        )?;
-        eprintln!("{}", files::wrote_line(path, replaced));
+        write_metric_heatmap(path, args.metric, &map, compare, &policy)?;
     }
     let output = CompareOutput {
         reference: &args.reference,

@@ -14,6 +14,7 @@ mod camera;
 mod clip;
 mod clip_record;
 mod compare;
+mod compare_sequences;
 mod info;
 mod render;
 mod sheet;
@@ -71,7 +72,8 @@ pub enum Command {
     /// animation (APNG, or GIF for a .gif path) of zoomed panes side by side, with each
     /// technique's temporal instability and ghosting in <out>.json.
     Clip(Box<ClipArgs>),
-    /// Score an image against a reference: SSIM, PSNR, MAE and FLIP, optionally a heatmap.
+    /// Score an image against a reference: SSIM, PSNR, MAE and FLIP, optionally a heatmap; two
+    /// sequences (folders or globs of numbered frames) frame by frame and over time.
     Compare(CompareArgs),
     /// Measure every technique's GPU time, memory, shading work, image quality and flicker,
     /// and write report.json, report.md and charts.

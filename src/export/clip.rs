@@ -169,7 +169,8 @@ pub fn check(panes: usize, region: bool, pane_size: (u32, u32), zoom: u32) -> Re
     sheet::check_layout(columns, &vec![pane; panes.div_ceil(columns)], zoom)
 }
 
-fn figure(value: Option<f64>, digits: usize) -> String {
+/// A figure with `digits` decimals, `n/a` when undefined.
+pub fn figure(value: Option<f64>, digits: usize) -> String {
     value.map_or_else(|| "n/a".to_owned(), |v| format!("{v:.digits$}"))
 }
 

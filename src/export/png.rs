@@ -131,7 +131,8 @@ pub fn read_record(path: &Path) -> Result<Option<String>, ExportError> {
     chunk.get_text().map(Some).map_err(|e| read(e.to_string()))
 }
 
-/// Reads any PNG/JPEG/TGA image as RGBA8, refusing from its header an image of more than
+/// Reads any PNG/JPEG/TGA/OpenEXR image as RGBA8 (OpenEXR through [`crate::srgb::display_rgba8`]),
+/// refusing from its header an image of more than
 /// `max_pixels` pixels (`purpose` names the command in that message).
 pub fn read_image_limited(
     path: &Path,
@@ -165,7 +166,7 @@ pub fn read_image_limited(
     reader.limits(limits);
     reader
         .decode()
-        .map(|i| i.to_rgba8())
+        .map(crate::srgb::display_rgba8)
         .map_err(|e| read(e.to_string()))
 }
 

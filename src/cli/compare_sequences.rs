@@ -1,0 +1,244 @@
+//! `aa-lab compare REFERENCE TEST` on two image sequences (folders or globs of numbered frames,
+//! [`crate::sequence`]): every frame pair scored with the same SSIM, PSNR, MAE and FLIP as two
+//! images, and the whole sequence with the temporal figures of a recorded clip
+//! ([`crate::metrics::stability`]: the test's change, instability and ghosting against the
+//! reference sequence). Printed as a table, or with `--json` as one record of the per-frame
+//! figures and the summary; `--heatmap` writes the metric's map averaged over the frames.
+//!
+//! The frames are read one pair at a time (each sequence's cache is capped at two frames), so
+//! memory does not grow with the sequence's length.
+
+use std::path::Path;
+
+use anyhow::Context;
+
+use super::compare::{CompareArgs, MAX_COMPARE_PIXELS, heatmap_policy, write_metric_heatmap};
+use crate::export::clip::{Definitions, figure};
+use crate::metrics::pixel::psnr_from_mse;
+use crate::metrics::stability::{ClipMetrics, TemporalScores};
+use crate::metrics::{Comparison, Plane, compare_with_maps};
+use crate::sequence::{Sequence, check_same_shape};
+
+/// One frame pair's figures.
+#[derive(serde::Serialize)]
+struct FrameScores<'a> {
+    /// 0-based position in the sequences.
+    index: usize,
+    reference_file: &'a Path,
+    test_file: &'a Path,
+    #[serde(flatten)]
+    scores: Comparison,
+}
+
+/// The sequence's figures: the image metrics over all frames and the temporal ones.
+#[derive(serde::Serialize)]
+struct SequenceSummary {
+    /// Means over the frames; PSNR from the mean squared error over all frames.
+    #[serde(flatten)]
+    scores: Comparison,
+    /// The frame with the largest mean FLIP error (0-based) and that error.
+    worst_frame: usize,
+    worst_flip: f64,
+    /// The reference sequence's mean luma change per frame pair.
+    reference_mean_change: Option<f64>,
+    #[serde(flatten)]
+    temporal: TemporalScores,
+    /// Share of pixels the ghosting measure counted as moving.
+    moving_fraction: f64,
+}
+
+#[derive(serde::Serialize)]
+struct SequenceOutput<'a> {
+    reference: &'a Path,
+    test: &'a Path,
+    width: u32,
+    height: u32,
+    frames: usize,
+    summary: SequenceSummary,
+    definitions: Definitions,
+    per_frame: Vec<FrameScores<'a>>,
+}
+
+/// Decoded frames each sequence keeps while compared: the pair being scored.
+const CACHE_FRAMES: usize = 2;
+
+fn open(path: &Path) -> anyhow::Result<Sequence> {
+    let sequence = Sequence::open(path)?;
+    let (width, height) = sequence.size();
+    anyhow::ensure!(
+        u64::from(width) * u64::from(height) <= MAX_COMPARE_PIXELS,
+        "cannot compare {}: its {width}x{height} frames have more than the {MAX_COMPARE_PIXELS} pixels compare takes",
+        path.display()
+    );
+    let frame_bytes = width as usize * height as usize * 4;
+    Ok(sequence.with_cache_bytes(CACHE_FRAMES * frame_bytes))
+}
+
+/// Runs `aa-lab compare` on two sequences (the caller checked that both are sequences).
+pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        !args.gpu,
+        "--gpu scores two images; sequences are scored on the CPU (leave out --gpu)"
+    );
+    let reference = open(&args.reference)?;
+    let test = open(&args.test)?;
+    check_same_shape(&reference, &test)?;
+    // Every frame is an input: the heatmap is never written over one, even with --force.
+    let policy = heatmap_policy(args, reference.paths().chain(test.paths()))?;
+    let (width, height) = reference.size();
+    let mut per_frame = Vec::with_capacity(reference.len());
+    let mut temporal = ClipMetrics::new(1);
+    let mut map_sum: Option<Plane> = None;
+    let mut mse_sum = 0.0;
+    for index in 0..reference.len() {
+        let reference_frame = reference.frame(index)?;
+        let test_frame = test.frame(index)?;
+        let (reference_file, test_file) = (
+            reference.path(index).unwrap_or(&args.reference),
+            test.path(index).unwrap_or(&args.test),
+        );
+        let context = || {
+            format!(
+                "cannot compare {} with {}",
+                reference_file.display(),
+                test_file.display()
+            )
+        };
+        let (scores, maps) =
+            compare_with_maps(&reference_frame, &test_frame).with_context(context)?;
+        temporal
+            .push(&reference_frame, &[&test_frame])
+            .with_context(context)?;
+        mse_sum += maps.errors.pool(None).mse;
+        if args.heatmap.is_some() {
+            let map = maps.error_map(args.metric);
+            map_sum = Some(match map_sum {
+                Some(mut sum) => {
+                    sum.data
+                        .iter_mut()
+                        .zip(&map.data)
+                        .for_each(|(s, v)| *s += v);
+                    sum
+                }
+                None => map,
+            });
+        }
+        per_frame.push(FrameScores {
+            index,
+            reference_file,
+            test_file,
+            scores,
+        });
+    }
+    let summary = summarise(&per_frame, mse_sum, &temporal);
+    if let (Some(path), Some(mut map)) = (&args.heatmap, map_sum) {
+        let frames = per_frame.len() as f32;
+        map.data.iter_mut().for_each(|v| *v /= frames);
+        let record = serde_json::json!({
+            "reference": args.reference,
+            "test": args.test,
+            "metric": args.metric,
+            "frames": per_frame.len(),
+            "map": "mean over the frames of the per-pixel map",
+            "scores": summary.scores,
+        });
+        write_metric_heatmap(path, args.metric, &map, record, &policy)?;
+    }
+    let output = SequenceOutput {
+        reference: &args.reference,
+        test: &args.test,
+        width,
+        height,
+        frames: per_frame.len(),
+        summary,
+        definitions: Definitions::over(format!(
+            "{} frames of {width}x{height}, every pixel",
+            per_frame.len()
+        )),
+        per_frame,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&output)?);
+    } else {
+        print_table(&output);
+    }
+    Ok(())
+}
+
+fn summarise(frames: &[FrameScores], mse_sum: f64, temporal: &ClipMetrics) -> SequenceSummary {
+    let count = frames.len().max(1) as f64;
+    let mean = |f: fn(&Comparison) -> f64| frames.iter().map(|s| f(&s.scores)).sum::<f64>() / count;
+    let worst = frames
+        .iter()
+        .max_by(|a, b| a.scores.flip.total_cmp(&b.scores.flip));
+    SequenceSummary {
+        scores: Comparison {
+            ssim: mean(|s| s.ssim),
+            psnr: psnr_from_mse(mse_sum / count),
+            mae: mean(|s| s.mae),
+            flip: mean(|s| s.flip),
+        },
+        worst_frame: worst.map_or(0, |w| w.index),
+        worst_flip: worst.map_or(0.0, |w| w.scores.flip),
+        reference_mean_change: temporal.reference().mean_change(),
+        temporal: temporal
+            .scores()
+            .first()
+            .copied()
+            .unwrap_or(TemporalScores {
+                mean_change: None,
+                temporal_instability: None,
+                ghosting: None,
+            }),
+        moving_fraction: temporal.moving_fraction(),
+    }
+}
+
+fn print_table(output: &SequenceOutput) {
+    println!(
+        "{} vs reference {} ({} frames of {}x{})",
+        output.test.display(),
+        output.reference.display(),
+        output.frames,
+        output.width,
+        output.height
+    );
+    println!(
+        "{:>6}  {:>8}  {:>10}  {:>8}  {:>8}  test file",
+        "frame", "SSIM", "PSNR dB", "MAE", "FLIP"
+    );
+    for frame in &output.per_frame {
+        let s = &frame.scores;
+        println!(
+            "{:>6}  {:>8.5}  {:>10.3}  {:>8.4}  {:>8.5}  {}",
+            frame.index,
+            s.ssim,
+            s.psnr,
+            s.mae,
+            s.flip,
+            frame.test_file.display()
+        );
+    }
+    let summary = &output.summary;
+    let s = &summary.scores;
+    println!(
+        "{:>6}  {:>8.5}  {:>10.3}  {:>8.4}  {:>8.5}  (PSNR from the mean squared error of all frames)",
+        "mean", s.ssim, s.psnr, s.mae, s.flip
+    );
+    println!(
+        "worst frame {} (FLIP {:.5})",
+        summary.worst_frame, summary.worst_flip
+    );
+    let t = &summary.temporal;
+    println!(
+        "change per frame: test {} / reference {} luma levels; temporal instability {} (1 = as steady as the reference)",
+        figure(t.mean_change, 3),
+        figure(summary.reference_mean_change, 3),
+        figure(t.temporal_instability, 3)
+    );
+    println!(
+        "ghosting {} luma levels on the {:.2}% of pixels that moved",
+        figure(t.ghosting, 3),
+        summary.moving_fraction * 100.0
+    );
+}
