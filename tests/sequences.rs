@@ -239,6 +239,26 @@ fn compare_scores_sequences_frame_by_frame_and_over_time() {
         text.contains("8 frames of 32x24") && text.contains("temporal instability 0.857"),
         "{text}"
     );
+
+    // ColorVideoVDP over the whole sequences: no visible difference for the same frames, a
+    // visible one for the lagging sequence; JOD is for sequences only.
+    let jod = |test: &Path| {
+        let out = json(&["compare", &path(&reference), &path(test), "--json", "--jod"]);
+        assert_eq!(out["summary"]["jod"]["display"], "standard_fhd");
+        assert_eq!(out["summary"]["jod"]["fps"], 30.0);
+        number(&out["summary"]["jod"], "jod")
+    };
+    assert!((jod(&same) - 10.0).abs() < 1e-3);
+    assert!(jod(&lagging) < 9.5);
+    let one = reference.join("frame_0000.png");
+    let out = common::aa_lab(&[
+        "compare",
+        one.to_str().unwrap(),
+        one.to_str().unwrap(),
+        "--jod",
+    ]);
+    assert!(!out.status.success());
+    assert!(common::stderr(&out).contains("--jod scores two sequences"));
 }
 
 #[test]

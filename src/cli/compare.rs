@@ -40,6 +40,17 @@ pub struct CompareArgs {
     /// compared images are never replaced).
     #[arg(long)]
     pub force: bool,
+    /// Sequences only: also score the test sequence with ColorVideoVDP against the reference,
+    /// in JOD (10: no visible difference), played at --fps on --jod-display. Holds every
+    /// frame of both in memory.
+    #[arg(long)]
+    pub jod: bool,
+    /// The display model --jod scores for: one of ColorVideoVDP's standard displays.
+    #[arg(long, default_value = crate::metrics::jod::DEFAULT_DISPLAY, value_name = "NAME", requires = "jod")]
+    pub jod_display: String,
+    /// The frame rate the sequences play at, for --jod.
+    #[arg(long, default_value_t = 30.0, value_name = "FPS", requires = "jod")]
+    pub fps: f32,
 }
 
 /// Most pixels an image compared may have: 8K UHD (7680x4320) fits. The error maps take
@@ -148,6 +159,10 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         is_sequence_path(&args.test),
     ) {
         (true, true) => return super::compare_sequences::run(args),
+        (false, false) if args.jod => bail!(
+            "--jod scores two sequences (ColorVideoVDP is a video metric); record a clip with \
+             `aa-lab clip --jod` or compare two folders of frames"
+        ),
         (false, false) => {}
         (reference, _) => bail!(
             "cannot compare {} with {}: {} is a sequence (a folder or a pattern of frames) and \

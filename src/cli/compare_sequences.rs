@@ -3,10 +3,12 @@
 //! images, and the whole sequence with the temporal figures of a recorded clip
 //! ([`crate::metrics::stability`]: the test's change, instability and ghosting against the
 //! reference sequence). Printed as a table, or with `--json` as one record of the per-frame
-//! figures and the summary; `--heatmap` writes the metric's map averaged over the frames.
+//! figures and the summary; `--heatmap` writes the metric's map averaged over the frames;
+//! `--jod` adds ColorVideoVDP's JOD of the whole test sequence ([`crate::metrics::jod`]).
 //!
 //! The frames are read one pair at a time (each sequence's cache is capped at two frames), so
-//! memory does not grow with the sequence's length.
+//! memory does not grow with the sequence's length; only `--jod` holds them all (the model
+//! needs the whole sequences), within a stated cap.
 
 use std::path::Path;
 
@@ -14,6 +16,7 @@ use anyhow::Context;
 
 use super::compare::{CompareArgs, MAX_COMPARE_PIXELS, heatmap_policy, write_metric_heatmap};
 use crate::export::clip::{Definitions, figure};
+use crate::metrics::jod::JodScorer;
 use crate::metrics::pixel::psnr_from_mse;
 use crate::metrics::stability::{ClipMetrics, TemporalScores};
 use crate::metrics::{Comparison, Plane, compare_with_maps};
@@ -45,6 +48,50 @@ struct SequenceSummary {
     temporal: TemporalScores,
     /// Share of pixels the ghosting measure counted as moving.
     moving_fraction: f64,
+    /// ColorVideoVDP's JOD of the test sequence against the reference, with `--jod`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    jod: Option<Jod>,
+}
+
+/// A JOD and what it was computed for.
+#[derive(serde::Serialize)]
+struct Jod {
+    jod: f64,
+    display: String,
+    fps: f32,
+    model: &'static str,
+}
+
+/// Most bytes `--jod` may hold: every frame of both sequences as 8-bit pixels, and as the
+/// model's floats for the two being scored (16 bytes a pixel and frame in all).
+const MAX_JOD_BYTES: u64 = 8 << 30;
+
+/// The JOD of `test` against `reference` (both whole, in memory).
+fn jod(args: &CompareArgs, reference: &Sequence, test: &Sequence) -> anyhow::Result<Jod> {
+    let (width, height) = reference.size();
+    let bytes = u64::from(width) * u64::from(height) * 16 * reference.len() as u64;
+    anyhow::ensure!(
+        bytes <= MAX_JOD_BYTES,
+        "--jod holds every frame of both sequences: {} frames of {width}x{height} take {} GiB, \
+         more than the {} GiB it allows; score a shorter glob of the frames",
+        reference.len(),
+        bytes >> 30,
+        MAX_JOD_BYTES >> 30
+    );
+    let scorer = JodScorer::new(&args.jod_display)?;
+    let all = |sequence: &Sequence| -> anyhow::Result<Vec<_>> {
+        (0..sequence.len())
+            .map(|i| Ok(sequence.frame(i)?))
+            .collect()
+    };
+    eprintln!("scoring with ColorVideoVDP…");
+    let value = scorer.score(&all(test)?, &all(reference)?, args.fps)?;
+    Ok(Jod {
+        jod: value,
+        display: args.jod_display.clone(),
+        fps: args.fps,
+        model: crate::metrics::jod::MODEL_VERSION,
+    })
 }
 
 #[derive(serde::Serialize)]
@@ -130,7 +177,10 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             scores,
         });
     }
-    let summary = summarise(&per_frame, mse_sum, &temporal);
+    let mut summary = summarise(&per_frame, mse_sum, &temporal);
+    if args.jod {
+        summary.jod = Some(jod(args, &reference, &test)?);
+    }
     if let (Some(path), Some(mut map)) = (&args.heatmap, map_sum) {
         let frames = per_frame.len() as f32;
         map.data.iter_mut().for_each(|v| *v /= frames);
@@ -191,6 +241,7 @@ fn summarise(frames: &[FrameScores], mse_sum: f64, temporal: &ClipMetrics) -> Se
                 ghosting: None,
             }),
         moving_fraction: temporal.moving_fraction(),
+        jod: None,
     }
 }
 
@@ -241,4 +292,10 @@ fn print_table(output: &SequenceOutput) {
         figure(t.ghosting, 3),
         summary.moving_fraction * 100.0
     );
+    if let Some(jod) = &summary.jod {
+        println!(
+            "ColorVideoVDP: {:.2} JOD ({} at {} fps; 10 = no visible difference)",
+            jod.jod, jod.display, jod.fps
+        );
+    }
 }
