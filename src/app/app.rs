@@ -652,7 +652,7 @@ impl eframe::App for AaLabApp {
             // would show nothing new (the camera advances with each engine frame), and on a
             // software rasteriser each paint takes CPU from the engine.
         } else if more || self.time_changes_image() || self.viewport.resized() {
-            super::request_one_frame(&ctx);
+            super::repaint::request_one_frame(&ctx);
         } else if pending_jobs {
             ctx.request_repaint_after(Duration::from_millis(30));
         } else if measuring {

@@ -93,7 +93,7 @@ impl BenchProgress for SharedProgress {
         if let Ok(mut shown) = self.phase.lock() {
             phase.clone_into(&mut shown);
         }
-        super::request_one_frame(&self.ctx);
+        super::repaint::request_one_frame(&self.ctx);
     }
 
     fn advance(&self, steps: u64) {
@@ -266,7 +266,7 @@ impl BenchFeature {
             .name("bench".to_owned())
             .spawn(move || {
                 let _ = send.send(run_job(&job));
-                super::request_one_frame(&ctx);
+                super::repaint::request_one_frame(&ctx);
             })
             .map_err(|err| format!("cannot start the bench thread: {err}"))?;
         self.running = Some(running);

@@ -336,7 +336,7 @@ impl ImageSetState {
                     (images, decoded.notes)
                 });
                 let _ = sender.send(uploaded);
-                crate::app::request_one_frame(&wake);
+                crate::app::repaint::request_one_frame(&wake);
             })?;
         self.pending = Some((paths, receiver));
         Ok(())

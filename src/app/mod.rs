@@ -66,6 +66,7 @@ mod quality;
 mod rasterizer_threads;
 mod reference;
 mod render_thread;
+mod repaint;
 mod scale_form;
 mod scene_loader;
 mod schedule;
@@ -98,15 +99,6 @@ pub const APP_ID: &str = "aa-lab";
 /// as textured rectangles that multisampling would not change, and counts other than the
 /// adapter's supported ones panic (8 on lavapipe).
 const EGUI_MULTISAMPLING: u16 = 0;
-
-/// Asks egui for exactly one more UI frame, from any thread. `request_repaint` asks for two
-/// (egui runs a second pass to let things settle), and on a software rasteriser every painted
-/// frame costs CPU that the engine would use; a request with a delay, however short, gets one.
-/// (Track caller: egui's repaint causes name the code that asked.)
-#[track_caller]
-pub(crate) fn request_one_frame(ctx: &egui::Context) {
-    ctx.request_repaint_after(std::time::Duration::from_millis(1));
-}
 
 /// Errors of opening the viewer.
 #[derive(Debug, thiserror::Error)]

@@ -26,7 +26,7 @@ impl<R> Reporter<R> {
     /// Sends one result and wakes the UI.
     pub fn send(&self, result: R) {
         let _ = self.sender.send(Message::Result(result));
-        super::request_one_frame(&self.ctx);
+        super::repaint::request_one_frame(&self.ctx);
     }
 }
 
@@ -92,7 +92,7 @@ impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
                     let start = Instant::now();
                     run(job, &reporter);
                     let _ = reporter.sender.send(Message::Done(start.elapsed()));
-                    super::request_one_frame(&reporter.ctx);
+                    super::repaint::request_one_frame(&reporter.ctx);
                 }
             })?;
         Ok(Self {

@@ -14,7 +14,6 @@ use crate::files::{self, Overwrite};
 use crate::gpu::Gpu;
 use crate::metrics::gpu::{GpuMetrics, upload_image};
 use crate::metrics::{Comparison, Metric, MetricsError, compare_with_maps};
-use crate::sequence::is_sequence_path;
 
 /// Arguments of `aa-lab compare`.
 #[derive(Debug, clap::Args)]
@@ -152,30 +151,8 @@ pub(super) fn heatmap_policy<'p>(
     Ok(policy)
 }
 
-/// Runs `aa-lab compare`: two images, or two sequences ([`super::compare_sequences`]).
+/// Runs `aa-lab compare` on two images (the caller checked that neither is a sequence).
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    match (
-        is_sequence_path(&args.reference),
-        is_sequence_path(&args.test),
-    ) {
-        (true, true) => return super::compare_sequences::run(args),
-        (false, false) if args.jod => bail!(
-            "--jod scores two sequences (ColorVideoVDP is a video metric); record a clip with \
-             `aa-lab clip --jod` or compare two folders of frames"
-        ),
-        (false, false) => {}
-        (reference, _) => bail!(
-            "cannot compare {} with {}: {} is a sequence (a folder or a pattern of frames) and \
-             the other is not; compare two images or two sequences",
-            args.reference.display(),
-            args.test.display(),
-            if reference {
-                "the reference"
-            } else {
-                "the test"
-            }
-        ),
-    }
     let policy = heatmap_policy(args, [args.reference.as_path(), args.test.as_path()])?;
     let read = |path: &Path| read_image_limited(path, MAX_COMPARE_PIXELS, "compare");
     let reference = read(&args.reference)?;

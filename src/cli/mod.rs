@@ -21,6 +21,8 @@ mod sheet;
 
 use clap::{Parser, Subcommand};
 
+use crate::sequence::is_sequence_path;
+
 pub use bench::{BenchArgs, Sweep};
 pub use camera::parse_vec3;
 pub use clip::ClipArgs;
@@ -131,7 +133,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Render(args)) => render::run(&args),
         Some(Command::Sheet(args)) => sheet::run(&args),
         Some(Command::Clip(args)) => clip::run(&args),
-        Some(Command::Compare(args)) => compare::run(&args),
+        Some(Command::Compare(args)) => run_compare(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Info { json }) => info::info(json),
         Some(Command::Techniques { json, verbose }) => info::techniques(json, verbose),
@@ -194,6 +196,32 @@ pub fn error_message(err: &anyhow::Error) -> String {
         text.push_str(&cause);
     }
     text
+}
+
+/// `aa-lab compare`: two images ([`compare`]) or two sequences ([`compare_sequences`]).
+fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
+    match (
+        is_sequence_path(&args.reference),
+        is_sequence_path(&args.test),
+    ) {
+        (true, true) => compare_sequences::run(args),
+        (false, false) if args.jod => anyhow::bail!(
+            "--jod scores two sequences (ColorVideoVDP is a video metric); record a clip with \
+             `aa-lab clip --jod` or compare two folders of frames"
+        ),
+        (false, false) => compare::run(args),
+        (reference, _) => anyhow::bail!(
+            "cannot compare {} with {}: {} is a sequence (a folder or a pattern of frames) and \
+             the other is not; compare two images or two sequences",
+            args.reference.display(),
+            args.test.display(),
+            if reference {
+                "the reference"
+            } else {
+                "the test"
+            }
+        ),
+    }
 }
 
 #[cfg(test)]

@@ -96,7 +96,7 @@ impl Writer {
                     let result = write_answers(&path, created, &text);
                     created |= result.is_ok();
                     let _ = done.send((answers, result));
-                    crate::app::request_one_frame(&ctx);
+                    crate::app::repaint::request_one_frame(&ctx);
                 }
             })?;
         Ok(Self { contents, results })

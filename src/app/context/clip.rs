@@ -150,7 +150,7 @@ impl Context {
             if clip.player.rate.fps() >= REPAINT_EVERY_FRAME_FPS {
                 // Real time: paint as often as the display (or the rasteriser) allows, so a
                 // frame that takes most of a clip period still lands on every clip frame.
-                crate::app::request_one_frame(ctx);
+                crate::app::repaint::request_one_frame(ctx);
             } else {
                 // Slow motion: the next UI frame when the next clip frame is due.
                 let due = std::time::Duration::from_secs_f64(clip.player.until_next_frame());

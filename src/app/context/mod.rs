@@ -243,7 +243,7 @@ impl Context {
             .name("aa-lab file dialog".to_owned())
             .spawn(move || {
                 let _ = sender.send(dialog());
-                super::request_one_frame(&ctx);
+                super::repaint::request_one_frame(&ctx);
             });
         match spawned {
             Ok(_) => self.file_dialog = Some((purpose, receiver)),

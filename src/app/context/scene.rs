@@ -19,7 +19,7 @@ impl Context {
     pub(in crate::app) fn load_scene(&mut self, ctx: &egui::Context, spec: &str) {
         let ctx = ctx.clone();
         self.loader
-            .load(spec, move || crate::app::request_one_frame(&ctx));
+            .load(spec, move || crate::app::repaint::request_one_frame(&ctx));
     }
 
     /// Loads a scene the user asked for: an open image set gives way to it once it has

@@ -294,7 +294,7 @@ impl Engine {
             scene,
             entries.iter().map(TechniqueEntry::available).collect(),
             reference_samples,
-            move || super::request_one_frame(&wake),
+            move || super::repaint::request_one_frame(&wake),
         )?;
         Ok(Self {
             caps,
