@@ -4,6 +4,7 @@
 
 use egui::{Key, KeyboardShortcut, Modifiers};
 
+use super::blind::DIGIT_KEYS;
 use super::settings::Layout;
 
 /// Something a shortcut does.
@@ -73,22 +74,10 @@ const fn command(key: Key, action: Action, help: &'static str) -> Shortcut {
     }
 }
 
-const NUMBER_KEYS: [Key; 9] = [
-    Key::Num1,
-    Key::Num2,
-    Key::Num3,
-    Key::Num4,
-    Key::Num5,
-    Key::Num6,
-    Key::Num7,
-    Key::Num8,
-    Key::Num9,
-];
-
 const BOOKMARK_KEYS: [Key; 4] = [Key::F5, Key::F6, Key::F7, Key::F8];
 
 /// Every single-press shortcut except the number and bookmark keys, which
-/// [`pressed_actions`] handles from [`NUMBER_KEYS`] and [`BOOKMARK_KEYS`].
+/// [`pressed_actions`] handles from [`DIGIT_KEYS`] and [`BOOKMARK_KEYS`].
 pub const SHORTCUTS: &[Shortcut] = &[
     plain(Key::Space, Action::PlayPause, "Pause / resume time"),
     plain(Key::Period, Action::Step, "Step one frame"),
@@ -200,7 +189,7 @@ pub fn pressed_actions(ctx: &egui::Context, flying: bool) -> Vec<Action> {
                 actions.push(entry.action);
             }
         }
-        for (n, key) in NUMBER_KEYS.iter().enumerate() {
+        for (n, key) in DIGIT_KEYS[1..].iter().enumerate() {
             if input.consume_key(Modifiers::NONE, *key) {
                 actions.push(Action::ToggleTechnique(n));
             }
@@ -303,7 +292,7 @@ mod tests {
                     b.action
                 );
             }
-            assert!(!NUMBER_KEYS.contains(&a.shortcut.logical_key));
+            assert!(!DIGIT_KEYS[1..].contains(&a.shortcut.logical_key));
             assert!(!BOOKMARK_KEYS.contains(&a.shortcut.logical_key));
         }
     }

@@ -49,8 +49,9 @@ pub(super) use panel::panel;
 const PANE_NUMBERS: [&str; 4] = ["1", "2", "3", "4"];
 /// Schema of the answers file.
 const SCHEMA: &str = "aa-lab-blind/1";
-/// Keys 0-9: 0 is "no preference", n answers pane n.
-const DIGIT_KEYS: [Key; 10] = [
+/// The digit keys, 0 to 9: a blind comparison answers with them (0: no preference, n: pane n);
+/// outside one, 1 to 9 switch techniques (`shortcuts.rs`, `DIGIT_KEYS[1..]`).
+pub const DIGIT_KEYS: [Key; 10] = [
     Key::Num0,
     Key::Num1,
     Key::Num2,
