@@ -75,6 +75,15 @@ pub struct ClipJod {
     figures: Vec<Option<Figure>>,
 }
 
+impl Drop for ClipJod {
+    /// Closing the viewer stops a job after its technique; the worker's drop waits for that.
+    fn drop(&mut self) {
+        if let Some((_, cancel)) = &self.running {
+            cancel.store(true, Ordering::Relaxed);
+        }
+    }
+}
+
 impl ClipJod {
     /// Starts scoring the clip the context shows when it is complete, has the reference and
     /// has no figures for the display model and rate yet; takes finished figures.

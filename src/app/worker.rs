@@ -11,6 +11,15 @@
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
+/// How long dropping a background thread's handle (a [`Worker`], the render thread) waits for
+/// the thread to end. The handles are dropped when the app closes, and they must wait for
+/// threads that hold a device: a driver crashed the process (a segfault or `free(): invalid
+/// pointer`) when it exited while such a thread was still releasing its device objects (NVIDIA's
+/// Vulkan driver at the end of a viewer benchmark; lavapipe at the end of the soak test, where
+/// the quality worker releases its own device). A thread stuck in a job is left behind after
+/// this long rather than hanging the exit.
+pub const EXIT_WAIT: Duration = Duration::from_secs(10);
+
 enum Message<R> {
     Result(R),
     Done(Duration),
@@ -62,10 +71,13 @@ pub fn lower_priority() {
     }
 }
 
-/// A background thread running jobs of type `J` that produce results of type `R`.
+/// A background thread running jobs of type `J` that produce results of type `R`. Dropping
+/// it ends the thread after its job and waits for that, at most [`EXIT_WAIT`].
 pub struct Worker<J, R> {
     jobs: mpsc::Sender<J>,
     results: mpsc::Receiver<Message<R>>,
+    /// Disconnects when the thread has dropped `run` (and whatever device it holds) and ended.
+    ended: mpsc::Receiver<()>,
     busy: bool,
     last_duration: Duration,
     finished_at: Option<Instant>,
@@ -76,10 +88,11 @@ impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
     pub fn spawn(
         name: &str,
         ctx: &egui::Context,
-        mut run: impl FnMut(J, &Reporter<R>) + Send + 'static,
+        run: impl FnMut(J, &Reporter<R>) + Send + 'static,
     ) -> std::io::Result<Self> {
         let (jobs, job_receiver) = mpsc::channel::<J>();
         let (sender, results) = mpsc::channel();
+        let (ending, ended) = mpsc::channel::<()>();
         let reporter = Reporter {
             sender,
             ctx: ctx.clone(),
@@ -87,6 +100,9 @@ impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
         std::thread::Builder::new()
             .name(name.to_owned())
             .spawn(move || {
+                // Locals drop in reverse order: `run` before `_ending`, which disconnects.
+                let _ending = ending;
+                let mut run = run;
                 lower_priority();
                 while let Ok(job) = job_receiver.recv() {
                     let start = Instant::now();
@@ -98,6 +114,7 @@ impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
         Ok(Self {
             jobs,
             results,
+            ended,
             busy: false,
             last_duration: Duration::ZERO,
             finished_at: None,
@@ -150,6 +167,19 @@ impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
     }
 }
 
+impl<J, R> Drop for Worker<J, R> {
+    fn drop(&mut self) {
+        // Replacing the sender drops the thread's only one: its loop ends after the job.
+        self.jobs = mpsc::channel().0;
+        if let Err(mpsc::RecvTimeoutError::Timeout) = self.ended.recv_timeout(EXIT_WAIT) {
+            log::warn!(
+                "a background worker did not end within {} s; leaving it behind",
+                EXIT_WAIT.as_secs()
+            );
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -183,5 +213,36 @@ mod tests {
         assert!(worker.rested(Duration::ZERO));
         assert!(worker.submit(2));
         assert_eq!(wait_for(&mut worker), vec![0, 1]);
+    }
+
+    /// What a job's closure owns (a device, in the viewer) is released before the drop of the
+    /// worker returns, even while a job is running: the process may exit right after it.
+    #[test]
+    fn dropping_a_worker_waits_for_its_thread_to_release_what_it_holds() {
+        use std::sync::Arc;
+        use std::sync::atomic::{AtomicBool, Ordering};
+
+        struct Held(Arc<AtomicBool>);
+        impl Drop for Held {
+            fn drop(&mut self) {
+                std::thread::sleep(Duration::from_millis(50));
+                self.0.store(true, Ordering::SeqCst);
+            }
+        }
+        let released = Arc::new(AtomicBool::new(false));
+        let held = Held(Arc::clone(&released));
+        let ctx = egui::Context::default();
+        let mut worker = Worker::spawn("test worker", &ctx, move |(): (), reporter| {
+            let _ = &held;
+            std::thread::sleep(Duration::from_millis(100));
+            reporter.send(());
+        })
+        .unwrap();
+        assert!(worker.submit(()));
+        drop(worker);
+        assert!(
+            released.load(Ordering::SeqCst),
+            "the worker's state outlived its drop"
+        );
     }
 }

@@ -29,6 +29,7 @@ use crate::aa::user::PendingBuild;
 
 use super::blit::{DisplayTexture, Uploader};
 use super::reference::{ProgressiveReference, SharedControl};
+use super::worker::EXIT_WAIT;
 use crate::aa::ssaa::Progress;
 use crate::aa::{self, ParamMap, ParamValue};
 use crate::gpu::readback::{PendingReadback, ReadbackBelt, ReadbackError, Region, Ticket};
@@ -269,21 +270,14 @@ pub enum RenderDevice {
 }
 
 /// The UI's handle: send commands, receive events. Dropping it ends the thread after the
-/// command it is handling and waits for that, at most [`EXIT_WAIT`].
+/// command it is handling and waits for that, at most [`EXIT_WAIT`] (the engine lives as
+/// long as the app; a new scene goes to the same thread).
 pub struct RenderThread {
     commands: mpsc::Sender<Command>,
     events: mpsc::Receiver<Event>,
     /// Disconnects when the thread has released its GPU objects and ended.
     finished: mpsc::Receiver<()>,
 }
-
-/// How long dropping a [`RenderThread`] waits for the thread to end. It drops the handle only
-/// when the app closes (the engine lives as long as the app; a new scene goes to the same
-/// thread), and it must wait: NVIDIA's Vulkan driver crashed the process (a segfault or
-/// `free(): invalid pointer`) when it exited while the thread was still releasing its device
-/// objects (seen on an H100 at the end of every viewer benchmark). A thread stuck in a frame
-/// (a lost device) is left behind after this long rather than hanging the exit.
-const EXIT_WAIT: Duration = Duration::from_secs(10);
 
 impl RenderThread {
     /// Starts the thread: it opens `device`, creates the graph for `scene` and every registry
