@@ -17,6 +17,11 @@ use image::RgbaImage;
 
 const SIZE: (u32, u32) = (320, 180);
 
+/// The sizes the fidelity tests (FXAA's and TAA's error against the reference) run at: the
+/// usual one and an odd one of about the same aspect, whose pixels fall elsewhere on every
+/// edge, so that tuning to one size fails here.
+const FIDELITY_SIZES: [(u32, u32); 2] = [SIZE, (411, 233)];
+
 /// Frame `frame` of the scene's own camera path (still for the flat chart).
 fn still(scene: &Scene, frame: u64, size: (u32, u32)) -> FrameCamera {
     common::camera(scene, frame, size)
@@ -42,9 +47,22 @@ fn render(graph: &mut FrameGraph, camera: FrameCamera, reset_history: bool) {
     common::render(graph, camera, reset_history, FrameScope::All);
 }
 
-/// The flat chart's slanted edge at 320x180 (its other edges are axis-aligned and fall exactly
-/// on pixel borders, where No AA is already exact and any filter can only add error).
-const SLANTED_EDGE: (u32, u32, u32, u32) = (112, 40, 78, 100);
+/// The window `(x, y, width, height)` around the flat chart's slanted edge at `size`: at
+/// 320x180 (100 pixels per world unit) `(112, 40, 78, 100)`, away from the chart's other edges,
+/// which are axis-aligned (at 320x180 they fall exactly on pixel borders, where No AA is
+/// already exact and any filter can only add error).
+fn slanted_edge((width, height): (u32, u32)) -> (u32, u32, u32, u32) {
+    // The chart spans y -0.9..0.9 over the height.
+    let per_unit = height as f32 / 1.8;
+    let (centre_x, centre_y) = (width as f32 / 2.0, height as f32 / 2.0);
+    let pixels = |v: f32| v.round() as u32;
+    (
+        pixels(centre_x - 0.48 * per_unit),
+        pixels(centre_y - 0.5 * per_unit),
+        pixels(0.78 * per_unit),
+        pixels(per_unit),
+    )
+}
 
 /// Counts, against the No AA image: flat pixels that moved by more than 1/255 (must be none)
 /// and edge pixels that changed at all.
@@ -143,12 +161,12 @@ fn every_fxaa_quality_preset_and_luma_antialiases_the_edge() {
             .map(|q| common::technique(&gpu, "fxaa", &[("quality", q)])),
     );
     let (reference, images) = with_reference(&gpu, &scene, techniques, 1, SIZE);
-    let none = common::window_error(&images[0], &reference, SLANTED_EDGE);
+    let none = common::window_error(&images[0], &reference, slanted_edge(SIZE));
     for (name, image) in std::iter::once("green luma")
         .chain(presets.iter().copied())
         .zip(&images[1..])
     {
-        let error = common::window_error(image, &reference, SLANTED_EDGE);
+        let error = common::window_error(image, &reference, slanted_edge(SIZE));
         assert!(
             error < none,
             "FXAA {name}: error {error:.3} is not below No AA's {none:.3}"
@@ -164,8 +182,12 @@ fn fxaa_lowers_the_error_against_the_reference() {
     // removes more than half of the error (measured: 80% at 3 degrees, 68% at 20). Before the
     // sub-pixel amount was read from the darker side of the edge in encoded luma, every black
     // pixel beside the edge was lifted to 63/255 and only 42% of the error at 3 degrees went.
-    for (slant, bound) in [(3.0, 0.5), (20.0, 0.4)] {
+    for ((slant, bound), size) in [(3.0, 0.5), (20.0, 0.4)]
+        .into_iter()
+        .flat_map(|case| FIDELITY_SIZES.map(|size| (case, size)))
+    {
         let scene = common::flat_chart(slant);
+        let window = slanted_edge(size);
         let (reference, images) = with_reference(
             &gpu,
             &scene,
@@ -174,26 +196,26 @@ fn fxaa_lowers_the_error_against_the_reference() {
                 common::technique(&gpu, "fxaa", &[]),
             ],
             1,
-            SIZE,
+            size,
         );
-        let none = common::window_error(&images[0], &reference, SLANTED_EDGE);
-        let fxaa = common::window_error(&images[1], &reference, SLANTED_EDGE);
+        let none = common::window_error(&images[0], &reference, window);
+        let fxaa = common::window_error(&images[1], &reference, window);
         // Blending in linear light keeps the light of the edge window; blending the encoded
         // values darkens every blended pixel (a half-covered black/white pixel came out at
         // 100/255 instead of the reference's 179 and the error fell by only a third).
         let [light_none, light_fxaa, light_reference] =
-            [&images[0], &images[1], &reference].map(|i| window_light(i, SLANTED_EDGE));
+            [&images[0], &images[1], &reference].map(|i| window_light(i, window));
         println!(
-            "slant {slant}: No AA {none:.3}, FXAA {fxaa:.3}; light No AA {light_none:.4}, \
+            "slant {slant}, {size:?}: No AA {none:.3}, FXAA {fxaa:.3}; light No AA {light_none:.4}, \
              FXAA {light_fxaa:.4}, reference {light_reference:.4}"
         );
         assert!(
             fxaa < bound * none,
-            "slant {slant}: FXAA error {fxaa:.3} vs No AA {none:.3}"
+            "slant {slant}, {size:?}: FXAA error {fxaa:.3} vs No AA {none:.3}"
         );
         assert!(
             (light_fxaa - light_reference).abs() < 0.01 * light_reference,
-            "slant {slant}: FXAA changed the edge window's light to {light_fxaa:.4} (reference \
+            "slant {slant}, {size:?}: FXAA changed the edge window's light to {light_fxaa:.4} (reference \
              {light_reference:.4})"
         );
     }
@@ -202,7 +224,11 @@ fn fxaa_lowers_the_error_against_the_reference() {
 #[test]
 fn fxaa_and_taa_approach_the_reference_on_the_builtin_chart_and_hairball() {
     let gpu = common::gpu();
-    for name in ["chart", "hairball"] {
+    // 480x270 and an odd size of about the same aspect.
+    for (name, size) in ["chart", "hairball"]
+        .into_iter()
+        .flat_map(|name| [(480, 270), (397, 223)].map(|size| (name, size)))
+    {
         let scene = load(name, &SceneOptions::default()).unwrap_or_else(|e| panic!("{e}"));
         let (reference, images) = with_reference(
             &gpu,
@@ -213,12 +239,18 @@ fn fxaa_and_taa_approach_the_reference_on_the_builtin_chart_and_hairball() {
                 common::technique(&gpu, "taa", &[]),
             ],
             33,
-            (480, 270),
+            size,
         );
         let [none, fxaa, taa] = [0, 1, 2].map(|i| common::mean_error(&images[i], &reference));
-        println!("{name} 480x270: No AA {none:.3}, FXAA {fxaa:.3}, TAA (32 frames) {taa:.3}");
-        assert!(fxaa < none, "{name}: FXAA {fxaa:.3} vs No AA {none:.3}");
-        assert!(taa < 0.5 * none, "{name}: TAA {taa:.3} vs No AA {none:.3}");
+        println!("{name} {size:?}: No AA {none:.3}, FXAA {fxaa:.3}, TAA (32 frames) {taa:.3}");
+        assert!(
+            fxaa < none,
+            "{name} {size:?}: FXAA {fxaa:.3} vs No AA {none:.3}"
+        );
+        assert!(
+            taa < 0.5 * none,
+            "{name} {size:?}: TAA {taa:.3} vs No AA {none:.3}"
+        );
     }
 }
 
@@ -226,28 +258,34 @@ fn fxaa_and_taa_approach_the_reference_on_the_builtin_chart_and_hairball() {
 fn taa_converges_on_a_still_camera() {
     let gpu = common::gpu();
     let scene = common::flat_chart(5.0);
+    for size in FIDELITY_SIZES {
+        taa_converges_at(&gpu, &scene, size);
+    }
+}
+
+fn taa_converges_at(gpu: &Gpu, scene: &Scene, size: (u32, u32)) {
     let (reference, images) = with_reference(
-        &gpu,
-        &scene,
+        gpu,
+        scene,
         vec![
-            common::technique(&gpu, "none", &[]),
-            common::technique(&gpu, "taa", &[]),
+            common::technique(gpu, "none", &[]),
+            common::technique(gpu, "taa", &[]),
             common::technique(
-                &gpu,
+                gpu,
                 "taa",
                 &[("samples", "16"), ("history_filter", "bilinear")],
             ),
         ],
         33,
-        SIZE,
+        size,
     );
     let none = common::mean_error(&images[0], &reference);
     for (name, image) in [("default", &images[1]), ("16 bilinear", &images[2])] {
         let taa = common::mean_error(image, &reference);
-        println!("No AA {none:.3}, TAA {name} {taa:.3}");
+        println!("{size:?}: No AA {none:.3}, TAA {name} {taa:.3}");
         assert!(
             taa < 0.5 * none,
-            "TAA {name} after 32 frames: error {taa:.3} vs No AA {none:.3}"
+            "{size:?}: TAA {name} after 32 frames: error {taa:.3} vs No AA {none:.3}"
         );
     }
 }
@@ -583,10 +621,17 @@ fn taa_matches_msaa_4x_on_hairball_and_beats_it_on_atrium_under_the_orbit() {
     // Hairball's strands are thinner than a pixel, so each jittered point sample is noise, and
     // under the orbit the resampled history never converges to the pixel's average: the
     // current frame's Gaussian estimate (`current_filter`) is what brings TAA level with MSAA
-    // 4x there (measured at 640x360, frame 16: SSIM .8544 against .8526; the point sample
-    // .8469). Atrium: .9392 against .9101.
+    // 4x there at 640x360. At larger sizes MSAA 4x resolves more of the strands while TAA's
+    // loss to the orbit's motion stays, and TAA falls behind (docs/techniques/taa.md, "At other
+    // sizes"): the odd 853x481 pins today's smaller lead there, so that tuning TAA to one size
+    // fails here. The margins are how far below MSAA 4x's SSIM TAA may be.
     let gpu = common::gpu();
-    for (name, margin) in [("hairball", 0.005), ("atrium", 0.0)] {
+    for (name, size, margin) in [
+        ("hairball", (640, 360), 0.005),
+        ("hairball", (853, 481), 0.02),
+        ("atrium", (640, 360), 0.0),
+        ("atrium", (853, 481), 0.0),
+    ] {
         let scene = load(name, &SceneOptions::default()).unwrap_or_else(|e| panic!("{e}"));
         let (reference, images) = with_reference(
             &gpu,
@@ -597,22 +642,25 @@ fn taa_matches_msaa_4x_on_hairball_and_beats_it_on_atrium_under_the_orbit() {
                 common::technique(&gpu, "taa", &[("current_filter", "sample")]),
             ],
             17,
-            (640, 360),
+            size,
         );
         let [msaa, taa, point] = [0, 1, 2].map(|i| {
             aa_lab::metrics::ssim::ssim(&reference, &images[i])
                 .expect("same size")
                 .mean
         });
-        println!("{name} frame 16: MSAA 4x {msaa:.4}, TAA {taa:.4}, TAA point sample {point:.4}");
+        println!(
+            "{name} {size:?} frame 16: MSAA 4x {msaa:.4}, TAA {taa:.4}, TAA point sample {point:.4}"
+        );
         assert!(
             taa >= msaa - margin,
-            "{name}: TAA SSIM {taa:.4} vs MSAA 4x {msaa:.4}"
+            "{name} {size:?}: TAA SSIM {taa:.4} vs MSAA 4x {msaa:.4}"
         );
         if name == "hairball" {
             assert!(
                 taa > point + 0.004,
-                "hairball: the Gaussian current frame {taa:.4} vs the point sample {point:.4}"
+                "hairball {size:?}: the Gaussian current frame {taa:.4} vs the point sample \
+                 {point:.4}"
             );
         }
     }
