@@ -403,6 +403,49 @@ pub fn as_named<E: Named>(value: &ParamValue) -> Option<E> {
     E::from_name(as_choice(value))
 }
 
+/// A settings field a validated [`ParamValue`] can be assigned to: floats, bools and
+/// [`Named`] choices (a name the enum does not know leaves the field as it was).
+pub trait ParamField {
+    /// Assigns `value`, already validated against the field's [`Param`].
+    fn assign(&mut self, value: &ParamValue);
+}
+
+impl ParamField for f32 {
+    fn assign(&mut self, value: &ParamValue) {
+        *self = as_f32(value);
+    }
+}
+
+impl ParamField for bool {
+    fn assign(&mut self, value: &ParamValue) {
+        *self = as_bool(value);
+    }
+}
+
+impl<E: Named> ParamField for E {
+    fn assign(&mut self, value: &ParamValue) {
+        if let Some(named) = as_named(value) {
+            *self = named;
+        }
+    }
+}
+
+/// The body of a [`Tunable::set`] that assigns each key to the field of the same name through
+/// [`ParamField`]: `set_fields!(self, key, value, [gamma, rectify])`. Keys that need their own
+/// conversion (a clamp, another field name) are matched before it.
+#[macro_export]
+macro_rules! set_fields {
+    ($settings:expr, $key:expr, $value:expr, [$($field:ident),+ $(,)?]) => {{
+        match $key {
+            $(stringify!($field) => {
+                $crate::graph::params::ParamField::assign(&mut $settings.$field, $value)
+            })+
+            _ => return false,
+        }
+        true
+    }};
+}
+
 /// A technique's preset of a [`Named`] preset enum by name, or the error that names the
 /// technique and lists its presets.
 pub fn preset_named<E: Named>(technique: &str, name: &str) -> Result<E, ParamError> {

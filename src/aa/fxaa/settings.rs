@@ -4,7 +4,7 @@
 //! the CLI, viewer and sidecars (its [`Tunable`] implementation).
 
 use crate::aa::common::color::LumaSource;
-use crate::aa::params::{Param, ParamValue, Tunable, as_f32, as_named};
+use crate::aa::params::{Param, ParamValue, Tunable};
 
 /// Most search steps a preset has (the shader has this many step constants).
 pub const MAX_STEPS: usize = 12;
@@ -192,16 +192,12 @@ impl Tunable for FxaaSettings {
     }
 
     fn set(&mut self, key: &str, value: &ParamValue) -> bool {
-        let s = self;
-        match key {
-            "quality" => s.quality = as_named(value).unwrap_or(s.quality),
-            "subpix" => s.subpix = as_f32(value),
-            "edge_threshold" => s.edge_threshold = as_f32(value),
-            "edge_threshold_min" => s.edge_threshold_min = as_f32(value),
-            "luma" => s.luma = as_named(value).unwrap_or(s.luma),
-            _ => return false,
-        }
-        true
+        crate::set_fields!(
+            self,
+            key,
+            value,
+            [quality, subpix, edge_threshold, edge_threshold_min, luma]
+        )
     }
 
     /// Lottes' defaults, or a sensitivity level's two thresholds (the rest kept).

@@ -3,7 +3,7 @@
 //! one mode), and the split between settings that change pipelines ([`PipelineKey`], WGSL
 //! override constants) and those that only change a uniform.
 
-use crate::aa::params::{Named, Param, ParamValue, Tunable, as_bool, as_f32, as_i64, as_named};
+use crate::aa::params::{Named, Param, ParamField, ParamValue, Tunable, as_i64};
 
 use super::lut::MAX_DIAG_DISTANCE;
 
@@ -282,21 +282,29 @@ impl Tunable for SmaaSettings {
     fn set(&mut self, key: &str, value: &ParamValue) -> bool {
         let steps = |v: &ParamValue, max: u32| as_i64(v).clamp(1, i64::from(max)) as u32;
         match key {
-            "threshold" => self.threshold = as_f32(value),
             "max_search_steps" => self.max_search_steps = steps(value, MAX_SEARCH_STEPS),
-            "diagonal_detection" => self.diagonal_detection = as_bool(value),
             "max_search_steps_diag" => self.max_search_steps_diag = steps(value, MAX_DIAG_DISTANCE),
-            "corner_detection" => self.corner_detection = as_bool(value),
             "corner_rounding" => self.corner_rounding = as_i64(value).clamp(0, 100) as u32,
-            "edge_detection" => self.edge_mode = as_named(value).unwrap_or(EdgeMode::Luma),
-            "local_contrast_factor" => self.local_contrast_factor = as_f32(value),
-            "predication" => self.predication = as_bool(value),
-            "predication_threshold" => self.predication_threshold = as_f32(value),
-            "predication_scale" => self.predication_scale = as_f32(value),
-            "predication_strength" => self.predication_strength = as_f32(value),
-            "reprojection_weight_scale" => self.reprojection_weight_scale = as_f32(value),
-            "mip_bias" => self.mip_bias = as_f32(value),
-            _ => return false,
+            "edge_detection" => self.edge_mode.assign(value),
+            _ => {
+                return crate::set_fields!(
+                    self,
+                    key,
+                    value,
+                    [
+                        threshold,
+                        diagonal_detection,
+                        corner_detection,
+                        local_contrast_factor,
+                        predication,
+                        predication_threshold,
+                        predication_scale,
+                        predication_strength,
+                        reprojection_weight_scale,
+                        mip_bias,
+                    ]
+                );
+            }
         }
         true
     }

@@ -4,7 +4,7 @@
 //! override constants the structural choices become.
 
 pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
-use crate::graph::params::{Named, Param, ParamValue, Tunable, as_bool, as_f32, as_named};
+use crate::graph::params::{Named, Param, ParamValue, Tunable};
 
 crate::named_enum! {
     /// Length of the Halton(2,3) jitter sequence.
@@ -323,26 +323,28 @@ impl Tunable for TaaSettings {
     }
 
     fn set(&mut self, key: &str, value: &ParamValue) -> bool {
-        let s = self;
-        match key {
-            "samples" => s.samples = as_named(value).unwrap_or(s.samples),
-            "history_filter" => s.history_filter = as_named(value).unwrap_or(s.history_filter),
-            "rectify" => s.rectify = as_named(value).unwrap_or(s.rectify),
-            "gamma" => s.gamma = as_f32(value),
-            "current_weight" => s.current_weight = as_f32(value),
-            "motion_weight" => s.motion_weight = as_f32(value),
-            "velocity_tolerance" => s.velocity_tolerance = as_f32(value),
-            "luma_weight" => s.luma_weight = as_bool(value),
-            "current_filter" => s.current_filter = as_named(value).unwrap_or(s.current_filter),
-            "velocity" => s.velocity = as_named(value).unwrap_or(s.velocity),
-            "neighbourhood" => s.neighbourhood = as_named(value).unwrap_or(s.neighbourhood),
-            "trust_own_speed" => s.trust_own_speed = as_bool(value),
-            "resample_feedback" => s.resample_feedback = as_bool(value),
-            "trust_sharp_only" => s.trust_sharp_only = as_bool(value),
-            "mip_bias" => s.mip_bias = as_f32(value),
-            _ => return false,
-        }
-        true
+        crate::set_fields!(
+            self,
+            key,
+            value,
+            [
+                samples,
+                history_filter,
+                rectify,
+                gamma,
+                current_weight,
+                motion_weight,
+                velocity_tolerance,
+                luma_weight,
+                current_filter,
+                velocity,
+                neighbourhood,
+                trust_own_speed,
+                resample_feedback,
+                trust_sharp_only,
+                mip_bias,
+            ]
+        )
     }
 
     /// Replaces every setting with the preset's.

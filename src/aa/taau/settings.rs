@@ -4,7 +4,7 @@
 //! structural choices become.
 
 pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
-use crate::graph::params::{Named, Param, ParamValue, Tunable, as_f32, as_named};
+use crate::graph::params::{Named, Param, ParamValue, Tunable};
 
 crate::named_enum! {
     /// Jitter phases per output pixel: the Halton(2,3) sequence has this many positions times
@@ -227,23 +227,25 @@ impl Tunable for TaauSettings {
     }
 
     fn set(&mut self, key: &str, value: &ParamValue) -> bool {
-        let s = self;
-        match key {
-            "phases" => s.phases = as_named(value).unwrap_or(s.phases),
-            "kernel" => s.kernel = as_named(value).unwrap_or(s.kernel),
-            "kernel_width" => s.kernel_width = as_f32(value),
-            "history_filter" => s.history_filter = as_named(value).unwrap_or(s.history_filter),
-            "rectify" => s.rectify = as_named(value).unwrap_or(s.rectify),
-            "gamma" => s.gamma = as_f32(value),
-            "max_samples" => s.max_samples = as_f32(value),
-            "motion_samples" => s.motion_samples = as_f32(value),
-            "velocity_tolerance" => s.velocity_tolerance = as_f32(value),
-            "depth_tolerance" => s.depth_tolerance = as_f32(value),
-            "reactive" => s.reactive = as_f32(value),
-            "mip_bias" => s.mip_bias = as_f32(value),
-            _ => return false,
-        }
-        true
+        crate::set_fields!(
+            self,
+            key,
+            value,
+            [
+                phases,
+                kernel,
+                kernel_width,
+                history_filter,
+                rectify,
+                gamma,
+                max_samples,
+                motion_samples,
+                velocity_tolerance,
+                depth_tolerance,
+                reactive,
+                mip_bias,
+            ]
+        )
     }
 
     /// Replaces every setting with the preset's.
