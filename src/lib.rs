@@ -17,6 +17,7 @@
 //! - [`sequence`]: image sequences (folders or globs of numbered PNG/JPEG/OpenEXR frames), read
 //!   on demand through a bounded cache;
 //! - [`srgb`]: the sRGB transfer function, once for the crate;
+//! - [`text`]: text drawn into images with egui's bundled fonts (sheet labels, the UI overlay);
 //! - [`cli`]: the command-line subcommands;
 //! - [`app`]: the viewer (eframe/egui on the same frame graph);
 //! - `profile` (cargo feature `profile`): the CPU profile of the viewer's UI frame.
@@ -37,3 +38,4 @@ pub mod scene;
 pub mod sequence;
 pub mod spec;
 pub mod srgb;
+pub mod text;

@@ -14,6 +14,7 @@
 
 use crate::aa::{self, FrameInfo, ParamMap, TechniqueError};
 use crate::gpu::{Gpu, read_texture_rgba8, readback::ReadbackError};
+use crate::graph::overlay::OverlayOrder;
 use crate::graph::{FrameGraph, FrameScope, FrameTimings, GraphError, MemoryReport};
 use crate::scene::Scene;
 use crate::scene::camera::{FrameCamera, OrbitPose};
@@ -94,6 +95,9 @@ pub struct RenderSpec {
     pub image: Option<String>,
     /// Techniques in output order.
     pub techniques: Vec<TechniqueSpec>,
+    /// The UI overlay and where it is drawn (`--ui-overlay`); `None`: no overlay.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub overlay: Option<OverlayOrder>,
     /// Adapter that produced the image (informational; not used when rendering).
     #[serde(default)]
     pub adapter: Option<String>,
@@ -299,6 +303,7 @@ pub fn build_graph(gpu: &Gpu, scene: &Scene, spec: &RenderSpec) -> Result<FrameG
         return Err(RenderError::NoTechnique);
     }
     let mut graph = FrameGraph::new(gpu.clone(), scene);
+    graph.set_overlay(spec.overlay);
     for t in &spec.techniques {
         graph.add(t.create(gpu)?);
     }

@@ -355,6 +355,7 @@ fn sample_spec() -> RenderSpec {
             settings: Default::default(),
             source_hash: None,
         }],
+        overlay: Some(aa_lab::graph::overlay::OverlayOrder::Before),
         adapter: Some("fuzz".to_owned()),
         build: None,
     }

@@ -30,6 +30,7 @@ use crate::bench::{
 use crate::export::report::{self, BenchReport};
 use crate::files::Overwrite;
 use crate::gpu::Gpu;
+use crate::graph::overlay::OverlayOrder;
 use crate::scene::CameraRig;
 use crate::scene::procedural::SceneOptions;
 use crate::spec::{self, TechniqueSpec};
@@ -51,6 +52,8 @@ pub(super) struct BenchRequest {
     pub techniques: Vec<TechniqueSpec>,
     /// The export folder (the report goes to a new folder inside it).
     pub export_dir: PathBuf,
+    /// The UI overlay of the viewer's settings.
+    pub overlay: Option<OverlayOrder>,
 }
 
 /// One technique's row of the panel's table.
@@ -242,6 +245,7 @@ impl BenchFeature {
             quality: true,
             seed: SceneOptions::default().seed,
             images: None,
+            overlay: request.overlay,
         };
         let progress = Arc::new(SharedProgress {
             steps: AtomicU64::new(0),

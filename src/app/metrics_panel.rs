@@ -75,6 +75,7 @@ fn bench_request(ws: &Workspace) -> Result<BenchRequest, String> {
         size: ws.cx.render_size,
         techniques: ids.iter().map(|id| engine.technique_spec(id)).collect(),
         export_dir: ws.cx.settings.export_dir.clone(),
+        overlay: ws.cx.settings.ui_overlay,
     })
 }
 

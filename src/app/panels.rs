@@ -144,6 +144,7 @@ fn view_menu(ui: &mut egui::Ui, ws: &mut Workspace, panels_hidden: &mut bool) {
     }
     ui.separator();
     ui.menu_button("Resolution", |ui| resolution_choices(ui, ws));
+    ui.menu_button("UI overlay", |ui| overlay_choices(ui, ws));
     ui.separator();
     if ui
         .add_enabled(!ws.cx.blind.active(), Button::new("Blind comparison"))
@@ -171,6 +172,16 @@ fn resolution_choices(ui: &mut egui::Ui, ws: &mut Workspace) {
             "Render at this size and show it 1:1, centred (cropped if the viewport is smaller)",
         );
     }
+}
+
+fn overlay_choices(ui: &mut egui::Ui, ws: &mut Workspace) {
+    use crate::graph::overlay::OverlayOrder;
+    let overlay = &mut ws.cx.settings.ui_overlay;
+    ui.radio_value(overlay, None, "Off");
+    ui.radio_value(overlay, Some(OverlayOrder::Before), "Before the antialiasing")
+        .on_hover_text("Draw a game-like HUD into the scene renders the techniques read, as engines that blur their UI do (the reference gets it after its resolve)");
+    ui.radio_value(overlay, Some(OverlayOrder::After), "After the antialiasing")
+        .on_hover_text("Draw the HUD over each technique's output, where it stays exact");
 }
 
 fn camera_menu(ui: &mut egui::Ui, ws: &mut Workspace) {

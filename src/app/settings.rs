@@ -234,6 +234,8 @@ pub struct Settings {
     pub export_dir: PathBuf,
     /// Samples per pixel of the reference (k x k ordered grid: 16, 64 or 256).
     pub reference_samples: u32,
+    /// The UI overlay over the frames, before or after the antialiasing (`None`: off).
+    pub ui_overlay: Option<crate::graph::overlay::OverlayOrder>,
     /// Compute SSIM, PSNR and FLIP against the reference.
     pub quality: bool,
     /// Panels shown.
@@ -269,6 +271,7 @@ impl Default for Settings {
             bookmarks: Vec::new(),
             export_dir: PathBuf::from("screenshots"),
             reference_samples: 64,
+            ui_overlay: None,
             quality: true,
             show_techniques: true,
             show_metrics: true,

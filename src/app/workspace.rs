@@ -56,6 +56,9 @@ impl Workspace {
     /// Advances what changes with time before the panels draw: the clip's player and its
     /// JOD, the quality figures and the magnifier's heatmaps.
     pub(super) fn update(&mut self, ctx: &egui::Context) {
+        if let Some(engine) = &mut self.cx.engine {
+            engine.set_overlay(self.cx.settings.ui_overlay);
+        }
         self.cx.tick_clip(ctx);
         self.jod.update(&mut self.cx, ctx);
         self.cx.clip_jod = self.jod.published(&self.cx);

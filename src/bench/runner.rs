@@ -32,6 +32,7 @@ use crate::export::{ExportError, write_png};
 use crate::files::Overwrite;
 use crate::gpu::readback::ReadbackError;
 use crate::gpu::{Gpu, read_texture_rgba8};
+use crate::graph::overlay::OverlayOrder;
 use crate::graph::{FrameGraph, FrameScope, FrameStatistics, GraphError, MemoryReport};
 use crate::metrics::coverage::chart_truth;
 use crate::metrics::stability::MovingEdgeError;
@@ -174,6 +175,8 @@ pub struct BenchOptions {
     pub seed: u64,
     /// Where the quality images go, when kept.
     pub images: Option<ImageOutput>,
+    /// The UI overlay over every frame, and where it is drawn.
+    pub overlay: Option<OverlayOrder>,
 }
 
 impl BenchOptions {
@@ -256,6 +259,7 @@ impl BenchRunner<'_> {
             rig: None,
             image: None,
             techniques,
+            overlay: self.options.overlay,
             adapter: Some(format!(
                 "{} ({})",
                 self.gpu.caps.adapter_name, self.gpu.caps.backend

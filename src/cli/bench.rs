@@ -120,6 +120,10 @@ pub struct BenchArgs {
     /// Built-in scene seed.
     #[arg(long, default_value_t = SceneOptions::default().seed)]
     pub seed: u64,
+    /// Draw a game-like UI overlay over the frames, `before` or `after` the antialiasing
+    /// (see `render --help`).
+    #[arg(long, value_name = "ORDER", value_parser = super::render::parse_overlay)]
+    pub ui_overlay: Option<crate::graph::overlay::OverlayOrder>,
     /// Output directory for report.json, report.md, charts and sidecars.
     #[arg(long, short, default_value = "report")]
     pub out: PathBuf,
@@ -321,6 +325,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             folder: args.out.clone(),
             policy: policy.clone(),
         }),
+        overlay: args.ui_overlay,
     };
     let progress = BarProgress(progress_bar(runs.len() as u64 * options.steps_per_run()));
     let techniques = techniques(&gpu, args, &ids, scales.as_deref())?;

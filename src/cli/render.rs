@@ -15,6 +15,7 @@ use crate::export::{
 };
 use crate::files::{self, Overwrite};
 use crate::gpu::Gpu;
+use crate::graph::overlay::OverlayOrder;
 use crate::scene::procedural::SceneOptions;
 use crate::scene::source::{self, DEFAULT_SCENE};
 use crate::spec::{self, RenderSpec, RunOptions, TechniqueSpec};
@@ -108,6 +109,10 @@ pub struct SceneSource {
     /// Treat scene warnings (a missing texture replaced by a checker) as errors.
     #[arg(long)]
     pub strict: bool,
+    /// Draw a game-like UI overlay (text, a crosshair, a framed bar) over the frames:
+    /// `before` the antialiasing, as engines that blur their UI do, or `after` it.
+    #[arg(long, value_name = "ORDER", value_parser = parse_overlay)]
+    pub ui_overlay: Option<OverlayOrder>,
     /// The camera, when not the scene's default view.
     #[command(flatten)]
     pub camera: CameraArgs,
@@ -150,7 +155,7 @@ pub struct RenderArgs {
     pub debug_views: bool,
     /// Reproduce a render from a sidecar JSON or from a PNG aa-lab wrote (scene, size, frame,
     /// camera and every technique setting come from the record).
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "technique", "size", "frame", "density", "seed"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "technique", "size", "frame", "density", "seed", "ui_overlay"])]
     pub from: Option<PathBuf>,
     /// Replace existing output files (without it, aa-lab never replaces a file; an input is
     /// never replaced).
@@ -167,6 +172,7 @@ pub struct RenderArgs {
 pub fn spec_for_image(
     path: &Path,
     techniques: Vec<TechniqueSpec>,
+    overlay: Option<OverlayOrder>,
 ) -> anyhow::Result<(RenderSpec, image::RgbaImage)> {
     let full = std::fs::canonicalize(path)
         .with_context(|| format!("cannot read image {}", path.display()))?;
@@ -185,6 +191,7 @@ pub fn spec_for_image(
         rig: None,
         image: Some(full.display().to_string()),
         techniques,
+        overlay,
         adapter: None,
         build: Some(spec::build_id()),
     };
@@ -198,6 +205,12 @@ pub fn load_input_image(path: &Path) -> anyhow::Result<image::RgbaImage> {
 }
 
 /// Parses `WIDTHxHEIGHT`, both whole numbers of at least 1.
+/// Parses `--ui-overlay`.
+pub fn parse_overlay(text: &str) -> Result<OverlayOrder, String> {
+    OverlayOrder::from_name(text)
+        .ok_or_else(|| format!("expected one of {}", OverlayOrder::NAMES.join(", ")))
+}
+
 pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let expected =
         "a size is WIDTHxHEIGHT in pixels, both whole numbers of at least 1 (e.g. 1280x720)";
@@ -444,6 +457,7 @@ pub fn spec_for_scene(
         rig: None,
         image: None,
         techniques,
+        overlay: scene.ui_overlay,
         adapter: None,
         build: Some(spec::build_id()),
     }
@@ -566,7 +580,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let (mut spec, mut input) = match (&args.from, &args.image) {
         (Some(path), _) => (load_spec(path)?, None),
         (None, Some(path)) => {
-            let (spec, image) = spec_for_image(path, technique_specs(&gpu, &args.techniques)?)?;
+            let (spec, image) = spec_for_image(
+                path,
+                technique_specs(&gpu, &args.techniques)?,
+                args.scene.source.ui_overlay,
+            )?;
             (spec, Some(image))
         }
         (None, None) => (

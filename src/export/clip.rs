@@ -204,7 +204,7 @@ pub fn reference_caption(mean_change: Option<f64>, width: u32) -> String {
 /// The first text that fits in `width` pixels as a sheet caption, else the last one (the
 /// figures are in the record either way).
 pub fn fit(texts: &[String], width: u32) -> String {
-    let sans = super::text::Typeface::sans();
+    let sans = crate::text::Typeface::sans();
     texts
         .iter()
         .find(|t| sans.width(t, sheet::CAPTION_SIZE) <= width as f32)

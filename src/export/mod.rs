@@ -15,7 +15,6 @@ pub mod png;
 pub mod report;
 pub mod report_markdown;
 pub mod sheet;
-pub mod text;
 pub mod tradeoff;
 pub mod video;
 

@@ -7,7 +7,7 @@
 //! [`check_layout`] refuses a sheet wider or taller than that (or of more than
 //! [`MAX_SHEET_PIXELS`] pixels) before anything is rendered.
 
-use super::text::Typeface;
+use crate::text::Typeface;
 
 /// A rectangle of an image in pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

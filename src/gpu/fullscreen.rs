@@ -51,13 +51,36 @@ impl Fullscreen {
         fragment: &FragmentDesc<'_>,
         depth_stencil: Option<wgpu::DepthStencilState>,
     ) -> wgpu::RenderPipeline {
+        self.build(device, fragment, depth_stencil, None, 1)
+    }
+
+    /// [`Fullscreen::pipeline`] blending its colour over the target with `blend`, into a
+    /// target of `sample_count` samples (every sample of a pixel gets the same colour).
+    pub fn pipeline_blended(
+        &self,
+        device: &wgpu::Device,
+        fragment: &FragmentDesc<'_>,
+        blend: wgpu::BlendState,
+        sample_count: u32,
+    ) -> wgpu::RenderPipeline {
+        self.build(device, fragment, None, Some(blend), sample_count)
+    }
+
+    fn build(
+        &self,
+        device: &wgpu::Device,
+        fragment: &FragmentDesc<'_>,
+        depth_stencil: Option<wgpu::DepthStencilState>,
+        blend: Option<wgpu::BlendState>,
+        sample_count: u32,
+    ) -> wgpu::RenderPipeline {
         let targets: Vec<Option<wgpu::ColorTargetState>> = fragment
             .targets
             .iter()
             .map(|&format| {
                 Some(wgpu::ColorTargetState {
                     format,
-                    blend: None,
+                    blend,
                     write_mask: wgpu::ColorWrites::ALL,
                 })
             })
@@ -73,7 +96,10 @@ impl Fullscreen {
             },
             primitive: Default::default(),
             depth_stencil,
-            multisample: Default::default(),
+            multisample: wgpu::MultisampleState {
+                count: sample_count,
+                ..Default::default()
+            },
             fragment: Some(wgpu::FragmentState {
                 module: fragment.module,
                 entry_point: Some(fragment.entry_point),

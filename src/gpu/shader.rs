@@ -70,6 +70,7 @@ pub const SHADERS: &[Shader] = &[
     crate::wgsl!("shaders/metrics_copy.wgsl"),
     crate::wgsl!("shaders/viewer_blit.wgsl"),
     crate::wgsl!("shaders/viewer_fill.wgsl"),
+    crate::wgsl!("shaders/overlay.wgsl"),
 ];
 
 /// The shared shader `shaders/<name>`.

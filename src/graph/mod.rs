@@ -5,10 +5,14 @@
 //! jittered render when their offsets agree), (3) runs each technique's passes into its own
 //! output texture, all in one command encoder with a GPU timer around every pass. The same
 //! graph serves the viewer and the headless CLI. Optionally (off by default) every render pass
-//! also counts its fragment-shader invocations ([`FrameGraph::set_pipeline_statistics`]).
+//! also counts its fragment-shader invocations ([`FrameGraph::set_pipeline_statistics`]), and a
+//! user-interface overlay goes over the frames before or after the antialiasing
+//! ([`FrameGraph::set_overlay`], [`overlay`]).
 
 mod memory;
+pub mod overlay;
 pub mod params;
+mod pooled_input;
 mod statistics;
 pub mod technique;
 mod timing;
@@ -24,6 +28,8 @@ use crate::gpu::{self, Gpu, fullscreen::Fullscreen};
 use crate::scene::Scene;
 use crate::scene::camera::ViewParams;
 use crate::scene::renderer::{PassQueries, RasterOptions, SceneRenderer, SceneTargets, TargetDesc};
+use overlay::{OverlayOrder, OverlayPass};
+use pooled_input::PooledInput;
 use statistics::StatisticsRecorder;
 
 /// Errors of a frame.
@@ -269,34 +275,6 @@ pub fn output_texture(gpu: &Gpu, label: &str, size: (u32, u32)) -> wgpu::Texture
     )
 }
 
-/// A distinct scene input of a frame: which pooled target holds it, and whether a technique
-/// that runs in the frame reads it (it is rendered then; otherwise it holds an earlier
-/// frame's render for a technique that keeps its image).
-struct PooledInput {
-    input: SceneInput,
-    desc: TargetDesc,
-    /// Index among the pooled targets of `desc`.
-    index: usize,
-    rendered: bool,
-}
-
-impl PooledInput {
-    /// Whether this is `input` rendered at `size`.
-    fn is(&self, input: SceneInput, size: (u32, u32)) -> bool {
-        self.input == input && self.desc.size == size
-    }
-
-    /// The input's label, with its size when it is rendered below the output size `output`.
-    fn label(&self, output: (u32, u32)) -> String {
-        if self.desc.size == output {
-            self.input.label()
-        } else {
-            let (width, height) = self.desc.size;
-            format!("{} {width}x{height}", self.input.label())
-        }
-    }
-}
-
 /// The frame graph. See the module docs.
 pub struct FrameGraph {
     gpu: Gpu,
@@ -315,6 +293,7 @@ pub struct FrameGraph {
     statistics: StatisticsRecorder,
     /// A finished image that stands in for the 1x scene render (image mode).
     image_input: Option<image::RgbaImage>,
+    overlay: OverlayPass,
 }
 
 impl FrameGraph {
@@ -339,7 +318,6 @@ impl FrameGraph {
         Self {
             scene: SceneRenderer::new(&gpu, scene),
             fullscreen: Fullscreen::new(&gpu.device),
-            gpu,
             slots: Vec::new(),
             profiler,
             input_pool: HashMap::new(),
@@ -351,7 +329,14 @@ impl FrameGraph {
             scene_renders: 0,
             statistics: StatisticsRecorder::new(),
             image_input: None,
+            overlay: OverlayPass::new(&gpu.device),
+            gpu,
         }
+    }
+
+    /// Where the UI overlay goes from the next frame on (`None`: no overlay, the default).
+    pub fn set_overlay(&mut self, order: Option<OverlayOrder>) {
+        self.overlay.set_order(order);
     }
 
     /// Image mode: `Some(image)` makes every frame's [`SceneInput::Shared1x`] input this
@@ -513,6 +498,9 @@ impl FrameGraph {
         });
         self.scene_renders = 0;
         self.statistics.begin_frame(&device);
+        let sample_counts = self.inputs_used.iter().map(|u| u.desc.sample_count);
+        let samples: Vec<u32> = sample_counts.chain([1]).collect();
+        (self.overlay).prepare(&self.gpu, &self.fullscreen, size, samples);
         self.render_inputs(&mut encoder, &camera, size);
         // 3. Every running technique's passes (after 1, plan_inputs, and 2, render_inputs).
         for &i in &active {
@@ -536,6 +524,9 @@ impl FrameGraph {
                 statistics: &mut self.statistics,
             };
             slot.technique.encode(&mut ctx, input, output);
+            if self.overlay.order() == Some(OverlayOrder::After) || input.is_none() {
+                self.overlay.composite(&mut encoder, output, None);
+            }
         }
         let recorded = record(&mut encoder, &self.slots);
         self.profiler.resolve_queries(&mut encoder);
@@ -662,6 +653,7 @@ impl FrameGraph {
             let targets = &self.input_pool[desc][*index];
             if let (Some(image), SceneInput::Shared1x) = (&self.image_input, input) {
                 crate::gpu::write_rgba8(&self.gpu, &targets.color, image);
+                self.overlay_before(encoder, targets);
                 continue;
             }
             let view = camera
@@ -677,6 +669,14 @@ impl FrameGraph {
                 .render_queried(&self.gpu, encoder, targets, &view, input.raster(), queries);
             self.profiler.end_query(encoder, query);
             self.scene_renders += 1;
+            self.overlay_before(encoder, targets);
+        }
+    }
+
+    /// The UI overlay over a scene input, when it goes before the antialiasing.
+    fn overlay_before(&self, encoder: &mut wgpu::CommandEncoder, targets: &SceneTargets) {
+        if self.overlay.order() == Some(OverlayOrder::Before) {
+            (self.overlay).composite(encoder, &targets.color, targets.resolved.as_ref());
         }
     }
 
@@ -771,6 +771,7 @@ impl FrameGraph {
             .into_iter()
             .map(|(_, label, users, targets)| (label, users, targets))
             .collect();
-        MemoryReport::build(&self.slots, &inputs, self.scene.memory_bytes())
+        let scene_bytes = self.scene.memory_bytes() + self.overlay.memory_bytes();
+        MemoryReport::build(&self.slots, &inputs, scene_bytes)
     }
 }

@@ -211,6 +211,7 @@ impl Context {
             rig: None,
             image: None,
             techniques,
+            overlay: self.settings.ui_overlay,
             adapter: Some(format!(
                 "{} ({})",
                 engine.caps().adapter_name,

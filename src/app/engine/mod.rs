@@ -42,6 +42,7 @@ use crate::aa::ssaa::Progress;
 use crate::aa::{self, FrameInfo, Param, ParamError, ParamValue};
 use crate::gpu::Capabilities;
 use crate::graph::MemoryReport;
+use crate::graph::overlay::OverlayOrder;
 use crate::graph::params::validate_setting;
 use crate::scene::Scene;
 use crate::scene::camera::FrameCamera;
@@ -231,6 +232,7 @@ pub struct Engine {
     /// Revision of the reference's sample count.
     reference_revision: u64,
     scene_generation: u64,
+    overlay: Option<OverlayOrder>,
     /// Counts view changes (see [`Engine::current_view`]).
     view_serial: u64,
     /// Counts publications.
@@ -309,6 +311,7 @@ impl Engine {
             reference_wanted: false,
             reference_revision: 0,
             scene_generation: 0,
+            overlay: None,
             view_serial: 0,
             publish_serial: 0,
             animated,

@@ -6,6 +6,18 @@
 use super::*;
 
 impl Engine {
+    /// Draws the UI overlay over every frame (before or after the antialiasing) or not: every
+    /// output and the reference start over, as after a scene change.
+    pub fn set_overlay(&mut self, order: Option<OverlayOrder>) {
+        if order != self.overlay {
+            self.overlay = order;
+            self.send(Command::Overlay(order));
+            self.scene_generation += 1;
+            self.memory = None;
+            self.discard_clip();
+        }
+    }
+
     /// Switches a technique on or off (unavailable ones stay off).
     pub fn set_enabled(&mut self, id: &str, on: bool) {
         if let Some(entry) = self.entries.iter_mut().find(|e| e.id == id)

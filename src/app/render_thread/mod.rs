@@ -184,6 +184,8 @@ pub enum Command {
     Configure(usize, SettingsChange),
     /// Restart the reference with another sample count.
     ReferenceSamples(u32),
+    /// Draw the UI overlay (or not) from the next frame on.
+    Overlay(Option<crate::graph::overlay::OverlayOrder>),
     /// Render a frame.
     Render(FramePlan),
     /// Record a clip.
@@ -487,6 +489,7 @@ impl RenderState {
                 }
             }
             Command::ReferenceSamples(samples) => self.set_reference_samples(samples),
+            Command::Overlay(order) => self.graph.set_overlay(order),
             Command::Render(plan) => {
                 std::thread::sleep(plan.delay);
                 send(Event::Frame(self.render(&plan)));

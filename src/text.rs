@@ -1,6 +1,7 @@
-//! Text on images without a system font: labels for comparison sheets, heatmap legends and
-//! charts use the Ubuntu Light and Hack faces that egui embeds (`epaint_default_fonts`),
-//! rasterised with `ab_glyph` and blended onto RGBA8 images.
+//! Text on images without a system font: labels for comparison sheets, heatmap legends,
+//! charts and the UI overlay of the frame graph use the Ubuntu Light and Hack faces that egui
+//! embeds (`epaint_default_fonts`), rasterised with `ab_glyph`: blended onto RGBA8 images
+//! ([`Typeface::draw`]) or handed over as coverage ([`Typeface::coverage`]).
 
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
 
@@ -55,6 +56,31 @@ impl Typeface {
         color: [u8; 3],
         text: &str,
     ) -> f32 {
+        self.coverage(x, y, size, text, |px, py, coverage| {
+            let (Ok(px), Ok(py)) = (u32::try_from(px), u32::try_from(py)) else {
+                return;
+            };
+            let Some(pixel) = image.get_pixel_mut_checked(px, py) else {
+                return;
+            };
+            for (channel, target) in pixel.0.iter_mut().zip(color) {
+                *channel = (f32::from(*channel) * (1.0 - coverage) + f32::from(target) * coverage)
+                    .round() as u8;
+            }
+        })
+    }
+
+    /// Rasterises `text` with its top-left corner at (`x`, `y`), `size` pixels high, calling
+    /// `plot(x, y, coverage)` for every pixel a glyph covers (positions may fall outside any
+    /// image). Returns the width.
+    pub fn coverage(
+        &self,
+        x: f32,
+        y: f32,
+        size: f32,
+        text: &str,
+        mut plot: impl FnMut(i64, i64, f32),
+    ) -> f32 {
         let scaled = self.font.as_scaled(PxScale::from(size));
         let baseline = y + scaled.ascent();
         let mut caret = x;
@@ -73,21 +99,11 @@ impl Typeface {
             };
             let bounds = outline.px_bounds();
             outline.draw(|gx, gy, coverage| {
-                let px = bounds.min.x as i64 + i64::from(gx);
-                let py = bounds.min.y as i64 + i64::from(gy);
-                if px < 0
-                    || py < 0
-                    || px >= i64::from(image.width())
-                    || py >= i64::from(image.height())
-                {
-                    return;
-                }
-                let pixel = image.get_pixel_mut(px as u32, py as u32);
-                for (channel, target) in pixel.0.iter_mut().zip(color) {
-                    *channel = (f32::from(*channel) * (1.0 - coverage)
-                        + f32::from(target) * coverage)
-                        .round() as u8;
-                }
+                plot(
+                    bounds.min.x as i64 + i64::from(gx),
+                    bounds.min.y as i64 + i64::from(gy),
+                    coverage,
+                );
             });
         }
         caret - x
