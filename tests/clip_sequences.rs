@@ -16,26 +16,9 @@ const HEIGHT: u32 = 24;
 /// Frames of the reference sequence, and so of the clips.
 const FRAMES: u32 = 8;
 
-/// Frame `t` of a moving bar (two pixels a frame, `width` pixels wide) over a vertical
-/// gradient; `blur` spreads its edges over that many pixels, as antialiasing would.
+/// Frame `t` of the moving bar at the sequences' size.
 fn bar_frame(t: u32, blur: u32) -> image::RgbaImage {
-    image::RgbaImage::from_fn(WIDTH, HEIGHT, |x, y| {
-        let left = 4 + 2 * t;
-        let distance = if x < left {
-            left - x
-        } else if x >= left + 3 {
-            x + 1 - (left + 3)
-        } else {
-            0
-        };
-        let ground = (y * 8) as u8;
-        let v = match distance {
-            0 => 255,
-            d if d <= blur => (255 + u32::from(ground) * d / (blur + 1)).min(255) as u8,
-            _ => ground,
-        };
-        image::Rgba([v, v / 2, 255 - v, 255])
-    })
+    common::bar_frame(t, (WIDTH, HEIGHT), blur)
 }
 
 /// Writes `frames` PNG frames numbered from `first` into `root/folder`, frame `i` showing the
@@ -147,7 +130,10 @@ fn a_clip_of_two_captures_and_their_reference_reports_what_compare_does() {
         "no warning of the frames left out: {warning}"
     );
     let table = common::stdout(&run);
-    assert!(table.contains("SSIM") && table.contains("JOD (standard_fhd)"), "{table}");
+    assert!(
+        table.contains("SSIM") && table.contains("JOD (standard_fhd)"),
+        "{table}"
+    );
 
     let record: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(root.join("clip.json")).expect("the record beside"),
@@ -300,10 +286,9 @@ fn a_captured_pane_beside_the_rendered_technique_it_captured_scores_the_same() {
         ],
     );
     assert!(second.status.success(), "{}", stderr(&second));
-    let record: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(root.join("second.json")).expect("record"),
-    )
-    .expect("JSON");
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(root.join("second.json")).expect("record"))
+            .expect("JSON");
     assert_eq!(record["reference"]["id"], "ssaa", "the rendered reference");
     assert_eq!(record["motion"], "pan");
     let panes = record["techniques"].as_array().expect("panes");

@@ -384,7 +384,10 @@ fn bench_jod_scores_every_technique_over_the_flicker_frames() {
         assert!(*value > 0.0 && *value < 10.0, "{jods:?}");
     }
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(md.contains("## ColorVideoVDP: JOD of the flicker frames"), "{md}");
+    assert!(
+        md.contains("## ColorVideoVDP: JOD of the flicker frames"),
+        "{md}"
+    );
     // Without flicker frames there is nothing to score.
     let mut no_quality = args.to_vec();
     no_quality.push("--no-quality");

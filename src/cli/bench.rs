@@ -29,9 +29,11 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, bail};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 
-use super::render::{configured_specs, parse_size, set_flags, technique_ids};
+use super::render::{
+    configured_specs, parse_size, progress_bar_with_eta, set_flags, technique_ids,
+};
 use crate::bench::scales::{default_scales, parse_scales, sweep_techniques};
 use crate::bench::{
     BenchOptions, BenchProgress, BenchRunner, DEFAULT_FLICKER_FRAMES, DEFAULT_QUALITY_FRAME,
@@ -203,20 +205,6 @@ fn plan(args: &BenchArgs) -> anyhow::Result<Vec<RunPlan>> {
     Ok(runs)
 }
 
-/// The progress bar of the whole bench.
-fn progress_bar(total: u64) -> ProgressBar {
-    let bar = ProgressBar::new(total);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] [{bar:32}] {pos}/{len} steps, eta {eta}  {msg}",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar())
-        .progress_chars("=> "),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    bar
-}
-
 /// The command line's progress: one bar over every run's steps, the run and its phase as the
 /// message.
 struct BarProgress(ProgressBar);
@@ -351,7 +339,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             policy: policy.clone(),
         }),
     };
-    let progress = BarProgress(progress_bar(runs.len() as u64 * options.steps_per_run()));
+    let progress = BarProgress(progress_bar_with_eta(
+        runs.len() as u64 * options.steps_per_run(),
+        "steps",
+    ));
     let techniques = techniques(&gpu, args, &ids, scales.as_deref())?;
     let runner = BenchRunner {
         gpu: &gpu,

@@ -10,9 +10,10 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 
 use super::clip_sequences::ClipSequences;
+use super::render::progress_bar_with_eta;
 use crate::aa::FrameInfo;
 use crate::clip_recorder::{ClipFrames, ClipRecorder, FrameImages, RecordedClip, ScoredFrame};
 use crate::export::animation::AnimationOptions;
@@ -113,20 +114,6 @@ pub(super) struct Recorded {
     pub whole_frames: Vec<Vec<image::RgbaImage>>,
     /// With sequences, every pane's image figures against the reference, frame by frame.
     pub series: Vec<FrameSeries>,
-}
-
-/// The progress bar of a clip: frames rendered (warm-up included) with an ETA.
-fn progress_bar(total: u64) -> ProgressBar {
-    let bar = ProgressBar::new(total);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] [{bar:32}] {pos}/{len} frames, eta {eta}  {msg}",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar())
-        .progress_chars("=> "),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    bar
 }
 
 /// A clip frame as the command line reads it: every pane's whole image (the reference's
@@ -348,7 +335,7 @@ pub(super) fn record(
     let mut frames = CliFrames {
         rec,
         renderer,
-        bar: progress_bar(total),
+        bar: progress_bar_with_eta(total, "frames"),
         writer: None,
         page,
         first_crops: Vec::new(),
