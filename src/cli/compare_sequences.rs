@@ -16,7 +16,7 @@ use anyhow::Context;
 
 use super::compare::{CompareArgs, MAX_COMPARE_PIXELS, heatmap_policy, write_metric_heatmap};
 use crate::export::clip::{Definitions, figure};
-use crate::metrics::jod::JodScorer;
+use crate::metrics::jod::{JodScorer, JodSetting};
 use crate::metrics::series::{FrameSeries, SeriesSummary};
 use crate::metrics::stability::{ClipMetrics, TemporalScores};
 use crate::metrics::{Comparison, Plane};
@@ -55,9 +55,8 @@ struct SequenceSummary {
 #[derive(serde::Serialize)]
 struct Jod {
     jod: f64,
-    display: String,
-    fps: f32,
-    model: &'static str,
+    #[serde(flatten)]
+    setting: JodSetting,
 }
 
 /// Most bytes `--jod` may hold: every frame of both sequences as 8-bit pixels, and as the
@@ -86,9 +85,7 @@ fn jod(args: &CompareArgs, reference: &Sequence, test: &Sequence) -> anyhow::Res
     let value = scorer.score(&all(test)?, &all(reference)?, args.fps)?;
     Ok(Jod {
         jod: value,
-        display: args.jod_display.clone(),
-        fps: args.fps,
-        model: crate::metrics::jod::MODEL_VERSION,
+        setting: scorer.setting(args.fps),
     })
 }
 
@@ -281,7 +278,7 @@ fn print_table(output: &SequenceOutput) {
     if let Some(jod) = &summary.jod {
         println!(
             "ColorVideoVDP: {:.2} JOD ({} at {} fps; 10 = no visible difference)",
-            jod.jod, jod.display, jod.fps
+            jod.jod, jod.setting.display, jod.setting.fps
         );
     }
 }
