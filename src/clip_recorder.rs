@@ -11,7 +11,9 @@
 //!
 //! What differs between the front ends (how a frame is rendered and read back, where it goes)
 //! is theirs, behind [`ClipFrames`]; the order of the frames, the history resets, cancelling
-//! and the figures are here, once.
+//! and the figures are here, once. A clip that nothing renders (every pane read from captured
+//! image sequences) has no cameras: its front end adds each frame to
+//! [`RecordedClip::scored`] with [`RecordedClip::add`], which scores it the same way.
 
 use crate::graph::FrameInfo;
 use crate::metrics::stability::{ClipMetrics, TemporalScores};
@@ -101,11 +103,9 @@ impl ClipRecorder {
     /// recording and is returned; a frame that cannot be scored only leaves the clip without
     /// figures ([`RecordedClip::score_error`]).
     pub fn record<F: ClipFrames>(self, frames: &mut F) -> Result<RecordedClip, F::Error> {
-        let new_metrics = || self.scored.then(|| ClipMetrics::new(self.techniques));
         let mut recorded = RecordedClip {
             complete: true,
-            metrics: new_metrics(),
-            region_metrics: None,
+            metrics: self.scored.then(|| ClipMetrics::new(self.techniques)),
             ..RecordedClip::default()
         };
         for (index, camera) in self.cameras.iter().enumerate() {
@@ -122,20 +122,34 @@ impl ClipRecorder {
                 continue;
             }
             let frame = frames.capture(&info)?;
-            if index == self.warmup && frame.region().is_some() {
-                recorded.region_metrics = new_metrics();
-            }
-            recorded.score(&frame);
+            recorded.add(&frame);
             frames.deliver(index - self.warmup, frame)?;
-            recorded.frames += 1;
         }
         Ok(recorded)
     }
 }
 
 impl RecordedClip {
-    /// Adds a frame to the figures; the first frame that cannot be scored drops them.
-    fn score(&mut self, frame: &impl ScoredFrame) {
+    /// A complete clip of no frames yet, scored against a reference, of `techniques` panes
+    /// besides the reference's: the start of a clip whose frames are not rendered.
+    pub fn scored(techniques: usize) -> Self {
+        Self {
+            complete: true,
+            metrics: Some(ClipMetrics::new(techniques)),
+            ..Self::default()
+        }
+    }
+
+    /// Counts a recorded frame and adds it to the figures (over its region too when it is the
+    /// first frame and has one); the first frame that cannot be scored drops them.
+    pub fn add(&mut self, frame: &impl ScoredFrame) {
+        if self.frames == 0
+            && frame.region().is_some()
+            && let Some(metrics) = &self.metrics
+        {
+            self.region_metrics = Some(ClipMetrics::new(metrics.scores().len()));
+        }
+        self.frames += 1;
         let whole = score(&mut self.metrics, &frame.whole());
         let region = match frame.region() {
             Some(images) => score(&mut self.region_metrics, &images),

@@ -1,6 +1,7 @@
 //! The `compare` and `bench` subcommands end to end, through the built binary: scores and
 //! error messages of `compare`, and a tiny `bench` on the chart whose report, charts and
-//! sidecars are checked, and whose scored images `render --from` reproduces bit-exactly.
+//! sidecars are checked, and whose scored images `render --from` reproduces bit-exactly; `bench
+//! --jod`, which adds every technique's JOD over the flicker frames.
 
 mod common;
 
@@ -338,4 +339,58 @@ fn a_scale_sweep_puts_native_and_upscaled_techniques_on_one_pareto_front() {
         );
         assert_eq!(image::open(out.join(file)).unwrap().width(), 960, "{file}");
     }
+}
+
+#[test]
+fn bench_jod_scores_every_technique_over_the_flicker_frames() {
+    let _gpu = common::gpu();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("report");
+    let args = [
+        "bench",
+        "--scene",
+        "chart",
+        "--technique",
+        "none,taa",
+        "--size",
+        "64x48",
+        "--frames",
+        "4",
+        "--warmup",
+        "1",
+        "--flicker-frames",
+        "4",
+        "--quality-frame",
+        "0",
+        "--jod",
+        "--jod-display",
+        "standard_4k",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let run = common::aa_lab(&args);
+    assert!(run.status.success(), "{}", common::stderr(&run));
+    let report = read_report(&out);
+    let jod = &report["settings"]["jod"];
+    assert_eq!(jod["display"], "standard_4k");
+    assert_eq!(jod["fps"], 30.0);
+    let techniques = report["runs"][0]["techniques"].as_array().unwrap();
+    let jods: Vec<f64> = techniques
+        .iter()
+        .map(|t| t["jod"].as_f64().unwrap_or_else(|| panic!("no JOD: {t}")))
+        .collect();
+    assert_eq!(jods.len(), 2);
+    for value in &jods {
+        assert!(*value > 0.0 && *value < 10.0, "{jods:?}");
+    }
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        md.contains("## ColorVideoVDP: JOD of the flicker frames"),
+        "{md}"
+    );
+    // Without flicker frames there is nothing to score.
+    let mut no_quality = args.to_vec();
+    no_quality.push("--no-quality");
+    no_quality.push("--force");
+    common::fails_with(&no_quality, &["--jod scores the flicker frames"]);
 }

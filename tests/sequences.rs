@@ -13,18 +13,9 @@ const FRAMES: u32 = 8;
 const WIDTH: u32 = 32;
 const HEIGHT: u32 = 24;
 
-/// Frame `t` of the moving bar: a vertical bar over a vertical gradient, so that every step
-/// changes the same pixels by the same amounts.
+/// Frame `t` of the moving bar (hard edges), `width` pixels wide.
 fn bar_frame(t: u32, width: u32) -> image::RgbaImage {
-    image::RgbaImage::from_fn(width, HEIGHT, |x, y| {
-        let bar = 4 + 2 * t;
-        let v = if x >= bar && x < bar + 3 {
-            255
-        } else {
-            (y * 8) as u8
-        };
-        image::Rgba([v, v / 2, 255 - v, 255])
-    })
+    common::bar_frame(t, (width, HEIGHT), 0)
 }
 
 /// Writes frames `numbers` of the bar as `folder/name_NNNN.png`, frame `t` showing the bar at

@@ -26,7 +26,7 @@ pub mod scales;
 
 pub use runner::{
     BenchError, BenchOptions, BenchProgress, BenchRunner, DEFAULT_FLICKER_FRAMES,
-    DEFAULT_QUALITY_FRAME, DEFAULT_WARMUP, ImageOutput, RunPlan,
+    DEFAULT_QUALITY_FRAME, DEFAULT_WARMUP, ImageOutput, JOD_FPS, RunPlan,
 };
 
 /// Camera motion per frame of the timing and flicker track, pixels.

@@ -11,7 +11,10 @@
 //!    ([`crate::metrics::stability`]);
 //! 4. quality: `spec::run` of frame `quality_frame` of the scene's own camera path (exactly
 //!    what `aa-lab render --from <run>.spec.json` reproduces) and of the reference, scored
-//!    with every metric (against the exact coverage too on `chart`).
+//!    with every metric (against the exact coverage too on `chart`);
+//! 5. with a [`JodScorer`] ([`BenchRunner::run_scored`]), each technique's ColorVideoVDP JOD
+//!    over the flicker frames against the reference's, played at [`JOD_FPS`]: the flicker
+//!    frames are then kept whole (every technique's and the reference's) until it is scored.
 //!
 //! The front end loads each run's scene, may set its camera, says how it shows progress
 //! ([`BenchProgress`]) and writes the reports ([`RunReport::write_sidecars`], the run's
@@ -35,6 +38,7 @@ use crate::gpu::{Gpu, read_texture_rgba8};
 use crate::graph::overlay::OverlayOrder;
 use crate::graph::{FrameGraph, FrameScope, FrameStatistics, GraphError, MemoryReport};
 use crate::metrics::coverage::chart_truth;
+use crate::metrics::jod::JodScorer;
 use crate::metrics::stability::MovingEdgeError;
 use crate::metrics::temporal::{ChangeMeter, SlowTrack, flicker_ratio};
 use crate::metrics::{
@@ -157,6 +161,8 @@ pub const DEFAULT_WARMUP: u32 = 3;
 pub const DEFAULT_FLICKER_FRAMES: u32 = 4;
 /// The frame of the scene's camera path scored for quality, by default.
 pub const DEFAULT_QUALITY_FRAME: u64 = 16;
+/// The rate the flicker frames are played at for JOD, frames per second.
+pub const JOD_FPS: f32 = 30.0;
 
 /// What a bench measures in each run.
 #[derive(Clone, Debug)]
@@ -212,6 +218,9 @@ struct Timed {
     samples: TimingSamples,
     /// Per technique: its change meter over the flicker frames and their luma.
     meters: Vec<(String, ChangeMeter, Vec<Plane>)>,
+    /// Per technique, in the order of `meters`: its flicker frames, whole, when they are kept
+    /// for JOD (empty otherwise).
+    frames: Vec<Vec<image::RgbaImage>>,
     /// Fragment invocations of the statistics frame, when the adapter counts them.
     statistics: Option<FrameStatistics>,
     /// The graph's memory after the timed frames.
@@ -228,6 +237,8 @@ struct Flicker {
     reference: ChangeMeter,
     /// Each technique's error at moving edges, in the order of [`Timed::meters`].
     ghosts: Vec<MovingEdgeError>,
+    /// The reference's flicker frames, whole, when they are kept for JOD.
+    frames: Vec<image::RgbaImage>,
 }
 
 /// Measures runs of `techniques` against `reference` on `gpu` (see the module docs).
@@ -269,22 +280,29 @@ impl BenchRunner<'_> {
     }
 
     /// Reads every technique's current output into its change meter, and keeps its luma
-    /// for the ghosting measure against the reference frames rendered later.
+    /// for the ghosting measure against the reference frames rendered later (and, when
+    /// `frames` has a list per meter, the whole image, for JOD).
     fn read_outputs(
         &self,
         graph: &FrameGraph,
         meters: &mut [(String, ChangeMeter, Vec<Plane>)],
+        frames: &mut [Vec<image::RgbaImage>],
     ) -> Result<(), BenchError> {
         for slot in graph.slots() {
             let id = slot.technique.id();
-            let (Some(output), Some((_, meter, lumas))) =
-                (slot.output(), meters.iter_mut().find(|(m, _, _)| m == id))
-            else {
+            let Some(index) = meters.iter().position(|(m, _, _)| m == id) else {
+                continue;
+            };
+            let Some(output) = slot.output() else {
                 continue;
             };
             let image = read_texture_rgba8(self.gpu, output)?;
+            let (_, meter, lumas) = &mut meters[index];
             meter.push(&image);
             lumas.push(Plane::luma(&image));
+            if let Some(kept) = frames.get_mut(index) {
+                kept.push(image);
+            }
         }
         Ok(())
     }
@@ -304,6 +322,7 @@ impl BenchRunner<'_> {
             reference: self.reference.clone(),
             sweep,
             scales: None,
+            jod: None,
         }
     }
 
@@ -326,7 +345,7 @@ impl BenchRunner<'_> {
     }
 
     /// Measures `run` on `scene` (loaded as `run` says) with the records of
-    /// [`BenchRunner::specs`]: the phases of the module docs, then the run's report.
+    /// [`BenchRunner::specs`]: the phases of the module docs but JOD, then the run's report.
     pub fn run(
         &self,
         run: &RunPlan,
@@ -334,16 +353,30 @@ impl BenchRunner<'_> {
         spec: RenderSpec,
         reference_spec: RenderSpec,
     ) -> Result<RunReport, BenchError> {
+        self.run_scored(run, scene, spec, reference_spec, None)
+    }
+
+    /// [`BenchRunner::run`], and with `jod` each technique's JOD over the flicker frames
+    /// (phase 5 of the module docs) in its report.
+    pub fn run_scored(
+        &self,
+        run: &RunPlan,
+        scene: &Scene,
+        spec: RenderSpec,
+        reference_spec: RenderSpec,
+        jod: Option<&JodScorer>,
+    ) -> Result<RunReport, BenchError> {
         let options = &self.options;
         let track = SlowTrack::new(&scene.camera, run.size, TRACK_STEP_PX);
         let flicker_frames = options.flicker_frames();
-        let timed = self.time(run, scene, &spec, &track, flicker_frames)?;
+        let keep = jod.is_some() && flicker_frames > 0;
+        let timed = self.time(run, scene, &spec, &track, (flicker_frames, keep))?;
         let flicker = self.reference_flicker(
             run,
             scene,
             &reference_spec,
             &track,
-            flicker_frames,
+            (flicker_frames, keep),
             &timed.meters,
         )?;
         // 4. Quality on the scene's own camera path.
@@ -353,7 +386,16 @@ impl BenchRunner<'_> {
             Vec::new()
         };
         let floor_ms = Summary::of(&timed.samples.floor);
-        let techniques = self.technique_reports(run, &timed, &scores, &flicker, floor_ms.median);
+        let mut techniques =
+            self.technique_reports(run, &timed, &scores, &flicker, floor_ms.median);
+        if let (Some(scorer), true) = (jod, keep) {
+            self.stop_if_cancelled()?;
+            self.progress.phase(run, "ColorVideoVDP");
+            let jods = scorer.score_each(&timed.frames, &flicker.frames, JOD_FPS, |_| ())?;
+            for (report, jod) in techniques.iter_mut().zip(jods) {
+                report.jod = Some(jod);
+            }
+        }
         let quality_fronts = QualityFronts::of(&techniques);
         let floor_bytes = timed
             .memory
@@ -399,7 +441,7 @@ impl BenchRunner<'_> {
         scene: &Scene,
         spec: &RenderSpec,
         track: &SlowTrack,
-        flicker_frames: u32,
+        (flicker_frames, keep): (u32, bool),
     ) -> Result<Timed, BenchError> {
         let options = &self.options;
         let mut graph = spec::build_graph(self.gpu, scene, spec)?;
@@ -415,6 +457,7 @@ impl BenchRunner<'_> {
             .iter()
             .map(|id| ((*id).to_owned(), ChangeMeter::new(), Vec::new()))
             .collect();
+        let mut frames = vec![Vec::new(); if keep { ids.len() } else { 0 }];
         let total_frames = options.total_frames();
         let flicker_from = total_frames - u64::from(flicker_frames);
         for frame in 0..total_frames {
@@ -440,7 +483,7 @@ impl BenchRunner<'_> {
                 samples.add(timings, &graph.scene_inputs_last_frame());
             }
             if frame >= flicker_from {
-                self.read_outputs(&graph, &mut meters)?;
+                self.read_outputs(&graph, &mut meters, &mut frames)?;
             }
             self.progress.advance(1);
         }
@@ -482,6 +525,7 @@ impl BenchRunner<'_> {
         Ok(Timed {
             samples,
             meters,
+            frames,
             statistics,
             memory,
             scene_renders,
@@ -497,7 +541,7 @@ impl BenchRunner<'_> {
         scene: &Scene,
         reference_spec: &RenderSpec,
         track: &SlowTrack,
-        flicker_frames: u32,
+        (flicker_frames, keep): (u32, bool),
         meters: &[(String, ChangeMeter, Vec<Plane>)],
     ) -> Result<Flicker, BenchError> {
         let total_frames = self.options.total_frames();
@@ -506,6 +550,7 @@ impl BenchRunner<'_> {
         let mut ghosts: Vec<MovingEdgeError> =
             meters.iter().map(|_| MovingEdgeError::new()).collect();
         let mut reference_previous: Option<Plane> = None;
+        let mut frames = Vec::new();
         if flicker_frames > 0 {
             self.progress.phase(run, "reference for flicker");
             let mut reference = spec::build_graph(self.gpu, scene, reference_spec)?;
@@ -530,6 +575,9 @@ impl BenchRunner<'_> {
                         }
                     }
                     reference_previous = Some(luma);
+                    if keep {
+                        frames.push(image);
+                    }
                 }
                 self.progress.advance(1);
             }
@@ -538,6 +586,7 @@ impl BenchRunner<'_> {
         Ok(Flicker {
             reference: reference_meter,
             ghosts,
+            frames,
         })
     }
 
@@ -645,6 +694,7 @@ impl BenchRunner<'_> {
                     mean_change: meter.and_then(ChangeMeter::mean_change),
                     flicker_ratio: meter.and_then(|m| flicker_ratio(m, &flicker.reference)),
                     ghosting,
+                    jod: None,
                 }
             })
             .collect()

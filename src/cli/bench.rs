@@ -21,23 +21,28 @@
 //!    ([`crate::metrics::stability`]);
 //! 4. quality: `spec::run` of frame `--quality-frame` of the scene's own camera path (exactly
 //!    what `aa-lab render --from <run>.spec.json` reproduces) and of the reference, scored
-//!    with every metric.
+//!    with every metric;
+//! 5. with `--jod`, each technique's ColorVideoVDP JOD over the flicker frames against the
+//!    reference's ([`crate::metrics::jod`], the scorer `clip` and `compare` use).
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, bail};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 
-use super::render::{configured_specs, parse_size, set_flags, technique_ids};
+use super::render::{
+    configured_specs, parse_size, progress_bar_with_eta, set_flags, technique_ids,
+};
 use crate::bench::scales::{default_scales, parse_scales, sweep_techniques};
 use crate::bench::{
     BenchOptions, BenchProgress, BenchRunner, DEFAULT_FLICKER_FRAMES, DEFAULT_QUALITY_FRAME,
-    DEFAULT_WARMUP, ImageOutput, RunPlan, reference_spec, report_paths, write_report,
+    DEFAULT_WARMUP, ImageOutput, JOD_FPS, RunPlan, reference_spec, report_paths, write_report,
 };
 use crate::export::report::{self, BenchReport, BenchSettings, RunReport};
 use crate::files::Overwrite;
 use crate::gpu::Gpu;
+use crate::metrics::jod::{self, JodScorer};
 use crate::scene::procedural::SceneOptions;
 use crate::scene::source;
 use crate::spec::{self, TechniqueSpec};
@@ -130,6 +135,15 @@ pub struct BenchArgs {
     /// Also write the scored images, the reference and FLIP heatmaps (PNG, with records).
     #[arg(long)]
     pub images: bool,
+    /// Also score every technique's flicker frames with ColorVideoVDP against the
+    /// reference's: how visible the difference is to a person watching them, in JOD (10:
+    /// none). Keeps the flicker frames whole until scored.
+    #[arg(long)]
+    pub jod: bool,
+    /// The display model --jod scores for: one of ColorVideoVDP's standard displays (e.g.
+    /// standard_fhd, standard_4k, standard_phone, standard_hmd).
+    #[arg(long, default_value = jod::DEFAULT_DISPLAY, value_name = "NAME", requires = "jod")]
+    pub jod_display: String,
     /// Replace files of an earlier bench in --out (without it, aa-lab never replaces a file).
     #[arg(long)]
     pub force: bool,
@@ -195,20 +209,6 @@ fn plan(args: &BenchArgs) -> anyhow::Result<Vec<RunPlan>> {
     Ok(runs)
 }
 
-/// The progress bar of the whole bench.
-fn progress_bar(total: u64) -> ProgressBar {
-    let bar = ProgressBar::new(total);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] [{bar:32}] {pos}/{len} steps, eta {eta}  {msg}",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar())
-        .progress_chars("=> "),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    bar
-}
-
 /// The command line's progress: one bar over every run's steps, the run and its phase as the
 /// message.
 struct BarProgress(ProgressBar);
@@ -238,7 +238,7 @@ impl BenchProgress for BarProgress {
 fn measure(
     runner: &BenchRunner,
     bar: &ProgressBar,
-    args: &BenchArgs,
+    (args, jod): (&BenchArgs, Option<&JodScorer>),
     run: &RunPlan,
 ) -> anyhow::Result<RunReport> {
     runner.progress.phase(run, "building the scene");
@@ -256,7 +256,23 @@ fn measure(
     let (mut spec, mut reference_spec) = runner.specs(run);
     args.camera.apply(&mut spec, &mut scene)?;
     reference_spec.rig = spec.rig;
-    Ok(runner.run(run, &scene, spec, reference_spec)?)
+    Ok(runner.run_scored(run, &scene, spec, reference_spec, jod)?)
+}
+
+/// The scorer of `--jod`; refused where the bench reads no flicker frames to score.
+fn jod_scorer(args: &BenchArgs) -> anyhow::Result<Option<JodScorer>> {
+    if !args.jod {
+        return Ok(None);
+    }
+    if args.no_quality || args.flicker_frames == 0 {
+        bail!(
+            "--jod scores the flicker frames against the reference's: leave out --no-quality and give --flicker-frames of 1 or more"
+        );
+    }
+    if matches!(args.sweep, Some(Sweep::Resolution | Sweep::Density)) {
+        bail!("--jod scores quality, which a --sweep over resolution or density does not measure");
+    }
+    Ok(Some(JodScorer::new(&args.jod_display)?))
 }
 
 /// The render scales of a sweep over scales: `--scales`, or every preset.
@@ -301,6 +317,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         .map_or(0, |d| d.as_secs());
     let runs = plan(args)?;
     let scales = sweep_scales(args)?;
+    let scorer = jod_scorer(args)?;
     let policy = Overwrite::new(args.force);
     // Refuse before hours of measuring, not after.
     policy.check_all(report_paths(&args.out).iter().map(PathBuf::as_path))?;
@@ -327,7 +344,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         }),
         overlay: args.ui_overlay,
     };
-    let progress = BarProgress(progress_bar(runs.len() as u64 * options.steps_per_run()));
+    let progress = BarProgress(progress_bar_with_eta(
+        runs.len() as u64 * options.steps_per_run(),
+        "steps",
+    ));
     let techniques = techniques(&gpu, args, &ids, scales.as_deref())?;
     let runner = BenchRunner {
         gpu: &gpu,
@@ -338,7 +358,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     };
     let mut reports = Vec::new();
     for run in &runs {
-        let report = measure(&runner, &progress.0, args, run)?;
+        let report = measure(&runner, &progress.0, (args, scorer.as_ref()), run)?;
         report.write_sidecars(&args.out, &policy)?;
         reports.push(report);
     }
@@ -352,6 +372,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         wall_seconds: started.elapsed().as_secs_f64(),
         settings: BenchSettings {
             scales,
+            jod: scorer.as_ref().map(|s| s.setting(JOD_FPS)),
             ..runner.settings(
                 runner.techniques.iter().map(|t| t.id.clone()).collect(),
                 args.sweep.map(|s| s.name().to_owned()),

@@ -21,32 +21,31 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
-use indicatif::{ProgressBar, ProgressStyle};
 
 use super::camera::CameraMotion;
-use super::clip_record::{ClipRecord, JodSetting};
-use super::clip_record::{print_table, technique_figures};
+use super::clip_frames::{Recorded, Recording, pane_dirs, record};
+use super::clip_record::{
+    ClipFigures, ClipPanes, ClipRecord, ClipShape, RenderedPart, clip_record, jod_figures,
+    print_table, show_figures,
+};
+use super::clip_sequences::{ClipSequences, REFERENCE_LABEL};
 use super::render::{
     SceneSource, TechniqueArgs, load_scene, output_policy, spec_for_scene, technique_specs,
 };
-use crate::aa::FrameInfo;
 use crate::bench::reference_spec;
-use crate::clip_recorder::{ClipFrames, ClipRecorder, FrameImages, ScoredFrame};
 use crate::export::animation::{self, AnimationFormat, AnimationOptions};
 use crate::export::apng::Compression;
 use crate::export::clip;
-use crate::export::clip_writer::{ClipFormat, ClipWriter};
+use crate::export::clip_writer::ClipFormat;
 use crate::export::html::HtmlPage;
 use crate::export::sheet::{self, Rect};
-use crate::export::write_png;
 use crate::files;
-use crate::gpu::{Gpu, read_texture_rgba8};
-use crate::graph::{FrameGraph, FrameScope};
+use crate::gpu::Gpu;
+use crate::graph::FrameGraph;
 use crate::metrics::jod::{self, JodScorer};
-use crate::metrics::stability::{ClipMetrics, TemporalScores};
 use crate::scene::Scene;
 use crate::scene::motion::{DEFAULT_SPEED_PX, Motion};
-use crate::spec;
+use crate::spec::{self, RenderSpec, TechniqueSpec};
 
 /// Most frames of a clip.
 pub const MAX_CLIP_FRAMES: u32 = 600;
@@ -56,8 +55,6 @@ pub const MAX_WARMUP_FRAMES: u32 = 1000;
 pub const MAX_ZOOM: u32 = 64;
 /// Fastest `--speed`, pixels per frame.
 pub const MAX_SPEED_PX: f32 = 64.0;
-/// Version of the record `aa-lab clip` writes.
-pub const SCHEMA: &str = "aa-lab clip 1";
 
 /// Arguments of `aa-lab clip`.
 #[derive(Debug, clap::Args)]
@@ -69,9 +66,10 @@ pub struct ClipArgs {
     /// Techniques and their settings.
     #[command(flatten)]
     pub techniques: TechniqueArgs,
-    /// Frames of the clip (1 to 600).
-    #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_CLIP_FRAMES)))]
-    pub frames: u32,
+    /// Frames of the clip (1 to 600; default 24, or with sequences as many as the shortest
+    /// has after its offset).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_CLIP_FRAMES)))]
+    pub frames: Option<u32>,
     /// Frames rendered before the clip so temporal techniques start with a full history (0 to
     /// 1000); the clip is frames WARMUP..WARMUP+FRAMES of the motion.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(0..=i64::from(MAX_WARMUP_FRAMES)))]
@@ -125,9 +123,26 @@ pub struct ClipArgs {
     /// Threads compressing frames while the next ones render (default: one per core).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
+    /// A captured image sequence as a pane, LABEL=PATH (a folder or a quoted glob of
+    /// numbered PNG, JPEG or OpenEXR frames; repeatable). With sequences, techniques are
+    /// rendered only when --technique names them.
+    #[arg(long, value_name = "LABEL=PATH")]
+    pub sequence: Vec<String>,
+    /// A captured sequence every pane is scored against instead of the 64-sample render
+    /// (which is then not rendered): the ground truth of the captures.
+    #[arg(long, value_name = "PATH")]
+    pub reference_sequence: Option<PathBuf>,
+    /// Start sequence LABEL at its Nth frame (0-based; `reference` for --reference-sequence),
+    /// LABEL=N (repeatable): lines up captures that start on different frames.
+    #[arg(long, value_name = "LABEL=N")]
+    pub offset: Vec<String>,
     /// Replace existing output files (without it, aa-lab never replaces a file).
     #[arg(long)]
     pub force: bool,
+    /// Whether --technique was on the command line (set by [`super::parse`]): a clip of
+    /// sequences renders techniques only then.
+    #[arg(skip)]
+    pub techniques_given: bool,
 }
 
 /// Parses `X,Y,W,H` and checks it against the render size: refused when any part lies
@@ -159,303 +174,19 @@ fn json_path(out: &Path) -> PathBuf {
     out.with_extension("json")
 }
 
-/// Frame `number` of a pane's folder in `--frames-dir`.
-fn frame_path(dir: &Path, number: usize) -> PathBuf {
-    dir.join(format!("{number:04}.png"))
-}
-
-/// Each pane's folder in `dir` (`--frames-dir`): the technique's id as a file name, and
-/// `reference` for the last pane; created here once every frame's path has passed `policy`.
-fn pane_dirs(
-    dir: &Path,
-    ids: &[String],
-    frames: u32,
-    policy: &files::Overwrite,
-) -> anyhow::Result<Vec<PathBuf>> {
-    let count = ids.len();
-    let dirs: Vec<PathBuf> = ids
-        .iter()
-        .enumerate()
-        .map(|(i, id)| match i + 1 == count {
-            true => dir.join("reference"),
-            false => dir.join(crate::aa::user::file_name_part(id).as_ref()),
-        })
-        .collect();
-    let paths: Vec<PathBuf> = dirs
-        .iter()
-        .flat_map(|d| (0..frames as usize).map(|n| frame_path(d, n)))
-        .collect();
-    policy.check_all(paths.iter().map(PathBuf::as_path))?;
-    for d in &dirs {
-        std::fs::create_dir_all(d)
-            .with_context(|| format!("cannot create directory {}", d.display()))?;
-    }
-    Ok(dirs)
-}
-
 /// `<out>` with the extension `.html`.
 fn html_path(out: &Path) -> PathBuf {
     out.with_extension("html")
 }
 
-/// What the render loop needs besides the graph: the motion, the region and the animation
-/// being written.
-struct Recording<'a> {
-    args: &'a ClipArgs,
-    gpu: &'a Gpu,
-    scene: &'a Scene,
-    region: Option<Rect>,
-    /// The layout with the figures' captions left empty: every frame is composed with it as
-    /// it renders, and the first is composed again with the figures at the end.
-    pending_layout: clip::Layout,
-    format: ClipFormat,
-    options: AnimationOptions,
-    policy: &'a files::Overwrite,
-    /// With `--frames-dir`, the folder of each pane's frames (the reference's last).
-    pane_dirs: Option<Vec<PathBuf>>,
-}
-
-/// The figures of a recorded clip, and the first frame's panes (composed again with them).
-struct Recorded {
-    writer: ClipWriter,
-    page: Option<HtmlPage>,
-    metrics: ClipMetrics,
-    region_metrics: Option<ClipMetrics>,
-    first_crops: Vec<image::RgbaImage>,
-    /// With `--jod`, every clip frame's whole panes (the reference's last).
-    whole_frames: Vec<Vec<image::RgbaImage>>,
-}
-
-/// The progress bar of a clip: frames rendered (warm-up included) with an ETA.
-fn progress_bar(total: u64) -> ProgressBar {
-    let bar = ProgressBar::new(total);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] [{bar:32}] {pos}/{len} frames, eta {eta}  {msg}",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar())
-        .progress_chars("=> "),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    bar
-}
-
-/// A clip frame as the command line reads it: every pane's whole image (the reference's
-/// last) and, with a region, the panes cropped to it.
-struct PaneImages {
-    whole: Vec<image::RgbaImage>,
-    crops: Option<Vec<image::RgbaImage>>,
-}
-
-/// Techniques' images and the reference's (the last pane).
-fn split_reference(images: &[image::RgbaImage]) -> FrameImages<'_> {
-    let (reference, techniques) = match images.split_last() {
-        Some((reference, techniques)) => (Some(reference), techniques),
-        None => (None, images),
-    };
-    FrameImages {
-        techniques: techniques.iter().collect(),
-        reference,
-    }
-}
-
-impl ScoredFrame for PaneImages {
-    fn whole(&self) -> FrameImages<'_> {
-        split_reference(&self.whole)
-    }
-
-    fn region(&self) -> Option<FrameImages<'_>> {
-        self.crops.as_deref().map(split_reference)
-    }
-}
-
-/// The command line's side of the recorder: renders through `graph`, reads every output
-/// back, shows progress, and hands each frame's composed panes to the encoder (which
-/// compresses while the next frames render) and to the HTML page.
-struct CliFrames<'a> {
-    rec: &'a Recording<'a>,
-    graph: &'a mut FrameGraph,
-    bar: ProgressBar,
-    writer: Option<ClipWriter>,
-    page: Option<HtmlPage>,
-    first_crops: Vec<image::RgbaImage>,
-    /// With `--jod`, every clip frame's whole panes (the reference's last).
-    whole_frames: Vec<Vec<image::RgbaImage>>,
-}
-
-impl CliFrames<'_> {
-    /// Says what the next frame is, then renders it with `scope`.
-    fn render(&mut self, frame: &FrameInfo, scope: FrameScope) -> anyhow::Result<()> {
-        let args = self.rec.args;
-        let phase = if scope == FrameScope::TemporalOnly {
-            "warm-up".to_owned()
-        } else {
-            let encoded = self.writer.as_mut().map_or(0, ClipWriter::written);
-            format!("clip, {encoded} encoded")
-        };
-        self.bar
-            .set_message(format!("{} {}: {phase}", self.rec.scene.name, args.motion));
-        self.graph.render(frame, scope)?;
-        self.graph.finish();
-        self.bar.inc(1);
-        Ok(())
-    }
-}
-
-impl ClipFrames for CliFrames<'_> {
-    type Frame = PaneImages;
-    type Error = anyhow::Error;
-
-    fn warm_up(&mut self, frame: &FrameInfo) -> anyhow::Result<()> {
-        self.render(frame, FrameScope::TemporalOnly)
-    }
-
-    fn capture(&mut self, frame: &FrameInfo) -> anyhow::Result<PaneImages> {
-        self.render(frame, FrameScope::All)?;
-        let whole = self
-            .graph
-            .slots()
-            .iter()
-            .map(|slot| {
-                let output = slot
-                    .output()
-                    .with_context(|| format!("{} produced no image", slot.technique.label()))?;
-                Ok(read_texture_rgba8(self.rec.gpu, output)?)
-            })
-            .collect::<anyhow::Result<Vec<_>>>()?;
-        let crops = self.rec.region.map(|region| {
-            whole
-                .iter()
-                .map(|image| {
-                    image::imageops::crop_imm(
-                        image,
-                        region.x,
-                        region.y,
-                        region.width,
-                        region.height,
-                    )
-                    .to_image()
-                })
-                .collect()
-        });
-        Ok(PaneImages { whole, crops })
-    }
-
-    fn deliver(&mut self, number: usize, frame: PaneImages) -> anyhow::Result<()> {
-        if let Some(dirs) = &self.rec.pane_dirs {
-            for (dir, image) in dirs.iter().zip(&frame.whole) {
-                write_png(&frame_path(dir, number), image, None, self.rec.policy)?;
-            }
-        }
-        let panes = match (frame.crops, self.rec.args.jod) {
-            (Some(crops), true) => {
-                self.whole_frames.push(frame.whole);
-                crops
-            }
-            (Some(crops), false) => crops,
-            (None, true) => {
-                self.whole_frames.push(frame.whole.clone());
-                frame.whole
-            }
-            (None, false) => frame.whole,
-        };
-        let refs: Vec<&image::RgbaImage> = panes.iter().collect();
-        if let Some(page) = &mut self.page {
-            page.push(&refs)?;
-        }
-        let rec = self.rec;
-        let composed = rec
-            .pending_layout
-            .compose(number, rec.args.frames as usize, &refs)?;
-        ClipWriter::push_or_start(
-            &mut self.writer,
-            &rec.args.out,
-            rec.policy,
-            rec.format,
-            rec.options,
-            composed,
-        )?;
-        if number == 0 {
-            self.first_crops = panes;
-        }
-        Ok(())
-    }
-}
-
-/// Renders the warm-up and the clip through `graph` with the library's [`ClipRecorder`],
-/// scoring every clip frame, and encodes the frames as they come.
-fn record(
-    rec: &Recording,
-    graph: &mut FrameGraph,
-    page: Option<HtmlPage>,
-) -> anyhow::Result<Recorded> {
-    let args = rec.args;
-    let total = u64::from(args.warmup) + u64::from(args.frames);
-    let cameras = (0..total)
-        .map(|frame| {
-            args.motion
-                .camera(&rec.scene.camera, args.scene.size, args.speed, frame)
-        })
-        .collect();
-    let techniques = graph.slots().len().saturating_sub(1);
-    let recorder = ClipRecorder::new(cameras, args.warmup as usize, techniques, true);
-    let mut frames = CliFrames {
-        rec,
-        graph,
-        bar: progress_bar(total),
-        writer: None,
-        page,
-        first_crops: Vec::new(),
-        whole_frames: Vec::new(),
-    };
-    let clip = recorder.record(&mut frames)?;
-    frames.bar.finish_and_clear();
-    if let Some(err) = clip.score_error {
-        return Err(err).context("the clip's figures could not be computed");
-    }
-    Ok(Recorded {
-        writer: frames.writer.context("the clip has no frame")?,
-        page: frames.page,
-        metrics: clip.metrics.context("the clip has no figures")?,
-        region_metrics: clip.region_metrics,
-        first_crops: frames.first_crops,
-        whole_frames: frames.whole_frames,
-    })
-}
-
-/// Each technique's JOD over the clip's whole frames against the reference's (the last
-/// pane), played at the clip's rate.
-fn jod_figures(
-    scorer: &JodScorer,
-    frames: &[Vec<image::RgbaImage>],
-    labels: &[String],
-    fps: u16,
-) -> anyhow::Result<Vec<f64>> {
-    let techniques = labels.len().saturating_sub(1);
-    let reference: Vec<&image::RgbaImage> = frames.iter().filter_map(|f| f.last()).collect();
-    (0..techniques)
-        .map(|i| {
-            eprintln!(
-                "scoring {} with ColorVideoVDP ({}/{techniques})…",
-                labels[i],
-                i + 1
-            );
-            let test: Vec<&image::RgbaImage> = frames.iter().filter_map(|f| f.get(i)).collect();
-            scorer
-                .score(&test, &reference, f32::from(fps))
-                .with_context(|| format!("the JOD of {}", labels[i]))
-        })
-        .collect()
-}
-
 /// The layout of every frame, with the captions left empty (the figures come at the end).
 fn pending_layout(
     args: &ClipArgs,
-    scene: &str,
+    rendered: bool,
+    name: &str,
     adapter: &str,
     labels: &[String],
-    region: Option<Rect>,
-    zoom: u32,
+    (region, zoom): (Option<Rect>, u32),
 ) -> clip::Layout {
     let motion_text = if args.motion.uses_speed() {
         format!("{} {} px/frame", args.motion, args.speed)
@@ -463,8 +194,11 @@ fn pending_layout(
         args.motion.to_string()
     };
     clip::Layout {
-        title: format!("aa-lab clip: {scene}, {motion_text}"),
-        scene: scene.to_owned(),
+        title: match rendered {
+            true => format!("aa-lab clip: {name}, {motion_text}"),
+            false => format!("aa-lab clip: {name}"),
+        },
+        scene: name.to_owned(),
         region,
         zoom,
         footer: format!(
@@ -481,24 +215,12 @@ fn pending_layout(
     }
 }
 
-/// Captions every pane of `layout` with its figures, fitted to `width` pixels: the
-/// techniques' `scores`, then the reference's mean change.
-fn show_figures(
-    layout: &mut clip::Layout,
-    scores: &[TemporalScores],
-    reference_change: Option<f64>,
-    width: u32,
-) {
-    for (pane, scores) in layout.panes.iter_mut().zip(scores) {
-        pane.caption = clip::fit(&[clip::caption(scores), clip::short_caption(scores)], width);
-    }
-    if let Some(reference_pane) = layout.panes.last_mut() {
-        reference_pane.caption = clip::reference_caption(reference_change, width);
-    }
-}
-
-/// Checks the arguments that need no GPU; returns the region, the zoom and the format.
-fn check_args(args: &ClipArgs) -> anyhow::Result<(Option<Rect>, u32, ClipFormat)> {
+/// Checks the arguments that need no GPU against the clip's `size`; returns the region, the
+/// zoom and the format.
+fn check_args(
+    args: &ClipArgs,
+    size: (u32, u32),
+) -> anyhow::Result<(Option<Rect>, u32, ClipFormat)> {
     let format = ClipFormat::of_path(&args.out)?;
     if args.scene.camera.camera_motion != CameraMotion::Orbit {
         bail!(
@@ -511,86 +233,175 @@ fn check_args(args: &ClipArgs) -> anyhow::Result<(Option<Rect>, u32, ClipFormat)
             args.speed
         );
     }
-    if args.scene.size.0 == 0 || args.scene.size.1 == 0 {
+    if size.0 == 0 || size.1 == 0 {
         bail!("--size: width and height must be at least 1");
     }
     let region = args
         .region
         .as_deref()
-        .map(|text| parse_region(text, args.scene.size))
+        .map(|text| parse_region(text, size))
         .transpose()?;
     let zoom = args.zoom.unwrap_or(if region.is_some() { 4 } else { 1 });
     Ok((region, zoom, format))
 }
 
+/// The rendered side of a clip: the device, the techniques, the reference when it is rendered
+/// and, once loaded, the scene and its frame graph.
+struct Rendering {
+    gpu: Gpu,
+    spec: RenderSpec,
+    /// The 64-sample reference, unless the reference is captured.
+    reference: Option<TechniqueSpec>,
+}
+
+impl Rendering {
+    /// Opens the device and sets up the techniques `--technique` names (none when
+    /// `techniques` is false) and, when `reference`, the 64-sample reference.
+    fn new(args: &ClipArgs, techniques: bool, reference: bool) -> anyhow::Result<Self> {
+        let gpu = Gpu::headless()?;
+        let max_side = gpu.caps.max_texture_dimension_2d;
+        if args.scene.size.0 > max_side || args.scene.size.1 > max_side {
+            bail!(
+                "--size {}x{}: {} renders at most {max_side} pixels a side",
+                args.scene.size.0,
+                args.scene.size.1,
+                gpu.caps.adapter_name
+            );
+        }
+        let specs = match techniques {
+            true => technique_specs(&gpu, &args.techniques)?,
+            false => Vec::new(),
+        };
+        let reference = reference.then(|| reference_spec(&gpu)).transpose()?;
+        let mut spec = spec_for_scene(&args.scene, u64::from(args.warmup), specs);
+        spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
+        Ok(Self {
+            gpu,
+            spec,
+            reference,
+        })
+    }
+
+    /// Loads the scene, points the camera and builds the frame graph of the techniques and
+    /// the rendered reference (last).
+    fn load(&mut self, args: &ClipArgs) -> anyhow::Result<(Scene, FrameGraph)> {
+        let mut scene = load_scene(&self.spec, args.scene.strict)?;
+        args.scene.camera.apply(&mut self.spec, &mut scene)?;
+        let mut graph_spec = self.spec.clone();
+        graph_spec.techniques.extend(self.reference.clone());
+        let graph = spec::build_graph(&self.gpu, &scene, &graph_spec)?;
+        Ok((scene, graph))
+    }
+}
+
+/// Every pane's label and id, in pane order: the rendered techniques', the sequences', the
+/// reference's.
+fn pane_names(graph: Option<&FrameGraph>, sequences: &ClipSequences) -> (Vec<String>, Vec<String>) {
+    let mut names: Vec<(String, String)> = graph
+        .map(|g| {
+            g.slots()
+                .iter()
+                .map(|s| (s.technique.label(), s.technique.id().to_owned()))
+                .collect()
+        })
+        .unwrap_or_default();
+    let rendered_reference = match sequences.reference {
+        Some(_) => None,
+        None => names.pop(),
+    };
+    names.extend(
+        sequences
+            .panes
+            .iter()
+            .map(|p| (p.label.clone(), p.label.clone())),
+    );
+    names.push(match rendered_reference {
+        Some((label, id)) => (format!("Reference ({label})"), id),
+        None => (
+            "Reference (captured)".to_owned(),
+            REFERENCE_LABEL.to_owned(),
+        ),
+    });
+    names.into_iter().unzip()
+}
+
 /// Runs `aa-lab clip`.
 pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
-    let (region, zoom, format) = check_args(args)?;
-    let json = json_path(&args.out);
-
-    let gpu = Gpu::headless()?;
-    let max_side = gpu.caps.max_texture_dimension_2d;
-    if args.scene.size.0 > max_side || args.scene.size.1 > max_side {
-        bail!(
-            "--size {}x{}: {} renders at most {max_side} pixels a side",
-            args.scene.size.0,
-            args.scene.size.1,
-            gpu.caps.adapter_name
-        );
-    }
-    let techniques = technique_specs(&gpu, &args.techniques)?;
-    let reference = reference_spec(&gpu)?;
-    let scorer = args
-        .jod
-        .then(|| JodScorer::new(&args.jod_display))
-        .transpose()?;
-    let pane = region.unwrap_or(Rect {
-        x: 0,
-        y: 0,
-        width: args.scene.size.0,
-        height: args.scene.size.1,
-    });
-    clip::check(
-        techniques.len() + 1,
-        region.is_some(),
-        (pane.width, pane.height),
-        zoom,
+    let sequences = ClipSequences::open(
+        &args.sequence,
+        args.reference_sequence.as_deref(),
+        &args.offset,
     )?;
-
-    let mut spec = spec_for_scene(&args.scene, u64::from(args.warmup), techniques.clone());
-    spec.adapter = Some(format!("{} ({})", gpu.caps.adapter_name, gpu.caps.backend));
-    let policy = output_policy(args.force, None, &spec);
+    let renders_techniques = args.techniques_given || sequences.panes.is_empty();
+    let size = clip_size(args, &sequences, renders_techniques)?;
+    let (region, zoom, format) = check_args(args, size)?;
+    let frames = sequences.clip_frames(args.frames, MAX_CLIP_FRAMES)?;
+    let renders_reference = sequences.reference.is_none();
+    let mut rendering = (renders_techniques || renders_reference)
+        .then(|| Rendering::new(args, renders_techniques, renders_reference))
+        .transpose()?;
+    let json = json_path(&args.out);
+    let policy = sequences.protect(match &rendering {
+        Some(r) => output_policy(args.force, None, &r.spec),
+        None => files::Overwrite::new(args.force),
+    });
     let html = args.html.then(|| html_path(&args.out));
     policy.check_all(
         [args.out.as_path(), json.as_path()]
             .into_iter()
             .chain(html.as_deref()),
     )?;
-    let mut scene = load_scene(&spec, args.scene.strict)?;
-    args.scene.camera.apply(&mut spec, &mut scene)?;
-
-    let mut graph_spec = spec.clone();
-    graph_spec.techniques.push(reference.clone());
-    let mut graph = spec::build_graph(&gpu, &scene, &graph_spec)?;
-    let mut labels: Vec<String> = graph.slots().iter().map(|s| s.technique.label()).collect();
-    if let Some(last) = labels.last_mut() {
-        *last = format!("Reference ({last})");
-    }
-    let ids: Vec<String> = graph
-        .slots()
-        .iter()
-        .map(|s| s.technique.id().to_owned())
-        .collect();
-    let adapter = spec.adapter.clone().unwrap_or_default();
-    let mut layout = pending_layout(args, &scene.name, &adapter, &labels, region, zoom);
+    let (scene, mut graph) = match rendering.as_mut().map(|r| r.load(args)).transpose()? {
+        Some((scene, graph)) => (Some(scene), Some(graph)),
+        None => (None, None),
+    };
+    let (labels, ids) = pane_names(graph.as_ref(), &sequences);
+    let pane = region.unwrap_or(Rect {
+        x: 0,
+        y: 0,
+        width: size.0,
+        height: size.1,
+    });
+    clip::check(
+        labels.len(),
+        region.is_some(),
+        (pane.width, pane.height),
+        zoom,
+    )?;
+    let scorer = args
+        .jod
+        .then(|| JodScorer::new(&args.jod_display))
+        .transpose()?;
+    let name = scene
+        .as_ref()
+        .map_or_else(|| "captured sequences".to_owned(), |s| s.name.clone());
+    let adapter = rendering
+        .as_ref()
+        .and_then(|r| r.spec.adapter.clone())
+        .unwrap_or_else(|| "the CPU (nothing rendered)".to_owned());
+    let layout = pending_layout(
+        args,
+        rendering.is_some(),
+        &name,
+        &adapter,
+        &labels,
+        (region, zoom),
+    );
     if let Some(parent) = args.out.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent)
             .with_context(|| format!("cannot create directory {}", parent.display()))?;
     }
     let recording = Recording {
-        args,
-        gpu: &gpu,
-        scene: &scene,
+        out: &args.out,
+        jod: args.jod,
+        motion: args.motion,
+        speed: args.speed,
+        warmup: args.warmup,
+        scene: scene.as_ref(),
+        name: &name,
+        frames,
+        size,
+        sequences: &sequences,
         region,
         pending_layout: layout.clone(),
         format,
@@ -606,7 +417,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         pane_dirs: args
             .frames_dir
             .as_deref()
-            .map(|dir| pane_dirs(dir, &ids, args.frames, &policy))
+            .map(|dir| pane_dirs(dir, &ids, frames, &policy))
             .transpose()?,
     };
     let page = html
@@ -617,89 +428,132 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         })
         .transpose()?;
     let started = std::time::Instant::now();
-    let recorded = record(&recording, &mut graph, page)?;
-    let rendered = started.elapsed();
-    drop(graph);
-
-    let metrics = &recorded.metrics;
-    let scores = metrics.scores();
-    let region_scores = recorded.region_metrics.as_ref().map(ClipMetrics::scores);
-    // The captions give the figures of what the animation shows.
-    let shown_metrics = recorded.region_metrics.as_ref().unwrap_or(metrics);
-    let shown_scores = region_scores.as_ref().unwrap_or(&scores);
-    show_figures(
-        &mut layout,
-        shown_scores,
-        shown_metrics.reference().mean_change(),
-        pane.width * zoom,
-    );
-    let jods = match &scorer {
-        Some(scorer) => Some(jod_figures(
-            scorer,
-            &recorded.whole_frames,
-            &labels,
-            args.fps,
-        )?),
-        None => None,
+    let renderer = match (&rendering, graph.as_mut()) {
+        (Some(r), Some(graph)) => Some((&r.gpu, graph)),
+        _ => None,
     };
-    let first_refs: Vec<&image::RgbaImage> = recorded.first_crops.iter().collect();
-    let first = layout.compose(0, args.frames as usize, &first_refs)?;
-
-    let record = ClipRecord {
-        schema: SCHEMA,
-        spec,
-        reference,
-        motion: args.motion,
-        speed_px: args.speed,
-        warmup: args.warmup,
-        frames: args.frames,
+    let recorded = record(&recording, renderer, labels.len(), page)?;
+    let rendered = started.elapsed();
+    let jods = scorer
+        .as_ref()
+        .map(|scorer| jod_figures(scorer, &recorded.whole_frames, &labels, args.fps))
+        .transpose()?;
+    let panes = ClipPanes {
+        ids: &ids,
+        labels: &labels,
+        captured: &sequences,
+    };
+    let shape = ClipShape {
+        frames,
         fps: args.fps,
         region,
         zoom,
         format,
-        definitions: clip::Definitions::over(
-            "every pixel of the whole frame, frames warmup..warmup+frames; `region` figures and the captions: the --region pixels only".to_owned(),
-        ),
-        region_reference_mean_change: recorded
-            .region_metrics
-            .as_ref()
-            .and_then(|m| m.reference().mean_change()),
-        moving_fraction: metrics.moving_fraction(),
-        reference_mean_change: metrics.reference().mean_change(),
-        jod: scorer.as_ref().map(|s| JodSetting {
-            display: s.display().to_owned(),
-            model: jod::MODEL_VERSION,
-        }),
-        techniques: technique_figures(
-            &ids,
-            &labels,
-            &scores,
-            region_scores.as_deref(),
-            jods.as_deref(),
-        ),
     };
-    let text = serde_json::to_string_pretty(&record)? + "\n";
-    if matches!(format, ClipFormat::Video(_)) {
+    let record = record_of(args, rendering, &panes, shape, &recorded, (jods, scorer))?;
+    drop(graph);
+    finish(
+        args,
+        &recording,
+        recorded,
+        layout,
+        &record,
+        (started, rendered),
+    )
+}
+
+/// The size of every pane: the reference sequence's when nothing is rendered, else the
+/// render's (`--size`); every sequence must have it.
+fn clip_size(
+    args: &ClipArgs,
+    sequences: &ClipSequences,
+    renders_techniques: bool,
+) -> anyhow::Result<(u32, u32)> {
+    match (&sequences.reference, renders_techniques) {
+        (Some(reference), false) => {
+            let size = reference.size();
+            sequences.check_size(size, "the reference sequence")?;
+            Ok(size)
+        }
+        _ => {
+            sequences.check_size(args.scene.size, "the clip's render (--size)")?;
+            Ok(args.scene.size)
+        }
+    }
+}
+
+/// The record of a recorded clip: the render's recipe (when anything was rendered), the
+/// panes and their figures, and with `--jod` the panes' JOD and the scorer's setting.
+fn record_of(
+    args: &ClipArgs,
+    rendering: Option<Rendering>,
+    panes: &ClipPanes,
+    shape: ClipShape,
+    recorded: &Recorded,
+    (jods, scorer): (Option<Vec<f64>>, Option<JodScorer>),
+) -> anyhow::Result<ClipRecord> {
+    let rendered = rendering.map(|r| RenderedPart {
+        spec: r.spec,
+        reference: r.reference,
+        motion: args.motion,
+        speed_px: args.speed,
+        warmup: args.warmup,
+    });
+    let figures = ClipFigures {
+        metrics: &recorded.metrics,
+        region_metrics: recorded.region_metrics.as_ref(),
+        series: &recorded.series,
+        jods: jods.as_deref(),
+        jod: scorer.as_ref().map(|s| s.setting(f32::from(args.fps))),
+    };
+    clip_record(rendered, panes, shape, &figures)
+}
+
+/// Composes the first frame again with the figures, finishes the animation, writes the
+/// record and the page, and prints the table.
+fn finish(
+    args: &ClipArgs,
+    rec: &Recording,
+    recorded: Recorded,
+    mut layout: clip::Layout,
+    record: &ClipRecord,
+    (started, rendered): (std::time::Instant, std::time::Duration),
+) -> anyhow::Result<()> {
+    let json = json_path(&args.out);
+    let metrics = &recorded.metrics;
+    // The captions give the figures of what the animation shows.
+    let shown_metrics = recorded.region_metrics.as_ref().unwrap_or(metrics);
+    show_figures(
+        &mut layout,
+        &shown_metrics.scores(),
+        shown_metrics.reference().mean_change(),
+        rec.pending_layout.region.map_or(rec.size.0, |r| r.width) * rec.pending_layout.zoom,
+    );
+    let first_refs: Vec<&image::RgbaImage> = recorded.first_crops.iter().collect();
+    let first = layout.compose(0, rec.frames as usize, &first_refs)?;
+    let text = serde_json::to_string_pretty(record)? + "\n";
+    if matches!(rec.format, ClipFormat::Video(_)) {
         eprintln!("encoding {} with ffmpeg…", args.out.display());
     }
     let replaced = recorded
         .writer
         .finish(Some(&first), Some(&text), sheet::BACKGROUND_RGBA)?;
+    let warmup = if rec.scene.is_some() { args.warmup } else { 0 };
     eprintln!(
-        "rendered {} frames ({} of warm-up), compressing the clip's as they came, in {:.1} s; then {:.1} s to finish the file",
-        u64::from(args.warmup) + u64::from(args.frames),
-        args.warmup,
+        "made {} frames ({} of warm-up), compressing the clip's as they came, in {:.1} s; then {:.1} s to finish the file",
+        u64::from(warmup) + u64::from(rec.frames),
+        warmup,
         rendered.as_secs_f64(),
         (started.elapsed() - rendered).as_secs_f64()
     );
     println!("{}", files::wrote_line(&args.out, replaced));
-    let replaced = files::write_bytes(&json, &policy, text.as_bytes())?;
+    let replaced = files::write_bytes(&json, rec.policy, text.as_bytes())?;
     println!("{}", files::wrote_line(&json, replaced));
-    if let (Some(page), Some(path)) = (recorded.page, &html) {
-        let replaced = page.finish(&serde_json::to_value(&record)?)?;
-        println!("{}", files::wrote_line(path, replaced));
+    if let (Some(page), true) = (recorded.page, args.html) {
+        let replaced = page.finish(&serde_json::to_value(record)?)?;
+        println!("{}", files::wrote_line(&html_path(&args.out), replaced));
     }
-    print_table(&record);
+    print_table(record);
     Ok(())
 }
 

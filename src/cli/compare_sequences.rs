@@ -16,10 +16,10 @@ use anyhow::Context;
 
 use super::compare::{CompareArgs, MAX_COMPARE_PIXELS, heatmap_policy, write_metric_heatmap};
 use crate::export::clip::{Definitions, figure};
-use crate::metrics::jod::JodScorer;
-use crate::metrics::pixel::psnr_from_mse;
+use crate::metrics::jod::{JodScorer, JodSetting};
+use crate::metrics::series::{FrameSeries, SeriesSummary};
 use crate::metrics::stability::{ClipMetrics, TemporalScores};
-use crate::metrics::{Comparison, Plane, compare_with_maps};
+use crate::metrics::{Comparison, Plane};
 use crate::sequence::{Sequence, check_same_shape};
 
 /// One frame pair's figures.
@@ -36,12 +36,10 @@ struct FrameScores<'a> {
 /// The sequence's figures: the image metrics over all frames and the temporal ones.
 #[derive(serde::Serialize)]
 struct SequenceSummary {
-    /// Means over the frames; PSNR from the mean squared error over all frames.
+    /// Means over the frames, PSNR from the mean squared error over all frames, the worst
+    /// frame by FLIP.
     #[serde(flatten)]
-    scores: Comparison,
-    /// The frame with the largest mean FLIP error (0-based) and that error.
-    worst_frame: usize,
-    worst_flip: f64,
+    images: SeriesSummary,
     /// The reference sequence's mean luma change per frame pair.
     reference_mean_change: Option<f64>,
     #[serde(flatten)]
@@ -57,9 +55,8 @@ struct SequenceSummary {
 #[derive(serde::Serialize)]
 struct Jod {
     jod: f64,
-    display: String,
-    fps: f32,
-    model: &'static str,
+    #[serde(flatten)]
+    setting: JodSetting,
 }
 
 /// Most bytes `--jod` may hold: every frame of both sequences as 8-bit pixels, and as the
@@ -88,9 +85,7 @@ fn jod(args: &CompareArgs, reference: &Sequence, test: &Sequence) -> anyhow::Res
     let value = scorer.score(&all(test)?, &all(reference)?, args.fps)?;
     Ok(Jod {
         jod: value,
-        display: args.jod_display.clone(),
-        fps: args.fps,
-        model: crate::metrics::jod::MODEL_VERSION,
+        setting: scorer.setting(args.fps),
     })
 }
 
@@ -135,8 +130,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let (width, height) = reference.size();
     let mut per_frame = Vec::with_capacity(reference.len());
     let mut temporal = ClipMetrics::new(1);
+    let mut series = FrameSeries::new();
     let mut map_sum: Option<Plane> = None;
-    let mut mse_sum = 0.0;
     for index in 0..reference.len() {
         let reference_frame = reference.frame(index)?;
         let test_frame = test.frame(index)?;
@@ -151,12 +146,12 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
                 test_file.display()
             )
         };
-        let (scores, maps) =
-            compare_with_maps(&reference_frame, &test_frame).with_context(context)?;
+        let maps = series
+            .push(&reference_frame, &test_frame)
+            .with_context(context)?;
         temporal
             .push(&reference_frame, &[&test_frame])
             .with_context(context)?;
-        mse_sum += maps.errors.pool(None).mse;
         if args.heatmap.is_some() {
             let map = maps.error_map(args.metric);
             map_sum = Some(match map_sum {
@@ -174,10 +169,10 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             index,
             reference_file,
             test_file,
-            scores,
+            scores: series.per_frame()[index],
         });
     }
-    let mut summary = summarise(&per_frame, mse_sum, &temporal);
+    let mut summary = summarise(&series, &temporal);
     if args.jod {
         summary.jod = Some(jod(args, &reference, &test)?);
     }
@@ -190,7 +185,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             "metric": args.metric,
             "frames": per_frame.len(),
             "map": "mean over the frames of the per-pixel map",
-            "scores": summary.scores,
+            "scores": summary.images.scores,
         });
         write_metric_heatmap(path, args.metric, &map, record, &policy)?;
     }
@@ -215,21 +210,9 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn summarise(frames: &[FrameScores], mse_sum: f64, temporal: &ClipMetrics) -> SequenceSummary {
-    let count = frames.len().max(1) as f64;
-    let mean = |f: fn(&Comparison) -> f64| frames.iter().map(|s| f(&s.scores)).sum::<f64>() / count;
-    let worst = frames
-        .iter()
-        .max_by(|a, b| a.scores.flip.total_cmp(&b.scores.flip));
+fn summarise(series: &FrameSeries, temporal: &ClipMetrics) -> SequenceSummary {
     SequenceSummary {
-        scores: Comparison {
-            ssim: mean(|s| s.ssim),
-            psnr: psnr_from_mse(mse_sum / count),
-            mae: mean(|s| s.mae),
-            flip: mean(|s| s.flip),
-        },
-        worst_frame: worst.map_or(0, |w| w.index),
-        worst_flip: worst.map_or(0.0, |w| w.scores.flip),
+        images: series.summary(),
         reference_mean_change: temporal.reference().mean_change(),
         temporal: temporal
             .scores()
@@ -271,14 +254,14 @@ fn print_table(output: &SequenceOutput) {
         );
     }
     let summary = &output.summary;
-    let s = &summary.scores;
+    let s = &summary.images.scores;
     println!(
         "{:>6}  {:>8.5}  {:>10.3}  {:>8.4}  {:>8.5}  (PSNR from the mean squared error of all frames)",
         "mean", s.ssim, s.psnr, s.mae, s.flip
     );
     println!(
         "worst frame {} (FLIP {:.5})",
-        summary.worst_frame, summary.worst_flip
+        summary.images.worst_frame, summary.images.worst_flip
     );
     let t = &summary.temporal;
     println!(
@@ -295,7 +278,7 @@ fn print_table(output: &SequenceOutput) {
     if let Some(jod) = &summary.jod {
         println!(
             "ColorVideoVDP: {:.2} JOD ({} at {} fps; 10 = no visible difference)",
-            jod.jod, jod.display, jod.fps
+            jod.jod, jod.setting.display, jod.setting.fps
         );
     }
 }

@@ -12,7 +12,9 @@
 mod bench;
 mod camera;
 mod clip;
+mod clip_frames;
 mod clip_record;
+mod clip_sequences;
 mod compare;
 mod compare_sequences;
 mod info;
@@ -112,6 +114,21 @@ pub fn remove_temporaries_on_interrupt() -> std::io::Result<()> {
             }
         })?;
     Ok(())
+}
+
+/// Parses the process's command line, noting what the derived parser cannot say: whether
+/// `clip` was given `--technique` (a clip of captured sequences renders techniques only when
+/// asked to). Exits with clap's message on a bad command line.
+pub fn parse() -> Cli {
+    use clap::{CommandFactory, FromArgMatches, parser::ValueSource};
+    let matches = Cli::command().get_matches();
+    let mut cli = Cli::from_arg_matches(&matches).unwrap_or_else(|err| err.exit());
+    if let (Some(Command::Clip(args)), Some(("clip", clip))) =
+        (&mut cli.command, matches.subcommand())
+    {
+        args.techniques_given = clip.value_source("technique") == Some(ValueSource::CommandLine);
+    }
+    cli
 }
 
 /// Runs a parsed command line.

@@ -573,6 +573,21 @@ fn progress_bar(total: u64) -> ProgressBar {
     bar
 }
 
+/// The progress bar of `total` `unit`s (frames, steps) with the time elapsed and left, as
+/// `clip` and `bench` show it.
+pub(super) fn progress_bar_with_eta(total: u64, unit: &str) -> ProgressBar {
+    let bar = ProgressBar::new(total);
+    bar.set_style(
+        ProgressStyle::with_template(&format!(
+            "{{spinner}} [{{elapsed_precise}}] [{{bar:32}}] {{pos}}/{{len}} {unit}, eta {{eta}}  {{msg}}"
+        ))
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> "),
+    );
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    bar
+}
+
 /// Runs `aa-lab render`.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let started = Instant::now();

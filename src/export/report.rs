@@ -77,6 +77,9 @@ pub struct BenchSettings {
     /// The render scales of a [`SCALE_SWEEP`] (per axis, 1 = native), in the order given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scales: Option<Vec<f32>>,
+    /// The display model, version and rate of the techniques' `jod`, with `--jod`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jod: Option<crate::metrics::jod::JodSetting>,
 }
 
 /// [`BenchSettings::sweep`] of a sweep over render scales: every technique at every scale, at
@@ -178,6 +181,10 @@ pub struct TechniqueReport {
     /// between consecutive flicker frames (the ghosting measure of
     /// [`crate::metrics::stability`]), levels of 0..255.
     pub ghosting: Option<f64>,
+    /// ColorVideoVDP's JOD of the flicker frames against the reference's, with `--jod`
+    /// ([`BenchSettings::jod`] says how).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jod: Option<f64>,
 }
 
 /// One scene at one size (and density).

@@ -337,6 +337,13 @@ fn quality_markdown(out: &mut String, report: &BenchReport) {
         "## Ghosting: luma error at moving edges (levels of 0..255, where the reference changed by more than 8 between frames)\n\n",
     );
     run_by_technique_table(out, report, |_, t| opt(t.ghosting, 1));
+    if let Some(jod) = &report.settings.jod {
+        out.push_str(&format!(
+            "## ColorVideoVDP: JOD of the flicker frames (10 = no visible difference from the reference; {} at {} fps, model {})\n\n",
+            jod.display, jod.fps, jod.model
+        ));
+        run_by_technique_table(out, report, |_, t| opt(t.jod, 2));
+    }
 }
 
 /// Shading work, memory, the scaling sweeps and every pass in detail.

@@ -28,6 +28,17 @@ pub const DEFAULT_DISPLAY: &str = "standard_fhd";
 /// The ColorVideoVDP version of the calibrated model.
 pub const MODEL_VERSION: &str = Cvvdp::MODEL_VERSION;
 
+/// How JOD figures were computed, as records state it.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct JodSetting {
+    /// The display model, by its ColorVideoVDP name.
+    pub display: String,
+    /// The model's calibration version.
+    pub model: &'static str,
+    /// The frame rate the clips were played at.
+    pub fps: f32,
+}
+
 /// Scores clips against their reference on one display model.
 pub struct JodScorer {
     metric: Cvvdp,
@@ -61,6 +72,39 @@ impl JodScorer {
     /// The display model's name.
     pub fn display(&self) -> &str {
         &self.display
+    }
+
+    /// What a record says of figures this scorer gives at `fps`.
+    pub fn setting(&self, fps: f32) -> JodSetting {
+        JodSetting {
+            display: self.display.clone(),
+            model: MODEL_VERSION,
+            fps,
+        }
+    }
+
+    /// The JOD of each of `tests` (every technique's frames, in order) against the same
+    /// `reference`, played at `fps`; `starting(i)` is called before clip `i` is scored (each
+    /// takes seconds), so a front end can say which.
+    pub fn score_each<T, R>(
+        &self,
+        tests: &[Vec<T>],
+        reference: &[R],
+        fps: f32,
+        mut starting: impl FnMut(usize),
+    ) -> Result<Vec<f64>, MetricsError>
+    where
+        T: Borrow<image::RgbaImage>,
+        R: Borrow<image::RgbaImage>,
+    {
+        tests
+            .iter()
+            .enumerate()
+            .map(|(i, test)| {
+                starting(i);
+                self.score(test, reference, fps)
+            })
+            .collect()
     }
 
     /// The JOD of `test` against `reference`, frame by frame in order, played at `fps`

@@ -9,6 +9,7 @@
 //!   functions above are the reference it is tested against;
 //! - [`temporal`]: frame-to-frame change and the flicker ratio against a reference;
 //! - [`stability`]: a clip's temporal instability, per-pixel change map and ghosting;
+//! - [`series`]: the image metrics of a series of frames against its reference, and their summary;
 //! - [`coverage`]: exact analytic ground truth for the `chart` scene;
 //! - [`stats`]: median and 95th percentile of repeated timings;
 //! - [`map`]: the per-pixel planes and masks all of these share.
@@ -23,6 +24,7 @@ pub mod gpu;
 pub mod jod;
 pub mod map;
 pub mod pixel;
+pub mod series;
 pub mod ssim;
 pub mod stability;
 pub mod stats;

@@ -261,6 +261,30 @@ pub fn fails_with(args: &[&str], needles: &[&str]) -> String {
     text
 }
 
+/// Frame `t` of a moving bar, for image sequences: a 3-pixel vertical bar moving two pixels
+/// right per frame over a vertical gradient, at `size`. `blur` spreads its edges over that
+/// many pixels, as antialiasing would; without it every step changes the same pixels by the
+/// same amounts.
+pub fn bar_frame(t: u32, (width, height): (u32, u32), blur: u32) -> RgbaImage {
+    RgbaImage::from_fn(width, height, |x, y| {
+        let left = 4 + 2 * t;
+        let distance = if x < left {
+            left - x
+        } else if x >= left + 3 {
+            x + 1 - (left + 3)
+        } else {
+            0
+        };
+        let ground = (y * 8) as u8;
+        let v = match distance {
+            0 => 255,
+            d if d <= blur => (255 + u32::from(ground) * d / (blur + 1)).min(255) as u8,
+            _ => ground,
+        };
+        image::Rgba([v, v / 2, 255 - v, 255])
+    })
+}
+
 /// Runs the `aa-lab` binary with `args`.
 pub fn aa_lab(args: &[&str]) -> std::process::Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_aa-lab"))

@@ -1,0 +1,324 @@
+//! `aa-lab clip` with captured image sequences as panes (`--sequence`, `--reference-sequence`,
+//! `--offset`), on small sequences each test writes into a temporary folder (PNG and OpenEXR):
+//! the figures of every pane match `aa-lab compare` on the same pair of sequences, the record
+//! states the sequences, and sizes or lengths that do not fit are clear errors. A clip of
+//! sequences alone renders nothing, so only the test that mixes in a rendered technique needs
+//! an adapter.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{fails_with, stderr};
+
+const WIDTH: u32 = 32;
+const HEIGHT: u32 = 24;
+/// Frames of the reference sequence, and so of the clips.
+const FRAMES: u32 = 8;
+
+/// Frame `t` of the moving bar at the sequences' size.
+fn bar_frame(t: u32, blur: u32) -> image::RgbaImage {
+    common::bar_frame(t, (WIDTH, HEIGHT), blur)
+}
+
+/// Writes `frames` PNG frames numbered from `first` into `root/folder`, frame `i` showing the
+/// bar at step `step(i)`.
+fn png_sequence(
+    root: &Path,
+    folder: &str,
+    first: u32,
+    frames: u32,
+    step: impl Fn(u32) -> u32,
+    blur: u32,
+) -> PathBuf {
+    let dir = root.join(folder);
+    std::fs::create_dir_all(&dir).expect("folder");
+    for i in 0..frames {
+        bar_frame(step(i), blur)
+            .save(dir.join(format!("frame_{:04}.png", first + i)))
+            .expect("frame written");
+    }
+    dir
+}
+
+/// Writes `frames` OpenEXR frames (linear light) of the bar, lagging one frame behind.
+fn exr_sequence(root: &Path, folder: &str, frames: u32) -> PathBuf {
+    let dir = root.join(folder);
+    std::fs::create_dir_all(&dir).expect("folder");
+    let linear = |v: u8| (f32::from(v) / 255.0).powf(2.2);
+    for i in 0..frames {
+        let srgb = bar_frame(i.saturating_sub(1), 0);
+        let image = image::Rgba32FImage::from_fn(WIDTH, HEIGHT, |x, y| {
+            let p = srgb.get_pixel(x, y).0;
+            image::Rgba([linear(p[0]), linear(p[1]), linear(p[2]), 1.0])
+        });
+        image::DynamicImage::ImageRgba32F(image)
+            .save(dir.join(format!("lag.{i:03}.exr")))
+            .expect("EXR written");
+    }
+    dir
+}
+
+fn text(path: &Path) -> &str {
+    path.to_str().expect("utf-8 path")
+}
+
+fn number(value: &serde_json::Value, key: &str) -> f64 {
+    value[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{key} in {value}"))
+}
+
+/// `aa-lab compare REFERENCE TEST --json --jod`'s summary.
+fn compare_summary(reference: &str, test: &str) -> serde_json::Value {
+    let out = common::aa_lab(&["compare", reference, test, "--json", "--jod"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let output: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(output["frames"], FRAMES);
+    output["summary"].clone()
+}
+
+/// Checks that a clip pane's figures are the ones `compare` gave for the same frames.
+fn assert_same_figures(pane: &serde_json::Value, summary: &serde_json::Value) {
+    let quality = &pane["quality"];
+    for key in ["ssim", "psnr", "mae", "flip", "worst_flip"] {
+        let (clip, compare) = (number(quality, key), number(summary, key));
+        assert!(
+            (clip - compare).abs() <= 1e-9 * compare.abs().max(1.0),
+            "{key}: clip {clip}, compare {compare}"
+        );
+    }
+    assert_eq!(quality["worst_frame"], summary["worst_frame"]);
+    assert_eq!(quality["per_frame"].as_array().map(Vec::len), Some(8));
+    for key in ["mean_change", "temporal_instability", "ghosting"] {
+        let (clip, compare) = (number(pane, key), number(summary, key));
+        assert!((clip - compare).abs() <= 1e-9, "{key}: {clip} vs {compare}");
+    }
+    let (clip, compare) = (number(pane, "jod"), number(&summary["jod"], "jod"));
+    assert!((clip - compare).abs() <= 1e-6, "JOD: {clip} vs {compare}");
+}
+
+#[test]
+fn a_clip_of_two_captures_and_their_reference_reports_what_compare_does() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let root = dir.path();
+    // The reference starts at frame number 10; the blurred capture has two lead-in frames
+    // (numbers 0 and 1) that --offset skips; the lagging EXR capture has a frame too many.
+    let reference = png_sequence(root, "ssaa", 10, FRAMES, |i| i, 0);
+    let blurred = png_sequence(root, "taa", 0, FRAMES + 2, |i| i.saturating_sub(2), 1);
+    let lagging = exr_sequence(root, "lag", FRAMES + 1);
+    let out = root.join("clip.png");
+    let run = common::aa_lab(&[
+        "clip",
+        "--sequence",
+        &format!("blurred={}", text(&blurred)),
+        "--sequence",
+        &format!("lagging={}/lag.*.exr", text(&lagging)),
+        "--reference-sequence",
+        text(&reference),
+        "--offset",
+        "blurred=2",
+        "--jod",
+        "--out",
+        text(&out),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let warning = stderr(&run);
+    assert!(
+        warning.contains("the clip has 8 frames")
+            && warning.contains("the later frames of lagging"),
+        "no warning of the frames left out: {warning}"
+    );
+    let table = common::stdout(&run);
+    assert!(
+        table.contains("SSIM") && table.contains("JOD (standard_fhd)"),
+        "{table}"
+    );
+
+    let record: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root.join("clip.json")).expect("the record beside"),
+    )
+    .expect("JSON");
+    assert_eq!(record["frames"], FRAMES);
+    assert!(
+        record["spec"].is_null() && record["motion"].is_null(),
+        "nothing was rendered: {record}"
+    );
+    let sequences = record["sequences"].as_array().expect("sequences");
+    assert_eq!(sequences.len(), 2);
+    assert_eq!(sequences[0]["label"], "blurred");
+    assert_eq!(sequences[0]["offset"], 2);
+    assert_eq!(sequences[0]["sequence_frames"], FRAMES + 2);
+    assert_eq!(sequences[0]["first_number"], 2);
+    assert_eq!(sequences[0]["last_number"], 9);
+    assert!(
+        Path::new(sequences[0]["path"].as_str().expect("a path")).is_absolute(),
+        "paths are recorded absolute"
+    );
+    assert_eq!(sequences[1]["last_number"], 7);
+    assert!(
+        sequences[1]["last_file"]
+            .as_str()
+            .is_some_and(|f| f.ends_with("lag.007.exr"))
+    );
+    assert_eq!(record["reference"]["first_number"], 10);
+    assert_eq!(record["reference"]["last_number"], 17);
+    assert_eq!(record["jod"]["display"], "standard_fhd");
+
+    let panes = record["techniques"].as_array().expect("panes");
+    assert_eq!(panes.len(), 2);
+    let blurred_frames = format!("{}/frame_000[2-9].png", text(&blurred));
+    let lagging_frames = format!("{}/lag.00[0-7].exr", text(&lagging));
+    assert_same_figures(
+        &panes[0],
+        &compare_summary(text(&reference), &blurred_frames),
+    );
+    assert_same_figures(
+        &panes[1],
+        &compare_summary(text(&reference), &lagging_frames),
+    );
+    // The lagging capture ghosts more than the blurred one.
+    assert!(number(&panes[1], "ghosting") > number(&panes[0], "ghosting"));
+
+    // The animation has one frame per clip frame.
+    let bytes = std::fs::read(&out).expect("the animation");
+    let chunks = aa_lab::export::png::png_chunks(&bytes).expect("a PNG");
+    assert_eq!(
+        chunks.iter().filter(|(kind, _)| kind == b"fcTL").count(),
+        FRAMES as usize
+    );
+}
+
+#[test]
+fn sizes_and_lengths_that_do_not_fit_are_clear_errors() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let root = dir.path();
+    let reference = png_sequence(root, "ssaa", 0, FRAMES, |i| i, 0);
+    let short = png_sequence(root, "short", 0, FRAMES - 1, |i| i, 1);
+    let wide = root.join("wide");
+    std::fs::create_dir(&wide).expect("folder");
+    for t in 0..FRAMES {
+        image::RgbaImage::new(WIDTH + 8, HEIGHT)
+            .save(wide.join(format!("w{t}.png")))
+            .expect("frame");
+    }
+    let out = root.join("clip.png");
+    let clip = |extra: &[&str]| {
+        let mut args = vec![
+            "clip",
+            "--reference-sequence",
+            text(&reference),
+            "--out",
+            text(&out),
+        ];
+        args.extend_from_slice(extra);
+        args.into_iter().map(str::to_owned).collect::<Vec<_>>()
+    };
+    let run = |extra: &[&str], needles: &[&str]| {
+        let args = clip(extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        fails_with(&args, needles);
+    };
+    let wide_flag = format!("wide={}", text(&wide));
+    run(
+        &["--sequence", &wide_flag],
+        &["the sequence wide", "is 40x24", "32x24"],
+    );
+    let short_flag = format!("short={}", text(&short));
+    run(
+        &["--sequence", &short_flag, "--frames", "8"],
+        &["--frames 8", "short", "has only 7"],
+    );
+    run(
+        &["--sequence", &short_flag, "--offset", "short=7"],
+        &["--offset short=7", "has only 7 frames"],
+    );
+    run(
+        &["--sequence", &short_flag, "--offset", "taa=1"],
+        &["no sequence is labelled taa"],
+    );
+    run(
+        &["--sequence", &short_flag, "--sequence", &short_flag],
+        &["two sequences are labelled short"],
+    );
+    run(&["--sequence", "short"], &["expected LABEL=VALUE"]);
+    assert!(!out.exists(), "nothing written on an error");
+
+    // Without --frames the clip is as long as the shortest sequence, and says so.
+    let ok = clip(&["--sequence", &short_flag]);
+    let ok: Vec<&str> = ok.iter().map(String::as_str).collect();
+    let done = common::aa_lab(&ok);
+    assert!(done.status.success(), "{}", stderr(&done));
+    assert!(
+        stderr(&done).contains("the clip has 7 frames (the shortest sequence is short"),
+        "{}",
+        stderr(&done)
+    );
+    // An output inside a sequence's folder never replaces one of its frames.
+    let frame = reference.join("frame_0003.png");
+    let mut inside = clip(&["--sequence", &short_flag, "--force"]);
+    let position = inside.iter().position(|a| a == "--out").expect("--out") + 1;
+    inside[position] = text(&frame).to_owned();
+    let inside: Vec<&str> = inside.iter().map(String::as_str).collect();
+    fails_with(&inside, &["it is an input of this command"]);
+}
+
+#[test]
+fn a_captured_pane_beside_the_rendered_technique_it_captured_scores_the_same() {
+    let _gpu = common::gpu();
+    let dir = tempfile::tempdir().expect("temp dir");
+    let root = dir.path();
+    let frames = root.join("frames");
+    let first = common::clip(
+        &root.join("first.png"),
+        &["--frames-dir", text(&frames), "--motion", "pan"],
+    );
+    assert!(first.status.success(), "{}", stderr(&first));
+    // The same clip again, with TAA's frames of the first as a captured pane beside TAA: the
+    // capture lines up with the render frame for frame, so every figure agrees.
+    let second = common::clip(
+        &root.join("second.png"),
+        &[
+            "--motion",
+            "pan",
+            "--sequence",
+            &format!("captured-taa={}", text(&frames.join("taa"))),
+        ],
+    );
+    assert!(second.status.success(), "{}", stderr(&second));
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(root.join("second.json")).expect("record"))
+            .expect("JSON");
+    assert_eq!(record["reference"]["id"], "ssaa", "the rendered reference");
+    assert_eq!(record["motion"], "pan");
+    let panes = record["techniques"].as_array().expect("panes");
+    assert_eq!(panes.len(), 5);
+    let (rendered, captured) = (&panes[2], &panes[4]);
+    assert_eq!(rendered["id"], "taa");
+    assert_eq!(captured["id"], "captured-taa");
+    for key in ["mean_change", "temporal_instability", "ghosting"] {
+        assert_eq!(rendered[key], captured[key], "{key}");
+    }
+    assert_eq!(rendered["quality"], captured["quality"]);
+    assert!(number(&captured["quality"], "ssim") < 1.0);
+    // A size other than the render's is refused before anything renders.
+    let third = root.join("third.png");
+    let captured = format!("captured-taa={}", text(&frames.join("taa")));
+    let wrong = fails_with(
+        &[
+            "clip",
+            "--scene",
+            "chart",
+            "--size",
+            "48x48",
+            "--technique",
+            "none",
+            "--sequence",
+            &captured,
+            "--out",
+            text(&third),
+        ],
+        &["is 64x48 but the clip's render (--size) is 48x48"],
+    );
+    assert!(!third.exists(), "{wrong}");
+}
