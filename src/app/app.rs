@@ -301,6 +301,37 @@ impl AaLabApp {
         self.ws.cx.open_images(ctx, paths);
     }
 
+    /// Opens up to four image sequences of one frame size as panes (see
+    /// `Context::open_sequences`).
+    pub fn open_sequences(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
+        self.ws.cx.open_sequences(ctx, paths);
+    }
+
+    /// The open sequence set's instant on screen and its number of instants (`None` without
+    /// one, or while the frames of new offsets are read).
+    pub fn sequence_position(&self) -> Option<(usize, usize)> {
+        let sequences = self.ws.cx.images.open()?.sequences()?;
+        Some((sequences.shown()?, sequences.len()))
+    }
+
+    /// The frame number (from the file name) each sequence of the open set shows, in pane
+    /// order.
+    pub fn sequence_frame_numbers(&self) -> Vec<Option<u64>> {
+        self.ws
+            .cx
+            .images
+            .open()
+            .and_then(|set| set.sequences())
+            .map_or_else(Vec::new, |s| s.shown_numbers())
+    }
+
+    /// Shows sequence `index` of the open set from its frame `offset` on.
+    pub fn set_sequence_offset(&mut self, index: usize, offset: usize) {
+        if let Some(sequences) = self.ws.cx.images.sequences_mut() {
+            sequences.set_offset(index, offset);
+        }
+    }
+
     /// Closes the image set: the scene shows again.
     pub fn close_images(&mut self) {
         self.ws.cx.close_images();
@@ -610,8 +641,8 @@ impl eframe::App for AaLabApp {
         panels::toolbar(ui, &mut self.ws, &mut self.help_open);
         let hover = self.viewport.hover_pixel().or(self.magnifier.hover());
         panels::status_bar(ui, &self.ws, hover);
-        // Clips record the scene; images have none.
-        if !self.ws.cx.images.is_open() {
+        // Clips record the scene; images have none, sequences play in the clip bar.
+        if !self.ws.cx.images.is_open() || self.ws.cx.images.sequences_mut().is_some() {
             clip_bar::panel(ui, &mut self.ws.cx);
         }
         // A blind comparison's panel replaces those that name the techniques.

@@ -1,6 +1,6 @@
 //! The panels of an open image set (image_set.rs): the left panel that replaces the
-//! techniques while images are shown (the files in pane order, the reference, the way back
-//! to the scene), the reference choice in the toolbar, and the quality table of the metrics
+//! techniques while images are shown (the files or sequences in pane order, each sequence's
+//! frame offset, the reference, the way back to the scene), the reference choice in the toolbar, and the quality table of the metrics
 //! panel (every image against the chosen reference): stateless functions of the context
 //! ([`ui`], [`strip`]) and of the workspace ([`quality_section`], which reads the figures).
 
@@ -54,12 +54,24 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
             return;
         };
         let (w, h) = set.size();
-        ui.label(format!("{} image(s), {w} × {h} pixels", set.images().len()));
+        match set.sequences() {
+            Some(sequences) => ui.label(format!(
+                "{} sequence(s) of {} frames, {w} × {h} pixels",
+                set.images().len(),
+                sequences.len()
+            )),
+            None => ui.label(format!("{} image(s), {w} × {h} pixels", set.images().len())),
+        };
         ui.add_space(4.0);
         let rows: Vec<(String, String)> = set
             .images()
             .iter()
-            .map(|i| (i.name.clone(), i.path.display().to_string()))
+            .enumerate()
+            .map(|(slot, i)| {
+                let shown = set.sequences().and_then(|s| s.shown_path(slot));
+                let path = shown.unwrap_or(&i.path).display().to_string();
+                (i.name.clone(), path)
+            })
             .collect();
         for (slot, (name, path)) in rows.iter().enumerate() {
             ui.horizontal(|ui| {
@@ -70,6 +82,7 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
                 )
                 .on_hover_text(path);
             });
+            offset_field(ui, cx, slot);
         }
         ui.add_space(6.0);
         ui.horizontal(|ui| {
@@ -103,6 +116,25 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
                 cx.close_images();
             }
         });
+    });
+}
+
+/// The frame offset of sequence `slot` of an open sequence set (nothing for still images).
+fn offset_field(ui: &mut egui::Ui, cx: &mut Context, slot: usize) {
+    let Some(sequences) = cx.images.sequences_mut() else {
+        return;
+    };
+    let mut offset = sequences.offset(slot);
+    let max = sequences.max_offset(slot);
+    ui.horizontal(|ui| {
+        ui.add_space(24.0);
+        ui.label("offset");
+        let field = ui
+            .add(egui::DragValue::new(&mut offset).range(0..=max).suffix(" frames"))
+            .on_hover_text("Frames of this sequence skipped at its start, so that captures which begin on different frames line up: at every instant it shows its frame (instant + offset)");
+        if field.changed() {
+            sequences.set_offset(slot, offset);
+        }
     });
 }
 

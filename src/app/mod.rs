@@ -70,6 +70,7 @@ mod repaint;
 mod scale_form;
 mod scene_loader;
 mod schedule;
+mod sequence_set;
 mod settings;
 mod shortcuts;
 mod stats;
