@@ -22,7 +22,7 @@ use egui::{Modifiers, Pos2, Rect, pos2, vec2};
 use egui_kittest::kittest::Queryable;
 use egui_kittest::{Harness, SnapshotOptions};
 use viewer::{
-    TIMEOUT, WINDOW, add_user_technique_instead_of_fxaa, blind_answers, click_with, drag,
+    Dropped, TIMEOUT, WINDOW, add_user_technique_instead_of_fxaa, blind_answers, click_with, drag,
     launch_in, pan_clip_with_reference, settled, viewer, viewer_with, wait,
 };
 
@@ -657,19 +657,6 @@ fn name(path: &Path) -> String {
     path.file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default()
-}
-
-#[derive(Debug)]
-struct Dropped(PathBuf);
-
-impl egui::DroppedFile for Dropped {
-    fn path(&self) -> &Path {
-        &self.0
-    }
-
-    fn bytes(&self) -> Result<Vec<u8>, String> {
-        std::fs::read(&self.0).map_err(|e| e.to_string())
-    }
 }
 
 #[test]
