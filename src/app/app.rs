@@ -44,6 +44,8 @@ pub struct LaunchOptions {
     pub display: DisplayPath,
     /// Images to compare instead of the scene (File > Open images).
     pub images: Vec<PathBuf>,
+    /// Sequences to play instead of the scene (File > Open sequences).
+    pub sequences: Vec<PathBuf>,
 }
 
 /// Errors of creating the app.
@@ -138,6 +140,9 @@ impl AaLabApp {
         ws.cx.load_scene(&cc.egui_ctx, &scene);
         if !options.images.is_empty() {
             ws.cx.open_images(&cc.egui_ctx, options.images);
+        }
+        if !options.sequences.is_empty() {
+            ws.cx.open_sequences(&cc.egui_ctx, options.sequences);
         }
         Ok(Self {
             ws,
@@ -642,7 +647,7 @@ impl eframe::App for AaLabApp {
         let hover = self.viewport.hover_pixel().or(self.magnifier.hover());
         panels::status_bar(ui, &self.ws, hover);
         // Clips record the scene; images have none, sequences play in the clip bar.
-        if !self.ws.cx.images.is_open() || self.ws.cx.images.sequences_mut().is_some() {
+        if !self.ws.cx.images.is_open() || self.ws.cx.images.has_sequences() {
             clip_bar::panel(ui, &mut self.ws.cx);
         }
         // A blind comparison's panel replaces those that name the techniques.

@@ -101,7 +101,11 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
         );
         ui.add_space(6.0);
         ui.horizontal(|ui| {
-            if ui.button("Open other images…").clicked() {
+            if cx.images.has_sequences() {
+                if ui.button("Open other sequences…").clicked() {
+                    cx.open_sequences_dialog(&ctx);
+                }
+            } else if ui.button("Open other images…").clicked() {
                 cx.open_images_dialog(&ctx);
             }
             let back = match &cx.scene {

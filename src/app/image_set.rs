@@ -478,6 +478,11 @@ impl ImageSetState {
         self.open.as_mut()?.sequences.as_mut()
     }
 
+    /// Whether the open set is a sequence set.
+    pub fn has_sequences(&self) -> bool {
+        self.open.as_ref().and_then(ImageSet::sequences).is_some()
+    }
+
     /// Whether the open set is a sequence set that plays.
     pub fn sequences_playing(&self) -> bool {
         self.open
