@@ -143,7 +143,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Info { json }) => info::info(json),
         Some(Command::Techniques { json, verbose }) => info::techniques(json, verbose),
         None if !crate::app::display_available()
-            && !(cli.images.is_empty() && cli.sequences.is_empty()) =>
+            && (!cli.images.is_empty() || !cli.sequences.is_empty()) =>
         {
             anyhow::bail!(
                 "--images and --sequences open the viewer, and there is no display (neither \
