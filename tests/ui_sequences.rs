@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 use aa_lab::app::AaLabApp;
 use egui_kittest::kittest::Queryable;
-use viewer::{Dropped, viewer, wait};
+use viewer::{drop_on_window, viewer, wait};
 
 /// Frame size of the generated sequences.
 const SIZE: (u32, u32) = (64, 48);
@@ -169,13 +169,7 @@ fn two_sequences_play_in_lockstep() {
     // Folders dropped on the window open as sequences.
     harness.state_mut().close_images();
     wait(&mut harness, "the scene", AaLabApp::frame_ready);
-    for folder in [reference, taa] {
-        harness
-            .input_mut()
-            .dropped_files
-            .push(Arc::new(Dropped(folder)));
-    }
-    harness.step();
+    drop_on_window(&mut harness, [reference, taa]);
     wait(&mut harness, "the dropped sequences", |app| {
         app.sequence_position().is_some()
     });

@@ -82,6 +82,25 @@ pub fn default_reference(names: &[&str]) -> usize {
         .unwrap_or(0)
 }
 
+/// What a set is opened from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SetKind {
+    /// Still image files.
+    Images,
+    /// Image sequences (folders or globs of numbered frames).
+    Sequences,
+}
+
+impl SetKind {
+    /// `images` or `sequences`, for messages.
+    pub fn noun(self) -> &'static str {
+        match self {
+            SetKind::Images => "images",
+            SetKind::Sequences => "sequences",
+        }
+    }
+}
+
 /// One decoded file.
 pub struct DecodedImage {
     /// Where it came from.
@@ -323,11 +342,13 @@ impl ImageSetState {
         std::mem::take(&mut self.leave_for_scene)
     }
 
-    /// Starts decoding `paths` (at most [`MAX_IMAGES`], sides at most `max_side`) on a thread
-    /// of its own, which uploads them with the set's uploader and wakes `wake` when done; a
-    /// newer request supersedes one still decoding.
+    /// Starts loading `paths` as a set of `kind` (at most [`MAX_IMAGES`], sides at most
+    /// `max_side`) on a thread of its own: still images are decoded, sequences opened and
+    /// their first frames read; the thread uploads them with the set's uploader and wakes
+    /// `wake` when done. A newer request supersedes one still loading.
     pub fn start_load(
         &mut self,
+        kind: SetKind,
         paths: Vec<PathBuf>,
         max_side: u32,
         wake: egui::Context,
@@ -336,52 +357,12 @@ impl ImageSetState {
         let files = paths.clone();
         let uploader = self.uploader.clone();
         std::thread::Builder::new()
-            .name("aa-lab image decoder".to_owned())
+            .name(format!("aa-lab {} loader", kind.noun()))
             .spawn(move || {
-                let uploaded = decode(&files, max_side).map(|decoded| {
-                    let images = decoded
-                        .images
-                        .into_iter()
-                        .map(|image| {
-                            let texture = uploader.upload(&image.pixels);
-                            let rendered = RenderedImage {
-                                pixels: image.pixels,
-                                texture,
-                            };
-                            (image.path, rendered)
-                        })
-                        .collect();
-                    uploader.flush();
-                    Uploaded {
-                        images,
-                        notes: decoded.notes,
-                        sequences: None,
-                    }
-                });
-                let _ = sender.send(uploaded);
-                crate::app::repaint::request_one_frame(&wake);
-            })?;
-        self.pending = Some((paths, receiver));
-        Ok(())
-    }
-
-    /// Starts opening the sequences at `paths` (folders or globs; at most [`MAX_IMAGES`],
-    /// frames of one size with sides at most `max_side`) on a thread of its own, which reads
-    /// and uploads their first frames and wakes `wake` when done; a newer request supersedes
-    /// one still loading.
-    pub fn start_sequence_load(
-        &mut self,
-        paths: Vec<PathBuf>,
-        max_side: u32,
-        wake: egui::Context,
-    ) -> std::io::Result<()> {
-        let (sender, receiver) = mpsc::channel();
-        let files = paths.clone();
-        let uploader = self.uploader.clone();
-        std::thread::Builder::new()
-            .name("aa-lab sequence opener".to_owned())
-            .spawn(move || {
-                let loaded = load_sequences(&files, max_side, uploader, &wake);
+                let loaded = match kind {
+                    SetKind::Images => load_images(&files, max_side, &uploader),
+                    SetKind::Sequences => load_sequences(&files, max_side, uploader, &wake),
+                };
                 let _ = sender.send(loaded);
                 crate::app::repaint::request_one_frame(&wake);
             })?;
@@ -530,8 +511,31 @@ impl ImageSetState {
     }
 }
 
+/// Decodes the images at `paths` and uploads them (see [`ImageSetState::start_load`]).
+fn load_images(paths: &[PathBuf], max_side: u32, uploader: &Uploader) -> Result<Uploaded, String> {
+    let decoded = decode(paths, max_side)?;
+    let images = decoded
+        .images
+        .into_iter()
+        .map(|image| {
+            let texture = uploader.upload(&image.pixels);
+            let rendered = RenderedImage {
+                pixels: image.pixels,
+                texture,
+            };
+            (image.path, rendered)
+        })
+        .collect();
+    uploader.flush();
+    Ok(Uploaded {
+        images,
+        notes: decoded.notes,
+        sequences: None,
+    })
+}
+
 /// Opens the sequences at `paths` and reads their first frames (see
-/// [`ImageSetState::start_sequence_load`]).
+/// [`ImageSetState::start_load`]).
 fn load_sequences(
     paths: &[PathBuf],
     max_side: u32,

@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 
 use super::{Command, Context, DialogPurpose, Level};
-use crate::app::image_set::{MAX_IMAGES, is_image_file};
+use crate::app::image_set::{MAX_IMAGES, SetKind, is_image_file};
 use crate::sequence::is_sequence_path;
 
 impl Context {
@@ -14,26 +14,7 @@ impl Context {
     /// tests): they are decoded on a worker thread and replace what is shown when they all
     /// load; otherwise a notice says why, and what was shown stays.
     pub(in crate::app) fn open_images(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
-        if paths.len() > MAX_IMAGES {
-            self.notify(
-                Level::Error,
-                format!(
-                    "{} images chosen; aa-lab compares at most {MAX_IMAGES}: nothing was opened",
-                    paths.len()
-                ),
-            );
-            return;
-        }
-        if paths.is_empty() {
-            return;
-        }
-        let max_side = self.gpu.caps.max_texture_dimension_2d;
-        if let Err(err) = self.images.start_load(paths, max_side, ctx.clone()) {
-            self.notify(
-                Level::Error,
-                format!("cannot decode images: no thread ({err})"),
-            );
-        }
+        self.open_set(ctx, SetKind::Images, paths);
     }
 
     /// Opens up to four image sequences of one frame size as panes (File > Open sequences,
@@ -41,11 +22,17 @@ impl Context {
     /// replace what is shown when they have; otherwise a notice says why (naming the sequence
     /// at fault), and what was shown stays.
     pub(in crate::app) fn open_sequences(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
+        self.open_set(ctx, SetKind::Sequences, paths);
+    }
+
+    /// Opens `paths` as a set of `kind`, at most [`MAX_IMAGES`] of them.
+    fn open_set(&mut self, ctx: &egui::Context, kind: SetKind, paths: Vec<PathBuf>) {
+        let noun = kind.noun();
         if paths.len() > MAX_IMAGES {
             self.notify(
                 Level::Error,
                 format!(
-                    "{} sequences chosen; aa-lab compares at most {MAX_IMAGES}: nothing was opened",
+                    "{} {noun} chosen; aa-lab compares at most {MAX_IMAGES}: nothing was opened",
                     paths.len()
                 ),
             );
@@ -55,13 +42,10 @@ impl Context {
             return;
         }
         let max_side = self.gpu.caps.max_texture_dimension_2d;
-        if let Err(err) = self
-            .images
-            .start_sequence_load(paths, max_side, ctx.clone())
-        {
+        if let Err(err) = self.images.start_load(kind, paths, max_side, ctx.clone()) {
             self.notify(
                 Level::Error,
-                format!("cannot open sequences: no thread ({err})"),
+                format!("cannot open {noun}: no thread ({err})"),
             );
         }
     }
