@@ -322,3 +322,54 @@ impl SequenceSet {
         news
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write_frames(dir: &Path, name: &str, size: (u32, u32), frames: u32) -> PathBuf {
+        let folder = dir.join(name);
+        std::fs::create_dir_all(&folder).unwrap();
+        for index in 0..frames {
+            image::RgbaImage::from_pixel(size.0, size.1, image::Rgba([index as u8, 0, 0, 255]))
+                .save(folder.join(format!("f{index:03}.png")))
+                .unwrap();
+        }
+        folder
+    }
+
+    #[test]
+    fn sequences_of_one_size_open_with_a_small_cache_and_others_are_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = write_frames(dir.path(), "a", (8, 6), 5);
+        let b = write_frames(dir.path(), "b", (8, 6), 3);
+        let opened = open_all(&[a.clone(), b]).unwrap();
+        assert_eq!(opened.len(), 2);
+        assert_eq!(opened[0].len(), 5);
+        // The cache keeps CACHE_FRAMES frames: reading them all decodes each once, and the
+        // oldest is decoded again after one more.
+        for index in 0..=CACHE_FRAMES {
+            opened[0].frame(index).unwrap();
+        }
+        opened[0].frame(1).unwrap();
+        assert_eq!(opened[0].decoded_frames(), CACHE_FRAMES as u64 + 1);
+        opened[0].frame(0).unwrap();
+        assert_eq!(opened[0].decoded_frames(), CACHE_FRAMES as u64 + 2);
+
+        let other = write_frames(dir.path(), "other", (8, 5), 5);
+        let err = open_all(&[a, other]).err().unwrap();
+        assert!(
+            err.contains("other has frames of 8x5") && err.contains("a has 8x6"),
+            "{err}"
+        );
+        assert!(open_all(&[]).is_err());
+        let empty = dir.path().join("empty");
+        std::fs::create_dir_all(&empty).unwrap();
+        assert!(
+            open_all(&[empty])
+                .err()
+                .unwrap()
+                .contains("holds no frames")
+        );
+    }
+}
