@@ -75,10 +75,30 @@ fn shown(app: &AaLabApp, id: &str) -> Arc<image::RgbaImage> {
     app.output_pixels(id).expect("a frame on screen")
 }
 
+/// The temporal figures the viewer shows after playing `played` in a row are the metrics
+/// library's over those frames.
+fn check_temporal_figures(app: &AaLabApp, played: std::ops::Range<u32>) {
+    let mut library = aa_lab::metrics::stability::ClipMetrics::new(1);
+    for moment in played.clone() {
+        library
+            .push(
+                &frame(moment, REFERENCE_TINT, SIZE),
+                &[&frame(moment, TAA_TINT, SIZE)],
+            )
+            .expect("comparable");
+    }
+    let (frames, scores) = app.sequence_temporal().expect("temporal figures");
+    assert_eq!(frames, played.len());
+    assert_eq!(scores, library.scores());
+    let instability = scores[0].temporal_instability.expect("the reference moved");
+    assert!(instability.is_finite() && instability > 0.0, "{scores:?}");
+}
+
 /// Two sequences opened as File > Open sequences opens them show their first frames in two
 /// panes (the one named ref is the reference); +1 shows the next frame in both, labelled with
 /// its frame number; the quality figures measure the frame on screen against the reference's
-/// same frame; playing moves both panes together through every frame; folders dropped on the
+/// same frame; playing moves both panes together through every frame, and the temporal
+/// figures of the frames played in a row are the metrics library's; folders dropped on the
 /// window open as sequences too.
 #[test]
 fn two_sequences_play_in_lockstep() {
@@ -161,6 +181,9 @@ fn two_sequences_play_in_lockstep() {
                 "no frame is skipped"
             );
             seen.push(instant);
+            if instant == FRAMES as usize - 1 {
+                check_temporal_figures(app, 1..FRAMES);
+            }
         }
     }
     harness.get_by_label("Pause clip").click();

@@ -330,6 +330,15 @@ impl AaLabApp {
             .map_or_else(Vec::new, |s| s.shown_numbers())
     }
 
+    /// The temporal figures of the open sequence set's frames played in a row up to the one
+    /// shown: how many, and per sequence but the reference, in pane order.
+    pub fn sequence_temporal(
+        &self,
+    ) -> Option<(usize, Vec<crate::metrics::stability::TemporalScores>)> {
+        let run = self.ws.cx.images.open()?.sequences()?.played()?;
+        Some((run.frames, run.scores.clone()))
+    }
+
     /// Shows sequence `index` of the open set from its frame `offset` on.
     pub fn set_sequence_offset(&mut self, index: usize, offset: usize) {
         if let Some(sequences) = self.ws.cx.images.sequences_mut() {

@@ -239,6 +239,62 @@ pub(super) fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
     for note in notes {
         ui.label(RichText::new(note).small().color(style::ERROR));
     }
+    played_section(ui, &ws.cx, &names, reference);
+}
+
+/// The temporal figures of the sequences' frames played in a row (sequence sets only).
+fn played_section(ui: &mut egui::Ui, cx: &Context, names: &[String], reference: usize) {
+    let Some(run) = cx
+        .images
+        .open()
+        .and_then(|set| set.sequences())
+        .and_then(|s| s.played())
+        .filter(|run| run.reference == reference && run.frames >= 2)
+    else {
+        return;
+    };
+    ui.add_space(6.0);
+    ui.label(
+        RichText::new(format!(
+            "Over the last {} frames played in a row",
+            run.frames
+        ))
+        .small()
+        .weak(),
+    )
+    .on_hover_text("Measured as the frames are read while playing or stepping forward; a jump, the end of the sequences, another offset or reference starts again.");
+    style::figures_table(
+        ui,
+        "sequence temporal table",
+        &[
+            ("sequence", None),
+            ("instability", None),
+            ("ghosting", None),
+        ],
+        |ui| {
+            let others = (0..names.len()).filter(|pane| *pane != reference);
+            for (pane, scores) in others.zip(&run.scores) {
+                ui.horizontal(|ui| {
+                    ui.label(style::badge(SLOT_LETTERS[pane], SLOT_COLORS[pane]));
+                    ui.label(&names[pane]);
+                });
+                let figure = |value: Option<f64>| {
+                    value.map_or_else(|| "–".to_owned(), |v| format!("{v:.3}"))
+                };
+                number(
+                    ui,
+                    figure(scores.temporal_instability),
+                    "Mean luma change per frame over the reference's: 1 = it changes as much as the reference; above 1 it shimmers, below 1 it is steadier (usually blurrier).",
+                );
+                number(
+                    ui,
+                    figure(scores.ghosting),
+                    "Mean absolute luma error against the reference on the pixels that moved, 0..255: lag and trails.",
+                );
+                ui.end_row();
+            }
+        },
+    );
 }
 
 /// A figure's tooltip: what it measures, against the reference image.

@@ -476,7 +476,9 @@ impl ImageSetState {
     /// playhead become the set's images, under a new view. The error of a frame that could
     /// not be read (playback stopped, the frames shown stay).
     pub fn tick_sequences(&mut self, ctx: &egui::Context) -> Option<String> {
-        let news = self.sequences_mut()?.tick(ctx)?;
+        let set = self.open.as_mut()?;
+        let reference = set.reference;
+        let news = set.sequences.as_mut()?.tick(ctx, reference)?;
         let frames = match news {
             FrameNews::Frames(frames) => frames,
             FrameNews::Failed(err) => return Some(err),

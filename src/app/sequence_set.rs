@@ -28,6 +28,12 @@
 //! on screen, so when reading is slower than the playback rate every frame is still shown,
 //! more slowly (the clip bar says at which rate), as a clip plays on a slow window.
 //!
+//! **Temporal figures.** The reader measures the frames it reads in a row (consecutive instants
+//! of every sequence, the same reference) with the clip's [`ClipMetrics`]: temporal
+//! instability and ghosting of every pane against the reference over the run so far, handed
+//! back with the frames ([`PlayedRun`]). It costs one luma plane per pane and frame on the
+//! reader's thread; a jump, a wrap, another offset or reference starts a new run.
+//!
 //! **Offsets.** Sequence `k` with offset `o_k` shows its frame `t + o_k` at instant `t`, so
 //! captures that start on different frames line up; the set plays `min_k(len_k - o_k)`
 //! instants. A frame that cannot be read (another size, a corrupt file) stops playback with a
@@ -41,6 +47,7 @@ use super::blit::Uploader;
 use super::engine::ClipPlayer;
 use super::render_thread::RenderedImage;
 use super::worker::{Reporter, Worker};
+use crate::metrics::stability::{ClipMetrics, TemporalScores};
 use crate::sequence::Sequence;
 
 /// Decoded frames each sequence of the viewer keeps (the shown one and the ones read ahead).
@@ -53,15 +60,78 @@ const READ_AHEAD: usize = CACHE_FRAMES - 1;
 /// clip's rule.
 const REPAINT_EVERY_FRAME_FPS: f64 = 30.0;
 
-/// The frames of one instant to read, and the frames to read ahead after them.
+/// The frames of one instant to read, the frames to read ahead after them, and the pane of
+/// the reference (the temporal figures are measured against it).
 struct FrameJob {
     instant: usize,
     frames: Vec<(Arc<Sequence>, usize)>,
     ahead: Vec<(Arc<Sequence>, usize)>,
+    reference: usize,
 }
 
-/// The frames of an instant on eframe's device, or why one could not be read.
-type FrameAnswer = (usize, Result<Vec<RenderedImage>, String>);
+/// The frames of an instant on eframe's device with the temporal figures of the run they
+/// end, or why one could not be read.
+type FrameAnswer = (usize, Result<(Vec<RenderedImage>, PlayedRun), String>);
+
+/// The temporal figures of the frames played in a row: every pane but the reference's, in
+/// pane order, over `frames` consecutive instants.
+#[derive(Clone, Debug)]
+pub struct PlayedRun {
+    /// Instants in the run (the figures need at least two).
+    pub frames: usize,
+    /// The reference's pane.
+    pub reference: usize,
+    /// Per pane but the reference's, in order.
+    pub scores: Vec<TemporalScores>,
+}
+
+/// The figures of the run of consecutive instants the reader has read: what identifies the
+/// run (its last instant, the frames it read, the reference) and the clip figures so far.
+#[derive(Default)]
+struct RunMetrics {
+    last: Option<(usize, Vec<usize>, usize)>,
+    frames: usize,
+    metrics: ClipMetrics,
+}
+
+impl RunMetrics {
+    /// Adds the frames of `job` (their pixels `images`): to the run when they follow its last
+    /// instant in every sequence, else as the first of a new run.
+    fn push(&mut self, job: &FrameJob, images: &[RenderedImage]) -> Result<PlayedRun, String> {
+        let indices: Vec<usize> = job.frames.iter().map(|(_, index)| *index).collect();
+        let follows = self
+            .last
+            .as_ref()
+            .is_some_and(|(last, previous, reference)| {
+                *reference == job.reference
+                    && job.instant == last + 1
+                    && previous.iter().zip(&indices).all(|(p, i)| p + 1 == *i)
+            });
+        if !follows {
+            self.metrics = ClipMetrics::new(images.len().saturating_sub(1));
+            self.frames = 0;
+        }
+        let reference = images
+            .get(job.reference)
+            .ok_or("the reference has no frame")?;
+        let others: Vec<&image::RgbaImage> = images
+            .iter()
+            .enumerate()
+            .filter(|(pane, _)| *pane != job.reference)
+            .map(|(_, image)| &image.pixels)
+            .collect();
+        self.metrics
+            .push(&reference.pixels, &others)
+            .map_err(|e| e.to_string())?;
+        self.frames += 1;
+        self.last = Some((job.instant, indices, job.reference));
+        Ok(PlayedRun {
+            frames: self.frames,
+            reference: job.reference,
+            scores: self.metrics.scores(),
+        })
+    }
+}
 
 /// What the frame reader produced since the last poll.
 pub enum FrameNews {
@@ -136,6 +206,8 @@ pub struct SequenceSet {
     shown: Option<usize>,
     /// The instant being read.
     asked: Option<usize>,
+    /// The temporal figures of the frames played in a row up to the one shown.
+    played: Option<PlayedRun>,
     reader: Worker<FrameJob, FrameAnswer>,
 }
 
@@ -147,11 +219,19 @@ impl SequenceSet {
         uploader: Uploader,
         ctx: &egui::Context,
     ) -> std::io::Result<Self> {
+        let mut run = RunMetrics::default();
         let reader = Worker::spawn(
             "aa-lab sequence reader",
             ctx,
             move |job: FrameJob, reporter: &Reporter<FrameAnswer>| {
-                reporter.send((job.instant, read_frames(&job.frames, &uploader)));
+                let read = read_frames(&job.frames, &uploader).and_then(|images| {
+                    let played = run.push(&job, &images)?;
+                    Ok((images, played))
+                });
+                if read.is_err() {
+                    run = RunMetrics::default();
+                }
+                reporter.send((job.instant, read));
                 for (sequence, index) in job.ahead {
                     // Into the cache; an error shows when the frame is asked for.
                     let _ = sequence.frame(index);
@@ -167,6 +247,7 @@ impl SequenceSet {
             player,
             shown: Some(0),
             asked: None,
+            played: None,
             reader,
         })
     }
@@ -247,6 +328,12 @@ impl SequenceSet {
             .path(instant + self.offset(index))
     }
 
+    /// The temporal figures of the consecutive frames read up to the one shown (reset by a
+    /// jump, a wrap, another offset or reference).
+    pub fn played(&self) -> Option<&PlayedRun> {
+        self.played.as_ref()
+    }
+
     /// Whether it plays.
     pub fn playing(&self) -> bool {
         self.player.playing && self.len() > 1
@@ -270,16 +357,19 @@ impl SequenceSet {
     /// Takes what the reader finished, advances the player once the frame it asked for is on
     /// screen, asks for the next frame when the player moved on, and schedules the next UI
     /// frame while it plays.
-    pub fn tick(&mut self, ctx: &egui::Context) -> Option<FrameNews> {
+    /// `reference` is the reference's pane.
+    pub fn tick(&mut self, ctx: &egui::Context, reference: usize) -> Option<FrameNews> {
         let mut news = None;
         for (instant, answer) in self.reader.poll() {
             self.asked = None;
             news = Some(match answer {
-                Ok(images) => {
+                Ok((images, played)) => {
                     self.shown = Some(instant);
+                    self.played = Some(played);
                     FrameNews::Frames(images)
                 }
                 Err(err) => {
+                    self.played = None;
                     self.player.playing = false;
                     // Stay on the frame shown rather than ask for the bad one again.
                     self.player.seek(self.shown.unwrap_or(instant));
@@ -306,6 +396,7 @@ impl SequenceSet {
             let job = FrameJob {
                 instant: wanted,
                 frames: here,
+                reference,
                 ahead: self.frames_after(wanted, READ_AHEAD),
             };
             if self.reader.submit(job) {
