@@ -63,6 +63,8 @@ const REPAINT_EVERY_FRAME_FPS: f64 = 30.0;
 /// The frames of one instant to read, the frames to read ahead after them, and the pane of
 /// the reference (the temporal figures are measured against it).
 struct FrameJob {
+    /// The arrangement it was asked for (see [`SequenceSet::arrangement`]).
+    arrangement: u64,
     instant: usize,
     frames: Vec<(Arc<Sequence>, usize)>,
     ahead: Vec<(Arc<Sequence>, usize)>,
@@ -71,7 +73,7 @@ struct FrameJob {
 
 /// The frames of an instant on eframe's device with the temporal figures of the run they
 /// end, or why one could not be read.
-type FrameAnswer = (usize, Result<(Vec<RenderedImage>, PlayedRun), String>);
+type FrameAnswer = (u64, usize, Result<(Vec<RenderedImage>, PlayedRun), String>);
 
 /// The temporal figures of the frames played in a row: every pane but the reference's, in
 /// pane order, over `frames` consecutive instants.
@@ -204,6 +206,9 @@ pub struct SequenceSet {
     pub player: ClipPlayer,
     /// The instant shown (`None` when the frames shown are no longer those of the offsets).
     shown: Option<usize>,
+    /// Counts changes of which frames the panes show at an instant (offsets, order): an
+    /// answer read for an earlier arrangement is dropped.
+    arrangement: u64,
     /// The instant being read.
     asked: Option<usize>,
     /// The temporal figures of the frames played in a row up to the one shown.
@@ -231,7 +236,7 @@ impl SequenceSet {
                 if read.is_err() {
                     run = RunMetrics::default();
                 }
-                reporter.send((job.instant, read));
+                reporter.send((job.arrangement, job.instant, read));
                 for (sequence, index) in job.ahead {
                     // Into the cache; an error shows when the frame is asked for.
                     let _ = sequence.frame(index);
@@ -246,6 +251,7 @@ impl SequenceSet {
             offsets,
             player,
             shown: Some(0),
+            arrangement: 0,
             asked: None,
             played: None,
             reader,
@@ -277,7 +283,7 @@ impl SequenceSet {
             && *slot != offset
         {
             *slot = offset;
-            self.shown = None;
+            self.rearranged();
         }
     }
 
@@ -287,7 +293,15 @@ impl SequenceSet {
         if self.sequences.len() >= 2 {
             self.sequences.swap(0, 1);
             self.offsets.swap(0, 1);
+            self.rearranged();
         }
+    }
+
+    /// The panes show other frames at an instant: what is shown is read again, what is being
+    /// read is dropped when it comes.
+    fn rearranged(&mut self) {
+        self.shown = None;
+        self.arrangement += 1;
     }
 
     /// Instants the set plays: the frames every sequence has after its offset.
@@ -360,8 +374,11 @@ impl SequenceSet {
     /// `reference` is the reference's pane.
     pub fn tick(&mut self, ctx: &egui::Context, reference: usize) -> Option<FrameNews> {
         let mut news = None;
-        for (instant, answer) in self.reader.poll() {
+        for (arrangement, instant, answer) in self.reader.poll() {
             self.asked = None;
+            if arrangement != self.arrangement {
+                continue;
+            }
             news = Some(match answer {
                 Ok((images, played)) => {
                     self.shown = Some(instant);
@@ -394,6 +411,7 @@ impl SequenceSet {
                 .map(|(s, o)| (Arc::clone(s), wanted + o))
                 .collect();
             let job = FrameJob {
+                arrangement: self.arrangement,
                 instant: wanted,
                 frames: here,
                 reference,
