@@ -23,7 +23,7 @@ use egui_kittest::kittest::Queryable;
 use egui_kittest::{Harness, SnapshotOptions};
 use viewer::{
     TIMEOUT, WINDOW, add_user_technique_instead_of_fxaa, blind_answers, click_with, drag,
-    launch_in, pan_clip_with_reference, settled, viewer, viewer_with, wait,
+    drop_on_window, launch_in, pan_clip_with_reference, settled, viewer, viewer_with, wait,
 };
 
 /// The lens rectangle on screen, from the magnifier settings and the drawn image.
@@ -659,28 +659,11 @@ fn name(path: &Path) -> String {
         .unwrap_or_default()
 }
 
-#[derive(Debug)]
-struct Dropped(PathBuf);
-
-impl egui::DroppedFile for Dropped {
-    fn path(&self) -> &Path {
-        &self.0
-    }
-
-    fn bytes(&self) -> Result<Vec<u8>, String> {
-        std::fs::read(&self.0).map_err(|e| e.to_string())
-    }
-}
-
 #[test]
 fn a_malformed_obj_is_reported_and_the_scene_stays() {
     let mut harness = viewer("chart");
     let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/obj/bad_index.obj");
-    harness
-        .input_mut()
-        .dropped_files
-        .push(Arc::new(Dropped(bad)));
-    harness.step();
+    drop_on_window(&mut harness, [bad]);
     wait(&mut harness, "the load to fail", |app| !app.loading());
     let app = harness.state();
     assert_eq!(app.scene_name(), Some("chart"));
@@ -1006,21 +989,11 @@ fn images_open_as_panes_and_are_measured_against_the_chosen_reference() {
         harness.state().compared(),
         ["none", "fxaa", "smaa", "msaa4"]
     );
-    for path in [a, c] {
-        harness
-            .input_mut()
-            .dropped_files
-            .push(Arc::new(Dropped(path)));
-    }
-    harness.step();
+    drop_on_window(&mut harness, [a, c]);
     wait(&mut harness, "the dropped images", AaLabApp::image_set_open);
     assert_eq!(harness.state().compared(), ["image-1", "image-2"]);
     let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/obj/cube.obj");
-    harness
-        .input_mut()
-        .dropped_files
-        .push(Arc::new(Dropped(cube)));
-    harness.step();
+    drop_on_window(&mut harness, [cube]);
     wait(&mut harness, "the model", |app| {
         !app.image_set_open() && app.scene_name() == Some("cube")
     });

@@ -44,6 +44,8 @@ pub struct LaunchOptions {
     pub display: DisplayPath,
     /// Images to compare instead of the scene (File > Open images).
     pub images: Vec<PathBuf>,
+    /// Sequences to play instead of the scene (File > Open sequences).
+    pub sequences: Vec<PathBuf>,
 }
 
 /// Errors of creating the app.
@@ -138,6 +140,9 @@ impl AaLabApp {
         ws.cx.load_scene(&cc.egui_ctx, &scene);
         if !options.images.is_empty() {
             ws.cx.open_images(&cc.egui_ctx, options.images);
+        }
+        if !options.sequences.is_empty() {
+            ws.cx.open_sequences(&cc.egui_ctx, options.sequences);
         }
         Ok(Self {
             ws,
@@ -299,6 +304,46 @@ impl AaLabApp {
     /// Opens up to four images of one size as panes (see `Context::open_images`).
     pub fn open_images(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
         self.ws.cx.open_images(ctx, paths);
+    }
+
+    /// Opens up to four image sequences of one frame size as panes (see
+    /// `Context::open_sequences`).
+    pub fn open_sequences(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
+        self.ws.cx.open_sequences(ctx, paths);
+    }
+
+    /// The open sequence set's instant on screen and its number of instants (`None` without
+    /// one, or while the frames of new offsets are read).
+    pub fn sequence_position(&self) -> Option<(usize, usize)> {
+        let sequences = self.ws.cx.images.open()?.sequences()?;
+        Some((sequences.shown()?, sequences.len()))
+    }
+
+    /// The frame number (from the file name) each sequence of the open set shows, in pane
+    /// order.
+    pub fn sequence_frame_numbers(&self) -> Vec<Option<u64>> {
+        self.ws
+            .cx
+            .images
+            .open()
+            .and_then(|set| set.sequences())
+            .map_or_else(Vec::new, |s| s.shown_numbers())
+    }
+
+    /// The temporal figures of the open sequence set's frames played in a row up to the one
+    /// shown: how many, and per sequence but the reference, in pane order.
+    pub fn sequence_temporal(
+        &self,
+    ) -> Option<(usize, Vec<crate::metrics::stability::TemporalScores>)> {
+        let run = self.ws.cx.images.open()?.sequences()?.played()?;
+        Some((run.frames, run.scores.clone()))
+    }
+
+    /// Shows sequence `index` of the open set from its frame `offset` on.
+    pub fn set_sequence_offset(&mut self, index: usize, offset: usize) {
+        if let Some(sequences) = self.ws.cx.images.sequences_mut() {
+            sequences.set_offset(index, offset);
+        }
     }
 
     /// Closes the image set: the scene shows again.
@@ -610,8 +655,8 @@ impl eframe::App for AaLabApp {
         panels::toolbar(ui, &mut self.ws, &mut self.help_open);
         let hover = self.viewport.hover_pixel().or(self.magnifier.hover());
         panels::status_bar(ui, &self.ws, hover);
-        // Clips record the scene; images have none.
-        if !self.ws.cx.images.is_open() {
+        // Clips record the scene; images have none, sequences play in the clip bar.
+        if !self.ws.cx.images.is_open() || self.ws.cx.images.has_sequences() {
             clip_bar::panel(ui, &mut self.ws.cx);
         }
         // A blind comparison's panel replaces those that name the techniques.

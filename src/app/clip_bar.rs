@@ -1,12 +1,14 @@
 //! The clip bar above the status bar (record, play, scrub, export) and what its buttons ask
 //! of the context (`context/clip.rs` records the compared techniques along the chosen camera
 //! path within the memory cap, shows the clip or the live view, ticks playback) or, for an
-//! export, of the workspace (a `Command`).
+//! export, of the workspace (a `Command`). While a sequence set is open (`sequence_set.rs`)
+//! the bar is its transport: the same playback controls on the sequences' player.
 
 use egui::RichText;
 
 use super::context::{Command, Context};
 use super::engine::{Clip, ClipPath, ClipPlayer, ClipSettings, ClipStatus, MAX_FRAMES, PlayRate};
+use super::sequence_set::{CACHE_FRAMES, SequenceSet};
 use super::style;
 
 /// What the clip bar asks the app to do.
@@ -208,8 +210,43 @@ pub(super) fn mib(bytes: u64) -> String {
     format!("{:.0} MiB", bytes as f64 / (1024.0 * 1024.0))
 }
 
-/// The clip bar (a bottom panel above the status bar) and what its buttons ask for.
+/// The bar's frame: a bottom panel above the status bar.
+fn bar(ui: &egui::Ui) -> egui::Panel {
+    egui::Panel::bottom("clip bar")
+        .frame(egui::Frame::side_top_panel(ui.style()).inner_margin(egui::Margin::symmetric(8, 4)))
+}
+
+/// The transport of an open sequence set: its playback controls and what it holds.
+fn sequence_bar(ui: &mut egui::Ui, sequences: &mut SequenceSet) {
+    bar(ui).show(ui, |ui| {
+        ui.horizontal_wrapped(|ui| {
+            ui.label(RichText::new("Sequences").strong());
+            let count = sequences.len();
+            if !sequences.is_empty() {
+                playback_controls(ui, &mut sequences.player, count);
+            }
+            let Some(first) = sequences.sequences().first() else {
+                return;
+            };
+            let (w, h) = first.size();
+            let cache = (CACHE_FRAMES * sequences.sequences().len()) as u64 * u64::from(w) * u64::from(h) * 4;
+            ui.label(
+                RichText::new(format!("{count} frames · {w}x{h} · frames read as they play, at most {} decoded", mib(cache)))
+                    .small()
+                    .color(ui.visuals().weak_text_color()),
+            )
+            .on_hover_text("Each sequence keeps its last few decoded frames; the others stay on disk until the playhead reaches them");
+        });
+    });
+}
+
+/// The clip bar (a bottom panel above the status bar) and what its buttons ask for; the
+/// sequences' transport while a sequence set is open.
 pub(in crate::app) fn panel(ui: &mut egui::Ui, cx: &mut Context) {
+    if let Some(sequences) = cx.images.sequences_mut() {
+        sequence_bar(ui, sequences);
+        return;
+    }
     let images = cx.compared().len() + usize::from(cx.settings.clip.reference);
     let estimate = cx.settings.clip.bytes(images, cx.render_size);
     let Some(engine) = &mut cx.engine else {
@@ -217,8 +254,7 @@ pub(in crate::app) fn panel(ui: &mut egui::Ui, cx: &mut Context) {
     };
     let shown = engine.clip_shown();
     let settings = &mut cx.settings.clip;
-    let action = egui::Panel::bottom("clip bar")
-        .frame(egui::Frame::side_top_panel(ui.style()).inner_margin(egui::Margin::symmetric(8, 4)))
+    let action = bar(ui)
         .show(ui, |ui| {
             clip_bar(ui, settings, engine.clip_mut(), shown, Some(estimate))
         })

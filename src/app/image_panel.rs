@@ -1,6 +1,6 @@
 //! The panels of an open image set (image_set.rs): the left panel that replaces the
-//! techniques while images are shown (the files in pane order, the reference, the way back
-//! to the scene), the reference choice in the toolbar, and the quality table of the metrics
+//! techniques while images are shown (the files or sequences in pane order, each sequence's
+//! frame offset, the reference, the way back to the scene), the reference choice in the toolbar, and the quality table of the metrics
 //! panel (every image against the chosen reference): stateless functions of the context
 //! ([`ui`], [`strip`]) and of the workspace ([`quality_section`], which reads the figures).
 
@@ -54,12 +54,24 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
             return;
         };
         let (w, h) = set.size();
-        ui.label(format!("{} image(s), {w} × {h} pixels", set.images().len()));
+        match set.sequences() {
+            Some(sequences) => ui.label(format!(
+                "{} sequence(s) of {} frames, {w} × {h} pixels",
+                set.images().len(),
+                sequences.len()
+            )),
+            None => ui.label(format!("{} image(s), {w} × {h} pixels", set.images().len())),
+        };
         ui.add_space(4.0);
         let rows: Vec<(String, String)> = set
             .images()
             .iter()
-            .map(|i| (i.name.clone(), i.path.display().to_string()))
+            .enumerate()
+            .map(|(slot, i)| {
+                let shown = set.sequences().and_then(|s| s.shown_path(slot));
+                let path = shown.unwrap_or(&i.path).display().to_string();
+                (i.name.clone(), path)
+            })
             .collect();
         for (slot, (name, path)) in rows.iter().enumerate() {
             ui.horizontal(|ui| {
@@ -70,6 +82,7 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
                 )
                 .on_hover_text(path);
             });
+            offset_field(ui, cx, slot);
         }
         ui.add_space(6.0);
         ui.horizontal(|ui| {
@@ -88,7 +101,11 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
         );
         ui.add_space(6.0);
         ui.horizontal(|ui| {
-            if ui.button("Open other images…").clicked() {
+            if cx.images.has_sequences() {
+                if ui.button("Open other sequences…").clicked() {
+                    cx.open_sequences_dialog(&ctx);
+                }
+            } else if ui.button("Open other images…").clicked() {
                 cx.open_images_dialog(&ctx);
             }
             let back = match &cx.scene {
@@ -103,6 +120,25 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
                 cx.close_images();
             }
         });
+    });
+}
+
+/// The frame offset of sequence `slot` of an open sequence set (nothing for still images).
+fn offset_field(ui: &mut egui::Ui, cx: &mut Context, slot: usize) {
+    let Some(sequences) = cx.images.sequences_mut() else {
+        return;
+    };
+    let mut offset = sequences.offset(slot);
+    let max = sequences.max_offset(slot);
+    ui.horizontal(|ui| {
+        ui.add_space(24.0);
+        ui.label("offset");
+        let field = ui
+            .add(egui::DragValue::new(&mut offset).range(0..=max).suffix(" frames"))
+            .on_hover_text("Frames of this sequence skipped at its start, so that captures which begin on different frames line up: at every instant it shows its frame (instant + offset)");
+        if field.changed() {
+            sequences.set_offset(slot, offset);
+        }
     });
 }
 
@@ -203,6 +239,62 @@ pub(super) fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
     for note in notes {
         ui.label(RichText::new(note).small().color(style::ERROR));
     }
+    played_section(ui, &ws.cx, &names, reference);
+}
+
+/// The temporal figures of the sequences' frames played in a row (sequence sets only).
+fn played_section(ui: &mut egui::Ui, cx: &Context, names: &[String], reference: usize) {
+    let Some(run) = cx
+        .images
+        .open()
+        .and_then(|set| set.sequences())
+        .and_then(|s| s.played())
+        .filter(|run| run.reference == reference && run.frames >= 2)
+    else {
+        return;
+    };
+    ui.add_space(6.0);
+    ui.label(
+        RichText::new(format!(
+            "Over the last {} frames played in a row",
+            run.frames
+        ))
+        .small()
+        .weak(),
+    )
+    .on_hover_text("Measured as the frames are read while playing or stepping forward; a jump, the end of the sequences, another offset or reference starts again.");
+    style::figures_table(
+        ui,
+        "sequence temporal table",
+        &[
+            ("sequence", None),
+            ("instability", None),
+            ("ghosting", None),
+        ],
+        |ui| {
+            let others = (0..names.len()).filter(|pane| *pane != reference);
+            for (pane, scores) in others.zip(&run.scores) {
+                ui.horizontal(|ui| {
+                    ui.label(style::badge(SLOT_LETTERS[pane], SLOT_COLORS[pane]));
+                    ui.label(&names[pane]);
+                });
+                let figure = |value: Option<f64>| {
+                    value.map_or_else(|| "–".to_owned(), |v| format!("{v:.3}"))
+                };
+                number(
+                    ui,
+                    figure(scores.temporal_instability),
+                    "Mean luma change per frame over the reference's: 1 = it changes as much as the reference; above 1 it shimmers, below 1 it is steadier (usually blurrier).",
+                );
+                number(
+                    ui,
+                    figure(scores.ghosting),
+                    "Mean absolute luma error against the reference on the pixels that moved, 0..255: lag and trails.",
+                );
+                ui.end_row();
+            }
+        },
+    );
 }
 
 /// A figure's tooltip: what it measures, against the reference image.

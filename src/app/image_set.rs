@@ -15,6 +15,12 @@
 //!   thread; a set that fails any check is refused whole with a message, and whatever was
 //!   shown stays.
 //!
+//! - The [`SequenceSet`] of a set opened from image sequences (File > Open sequences,
+//!   folders dropped on the window; `sequence_set.rs`): the set's images are then the frames
+//!   of the playhead, replaced and stamped with a new view whenever the playhead moves
+//!   ([`ImageSetState::tick_sequences`]), so everything that works on images works on every
+//!   frame.
+//!
 //! Opening, closing and choosing the reference are the context's commands
 //! (`context/images.rs`); the lookups every feature uses to find an image by id, the open set's
 //! when there is one and the engine's otherwise, are the context's too (`context/shown.rs`).
@@ -29,6 +35,7 @@ use std::sync::mpsc;
 use super::blit::Uploader;
 use super::engine::{ImageStamp, Published};
 use super::render_thread::RenderedImage;
+use super::sequence_set::{self, FrameNews, SequenceSet};
 use crate::aa::ssaa::Progress;
 
 /// The ids of the images of a set, in file order.
@@ -73,6 +80,25 @@ pub fn default_reference(names: &[&str]) -> usize {
                 .any(|word| word == "reference" || word == "ref")
         })
         .unwrap_or(0)
+}
+
+/// What a set is opened from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SetKind {
+    /// Still image files.
+    Images,
+    /// Image sequences (folders or globs of numbered frames).
+    Sequences,
+}
+
+impl SetKind {
+    /// `images` or `sequences`, for messages.
+    pub fn noun(self) -> &'static str {
+        match self {
+            SetKind::Images => "images",
+            SetKind::Sequences => "sequences",
+        }
+    }
 }
 
 /// One decoded file.
@@ -187,6 +213,8 @@ pub struct ImageSet {
     images: Vec<SetImage>,
     reference: usize,
     view: u64,
+    /// The sequences whose frames the images are (`None`: still images).
+    sequences: Option<SequenceSet>,
 }
 
 impl ImageSet {
@@ -230,6 +258,11 @@ impl ImageSet {
         self.images[0].published.size()
     }
 
+    /// The sequences whose frames are shown, when the set was opened from sequences.
+    pub fn sequences(&self) -> Option<&SequenceSet> {
+        self.sequences.as_ref()
+    }
+
     /// Stamps every image with a new view: the figures of the old one no longer apply.
     fn restamp(&mut self, view: u64) {
         self.view = view;
@@ -239,8 +272,13 @@ impl ImageSet {
     }
 }
 
-/// A loaded set: each file with its pixels on eframe's device, and the notes.
-type Uploaded = (Vec<(PathBuf, RenderedImage)>, Vec<String>);
+/// A loaded set: each file (or sequence) with its pixels on eframe's device, the notes, and
+/// the sequences when it is a sequence set.
+struct Uploaded {
+    images: Vec<(PathBuf, RenderedImage)>,
+    notes: Vec<String>,
+    sequences: Option<SequenceSet>,
+}
 
 /// A load in progress: the files asked for and the answer to come.
 type Pending = (Vec<PathBuf>, mpsc::Receiver<Result<Uploaded, String>>);
@@ -304,11 +342,13 @@ impl ImageSetState {
         std::mem::take(&mut self.leave_for_scene)
     }
 
-    /// Starts decoding `paths` (at most [`MAX_IMAGES`], sides at most `max_side`) on a thread
-    /// of its own, which uploads them with the set's uploader and wakes `wake` when done; a
-    /// newer request supersedes one still decoding.
+    /// Starts loading `paths` as a set of `kind` (at most [`MAX_IMAGES`], sides at most
+    /// `max_side`) on a thread of its own: still images are decoded, sequences opened and
+    /// their first frames read; the thread uploads them with the set's uploader and wakes
+    /// `wake` when done. A newer request supersedes one still loading.
     pub fn start_load(
         &mut self,
+        kind: SetKind,
         paths: Vec<PathBuf>,
         max_side: u32,
         wake: egui::Context,
@@ -317,25 +357,13 @@ impl ImageSetState {
         let files = paths.clone();
         let uploader = self.uploader.clone();
         std::thread::Builder::new()
-            .name("aa-lab image decoder".to_owned())
+            .name(format!("aa-lab {} loader", kind.noun()))
             .spawn(move || {
-                let uploaded = decode(&files, max_side).map(|decoded| {
-                    let images = decoded
-                        .images
-                        .into_iter()
-                        .map(|image| {
-                            let texture = uploader.upload(&image.pixels);
-                            let rendered = RenderedImage {
-                                pixels: image.pixels,
-                                texture,
-                            };
-                            (image.path, rendered)
-                        })
-                        .collect();
-                    uploader.flush();
-                    (images, decoded.notes)
-                });
-                let _ = sender.send(uploaded);
+                let loaded = match kind {
+                    SetKind::Images => load_images(&files, max_side, &uploader),
+                    SetKind::Sequences => load_sequences(&files, max_side, uploader, &wake),
+                };
+                let _ = sender.send(loaded);
                 crate::app::repaint::request_one_frame(&wake);
             })?;
         self.pending = Some((paths, receiver));
@@ -346,7 +374,11 @@ impl ImageSetState {
     /// line saying what opened and the decoder's notes, or why the load failed (the set that
     /// was open stays). `None` while nothing has finished.
     pub fn finish_load(&mut self) -> Option<Result<(String, Vec<String>), String>> {
-        let (loaded, notes) = match self.poll()? {
+        let Uploaded {
+            images: loaded,
+            notes,
+            sequences,
+        } = match self.poll()? {
             Ok(uploaded) => uploaded,
             Err(err) => return Some(Err(err)),
         };
@@ -367,9 +399,12 @@ impl ImageSetState {
         let names: Vec<&str> = images.iter().map(|i| i.name.as_str()).collect();
         let reference = default_reference(&names);
         let (w, h) = images[0].published.size();
+        let what = match &sequences {
+            Some(set) => format!("{} sequence(s) of {} frames", names.len(), set.len()),
+            None => format!("{} image(s)", names.len()),
+        };
         let text = format!(
-            "Opened {} image(s) of {w}×{h}: {}; reference: {}",
-            names.len(),
+            "Opened {what} of {w}×{h}: {}; reference: {}",
             names.join(", "),
             names[reference]
         );
@@ -377,6 +412,7 @@ impl ImageSetState {
             images,
             reference,
             view,
+            sequences,
         });
         self.stay();
         Some(Ok((text, notes)))
@@ -406,6 +442,9 @@ impl ImageSetState {
             && set.images.len() >= 2
         {
             set.images.swap(0, 1);
+            if let Some(sequences) = &mut set.sequences {
+                sequences.swap_first_two();
+            }
             set.reference = match set.reference {
                 0 => 1,
                 1 => 0,
@@ -413,6 +452,50 @@ impl ImageSetState {
             };
             set.restamp(view);
         }
+    }
+
+    /// The sequences of the open set, to play and align.
+    pub fn sequences_mut(&mut self) -> Option<&mut SequenceSet> {
+        self.open.as_mut()?.sequences.as_mut()
+    }
+
+    /// Whether the open set is a sequence set.
+    pub fn has_sequences(&self) -> bool {
+        self.open.as_ref().and_then(ImageSet::sequences).is_some()
+    }
+
+    /// Whether the open set is a sequence set that plays.
+    pub fn sequences_playing(&self) -> bool {
+        self.open
+            .as_ref()
+            .and_then(ImageSet::sequences)
+            .is_some_and(SequenceSet::playing)
+    }
+
+    /// Advances the open sequence set (see [`SequenceSet::tick`]): the frames read for the
+    /// playhead become the set's images, under a new view. The error of a frame that could
+    /// not be read (playback stopped, the frames shown stay).
+    pub fn tick_sequences(&mut self, ctx: &egui::Context) -> Option<String> {
+        let set = self.open.as_mut()?;
+        let reference = set.reference;
+        let news = set.sequences.as_mut()?.tick(ctx, reference)?;
+        let frames = match news {
+            FrameNews::Frames(frames) => frames,
+            FrameNews::Failed(err) => return Some(err),
+        };
+        let view = self.next_serial();
+        let serials: Vec<u64> = frames.iter().map(|_| self.next_serial()).collect();
+        let set = self.open.as_mut()?;
+        set.view = view;
+        for ((image, frame), serial) in set.images.iter_mut().zip(frames).zip(serials) {
+            let stamp = ImageStamp {
+                view,
+                revision: 0,
+                serial,
+            };
+            image.published = Published::new(frame, stamp);
+        }
+        None
     }
 
     /// The finished load, if the decoder is done.
@@ -428,6 +511,61 @@ impl ImageSetState {
         self.pending = None;
         Some(answer)
     }
+}
+
+/// Decodes the images at `paths` and uploads them (see [`ImageSetState::start_load`]).
+fn load_images(paths: &[PathBuf], max_side: u32, uploader: &Uploader) -> Result<Uploaded, String> {
+    let decoded = decode(paths, max_side)?;
+    let images = decoded
+        .images
+        .into_iter()
+        .map(|image| {
+            let texture = uploader.upload(&image.pixels);
+            let rendered = RenderedImage {
+                pixels: image.pixels,
+                texture,
+            };
+            (image.path, rendered)
+        })
+        .collect();
+    uploader.flush();
+    Ok(Uploaded {
+        images,
+        notes: decoded.notes,
+        sequences: None,
+    })
+}
+
+/// Opens the sequences at `paths` and reads their first frames (see
+/// [`ImageSetState::start_load`]).
+fn load_sequences(
+    paths: &[PathBuf],
+    max_side: u32,
+    uploader: Uploader,
+    wake: &egui::Context,
+) -> Result<Uploaded, String> {
+    if paths.len() > MAX_IMAGES {
+        return Err(format!(
+            "{} sequences were given; aa-lab compares at most {MAX_IMAGES} at a time",
+            paths.len()
+        ));
+    }
+    let sequences = sequence_set::open_all(paths)?;
+    let (width, height) = sequences[0].size();
+    if width.max(height) > max_side {
+        return Err(format!(
+            "{} has frames of {width}x{height}; this adapter shows images up to {max_side} pixels a side",
+            sequences[0].source().display()
+        ));
+    }
+    let frames = sequence_set::first_frames(&sequences, &uploader)?;
+    let set = SequenceSet::new(sequences, uploader, wake)
+        .map_err(|e| format!("cannot read sequences: no thread ({e})"))?;
+    Ok(Uploaded {
+        images: paths.iter().cloned().zip(frames).collect(),
+        notes: Vec::new(),
+        sequences: Some(set),
+    })
 }
 
 #[cfg(test)]

@@ -7,7 +7,8 @@
 //!   hands the engine the next frame to render when it is free, then calls each panel's `ui`.
 //!   Its public methods are the test API (tests/ui.rs, benches/viewer.rs).
 //! - The context (context/) is what every feature shares: the settings, the engine, the scene
-//!   and camera, the open image set, the blind session (whose numbering every label follows),
+//!   and camera, the open image set (of still images, or of image sequences whose images are
+//!   the playhead's frames: sequence_set.rs), the blind session (whose numbering every label follows),
 //!   the lens size, the notices, the file dialog and the render size, with the commands and
 //!   queries on them (scene loading, dialogs, techniques, comparison, bookmarks, the lookups of
 //!   what the panes show, the image set, clips, the blind session).
@@ -70,6 +71,7 @@ mod repaint;
 mod scale_form;
 mod scene_loader;
 mod schedule;
+mod sequence_set;
 mod settings;
 mod shortcuts;
 mod stats;

@@ -65,6 +65,13 @@ fn file_menu(ui: &mut egui::Ui, ws: &mut Workspace, ctx: &egui::Context) {
         ws.cx.open_images_dialog(ctx);
     }
     if ui
+        .button("Open sequences…")
+        .on_hover_text("Play up to four image sequences of one size in lockstep (folders of numbered PNG, JPEG or OpenEXR frames captured from an engine) instead of the scene, one of them as the reference; dropping folders on the window does the same")
+        .clicked()
+    {
+        ws.cx.open_sequences_dialog(ctx);
+    }
+    if ui
         .button("Add technique from file…")
         .on_hover_text(USER_TECHNIQUE_HINT)
         .clicked()

@@ -402,12 +402,14 @@ impl QualityTracker {
         if !cx.settings.quality || self.failed {
             return;
         }
-        // A playing clip changes frames faster than figures can follow: they are measured
-        // for the frame it pauses on.
+        // A playing clip or sequence set changes frames faster than figures can follow: they
+        // are measured for the frame it pauses on.
         let clip_playing = |e: &super::engine::Engine| {
             e.clip().is_some_and(|c| c.player.playing) && e.clip_shown()
         };
-        if !cx.images.is_open() && cx.engine.as_ref().is_some_and(clip_playing) {
+        if cx.images.sequences_playing()
+            || (!cx.images.is_open() && cx.engine.as_ref().is_some_and(clip_playing))
+        {
             return;
         }
         let Some((reference, progress)) = cx.reference_for() else {

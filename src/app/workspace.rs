@@ -53,13 +53,14 @@ impl Workspace {
         self.run_commands(ctx);
     }
 
-    /// Advances what changes with time before the panels draw: the clip's player and its
-    /// JOD, the quality figures and the magnifier's heatmaps.
+    /// Advances what changes with time before the panels draw: the clip's or the sequences'
+    /// player, the clip's JOD, the quality figures and the magnifier's heatmaps.
     pub(super) fn update(&mut self, ctx: &egui::Context) {
         if let Some(engine) = &mut self.cx.engine {
             engine.set_overlay(self.cx.settings.ui_overlay);
         }
         self.cx.tick_clip(ctx);
+        self.cx.tick_sequences(ctx);
         self.jod.update(&mut self.cx, ctx);
         self.cx.clip_jod = self.jod.published(&self.cx);
         self.quality.update(&mut self.cx, ctx);

@@ -63,6 +63,11 @@ pub struct Cli {
     /// `reference` or `ref`, else the first, is the reference.
     #[arg(long, num_args = 1.., value_name = "IMAGE")]
     pub images: Vec<std::path::PathBuf>,
+    /// Viewer: play these image sequences in lockstep (up to four folders or globs of
+    /// numbered PNG/JPEG/OpenEXR frames of one size) instead of the scene; the first whose
+    /// name has the word `reference` or `ref`, else the first, is the reference.
+    #[arg(long, num_args = 1.., value_name = "SEQUENCE", conflicts_with = "images")]
+    pub sequences: Vec<std::path::PathBuf>,
 }
 
 /// The subcommands.
@@ -154,15 +159,21 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Info { json }) => info::info(json),
         Some(Command::Techniques { json, verbose }) => info::techniques(json, verbose),
-        None if !crate::app::display_available() && !cli.images.is_empty() => anyhow::bail!(
-            "--images opens the images in the viewer, and there is no display (neither DISPLAY \
-             nor WAYLAND_DISPLAY is set); `aa-lab compare` scores images headless"
-        ),
+        None if !crate::app::display_available()
+            && (!cli.images.is_empty() || !cli.sequences.is_empty()) =>
+        {
+            anyhow::bail!(
+                "--images and --sequences open the viewer, and there is no display (neither \
+                 DISPLAY nor WAYLAND_DISPLAY is set); `aa-lab compare` scores images and \
+                 sequences headless"
+            )
+        }
         None if !crate::app::display_available() => render_headless(cli.scene),
         None => Ok(crate::app::run(crate::app::LaunchOptions {
             scene: cli.scene,
             fresh_settings: cli.default_settings,
             images: cli.images,
+            sequences: cli.sequences,
             ..Default::default()
         })?),
     }

@@ -170,6 +170,34 @@ pub fn drag(harness: &mut Harness<'_, AaLabApp>, from: Pos2, to: Pos2) {
     harness.step();
 }
 
+/// A file or folder dropped on the window.
+#[derive(Debug)]
+struct Dropped(std::path::PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &std::path::Path {
+        &self.0
+    }
+
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+/// Drops `paths` (files or folders) on the window together and runs a frame.
+pub fn drop_on_window(
+    harness: &mut Harness<'_, AaLabApp>,
+    paths: impl IntoIterator<Item = std::path::PathBuf>,
+) {
+    for path in paths {
+        harness
+            .input_mut()
+            .dropped_files
+            .push(std::sync::Arc::new(Dropped(path)));
+    }
+    harness.step();
+}
+
 /// The answers file once it holds `trials` answers.
 pub fn blind_answers(harness: &mut Harness<'_, AaLabApp>, trials: usize) -> serde_json::Value {
     let path = harness

@@ -1,22 +1,38 @@
-//! The context's image-set commands (File > Open images, files dropped on the window): opening
-//! a set on the loader thread and showing it in place of the techniques once it has loaded,
-//! closing it, choosing its reference and swapping the first two images.
+//! The context's image-set commands (File > Open images, File > Open sequences, files and
+//! folders dropped on the window): opening a set of images or sequences on the loader thread
+//! and showing it in place of the techniques once it has loaded, playing a sequence set,
+//! closing it.
 
 use std::path::PathBuf;
 
-use super::{Command, Context, Level};
-use crate::app::image_set::{MAX_IMAGES, is_image_file};
+use super::{Command, Context, DialogPurpose, Level};
+use crate::app::image_set::{MAX_IMAGES, SetKind, is_image_file};
+use crate::sequence::is_sequence_path;
 
 impl Context {
     /// Opens up to four images of one size as panes (File > Open images, dropped images, and
     /// tests): they are decoded on a worker thread and replace what is shown when they all
     /// load; otherwise a notice says why, and what was shown stays.
     pub(in crate::app) fn open_images(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
+        self.open_set(ctx, SetKind::Images, paths);
+    }
+
+    /// Opens up to four image sequences of one frame size as panes (File > Open sequences,
+    /// dropped folders, and tests): their first frames are read on a worker thread and
+    /// replace what is shown when they have; otherwise a notice says why (naming the sequence
+    /// at fault), and what was shown stays.
+    pub(in crate::app) fn open_sequences(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
+        self.open_set(ctx, SetKind::Sequences, paths);
+    }
+
+    /// Opens `paths` as a set of `kind`, at most [`MAX_IMAGES`] of them.
+    fn open_set(&mut self, ctx: &egui::Context, kind: SetKind, paths: Vec<PathBuf>) {
+        let noun = kind.noun();
         if paths.len() > MAX_IMAGES {
             self.notify(
                 Level::Error,
                 format!(
-                    "{} images chosen; aa-lab compares at most {MAX_IMAGES}: nothing was opened",
+                    "{} {noun} chosen; aa-lab compares at most {MAX_IMAGES}: nothing was opened",
                     paths.len()
                 ),
             );
@@ -26,10 +42,29 @@ impl Context {
             return;
         }
         let max_side = self.gpu.caps.max_texture_dimension_2d;
-        if let Err(err) = self.images.start_load(paths, max_side, ctx.clone()) {
+        if let Err(err) = self.images.start_load(kind, paths, max_side, ctx.clone()) {
             self.notify(
                 Level::Error,
-                format!("cannot decode images: no thread ({err})"),
+                format!("cannot open {noun}: no thread ({err})"),
+            );
+        }
+    }
+
+    /// Asks the OS for up to four folders of numbered frames to open as sequences.
+    pub(in crate::app) fn open_sequences_dialog(&mut self, ctx: &egui::Context) {
+        self.ask_for_paths(ctx, DialogPurpose::OpenSequences, || {
+            rfd::FileDialog::new()
+                .set_title("Open up to four folders of numbered frames (PNG, JPEG, OpenEXR)")
+                .pick_folders()
+        });
+    }
+
+    /// Advances a shown sequence set's playback (called once per UI frame).
+    pub(in crate::app) fn tick_sequences(&mut self, ctx: &egui::Context) {
+        if let Some(err) = self.images.tick_sequences(ctx) {
+            self.notify(
+                Level::Error,
+                format!("{err}; playback stopped, the frames shown stay"),
             );
         }
     }
@@ -64,8 +99,21 @@ impl Context {
         }
     }
 
-    /// Opens dropped files: images as an image set, a model as the scene.
+    /// Opens dropped files: folders as sequences, images as an image set, a model as the
+    /// scene.
     pub(in crate::app) fn open_dropped(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
+        let folders = paths.iter().filter(|p| is_sequence_path(p)).count();
+        if folders == paths.len() {
+            self.open_sequences(ctx, paths);
+            return;
+        }
+        if folders > 0 {
+            self.notify(
+                Level::Error,
+                "Dropped folders and files together: drop up to four folders of frames (sequences), up to four images, or one model",
+            );
+            return;
+        }
         let scenes: Vec<&PathBuf> = paths
             .iter()
             .filter(|p| crate::scene::source::is_scene_file(p))

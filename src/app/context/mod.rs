@@ -14,7 +14,7 @@
 //! (notices, file dialogs and what their answers do, what is compared and how it is labelled,
 //! switching techniques, time, background work), and the files beside it the rest: scene
 //! loading, user techniques and bookmarks (`scene.rs`), the lookups of what the panes show
-//! (`shown.rs`), the image set (`images.rs`), clips (`clip.rs`) and the blind session
+//! (`shown.rs`), the image set and sequence set (`images.rs`), clips (`clip.rs`) and the blind session
 //! (`blind.rs`).
 
 use std::path::PathBuf;
@@ -65,6 +65,8 @@ pub(super) enum DialogPurpose {
     ExportFolder,
     /// Open the picked images as panes.
     OpenImages,
+    /// Open the picked folders as sequences.
+    OpenSequences,
     /// Add the picked WGSL file as a user technique.
     AddTechnique,
 }
@@ -258,13 +260,14 @@ impl Context {
         purpose: DialogPurpose,
         mut paths: Vec<PathBuf>,
     ) {
-        if let DialogPurpose::OpenImages = purpose {
-            self.open_images(ctx, paths);
-            return;
+        match purpose {
+            DialogPurpose::OpenImages => return self.open_images(ctx, paths),
+            DialogPurpose::OpenSequences => return self.open_sequences(ctx, paths),
+            _ => {}
         }
         let Some(path) = paths.pop() else { return };
         match purpose {
-            DialogPurpose::OpenImages => {}
+            DialogPurpose::OpenImages | DialogPurpose::OpenSequences => {}
             DialogPurpose::OpenModel => self.open_scene(ctx, &path.display().to_string()),
             DialogPurpose::ExportBookmarks(marks) => self.write_bookmarks(&path, &marks),
             DialogPurpose::ImportBookmarks(scene) => self.read_bookmarks(&path, &scene),
@@ -394,8 +397,13 @@ impl Context {
             .retain(|n| now.duration_since(n.at).as_secs_f64() < NOTICE_SECONDS);
     }
 
-    /// Play or pause: the shown clip's playback, else time (animation, temporal jitter).
+    /// Play or pause: the shown sequences' or clip's playback, else time (animation, temporal
+    /// jitter).
     pub(super) fn toggle_play(&mut self) {
+        if let Some(sequences) = self.images.sequences_mut() {
+            sequences.player.playing = !sequences.player.playing;
+            return;
+        }
         match self
             .engine
             .as_mut()

@@ -65,17 +65,23 @@ impl Context {
         }
     }
 
-    /// The label of an image of the open set: its file name, marked when it is the
-    /// reference.
+    /// The label of an image of the open set: its file name (a sequence's with the number of
+    /// the frame shown), marked when it is the reference.
     pub(in crate::app) fn image_label(&self, id: &str) -> Option<String> {
         let set = self.images.open()?;
         let index = ImageSet::index(id)?;
         let image = set.images().get(index)?;
-        Some(if self.is_reference_image(id) {
-            format!("{} · reference", image.name)
-        } else {
-            image.name.clone()
-        })
+        let mut label = image.name.clone();
+        if let Some(number) = set
+            .sequences()
+            .and_then(|s| s.shown_numbers().get(index).copied().flatten())
+        {
+            label = format!("{label} · frame {number}");
+        }
+        if self.is_reference_image(id) {
+            label.push_str(" · reference");
+        }
+        Some(label)
     }
 
     /// Whether `id` is the reference image of the open set.

@@ -1,0 +1,295 @@
+//! UI tests of image sequences in the viewer: the real [`AaLabApp`] driven headless through
+//! egui_kittest (see `tests/ui.rs`), with small generated sequences (64x48 PNG frames of a
+//! square moving across a gradient) written into a temporary folder. They open sequences
+//! through the path-taking function File > Open sequences calls and by dropping folders, step
+//! and play them with the clip bar's buttons, and check that every pane shows the same instant
+//! with the very pixels of its frame files, that offsets line captures up, and that sequences
+//! that cannot play together are refused with a message naming the one at fault.
+
+#[path = "common/viewer.rs"]
+mod viewer;
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use aa_lab::app::AaLabApp;
+use egui_kittest::kittest::Queryable;
+use viewer::{drop_on_window, viewer, wait};
+
+/// Frame size of the generated sequences.
+const SIZE: (u32, u32) = (64, 48);
+
+/// The frame a capture shows at moment `moment`: a square of `tint` that moves six pixels a
+/// moment across a gradient.
+fn frame(moment: u32, tint: [u8; 3], size: (u32, u32)) -> image::RgbaImage {
+    let left = 2 + 6 * moment;
+    image::RgbaImage::from_fn(size.0, size.1, |x, y| {
+        if (left..left + 10).contains(&x) && (12..24).contains(&y) {
+            image::Rgba([tint[0], tint[1], tint[2], 255])
+        } else {
+            image::Rgba([(x * 3) as u8, (y * 4) as u8, 90, 255])
+        }
+    })
+}
+
+/// Writes a sequence into folder `name` of `dir`: files `frame_0000.png`, ... showing the
+/// moments `first_moment..first_moment + frames` (a capture that began `first_moment` frames
+/// late has a negative one).
+fn write_sequence(
+    dir: &Path,
+    name: &str,
+    frames: u32,
+    first_moment: i32,
+    tint: [u8; 3],
+) -> PathBuf {
+    let folder = dir.join(name);
+    std::fs::create_dir_all(&folder).expect("a sequence folder");
+    for index in 0..frames {
+        let moment = (first_moment + index as i32).max(0) as u32;
+        frame(moment, tint, SIZE)
+            .save(folder.join(format!("frame_{index:04}.png")))
+            .expect("a frame");
+    }
+    folder
+}
+
+const TAA_TINT: [u8; 3] = [250, 200, 40];
+const REFERENCE_TINT: [u8; 3] = [240, 210, 30];
+
+fn last_notice(app: &AaLabApp) -> String {
+    app.notices()
+        .last()
+        .map(|n| n.text.clone())
+        .unwrap_or_default()
+}
+
+/// Waits until the sequence set shows instant `instant`.
+fn wait_for_instant(harness: &mut egui_kittest::Harness<'_, AaLabApp>, instant: usize) {
+    wait(harness, &format!("instant {instant}"), |app| {
+        app.sequence_position().map(|(shown, _)| shown) == Some(instant)
+    });
+}
+
+/// The pixels of `id` on screen.
+fn shown(app: &AaLabApp, id: &str) -> Arc<image::RgbaImage> {
+    app.output_pixels(id).expect("a frame on screen")
+}
+
+/// The temporal figures the viewer shows after playing `played` in a row are the metrics
+/// library's over those frames.
+fn check_temporal_figures(app: &AaLabApp, played: std::ops::Range<u32>) {
+    let mut library = aa_lab::metrics::stability::ClipMetrics::new(1);
+    for moment in played.clone() {
+        library
+            .push(
+                &frame(moment, REFERENCE_TINT, SIZE),
+                &[&frame(moment, TAA_TINT, SIZE)],
+            )
+            .expect("comparable");
+    }
+    let (frames, scores) = app.sequence_temporal().expect("temporal figures");
+    assert_eq!(frames, played.len());
+    assert_eq!(scores, library.scores());
+    let instability = scores[0].temporal_instability.expect("the reference moved");
+    assert!(instability.is_finite() && instability > 0.0, "{scores:?}");
+}
+
+/// Two sequences opened as File > Open sequences opens them show their first frames in two
+/// panes (the one named ref is the reference); +1 shows the next frame in both, labelled with
+/// its frame number; the quality figures measure the frame on screen against the reference's
+/// same frame; playing moves both panes together through every frame, and the temporal
+/// figures of the frames played in a row are the metrics library's; folders dropped on the
+/// window open as sequences too.
+#[test]
+fn two_sequences_play_in_lockstep() {
+    const FRAMES: u32 = 6;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let taa = write_sequence(dir.path(), "taa", FRAMES, 0, TAA_TINT);
+    let reference = write_sequence(dir.path(), "ref", FRAMES, 0, REFERENCE_TINT);
+    let mut harness = viewer("chart");
+    let ctx = harness.ctx.clone();
+    harness
+        .state_mut()
+        .open_sequences(&ctx, vec![taa.clone(), reference.clone()]);
+    wait(&mut harness, "the sequences", AaLabApp::image_set_open);
+    let app = harness.state();
+    assert_eq!(app.compared(), ["image-1", "image-2"]);
+    let (names, reference_index) = app.image_names().expect("a set");
+    assert_eq!(names, ["taa", "ref"]);
+    assert_eq!(
+        reference_index, 1,
+        "the sequence named ref is the reference"
+    );
+    assert_eq!(app.sequence_position(), Some((0, FRAMES as usize)));
+    assert_eq!(app.render_size(), SIZE, "shown at the frames' size");
+    assert_eq!(*shown(app, "image-1"), frame(0, TAA_TINT, SIZE));
+    assert_eq!(*shown(app, "image-2"), frame(0, REFERENCE_TINT, SIZE));
+
+    // One step: both panes show the next frame, and say which.
+    harness.get_by_label("+1").click();
+    harness.step();
+    wait_for_instant(&mut harness, 1);
+    let app = harness.state();
+    assert_eq!(app.sequence_frame_numbers(), [Some(1), Some(1)]);
+    assert_eq!(*shown(app, "image-1"), frame(1, TAA_TINT, SIZE));
+    assert_eq!(*shown(app, "image-2"), frame(1, REFERENCE_TINT, SIZE));
+    assert!(
+        harness.query_all_by_label("taa · frame 1").next().is_some(),
+        "the pane names the frame it shows"
+    );
+
+    // The figures of the frame on screen, against the reference's same frame.
+    wait(&mut harness, "the figures of frame 1", |app| {
+        app.quality_figures("image-1")
+            .is_some_and(|f| f.flip.is_some())
+    });
+    let figures = harness.state().quality_figures("image-1").expect("figures");
+    let library =
+        aa_lab::metrics::compare(&frame(1, REFERENCE_TINT, SIZE), &frame(1, TAA_TINT, SIZE))
+            .expect("comparable");
+    assert!(
+        (figures.pixels.ssim - library.ssim).abs() < 1e-3,
+        "{figures:?} vs {library:?}"
+    );
+    assert!((figures.pixels.psnr - library.psnr).abs() < 0.01);
+    assert!((figures.flip.expect("FLIP").0 - library.flip).abs() < 1e-9);
+
+    // Playing: every frame of both, together, in order.
+    harness.get_by_label("Play clip").click();
+    let mut seen = vec![1];
+    while seen.len() < FRAMES as usize {
+        harness.step();
+        std::thread::sleep(std::time::Duration::from_millis(5));
+        let app = harness.state();
+        let Some((instant, _)) = app.sequence_position() else {
+            continue;
+        };
+        let numbers = app.sequence_frame_numbers();
+        assert_eq!(numbers[0], numbers[1], "the panes play in lockstep");
+        assert_eq!(
+            *shown(app, "image-1"),
+            frame(instant as u32, TAA_TINT, SIZE)
+        );
+        assert_eq!(
+            *shown(app, "image-2"),
+            frame(instant as u32, REFERENCE_TINT, SIZE)
+        );
+        if seen.last() != Some(&instant) {
+            assert_eq!(
+                instant,
+                (seen.last().expect("a frame") + 1) % FRAMES as usize,
+                "no frame is skipped"
+            );
+            seen.push(instant);
+            if instant == FRAMES as usize - 1 {
+                check_temporal_figures(app, 1..FRAMES);
+            }
+        }
+    }
+    harness.get_by_label("Pause clip").click();
+    harness.step();
+
+    // Folders dropped on the window open as sequences.
+    harness.state_mut().close_images();
+    wait(&mut harness, "the scene", AaLabApp::frame_ready);
+    drop_on_window(&mut harness, [reference, taa]);
+    wait(&mut harness, "the dropped sequences", |app| {
+        app.sequence_position().is_some()
+    });
+    let (names, reference_index) = harness.state().image_names().expect("a set");
+    assert_eq!(
+        (names, reference_index),
+        (vec!["ref".to_owned(), "taa".to_owned()], 0)
+    );
+}
+
+/// A capture that began two frames early lines up with the reference once its offset is 2
+/// (then every pixel matches and the figures are perfect); sequences of different sizes are
+/// refused with a message naming the one that differs, and a frame of another size inside a
+/// sequence stops playback with a message naming its file, while what was shown stays.
+#[test]
+fn offsets_align_captures_and_mismatched_sizes_are_refused() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let reference = write_sequence(dir.path(), "ref", 6, 0, REFERENCE_TINT);
+    let early = write_sequence(dir.path(), "early", 8, -2, REFERENCE_TINT);
+    let mut harness = viewer("chart");
+    let ctx = harness.ctx.clone();
+    harness
+        .state_mut()
+        .open_sequences(&ctx, vec![early.clone(), reference.clone()]);
+    wait(&mut harness, "the sequences", |app| {
+        app.sequence_position().is_some()
+    });
+    assert_eq!(harness.state().sequence_position(), Some((0, 6)));
+    harness.get_by_label("+1").click();
+    harness.step();
+    wait_for_instant(&mut harness, 1);
+    assert_ne!(
+        shown(harness.state(), "image-1"),
+        shown(harness.state(), "image-2"),
+        "without an offset the early capture lags"
+    );
+
+    harness.state_mut().set_sequence_offset(0, 2);
+    wait(&mut harness, "the frames of the offset", |app| {
+        app.sequence_frame_numbers() == [Some(3), Some(1)] && app.sequence_position().is_some()
+    });
+    let app = harness.state();
+    assert_eq!(app.sequence_position(), Some((1, 6)), "8 - 2 frames play");
+    assert_eq!(shown(app, "image-1"), shown(app, "image-2"));
+    wait(&mut harness, "the figures", |app| {
+        app.quality_figures("image-1").is_some()
+    });
+    let figures = harness.state().quality_figures("image-1").expect("figures");
+    assert_eq!(figures.pixels.ssim, 1.0);
+    assert!(figures.pixels.psnr.is_infinite());
+
+    // Sequences of another size: refused, naming it; the open ones stay.
+    let small = dir.path().join("small");
+    std::fs::create_dir_all(&small).expect("a folder");
+    for index in 0..3 {
+        frame(index, TAA_TINT, (32, 24))
+            .save(small.join(format!("s{index}.png")))
+            .expect("a frame");
+    }
+    harness
+        .state_mut()
+        .open_sequences(&ctx, vec![reference.clone(), small.clone()]);
+    wait(&mut harness, "the refusal", |app| !app.images_loading());
+    let notice = last_notice(harness.state());
+    assert!(
+        notice.contains("differ in size") && notice.contains("small") && notice.contains("32x24"),
+        "{notice}"
+    );
+    assert_eq!(
+        harness.state().image_names().expect("the set stays").0,
+        ["early", "ref"]
+    );
+
+    // A frame of another size inside a sequence: playback stops on the frame before it.
+    let broken = write_sequence(dir.path(), "broken", 4, 0, TAA_TINT);
+    frame(2, TAA_TINT, (64, 40))
+        .save(broken.join("frame_0002.png"))
+        .expect("a frame");
+    harness
+        .state_mut()
+        .open_sequences(&ctx, vec![broken, reference]);
+    wait(&mut harness, "the broken sequence", |app| {
+        app.image_names()
+            .is_some_and(|(names, _)| names[0] == "broken")
+            && app.sequence_position().is_some()
+    });
+    harness.get_by_label("Play clip").click();
+    wait(&mut harness, "the error", |app| {
+        last_notice(app).contains("frame_0002.png")
+    });
+    let app = harness.state();
+    let notice = last_notice(app);
+    assert!(
+        notice.contains("64x40") && notice.contains("stopped"),
+        "{notice}"
+    );
+    assert_eq!(app.sequence_position(), Some((1, 4)));
+    assert_eq!(*shown(app, "image-1"), frame(1, TAA_TINT, SIZE));
+    assert!(harness.query_by_label("Play clip").is_some(), "paused");
+}
