@@ -241,6 +241,7 @@ impl BenchFeature {
             quality_frame: DEFAULT_QUALITY_FRAME,
             quality: true,
             seed: SceneOptions::default().seed,
+            specular_aa: false,
             images: None,
         };
         let progress = Arc::new(SharedProgress {

@@ -172,6 +172,9 @@ pub struct BenchOptions {
     pub quality: bool,
     /// Seed of the procedural scenes.
     pub seed: u64,
+    /// Geometric specular antialiasing in the techniques' scene renders (never the
+    /// reference's).
+    pub specular_aa: bool,
     /// Where the quality images go, when kept.
     pub images: Option<ImageOutput>,
 }
@@ -249,6 +252,7 @@ impl BenchRunner<'_> {
             scene: run.scene.clone(),
             density: run.density,
             seed: self.options.seed,
+            specular_aa: self.options.specular_aa,
             width: run.size.0,
             height: run.size.1,
             frame: self.options.quality_frame,
@@ -300,6 +304,7 @@ impl BenchRunner<'_> {
             reference: self.reference.clone(),
             sweep,
             scales: None,
+            specular_aa: options.specular_aa,
         }
     }
 
@@ -317,7 +322,10 @@ impl BenchRunner<'_> {
     pub fn specs(&self, run: &RunPlan) -> (RenderSpec, RenderSpec) {
         (
             self.spec(run, self.techniques.clone()),
-            self.spec(run, vec![self.reference.clone()]),
+            RenderSpec {
+                specular_aa: false,
+                ..self.spec(run, vec![self.reference.clone()])
+            },
         )
     }
 

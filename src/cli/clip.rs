@@ -572,6 +572,9 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     let mut graph_spec = spec.clone();
     graph_spec.techniques.push(reference.clone());
     let mut graph = spec::build_graph(&gpu, &scene, &graph_spec)?;
+    if let Some(reference_slot) = graph.slots_mut().last_mut() {
+        reference_slot.reference = true;
+    }
     let mut labels: Vec<String> = graph.slots().iter().map(|s| s.technique.label()).collect();
     if let Some(last) = labels.last_mut() {
         *last = format!("Reference ({last})");

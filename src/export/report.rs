@@ -77,6 +77,10 @@ pub struct BenchSettings {
     /// The render scales of a [`SCALE_SWEEP`] (per axis, 1 = native), in the order given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scales: Option<Vec<f32>>,
+    /// Whether the techniques' scene renders had geometric specular antialiasing (never the
+    /// reference's); left out when off.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub specular_aa: bool,
 }
 
 /// [`BenchSettings::sweep`] of a sweep over render scales: every technique at every scale, at

@@ -69,6 +69,9 @@ pub struct Slot {
     /// earlier frame, as the viewer's still techniques do): its scene input stays pooled and
     /// the memory report lists it with that input. An enabled slot is always kept.
     pub kept: bool,
+    /// The reference: its own scene renders ignore [`FrameGraph::set_specular_aa`], so that it
+    /// stays the ground truth of unfiltered shading the techniques are scored against.
+    pub reference: bool,
     output: Option<wgpu::Texture>,
 }
 
@@ -315,6 +318,8 @@ pub struct FrameGraph {
     statistics: StatisticsRecorder,
     /// A finished image that stands in for the 1x scene render (image mode).
     image_input: Option<image::RgbaImage>,
+    /// Geometric specular antialiasing in every scene render but the reference's.
+    specular_aa: bool,
 }
 
 impl FrameGraph {
@@ -351,7 +356,14 @@ impl FrameGraph {
             scene_renders: 0,
             statistics: StatisticsRecorder::new(),
             image_input: None,
+            specular_aa: false,
         }
+    }
+
+    /// Turns geometric specular antialiasing on or off in the scene renders of every technique
+    /// but the [`Slot::reference`] (see `SceneRenderer::set_specular_aa`); off by default.
+    pub fn set_specular_aa(&mut self, on: bool) {
+        self.specular_aa = on;
     }
 
     /// Image mode: `Some(image)` makes every frame's [`SceneInput::Shared1x`] input this
@@ -386,6 +398,7 @@ impl FrameGraph {
             technique,
             enabled: true,
             kept: false,
+            reference: false,
             output: None,
         });
         self.slots.len() - 1
@@ -513,10 +526,13 @@ impl FrameGraph {
         });
         self.scene_renders = 0;
         self.statistics.begin_frame(&device);
+        self.scene.set_specular_aa(self.specular_aa);
         self.render_inputs(&mut encoder, &camera, size);
         // 3. Every running technique's passes (after 1, plan_inputs, and 2, render_inputs).
         for &i in &active {
             let slot = &mut self.slots[i];
+            self.scene
+                .set_specular_aa(self.specular_aa && !slot.reference);
             let output = slot.output.get_or_insert_with(|| {
                 output_texture(&self.gpu, &format!("{} output", slot.technique.id()), size)
             });
