@@ -113,9 +113,9 @@ fn pcg3d(cell: vec3<u32>) -> vec3<u32> {
 
 // The normal with the material's detail: a tilt made of smooth ripples (the gradient of four
 // plane waves, each a quarter of the ripple slope) and flakes (one random tilt in -1..1 per
-// axis, times the flake slope, per cubic cell of the world-space grid), of which only the part
-// tangent to the surface bends the normal. Without detail the tilt is zero.
-fn detail_normal(n: vec3<f32>, world_position: vec3<f32>) -> vec3<f32> {
+// axis, times the flake slope, per cubic cell of the world-space grid), times `strength`, of
+// which only the part tangent to the surface bends the normal. Without detail the tilt is zero.
+fn detail_normal(n: vec3<f32>, world_position: vec3<f32>, strength: f32) -> vec3<f32> {
     let x = world_position * material.detail.x;
     var ripple = vec3<f32>(0.0);
     for (var i = 0u; i < 4u; i++) {
@@ -124,11 +124,32 @@ fn detail_normal(n: vec3<f32>, world_position: vec3<f32>) -> vec3<f32> {
     }
     let hash = pcg3d(bitcast<vec3<u32>>(vec3<i32>(floor(x))));
     let flake = vec3<f32>(hash >> vec3<u32>(8u)) * (2.0 / 16777216.0) - 1.0;
-    let tilt = ripple * (0.25 * material.detail.y) + flake * material.detail.z;
+    let tilt = (ripple * (0.25 * material.detail.y) + flake * material.detail.z) * strength;
     return normalize(n + tilt - n * dot(n, tilt));
 }
 
-// Geometric specular antialiasing after Kaplanyan, Hill, Patney and Lefohn ("Filtering
+// Specular antialiasing, two parts.
+//
+// The normal detail is filtered the way Toksvig ("Mipmapping normal maps", JGT 2005) filters
+// a normal map's mips, analytically since the detail is procedural: of a pattern with
+// `cells` periods across the pixel, the fraction cells^2 / (1 + cells^2) of its tilt is
+// averaged away inside the pixel (flakes and ripples average to no tilt), and that fraction
+// of the pattern's slope variance (flakes uniform in -f..f: f^2 / 3 per axis; four ripples of
+// amplitude r / 4: r^2 / 24) becomes roughness instead (Beckmann alpha^2 = 2 sigma^2).
+fn unresolved_detail(world_position: vec3<f32>) -> f32 {
+    let dx = dpdx(world_position);
+    let dy = dpdy(world_position);
+    let cells = sqrt(max(dot(dx, dx), dot(dy, dy))) * material.detail.x;
+    return cells * cells / (1.0 + cells * cells);
+}
+
+fn detail_roughness2(unresolved: f32) -> f32 {
+    let ripple = material.detail.y;
+    let flakes = material.detail.z;
+    return 2.0 * unresolved * (flakes * flakes / 3.0 + ripple * ripple / 24.0);
+}
+
+// Then geometric specular antialiasing after Kaplanyan, Hill, Patney and Lefohn ("Filtering
 // distributions of normals for shading antialiasing", HPG 2016) and Tokuyoshi and Kaplanyan
 // ("Improved geometric specular antialiasing", I3D 2019; "Stable geometric specular
 // antialiasing with projected-space NDF filtering", JCGT 2021): the shading normal's change
@@ -140,10 +161,10 @@ fn detail_normal(n: vec3<f32>, world_position: vec3<f32>) -> vec3<f32> {
 const PIXEL_FILTER_VARIANCE: f32 = 0.25;
 const KERNEL_ROUGHNESS_CLAMP: f32 = 0.18;
 
-fn filtered_lobe(n_dx: vec3<f32>, n_dy: vec3<f32>, exponent: f32) -> vec2<f32> {
+fn filtered_lobe(n_dx: vec3<f32>, n_dy: vec3<f32>, exponent: f32, extra_roughness2: f32) -> vec2<f32> {
     let variance = PIXEL_FILTER_VARIANCE * (dot(n_dx, n_dx) + dot(n_dy, n_dy));
     let kernel_roughness2 = min(2.0 * variance, KERNEL_ROUGHNESS_CLAMP);
-    let roughness2 = min(2.0 / (exponent + 2.0) + kernel_roughness2, 1.0);
+    let roughness2 = min(2.0 / (exponent + 2.0) + extra_roughness2 + kernel_roughness2, 1.0);
     let filtered = max(2.0 / roughness2 - 2.0, 1.0);
     return vec2<f32>(filtered, (filtered + 2.0) / (exponent + 2.0));
 }
@@ -160,13 +181,18 @@ fn shade_fragment(
     if !front_facing {
         n = -n;
     }
+    // Normal detail bends the normal of the specular term only, like flakes and ripples
+    // under a clear coat over a smooth base: the sparkle it makes is specular aliasing alone.
     let detailed = (material.detail.y > 0.0) | (material.detail.z > 0.0);
-    n = select(n, detail_normal(n, world_position), detailed);
+    var specular_n = select(n, detail_normal(n, world_position, 1.0), detailed);
     // The lobe: the material's, or widened by specular antialiasing (derivatives are taken
     // here, before the alpha test's discard, where control flow is still uniform).
     var lobe = vec2<f32>(material.specular.a, 1.0);
     if SPECULAR_AA {
-        lobe = filtered_lobe(dpdx(n), dpdy(n), material.specular.a);
+        let unresolved = select(0.0, unresolved_detail(world_position), detailed);
+        specular_n = select(n, detail_normal(n, world_position, 1.0 - unresolved), detailed);
+        let extra = detail_roughness2(unresolved);
+        lobe = filtered_lobe(dpdx(specular_n), dpdy(specular_n), material.specular.a, extra);
     }
 
     let texel = textureSampleBias(base_texture, base_sampler, uv, view.params.x);
@@ -191,7 +217,7 @@ fn shade_fragment(
     let diffuse = albedo * n_dot_l;
     var specular = vec3<f32>(0.0);
     if n_dot_l > 0.0 {
-        specular = material.specular.rgb * lobe.y * pow(max(dot(n, h), 0.0), lobe.x);
+        specular = material.specular.rgb * lobe.y * pow(max(dot(specular_n, h), 0.0), lobe.x);
     }
     let lit = view.ambient.rgb * albedo + view.light_color.rgb * (diffuse + specular);
     let unlit = material.params.y > 0.5;

@@ -110,7 +110,9 @@ pub const DEFAULT_BASE_COLOR: f32 = 0.18;
 
 /// Procedural high-frequency normal detail the scene shader evaluates per fragment, in place
 /// of a tangent-space normal map: a surface with it needs neither tangents nor texture
-/// coordinates (`shaders/scene.wgsl`, `detail_normal`, says how the normal is perturbed).
+/// coordinates (`shaders/scene.wgsl`, `detail_normal`, says how the normal is perturbed). It
+/// bends the normal of the specular term only, like flakes under a clear coat over a smooth
+/// base, so that what it adds to the image is specular aliasing alone.
 ///
 /// The pattern lives in world space, so it suits static meshes only (a spinning mesh would
 /// slide through it). Below a pixel per period it is the sub-pixel normal variation that makes
