@@ -184,6 +184,8 @@ pub enum Command {
     Configure(usize, SettingsChange),
     /// Restart the reference with another sample count.
     ReferenceSamples(u32),
+    /// Geometric specular antialiasing on or off in every scene render but the reference's.
+    SpecularAa(bool),
     /// Render a frame.
     Render(FramePlan),
     /// Record a clip.
@@ -460,6 +462,7 @@ impl RenderState {
         let (reference, control) = ProgressiveReference::new(&gpu, reference_samples);
         let reference_slot = graph.add(Box::new(reference));
         graph.slots_mut()[reference_slot].enabled = false;
+        graph.slots_mut()[reference_slot].reference = true;
         let state = Self {
             belt: ReadbackBelt::new(&gpu.device),
             gpu,
@@ -487,6 +490,7 @@ impl RenderState {
                 }
             }
             Command::ReferenceSamples(samples) => self.set_reference_samples(samples),
+            Command::SpecularAa(on) => self.graph.set_specular_aa(on),
             Command::Render(plan) => {
                 std::thread::sleep(plan.delay);
                 send(Event::Frame(self.render(&plan)));
