@@ -132,10 +132,12 @@ fn detail_normal(n: vec3<f32>, world_position: vec3<f32>, strength: f32) -> vec3
 //
 // The normal detail is filtered the way Toksvig ("Mipmapping normal maps", JGT 2005) filters
 // a normal map's mips, analytically since the detail is procedural: of a pattern with
-// `cells` periods across the pixel, the fraction cells^2 / (1 + cells^2) of its tilt is
-// averaged away inside the pixel (flakes and ripples average to no tilt), and that fraction
-// of the pattern's slope variance (flakes uniform in -f..f: f^2 / 3 per axis; four ripples of
-// amplitude r / 4: r^2 / 24) becomes roughness instead (Beckmann alpha^2 = 2 sigma^2).
+// `cells` periods across the pixel, the fraction u = cells^2 / (1 + cells^2) of its slope
+// variance is averaged away inside the pixel (flakes and ripples average to no tilt; the
+// mean of about cells^2 independent flakes keeps 1 / cells^2 of their variance), so the tilt
+// is scaled by sqrt(1 - u) and the variance u sigma^2 becomes roughness instead (flakes
+// uniform in -f..f: sigma^2 = f^2 / 3 per axis; four ripples of amplitude r / 4: r^2 / 24;
+// Beckmann alpha^2 = 2 sigma^2): the lobe's spread over the pixel stays what it was.
 fn unresolved_detail(world_position: vec3<f32>) -> f32 {
     let dx = dpdx(world_position);
     let dy = dpdy(world_position);
@@ -152,9 +154,11 @@ fn detail_roughness2(unresolved: f32) -> f32 {
 // Then geometric specular antialiasing after Kaplanyan, Hill, Patney and Lefohn ("Filtering
 // distributions of normals for shading antialiasing", HPG 2016) and Tokuyoshi and Kaplanyan
 // ("Improved geometric specular antialiasing", I3D 2019; "Stable geometric specular
-// antialiasing with projected-space NDF filtering", JCGT 2021): the shading normal's change
+// antialiasing with projected-space NDF filtering", JCGT 2021): the surface normal's change
 // across the pixel, from its screen-space derivatives, is a variance of the normal
-// distribution that is added to the lobe's squared roughness, clamped. The Blinn-Phong
+// distribution that is added to the lobe's squared roughness, clamped. The derivatives are
+// the base normal's: the detail's variance is counted above, not twice (counting it here
+// too blurred the sparkle scene's glitter further from the reference, docs/hard-cases.md). The Blinn-Phong
 // exponent s maps to Beckmann roughness by alpha^2 = 2 / (s + 2) (Walter et al. 2007). The
 // widened lobe (x: its exponent) is scaled (y) by the ratio of the two lobes' normalisation
 // factors, (s' + 2) / (s + 2), so that it reflects the energy the narrow one did.
@@ -190,9 +194,9 @@ fn shade_fragment(
     var lobe = vec2<f32>(material.specular.a, 1.0);
     if SPECULAR_AA {
         let unresolved = select(0.0, unresolved_detail(world_position), detailed);
-        specular_n = select(n, detail_normal(n, world_position, 1.0 - unresolved), detailed);
+        specular_n = select(n, detail_normal(n, world_position, sqrt(1.0 - unresolved)), detailed);
         let extra = detail_roughness2(unresolved);
-        lobe = filtered_lobe(dpdx(specular_n), dpdy(specular_n), material.specular.a, extra);
+        lobe = filtered_lobe(dpdx(n), dpdy(n), material.specular.a, extra);
     }
 
     let texel = textureSampleBias(base_texture, base_sampler, uv, view.params.x);
