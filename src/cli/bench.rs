@@ -120,8 +120,8 @@ pub struct BenchArgs {
     /// Built-in scene seed.
     #[arg(long, default_value_t = SceneOptions::default().seed)]
     pub seed: u64,
-    /// Geometric specular antialiasing in every technique's scene render (the lobe widened
-    /// by the normal's change across the pixel); the reference stays unfiltered.
+    /// Specular antialiasing in every technique's scene render (each highlight's lobe widened
+    /// by the normal's variation inside the pixel); the reference stays unfiltered.
     #[arg(long)]
     pub specular_aa: bool,
     /// Output directory for report.json, report.md, charts and sidecars.

@@ -101,8 +101,9 @@ pub struct SceneSource {
     /// Built-in scene random seed.
     #[arg(long, default_value_t = SceneOptions::default().seed)]
     pub seed: u64,
-    /// Geometric specular antialiasing in every technique's scene render (the lobe widened
-    /// by the normal's change across the pixel); the reference stays unfiltered.
+    /// Specular antialiasing in every technique's scene render (each highlight's lobe widened
+    /// by the normal's variation inside the pixel). A clip's reference stays unfiltered; render
+    /// a reference for `compare` without this flag.
     #[arg(long)]
     pub specular_aa: bool,
     /// Image size, WIDTHxHEIGHT in pixels (each at least 1, at most the adapter's largest
