@@ -145,3 +145,50 @@ fn specular_aa_lowers_sparkle_instability_for_no_aa_and_taa() {
         assert!(on < 0.8 * off, "{name}: {on:.3} with, {off:.3} without");
     }
 }
+
+/// Runs the binary with `args`, failing with its error output.
+fn run_ok(args: &[&str]) {
+    let out = common::aa_lab(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{args:?} failed: {stderr}");
+}
+
+fn pixels(path: &std::path::Path) -> RgbaImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgba8()
+}
+
+#[test]
+fn the_render_record_keeps_the_option_and_from_reproduces_it() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = |name: &str| dir.path().join(name).to_str().expect("utf-8").to_owned();
+    let scene = [
+        "--scene", "sparkle", "-t", "none", "--size", "160x90", "--frame", "2",
+    ];
+    run_ok(&[&["render"][..], &scene, &["--out", &path("off.png")]].concat());
+    run_ok(
+        &[
+            &["render"][..],
+            &scene,
+            &["--specular-aa", "--out", &path("on.png")],
+        ]
+        .concat(),
+    );
+    run_ok(&[
+        "render",
+        "--from",
+        &path("on.png"),
+        "--out",
+        &path("again.png"),
+    ]);
+    let (off, on) = (
+        pixels(&dir.path().join("off.png")),
+        pixels(&dir.path().join("on.png")),
+    );
+    assert!(off != on, "--specular-aa changed nothing");
+    assert!(
+        pixels(&dir.path().join("again.png")) == on,
+        "--from lost the option"
+    );
+}

@@ -205,7 +205,7 @@ mod tests {
             );
         }
         let triangles = scene.triangle_count();
-        assert!((20_000..=100_000).contains(&triangles), "{triangles}");
+        assert!((50_000..=150_000).contains(&triangles), "{triangles}");
     }
 
     #[test]
