@@ -1,6 +1,7 @@
 // Forward Blinn-Phong scene shader: one directional light, ambient + diffuse + specular,
 // base-colour texture with mip bias, alpha-mask materials (alpha test, or sharpened
-// alpha-to-coverage), and screen-space motion vectors in a second target.
+// alpha-to-coverage), procedural normal detail (ripples and flakes in world space), optional
+// geometric specular antialiasing, and screen-space motion vectors in a second target.
 //
 // Three vertex/fragment entry-point pairs differ only in how varyings are interpolated:
 //   *_center   : at the pixel centre (ordinary MSAA: one shade per pixel)
@@ -29,6 +30,8 @@ struct Material {
     specular: vec4<f32>,    // rgb: specular colour, a: shininess
     // x: alpha cutoff, y: 1 when unlit, z: 1 when the material is alpha-masked
     params: vec4<f32>,
+    // Normal detail: x periods per world unit, y ripple slope, z flake slope (0 without)
+    detail: vec4<f32>,
 }
 
 struct Object {
@@ -45,6 +48,8 @@ struct Object {
 
 // True when the pipeline uses alpha-to-coverage instead of the alpha test.
 override ALPHA_TO_COVERAGE: bool = false;
+// True when the specular lobe is widened by the normal's change across the pixel.
+override SPECULAR_AA: bool = false;
 
 struct VertexInput {
     @location(0) position: vec3<f32>,
@@ -83,6 +88,91 @@ fn clip_to_uv(clip: vec4<f32>) -> vec2<f32> {
     return vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
 }
 
+// Directions of the four plane waves of the ripples (unit vectors, none in a coordinate plane,
+// so no axis-aligned surface sees a wave run along it).
+const RIPPLE_DIRECTIONS = array<vec3<f32>, 4>(
+    vec3<f32>(0.5773503, 0.5773503, 0.5773503),
+    vec3<f32>(-0.7071068, 0.4082483, 0.5773503),
+    vec3<f32>(0.2672612, -0.8017837, 0.5345225),
+    vec3<f32>(0.8164966, 0.4082483, -0.4082483),
+);
+const TAU: f32 = 6.2831853;
+
+// PCG3D integer hash (Jarzynski and Olano, "Hash Functions for GPU Rendering", JCGT 2020).
+fn pcg3d(cell: vec3<u32>) -> vec3<u32> {
+    var v = cell * 1664525u + 1013904223u;
+    v.x += v.y * v.z;
+    v.y += v.z * v.x;
+    v.z += v.x * v.y;
+    v ^= v >> vec3<u32>(16u);
+    v.x += v.y * v.z;
+    v.y += v.z * v.x;
+    v.z += v.x * v.y;
+    return v;
+}
+
+// The normal with the material's detail: a tilt made of smooth ripples (the gradient of four
+// plane waves, each a quarter of the ripple slope) and flakes (one random tilt in -1..1 per
+// axis, times the flake slope, per cubic cell of the world-space grid), times `strength`, of
+// which only the part tangent to the surface bends the normal. Without detail the tilt is zero.
+fn detail_normal(n: vec3<f32>, world_position: vec3<f32>, strength: f32) -> vec3<f32> {
+    let x = world_position * material.detail.x;
+    var ripple = vec3<f32>(0.0);
+    for (var i = 0u; i < 4u; i++) {
+        let d = RIPPLE_DIRECTIONS[i];
+        ripple += d * cos(TAU * dot(d, x) + f32(i));
+    }
+    let hash = pcg3d(bitcast<vec3<u32>>(vec3<i32>(floor(x))));
+    let flake = vec3<f32>(hash >> vec3<u32>(8u)) * (2.0 / 16777216.0) - 1.0;
+    let tilt = (ripple * (0.25 * material.detail.y) + flake * material.detail.z) * strength;
+    return normalize(n + tilt - n * dot(n, tilt));
+}
+
+// Specular antialiasing, two parts.
+//
+// The normal detail is filtered the way Toksvig ("Mipmapping normal maps", JGT 2005) filters
+// a normal map's mips, analytically since the detail is procedural: of a pattern with
+// `cells` periods across the pixel, the fraction u = cells^2 / (1 + cells^2) of its slope
+// variance is averaged away inside the pixel (flakes and ripples average to no tilt; the
+// mean of about cells^2 independent flakes keeps 1 / cells^2 of their variance), so the tilt
+// is scaled by sqrt(1 - u) and the variance u sigma^2 becomes roughness instead (flakes
+// uniform in -f..f: sigma^2 = f^2 / 3 per axis; four ripples of amplitude r / 4: r^2 / 24;
+// Beckmann alpha^2 = 2 sigma^2): the lobe's spread over the pixel stays what it was.
+fn unresolved_detail(world_position: vec3<f32>) -> f32 {
+    let dx = dpdx(world_position);
+    let dy = dpdy(world_position);
+    let cells = sqrt(max(dot(dx, dx), dot(dy, dy))) * material.detail.x;
+    return cells * cells / (1.0 + cells * cells);
+}
+
+fn detail_roughness2(unresolved: f32) -> f32 {
+    let ripple = material.detail.y;
+    let flakes = material.detail.z;
+    return 2.0 * unresolved * (flakes * flakes / 3.0 + ripple * ripple / 24.0);
+}
+
+// Then geometric specular antialiasing after Kaplanyan, Hill, Patney and Lefohn ("Filtering
+// distributions of normals for shading antialiasing", HPG 2016) and Tokuyoshi and Kaplanyan
+// ("Improved geometric specular antialiasing", I3D 2019; "Stable geometric specular
+// antialiasing with projected-space NDF filtering", JCGT 2021): the surface normal's change
+// across the pixel, from its screen-space derivatives, is a variance of the normal
+// distribution that is added to the lobe's squared roughness, clamped. The derivatives are
+// the base normal's: the detail's variance is counted above, not twice (counting it here
+// too blurred the sparkle scene's glitter further from the reference, docs/hard-cases.md). The Blinn-Phong
+// exponent s maps to Beckmann roughness by alpha^2 = 2 / (s + 2) (Walter et al. 2007). The
+// widened lobe (x: its exponent) is scaled (y) by the ratio of the two lobes' normalisation
+// factors, (s' + 2) / (s + 2), so that it reflects the energy the narrow one did.
+const PIXEL_FILTER_VARIANCE: f32 = 0.25;
+const KERNEL_ROUGHNESS_CLAMP: f32 = 0.18;
+
+fn filtered_lobe(n_dx: vec3<f32>, n_dy: vec3<f32>, exponent: f32, extra_roughness2: f32) -> vec2<f32> {
+    let variance = PIXEL_FILTER_VARIANCE * (dot(n_dx, n_dx) + dot(n_dy, n_dy));
+    let kernel_roughness2 = min(2.0 * variance, KERNEL_ROUGHNESS_CLAMP);
+    let roughness2 = min(2.0 / (exponent + 2.0) + extra_roughness2 + kernel_roughness2, 1.0);
+    let filtered = max(2.0 / roughness2 - 2.0, 1.0);
+    return vec2<f32>(filtered, (filtered + 2.0) / (exponent + 2.0));
+}
+
 fn shade_fragment(
     world_position: vec3<f32>,
     normal_in: vec3<f32>,
@@ -91,6 +181,24 @@ fn shade_fragment(
     previous_clip: vec4<f32>,
     front_facing: bool,
 ) -> FragmentOutput {
+    var n = normalize(normal_in);
+    if !front_facing {
+        n = -n;
+    }
+    // Normal detail bends the normal of the specular term only, like flakes and ripples
+    // under a clear coat over a smooth base: the sparkle it makes is specular aliasing alone.
+    let detailed = (material.detail.y > 0.0) | (material.detail.z > 0.0);
+    var specular_n = select(n, detail_normal(n, world_position, 1.0), detailed);
+    // The lobe: the material's, or widened by specular antialiasing (derivatives are taken
+    // here, before the alpha test's discard, where control flow is still uniform).
+    var lobe = vec2<f32>(material.specular.a, 1.0);
+    if SPECULAR_AA {
+        let unresolved = select(0.0, unresolved_detail(world_position), detailed);
+        specular_n = select(n, detail_normal(n, world_position, sqrt(1.0 - unresolved)), detailed);
+        let extra = detail_roughness2(unresolved);
+        lobe = filtered_lobe(dpdx(n), dpdy(n), material.specular.a, extra);
+    }
+
     let texel = textureSampleBias(base_texture, base_sampler, uv, view.params.x);
     let albedo = material.base_color.rgb * texel.rgb;
     var alpha = texel.a * material.base_color.a;
@@ -106,10 +214,6 @@ fn shade_fragment(
         discard;
     }
 
-    var n = normalize(normal_in);
-    if !front_facing {
-        n = -n;
-    }
     let l = -normalize(view.light_direction.xyz);
     let v = normalize(view.eye.xyz - world_position);
     let h = normalize(l + v);
@@ -117,7 +221,7 @@ fn shade_fragment(
     let diffuse = albedo * n_dot_l;
     var specular = vec3<f32>(0.0);
     if n_dot_l > 0.0 {
-        specular = material.specular.rgb * pow(max(dot(n, h), 0.0), material.specular.a);
+        specular = material.specular.rgb * lobe.y * pow(max(dot(specular_n, h), 0.0), lobe.x);
     }
     let lit = view.ambient.rgb * albedo + view.light_color.rgb * (diffuse + specular);
     let unlit = material.params.y > 0.5;

@@ -73,6 +73,10 @@ pub struct RenderSpec {
     /// Built-in scene seed.
     #[serde(default = "default_seed")]
     pub seed: u64,
+    /// Geometric specular antialiasing in the techniques' scene renders, never in the
+    /// reference's ([`FrameGraph::set_specular_aa`]); left out of a record when off.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub specular_aa: bool,
     /// Image width.
     pub width: u32,
     /// Image height.
@@ -304,6 +308,7 @@ pub fn build_graph(gpu: &Gpu, scene: &Scene, spec: &RenderSpec) -> Result<FrameG
     }
     let mut graph = FrameGraph::new(gpu.clone(), scene);
     graph.set_overlay(spec.overlay);
+    graph.set_specular_aa(spec.specular_aa);
     for t in &spec.techniques {
         graph.add(t.create(gpu)?);
     }

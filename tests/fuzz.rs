@@ -344,6 +344,7 @@ fn sample_spec() -> RenderSpec {
         scene: "chart".to_owned(),
         density: 1.0,
         seed: 7,
+        specular_aa: false,
         width: 160,
         height: 90,
         frame: 3,

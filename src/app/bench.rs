@@ -244,6 +244,7 @@ impl BenchFeature {
             quality_frame: DEFAULT_QUALITY_FRAME,
             quality: true,
             seed: SceneOptions::default().seed,
+            specular_aa: false,
             images: None,
             overlay: request.overlay,
         };

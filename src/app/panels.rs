@@ -104,6 +104,19 @@ fn file_menu(ui: &mut egui::Ui, ws: &mut Workspace, ctx: &egui::Context) {
             }
         }
     });
+    if let Some(engine) = ws.cx.engine.as_mut() {
+        let mut specular_aa = engine.specular_aa();
+        if ui
+            .checkbox(&mut specular_aa, "Specular antialiasing")
+            .on_hover_text(
+                "Widen every technique's highlights by the normal's change across the pixel \
+                 (--specular-aa); the reference stays unfiltered",
+            )
+            .changed()
+        {
+            engine.set_specular_aa(specular_aa);
+        }
+    }
     ui.separator();
     if menu_item(ui, "Export", Some(Action::Export)) {
         ws.cx.request(Command::ExportFrame);

@@ -179,6 +179,9 @@ pub struct BenchOptions {
     pub quality: bool,
     /// Seed of the procedural scenes.
     pub seed: u64,
+    /// Geometric specular antialiasing in the techniques' scene renders (never the
+    /// reference's).
+    pub specular_aa: bool,
     /// Where the quality images go, when kept.
     pub images: Option<ImageOutput>,
     /// The UI overlay over every frame, and where it is drawn.
@@ -263,6 +266,7 @@ impl BenchRunner<'_> {
             scene: run.scene.clone(),
             density: run.density,
             seed: self.options.seed,
+            specular_aa: self.options.specular_aa,
             width: run.size.0,
             height: run.size.1,
             frame: self.options.quality_frame,
@@ -323,6 +327,7 @@ impl BenchRunner<'_> {
             sweep,
             scales: None,
             jod: None,
+            specular_aa: options.specular_aa,
         }
     }
 
@@ -340,7 +345,10 @@ impl BenchRunner<'_> {
     pub fn specs(&self, run: &RunPlan) -> (RenderSpec, RenderSpec) {
         (
             self.spec(run, self.techniques.clone()),
-            self.spec(run, vec![self.reference.clone()]),
+            RenderSpec {
+                specular_aa: false,
+                ..self.spec(run, vec![self.reference.clone()])
+            },
         )
     }
 

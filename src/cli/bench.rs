@@ -78,7 +78,7 @@ impl Sweep {
 /// Arguments of `aa-lab bench`.
 #[derive(Debug, clap::Args)]
 pub struct BenchArgs {
-    /// Comma-separated scenes (hairball, atrium, chart or .obj/.gltf/.glb paths).
+    /// Comma-separated scenes (hairball, atrium, chart, sparkle or .obj/.gltf/.glb paths).
     #[arg(long, default_value = "hairball,atrium")]
     pub scene: String,
     /// Comma-separated technique ids, or `all` (every technique this adapter can run).
@@ -129,6 +129,10 @@ pub struct BenchArgs {
     /// (see `render --help`).
     #[arg(long, value_name = "ORDER", value_parser = super::render::parse_overlay)]
     pub ui_overlay: Option<crate::graph::overlay::OverlayOrder>,
+    /// Specular antialiasing in every technique's scene render (each highlight's lobe widened
+    /// by the normal's variation inside the pixel); the reference stays unfiltered.
+    #[arg(long)]
+    pub specular_aa: bool,
     /// Output directory for report.json, report.md, charts and sidecars.
     #[arg(long, short, default_value = "report")]
     pub out: PathBuf,
@@ -165,7 +169,7 @@ fn plan(args: &BenchArgs) -> anyhow::Result<Vec<RunPlan>> {
         .map(str::to_owned)
         .collect();
     if scenes.is_empty() {
-        bail!("no scene given; use --scene with hairball, atrium, chart or an .obj path");
+        bail!("no scene given; use --scene with hairball, atrium, chart, sparkle or an .obj path");
     }
     let sizes: Vec<(u32, u32)> = match args.sweep {
         Some(Sweep::Resolution) => RESOLUTION_SWEEP.to_vec(),
@@ -338,6 +342,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         quality_frame: args.quality_frame,
         quality: !args.no_quality && args.sweep.is_none_or(|s| s == Sweep::Scale),
         seed: args.seed,
+        specular_aa: args.specular_aa,
         images: args.images.then(|| ImageOutput {
             folder: args.out.clone(),
             policy: policy.clone(),

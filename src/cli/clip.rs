@@ -289,7 +289,13 @@ impl Rendering {
         args.scene.camera.apply(&mut self.spec, &mut scene)?;
         let mut graph_spec = self.spec.clone();
         graph_spec.techniques.extend(self.reference.clone());
-        let graph = spec::build_graph(&self.gpu, &scene, &graph_spec)?;
+        let mut graph = spec::build_graph(&self.gpu, &scene, &graph_spec)?;
+        // The rendered reference stays unfiltered (`--specular-aa` is for the techniques).
+        if self.reference.is_some()
+            && let Some(reference_slot) = graph.slots_mut().last_mut()
+        {
+            reference_slot.reference = true;
+        }
         Ok((scene, graph))
     }
 }

@@ -93,7 +93,7 @@ pub(super) fn print_build_progress(path: &Path, elapsed: Duration) {
 /// Which scene, at what size, seen from where; shared by `render`, `sheet` and `clip`.
 #[derive(Clone, Debug, clap::Args)]
 pub struct SceneSource {
-    /// Built-in scene (hairball, atrium, chart) or path to an .obj, .gltf or .glb file.
+    /// Built-in scene (hairball, atrium, chart, sparkle) or path to an .obj, .gltf or .glb file.
     #[arg(long, default_value = DEFAULT_SCENE)]
     pub scene: String,
     /// Built-in scene density (hairball: 1 is about 300k triangles, 7 over 2M).
@@ -102,6 +102,11 @@ pub struct SceneSource {
     /// Built-in scene random seed.
     #[arg(long, default_value_t = SceneOptions::default().seed)]
     pub seed: u64,
+    /// Specular antialiasing in every technique's scene render (each highlight's lobe widened
+    /// by the normal's variation inside the pixel). A clip's reference stays unfiltered; render
+    /// a reference for `compare` without this flag.
+    #[arg(long)]
+    pub specular_aa: bool,
     /// Image size, WIDTHxHEIGHT in pixels (each at least 1, at most the adapter's largest
     /// texture side, e.g. 16384).
     #[arg(long, default_value = "1280x720", value_parser = parse_size, allow_hyphen_values = true)]
@@ -155,7 +160,7 @@ pub struct RenderArgs {
     pub debug_views: bool,
     /// Reproduce a render from a sidecar JSON or from a PNG aa-lab wrote (scene, size, frame,
     /// camera and every technique setting come from the record).
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "technique", "size", "frame", "density", "seed", "ui_overlay"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "technique", "size", "frame", "density", "seed", "ui_overlay", "specular_aa"])]
     pub from: Option<PathBuf>,
     /// Replace existing output files (without it, aa-lab never replaces a file; an input is
     /// never replaced).
@@ -164,7 +169,7 @@ pub struct RenderArgs {
     /// Run the techniques that work on a finished image (No AA, FXAA, SMAA 1x) on this PNG or
     /// JPEG instead of a scene, e.g. a capture from another engine; others are refused with
     /// the reason.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "from", "size", "frame", "density", "seed", "camera_eye", "fov"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "from", "size", "frame", "density", "seed", "specular_aa", "camera_eye", "fov"])]
     pub image: Option<PathBuf>,
 }
 
@@ -184,6 +189,7 @@ pub fn spec_for_image(
         scene: name,
         density: 1.0,
         seed: SceneOptions::default().seed,
+        specular_aa: false,
         width: image.width(),
         height: image.height(),
         frame: 0,
@@ -450,6 +456,7 @@ pub fn spec_for_scene(
         scene: name,
         density: scene.density,
         seed: scene.seed,
+        specular_aa: scene.specular_aa,
         width: scene.size.0,
         height: scene.size.1,
         frame,

@@ -80,6 +80,10 @@ pub struct BenchSettings {
     /// The display model, version and rate of the techniques' `jod`, with `--jod`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub jod: Option<crate::metrics::jod::JodSetting>,
+    /// Whether the techniques' scene renders had geometric specular antialiasing (never the
+    /// reference's); left out when off.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub specular_aa: bool,
 }
 
 /// [`BenchSettings::sweep`] of a sweep over render scales: every technique at every scale, at

@@ -218,6 +218,12 @@ fn intro_markdown(out: &mut String, report: &BenchReport) {
          frame shows nearly the same view; temporal techniques accumulate history over it.",
         s.track_step_px
     );
+    if s.specular_aa {
+        out.push_str(
+            "- Every technique's scene render had **geometric specular antialiasing** \
+             (`--specular-aa`); the reference's did not.\n",
+        );
+    }
     if s.quality {
         let _ = writeln!(
             out,

@@ -75,6 +75,9 @@ pub struct Slot {
     /// earlier frame, as the viewer's still techniques do): its scene input stays pooled and
     /// the memory report lists it with that input. An enabled slot is always kept.
     pub kept: bool,
+    /// The reference: its own scene renders ignore [`FrameGraph::set_specular_aa`], so that it
+    /// stays the ground truth of unfiltered shading the techniques are scored against.
+    pub reference: bool,
     output: Option<wgpu::Texture>,
 }
 
@@ -294,6 +297,8 @@ pub struct FrameGraph {
     /// A finished image that stands in for the 1x scene render (image mode).
     image_input: Option<image::RgbaImage>,
     overlay: OverlayPass,
+    /// Geometric specular antialiasing in every scene render but the reference's.
+    specular_aa: bool,
 }
 
 impl FrameGraph {
@@ -330,6 +335,7 @@ impl FrameGraph {
             statistics: StatisticsRecorder::new(),
             image_input: None,
             overlay: OverlayPass::new(&gpu.device),
+            specular_aa: false,
             gpu,
         }
     }
@@ -337,6 +343,12 @@ impl FrameGraph {
     /// Where the UI overlay goes from the next frame on (`None`: no overlay, the default).
     pub fn set_overlay(&mut self, order: Option<OverlayOrder>) {
         self.overlay.set_order(order);
+    }
+
+    /// Turns geometric specular antialiasing on or off in the scene renders of every technique
+    /// but the [`Slot::reference`] (see `SceneRenderer::set_specular_aa`); off by default.
+    pub fn set_specular_aa(&mut self, on: bool) {
+        self.specular_aa = on;
     }
 
     /// Image mode: `Some(image)` makes every frame's [`SceneInput::Shared1x`] input this
@@ -371,6 +383,7 @@ impl FrameGraph {
             technique,
             enabled: true,
             kept: false,
+            reference: false,
             output: None,
         });
         self.slots.len() - 1
@@ -501,10 +514,13 @@ impl FrameGraph {
         let sample_counts = self.inputs_used.iter().map(|u| u.desc.sample_count);
         let samples: Vec<u32> = sample_counts.chain([1]).collect();
         (self.overlay).prepare(&self.gpu, &self.fullscreen, size, samples);
+        self.scene.set_specular_aa(self.specular_aa);
         self.render_inputs(&mut encoder, &camera, size);
         // 3. Every running technique's passes (after 1, plan_inputs, and 2, render_inputs).
         for &i in &active {
             let slot = &mut self.slots[i];
+            self.scene
+                .set_specular_aa(self.specular_aa && !slot.reference);
             let output = slot.output.get_or_insert_with(|| {
                 output_texture(&self.gpu, &format!("{} output", slot.technique.id()), size)
             });

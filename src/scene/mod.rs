@@ -15,7 +15,7 @@ pub mod source;
 
 pub use camera::CameraRig;
 pub use model::{
-    AlphaMode, DirectionalLight, Filter, Material, Mesh, Scene, SceneView, Spin, TextureImage,
-    TextureSampler, Vertex, Wrap,
+    AlphaMode, DirectionalLight, Filter, Material, Mesh, NormalDetail, Scene, SceneView, Spin,
+    TextureImage, TextureSampler, Vertex, Wrap,
 };
 pub use motion::Motion;

@@ -108,6 +108,25 @@ impl Default for TextureSampler {
 /// enough that lit faces of an untextured model stay distinguishable from white.
 pub const DEFAULT_BASE_COLOR: f32 = 0.18;
 
+/// Procedural high-frequency normal detail the scene shader evaluates per fragment, in place
+/// of a tangent-space normal map: a surface with it needs neither tangents nor texture
+/// coordinates (`shaders/scene.wgsl`, `detail_normal`, says how the normal is perturbed). It
+/// bends the normal of the specular term only, like flakes under a clear coat over a smooth
+/// base, so that what it adds to the image is specular aliasing alone.
+///
+/// The pattern lives in world space, so it suits static meshes only (a spinning mesh would
+/// slide through it). Below a pixel per period it is the sub-pixel normal variation that makes
+/// highlights sparkle and that geometric specular antialiasing widens the lobe for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NormalDetail {
+    /// Pattern periods per world unit (ripples' wave number over 2 pi, flakes per unit).
+    pub frequency: f32,
+    /// Largest tangential tilt of the smooth ripples (sum of plane waves), as a slope.
+    pub ripple: f32,
+    /// Tangential tilt of the flakes (one random tilt per cubic cell), as a slope.
+    pub flakes: f32,
+}
+
 /// A Blinn-Phong material.
 #[derive(Clone, Debug)]
 pub struct Material {
@@ -131,6 +150,8 @@ pub struct Material {
     pub unlit: bool,
     /// Whether back faces are drawn (foliage cards, fences and open meshes need it).
     pub double_sided: bool,
+    /// Procedural normal detail; `None` shades with the interpolated normal.
+    pub normal_detail: Option<NormalDetail>,
 }
 
 impl Default for Material {
@@ -146,6 +167,7 @@ impl Default for Material {
             alpha_mode: AlphaMode::Opaque,
             unlit: false,
             double_sided: true,
+            normal_detail: None,
         }
     }
 }

@@ -210,6 +210,7 @@ impl Context {
             scene: scene.spec.clone(),
             density: 1.0,
             seed: crate::scene::procedural::SceneOptions::default().seed,
+            specular_aa: engine.specular_aa(),
             width: camera.size.0,
             height: camera.size.1,
             frame: camera.frame,

@@ -233,6 +233,8 @@ pub struct Engine {
     reference_revision: u64,
     scene_generation: u64,
     overlay: Option<OverlayOrder>,
+    /// Geometric specular antialiasing in the techniques' scene renders.
+    specular_aa: bool,
     /// Counts view changes (see [`Engine::current_view`]).
     view_serial: u64,
     /// Counts publications.
@@ -312,6 +314,7 @@ impl Engine {
             reference_revision: 0,
             scene_generation: 0,
             overlay: None,
+            specular_aa: false,
             view_serial: 0,
             publish_serial: 0,
             animated,
@@ -353,6 +356,21 @@ impl Engine {
         self.gpu_stats.clear();
         self.memory = None;
         self.discard_clip();
+    }
+
+    /// Whether the techniques' scene renders have geometric specular antialiasing.
+    pub fn specular_aa(&self) -> bool {
+        self.specular_aa
+    }
+
+    /// Turns geometric specular antialiasing on or off in every technique's scene render but
+    /// the reference's; everything renders again, as after a scene change.
+    pub fn set_specular_aa(&mut self, on: bool) {
+        if on != self.specular_aa {
+            self.specular_aa = on;
+            self.send(Command::SpecularAa(on));
+            self.scene_generation += 1;
+        }
     }
 
     /// Whether the scene has moving objects (the view changes with every frame while playing).

@@ -186,6 +186,8 @@ pub enum Command {
     ReferenceSamples(u32),
     /// Draw the UI overlay (or not) from the next frame on.
     Overlay(Option<crate::graph::overlay::OverlayOrder>),
+    /// Geometric specular antialiasing on or off in every scene render but the reference's.
+    SpecularAa(bool),
     /// Render a frame.
     Render(FramePlan),
     /// Record a clip.
@@ -462,6 +464,7 @@ impl RenderState {
         let (reference, control) = ProgressiveReference::new(&gpu, reference_samples);
         let reference_slot = graph.add(Box::new(reference));
         graph.slots_mut()[reference_slot].enabled = false;
+        graph.slots_mut()[reference_slot].reference = true;
         let state = Self {
             belt: ReadbackBelt::new(&gpu.device),
             gpu,
@@ -490,6 +493,7 @@ impl RenderState {
             }
             Command::ReferenceSamples(samples) => self.set_reference_samples(samples),
             Command::Overlay(order) => self.graph.set_overlay(order),
+            Command::SpecularAa(on) => self.graph.set_specular_aa(on),
             Command::Render(plan) => {
                 std::thread::sleep(plan.delay);
                 send(Event::Frame(self.render(&plan)));

@@ -1,6 +1,7 @@
 //! Built-in procedural scenes, selectable by name: `hairball` (fine geometry under a strong
-//! highlight), `atrium` (an arcaded courtyard in the spirit of Crytek Sponza) and `chart` (a
-//! flat resolution chart seen head-on, with an analytic layout for exact ground truth).
+//! highlight), `atrium` (an arcaded courtyard in the spirit of Crytek Sponza), `chart` (a
+//! flat resolution chart seen head-on, with an analytic layout for exact ground truth) and
+//! `sparkle` (shiny surfaces with sub-pixel normal detail: specular aliasing).
 //!
 //! Everything, meshes and textures alike, is generated in code from [`SceneOptions::seed`]
 //! with the generators' own SplitMix64 (module `rng`), so a scene never changes with a crate
@@ -25,6 +26,7 @@ mod chart;
 mod geometry;
 mod hairball;
 mod rng;
+mod sparkle;
 mod texture;
 
 pub use atrium::atrium;
@@ -33,11 +35,12 @@ pub use chart::{
     chart, chart_layout,
 };
 pub use hairball::hairball;
+pub use sparkle::sparkle;
 
 use crate::scene::Scene;
 
 /// Names [`builtin`] accepts.
-pub const BUILTIN_SCENES: &[&str] = &["hairball", "atrium", "chart"];
+pub const BUILTIN_SCENES: &[&str] = &["hairball", "atrium", "chart", "sparkle"];
 
 /// Densities outside this range are clamped (with a warning in the scene): below it the
 /// hairball has no curves left, above it (~10M triangles) it outgrows GPU buffers.
@@ -47,8 +50,8 @@ const DENSITY_RANGE: (f32, f32) = (0.001, 32.0);
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneOptions {
     /// Geometric density, 1.0 by default: the hairball's triangle count scales linearly with
-    /// it (about 300k at 1, over 2M at 7). The atrium and the chart are fixed designs and
-    /// ignore it. Values outside 0.001..=32 are clamped and non-finite values replaced by 1,
+    /// it (about 300k at 1, over 2M at 7). The atrium, the chart and sparkle are fixed designs
+    /// and ignore it. Values outside 0.001..=32 are clamped and non-finite values replaced by 1,
     /// with a warning in [`Scene::warnings`].
     pub density: f32,
     /// Seed of every random choice; the same seed always builds the same scene.
@@ -91,6 +94,7 @@ pub fn builtin(name: &str, options: &SceneOptions) -> Option<Scene> {
         "hairball" => Some(hairball(options)),
         "atrium" => Some(atrium(options)),
         "chart" => Some(chart(options)),
+        "sparkle" => Some(sparkle(options)),
         _ => None,
     }
 }

@@ -27,7 +27,10 @@ use super::{AlphaMode, Filter, Scene, TextureImage, TextureSampler, Vertex, Wrap
 use crate::gpu::{self, COLOR_FORMAT, DEPTH_FORMAT, Gpu, MOTION_FORMAT};
 use crate::srgb;
 
+mod pipeline;
 mod textures;
+
+pub use pipeline::PipelineKey;
 
 pub use textures::{anisotropy_clamp, downsample_srgb, mip_level_count};
 use textures::{create_sampler, upload_texture};
@@ -149,19 +152,6 @@ impl SceneTargets {
     }
 }
 
-/// Everything that changes a scene pipeline.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct PipelineKey {
-    /// Samples per pixel.
-    pub sample_count: u32,
-    /// Motion target present.
-    pub motion: bool,
-    /// Rasterisation options (alpha-to-coverage forced off for one sample).
-    pub raster: RasterOptions,
-    /// Back-face culling.
-    pub cull_back: bool,
-}
-
 /// Queries recorded around one scene render pass.
 #[derive(Default)]
 pub struct PassQueries<'a> {
@@ -190,6 +180,7 @@ struct MaterialUniform {
     base_color: [f32; 4],
     specular: [f32; 4],
     params: [f32; 4],
+    detail: [f32; 4],
 }
 
 #[repr(C)]
@@ -234,6 +225,7 @@ pub struct SceneRenderer {
     pipelines: HashMap<PipelineKey, wgpu::RenderPipeline>,
     light: super::DirectionalLight,
     clear_color: Vec3,
+    specular_aa: bool,
     triangles: usize,
     bytes: u64,
 }
@@ -400,6 +392,9 @@ fn upload_materials(
                 base_color: m.base_color.extend(m.opacity).to_array(),
                 specular: m.specular.extend(m.shininess.max(1.0)).to_array(),
                 params: [cutoff, f32::from(u8::from(m.unlit)), masked, 0.0],
+                detail: m.normal_detail.map_or([0.0; 4], |d| {
+                    [d.frequency, d.ripple.max(0.0), d.flakes.max(0.0), 0.0]
+                }),
             };
             let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(&format!("material {}", m.name)),
@@ -491,6 +486,7 @@ impl SceneRenderer {
             pipelines: HashMap::new(),
             light: scene.light,
             clear_color: scene.clear_color,
+            specular_aa: false,
             triangles: scene.triangle_count(),
             bytes: geometry.bytes + texture_bytes,
         };
@@ -511,6 +507,14 @@ impl SceneRenderer {
     /// Background colour (linear).
     pub fn clear_color(&self) -> Vec3 {
         self.clear_color
+    }
+
+    /// Turns geometric specular antialiasing on or off for the renders recorded from now on
+    /// (off after [`SceneRenderer::new`]): every specular lobe is widened by the variance of
+    /// the shading normal across the pixel (`filtered_lobe` in `shaders/scene.wgsl`). Off,
+    /// the pipelines are those of a renderer without the option, so renders are unchanged.
+    pub fn set_specular_aa(&mut self, on: bool) {
+        self.specular_aa = on;
     }
 
     fn write_objects(&self, gpu: &Gpu, frame: f32, prev_frame: f32) {
@@ -574,72 +578,11 @@ impl SceneRenderer {
     }
 
     fn pipeline(&mut self, device: &wgpu::Device, key: PipelineKey) -> wgpu::RenderPipeline {
-        if let Some(p) = self.pipelines.get(&key) {
-            return p.clone();
-        }
-        let (vs, fs) = match key.raster.shading {
-            ShadingRate::Pixel => ("vs_center", "fs_center"),
-            ShadingRate::Centroid => ("vs_centroid", "fs_centroid"),
-            ShadingRate::Sample => ("vs_sample", "fs_sample"),
-        };
-        let a2c = key.raster.alpha_to_coverage && key.sample_count > 1;
-        let constants = [("ALPHA_TO_COVERAGE", if a2c { 1.0 } else { 0.0 })];
-        let options = wgpu::PipelineCompilationOptions {
-            constants: &constants,
-            ..Default::default()
-        };
-        let color_target = wgpu::ColorTargetState {
-            format: COLOR_FORMAT,
-            blend: None,
-            // Alpha keeps the clear value 1: with alpha-to-coverage the shader's alpha is a
-            // coverage fraction, not an image alpha.
-            write_mask: wgpu::ColorWrites::COLOR,
-        };
-        let motion_target = key.motion.then_some(wgpu::ColorTargetState {
-            format: MOTION_FORMAT,
-            blend: None,
-            write_mask: wgpu::ColorWrites::ALL,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(&format!("scene {}x {:?}{}", key.sample_count, key.raster.shading, if a2c { " a2c" } else { "" })),
-            layout: Some(&self.pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &self.shader,
-                entry_point: Some(vs),
-                compilation_options: options.clone(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: std::mem::size_of::<Vertex>() as u64,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2],
-                })],
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: key.cull_back.then_some(wgpu::Face::Back),
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Greater),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: wgpu::MultisampleState {
-                count: key.sample_count,
-                mask: !0,
-                alpha_to_coverage_enabled: a2c,
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &self.shader,
-                entry_point: Some(fs),
-                compilation_options: options,
-                targets: &[Some(color_target), motion_target],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        self.pipelines.insert(key, pipeline.clone());
-        pipeline
+        let (layout, shader) = (&self.pipeline_layout, &self.shader);
+        self.pipelines
+            .entry(key)
+            .or_insert_with(|| pipeline::create(device, layout, shader, key))
+            .clone()
     }
 
     /// Records one render of the scene into `targets`: clears them, draws every mesh and, when
@@ -731,6 +674,7 @@ impl SceneRenderer {
                 motion: targets.desc.motion,
                 raster,
                 cull_back: self.materials[d.material].cull_back,
+                specular_aa: self.specular_aa,
             })
             .collect();
         let pipelines: Vec<wgpu::RenderPipeline> = keys
