@@ -54,6 +54,8 @@ pub(super) struct BenchRequest {
     pub export_dir: PathBuf,
     /// The UI overlay of the viewer's settings.
     pub overlay: Option<OverlayOrder>,
+    /// Whether the viewer's scene renders have specular antialiasing.
+    pub specular_aa: bool,
 }
 
 /// One technique's row of the panel's table.
@@ -244,7 +246,7 @@ impl BenchFeature {
             quality_frame: DEFAULT_QUALITY_FRAME,
             quality: true,
             seed: SceneOptions::default().seed,
-            specular_aa: false,
+            specular_aa: request.specular_aa,
             images: None,
             overlay: request.overlay,
         };

@@ -76,6 +76,7 @@ fn bench_request(ws: &Workspace) -> Result<BenchRequest, String> {
         techniques: ids.iter().map(|id| engine.technique_spec(id)).collect(),
         export_dir: ws.cx.settings.export_dir.clone(),
         overlay: ws.cx.settings.ui_overlay,
+        specular_aa: engine.specular_aa(),
     })
 }
 

@@ -358,21 +358,6 @@ impl Engine {
         self.discard_clip();
     }
 
-    /// Whether the techniques' scene renders have geometric specular antialiasing.
-    pub fn specular_aa(&self) -> bool {
-        self.specular_aa
-    }
-
-    /// Turns geometric specular antialiasing on or off in every technique's scene render but
-    /// the reference's; everything renders again, as after a scene change.
-    pub fn set_specular_aa(&mut self, on: bool) {
-        if on != self.specular_aa {
-            self.specular_aa = on;
-            self.send(Command::SpecularAa(on));
-            self.scene_generation += 1;
-        }
-    }
-
     /// Whether the scene has moving objects (the view changes with every frame while playing).
     pub fn animated(&self) -> bool {
         self.animated

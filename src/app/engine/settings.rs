@@ -1,4 +1,5 @@
-//! The techniques' settings as the UI mirrors them: switching techniques on and off,
+//! The techniques' settings as the UI mirrors them (and the two options every scene render
+//! follows: specular antialiasing and the UI overlay): switching techniques on and off,
 //! parameters validated against the mirrored descriptions and applied at once (the render
 //! thread answers with the authoritative values), presets, debug views, records of a
 //! technique's settings, and user techniques added, removed and announced.
@@ -6,6 +7,21 @@
 use super::*;
 
 impl Engine {
+    /// Whether the techniques' scene renders have geometric specular antialiasing.
+    pub fn specular_aa(&self) -> bool {
+        self.specular_aa
+    }
+
+    /// Turns geometric specular antialiasing on or off in every technique's scene render but
+    /// the reference's; everything renders again, as after a scene change.
+    pub fn set_specular_aa(&mut self, on: bool) {
+        if on != self.specular_aa {
+            self.specular_aa = on;
+            self.send(Command::SpecularAa(on));
+            self.scene_generation += 1;
+        }
+    }
+
     /// Draws the UI overlay over every frame (before or after the antialiasing) or not: every
     /// output and the reference start over, as after a scene change.
     pub fn set_overlay(&mut self, order: Option<OverlayOrder>) {
