@@ -29,18 +29,7 @@ fn render_writes_a_png_with_its_record_and_reproduces_it() {
         record.contains("\"scene\": \"chart\"") && record.contains("msaa4"),
         "{record}"
     );
-    let again = dir.path().join("again.png");
-    let out = common::aa_lab(&[
-        "render",
-        "--from",
-        first.to_str().expect("utf-8"),
-        "--out",
-        again.to_str().expect("utf-8"),
-    ]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let a = image::open(&first).expect("png").to_rgba8();
-    let b = image::open(&again).expect("png").to_rgba8();
-    assert!(a == b, "--from did not reproduce the image");
+    common::assert_from_reproduces(&first);
 }
 
 #[test]

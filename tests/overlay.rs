@@ -143,21 +143,7 @@ fn the_render_record_carries_the_overlay_and_reproduces_it() {
         .expect("its render record");
     let json: serde_json::Value = serde_json::from_str(&record).expect("JSON");
     assert_eq!(json["overlay"], "before", "{record}");
-    let again = dir.path().join("again.png");
-    let reproduced = common::aa_lab(&[
-        "render",
-        "--from",
-        out.to_str().expect("utf-8 path"),
-        "--out",
-        again.to_str().expect("utf-8 path"),
-    ]);
-    assert!(
-        reproduced.status.success(),
-        "{}",
-        common::stderr(&reproduced)
-    );
-    let [a, b] = [&out, &again].map(|p| image::open(p).expect("PNG").to_rgba8());
-    assert_eq!(a, b, "render --from did not reproduce the overlay");
+    common::assert_from_reproduces(&out);
     common::fails_with(
         &["render", "--scene", "chart", "--ui-overlay", "sideways"],
         &["before", "after"],

@@ -293,6 +293,31 @@ pub fn aa_lab(args: &[&str]) -> std::process::Output {
         .expect("the aa-lab binary runs")
 }
 
+/// Runs `render --from RECORDED` into the folder of `recorded` and checks that the record
+/// reproduces the image exactly; returns the image.
+pub fn assert_from_reproduces(recorded: &std::path::Path) -> image::RgbaImage {
+    let again = recorded.with_file_name("reproduced.png");
+    let out = aa_lab(&[
+        "render",
+        "--from",
+        recorded.to_str().expect("a UTF-8 path"),
+        "--out",
+        again.to_str().expect("a UTF-8 path"),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let [a, b] = [recorded, &again].map(|p| {
+        image::open(p)
+            .unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+            .to_rgba8()
+    });
+    assert!(
+        a == b,
+        "render --from {} did not reproduce it",
+        recorded.display()
+    );
+    a
+}
+
 /// Runs `aa-lab clip` on a tiny chart (64x48, 4 frames after 2 of warm-up, No AA, FXAA, TAA
 /// and MSAA 4x besides the reference) into `out`, with `extra` arguments.
 pub fn clip(out: &std::path::Path, extra: &[&str]) -> std::process::Output {
