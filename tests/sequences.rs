@@ -241,6 +241,28 @@ fn compare_scores_sequences_frame_by_frame_and_over_time() {
     };
     assert!((jod(&same) - 10.0).abs() < 1e-3);
     assert!(jod(&lagging) < 9.5);
+    // The model's per-pixel distortion map, as a heatmap with the JOD in its record.
+    let heatmap = reference
+        .parent()
+        .expect("the temp dir")
+        .join("jod-map.png");
+    json(&[
+        "compare",
+        &path(&reference),
+        &path(&lagging),
+        "--json",
+        "--jod",
+        "--jod-heatmap",
+        &path(&heatmap),
+    ]);
+    let record = aa_lab::export::png::read_record(&heatmap)
+        .expect("a PNG")
+        .expect("its record");
+    let record: serde_json::Value = serde_json::from_str(&record).expect("JSON");
+    assert!(
+        (number(&record["compare"], "jod") - jod(&lagging)).abs() < 1e-3,
+        "{record}"
+    );
     let one = reference.join("frame_0000.png");
     let out = common::aa_lab(&[
         "compare",

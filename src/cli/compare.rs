@@ -50,6 +50,10 @@ pub struct CompareArgs {
     /// The frame rate the sequences play at, for --jod.
     #[arg(long, default_value_t = 30.0, value_name = "FPS", requires = "jod")]
     pub fps: f32,
+    /// With --jod: also write ColorVideoVDP's per-pixel distortion map (1 - JOD/10, averaged
+    /// over the frames) as a heatmap with legend to this PNG.
+    #[arg(long, value_name = "OUT.png", requires = "jod")]
+    pub jod_heatmap: Option<PathBuf>,
 }
 
 /// Most pixels an image compared may have: 8K UHD (7680x4320) fits. The error maps take
@@ -118,6 +122,22 @@ pub(super) fn write_metric_heatmap(
     compare: serde_json::Value,
     policy: &Overwrite,
 ) -> anyhow::Result<()> {
+    let style = HeatmapStyle {
+        legend: metric.legend(),
+        range: heatmap_range(metric, map),
+    };
+    write_compare_heatmap(path, map, &style, compare, policy)
+}
+
+/// Writes a heatmap of `map` in `style` to `path` with a sidecar record holding `compare`
+/// (what was compared and the scores) and the build.
+pub(super) fn write_compare_heatmap(
+    path: &Path,
+    map: &crate::metrics::Plane,
+    style: &HeatmapStyle,
+    compare: serde_json::Value,
+    policy: &Overwrite,
+) -> anyhow::Result<()> {
     let sidecar = serde_json::json!({
         "compare": compare,
         "build": crate::spec::build_id(),
@@ -125,10 +145,7 @@ pub(super) fn write_metric_heatmap(
     let replaced = write_heatmap(
         path,
         map,
-        &HeatmapStyle {
-            legend: metric.legend(),
-            range: heatmap_range(metric, map),
-        },
+        style,
         Some(&serde_json::to_string_pretty(&sidecar)?),
         policy,
     )?;
@@ -145,7 +162,7 @@ pub(super) fn heatmap_policy<'p>(
     let policy = inputs
         .into_iter()
         .fold(Overwrite::new(args.force), Overwrite::with_input);
-    if let Some(path) = &args.heatmap {
+    for path in args.heatmap.iter().chain(&args.jod_heatmap) {
         policy.check(path)?;
     }
     Ok(policy)

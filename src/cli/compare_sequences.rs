@@ -14,8 +14,12 @@ use std::path::Path;
 
 use anyhow::Context;
 
-use super::compare::{CompareArgs, MAX_COMPARE_PIXELS, heatmap_policy, write_metric_heatmap};
+use super::compare::{
+    CompareArgs, MAX_COMPARE_PIXELS, heatmap_policy, write_compare_heatmap, write_metric_heatmap,
+};
 use crate::export::clip::{Definitions, figure};
+use crate::export::heatmap::HeatmapStyle;
+use crate::files::Overwrite;
 use crate::metrics::jod::{JodScorer, JodSetting};
 use crate::metrics::series::{FrameSeries, SeriesSummary};
 use crate::metrics::stability::{ClipMetrics, TemporalScores};
@@ -64,7 +68,12 @@ struct Jod {
 const MAX_JOD_BYTES: u64 = 8 << 30;
 
 /// The JOD of `test` against `reference` (both whole, in memory).
-fn jod(args: &CompareArgs, reference: &Sequence, test: &Sequence) -> anyhow::Result<Jod> {
+fn jod(
+    args: &CompareArgs,
+    reference: &Sequence,
+    test: &Sequence,
+    policy: &Overwrite,
+) -> anyhow::Result<Jod> {
     let (width, height) = reference.size();
     let bytes = u64::from(width) * u64::from(height) * 16 * reference.len() as u64;
     anyhow::ensure!(
@@ -75,14 +84,36 @@ fn jod(args: &CompareArgs, reference: &Sequence, test: &Sequence) -> anyhow::Res
         bytes >> 30,
         MAX_JOD_BYTES >> 30
     );
-    let scorer = JodScorer::new(&args.jod_display)?;
+    let scorer = match &args.jod_heatmap {
+        Some(_) => JodScorer::with_distortion_map(&args.jod_display)?,
+        None => JodScorer::new(&args.jod_display)?,
+    };
     let all = |sequence: &Sequence| -> anyhow::Result<Vec<_>> {
         (0..sequence.len())
             .map(|i| Ok(sequence.frame(i)?))
             .collect()
     };
     eprintln!("scoring with ColorVideoVDP…");
-    let value = scorer.score(&all(test)?, &all(reference)?, args.fps)?;
+    let (test_frames, reference_frames) = (all(test)?, all(reference)?);
+    let value = match &args.jod_heatmap {
+        Some(path) => {
+            let (value, map) = scorer.score_with_map(&test_frames, &reference_frames, args.fps)?;
+            let style = HeatmapStyle {
+                legend: "ColorVideoVDP distortion (1 - JOD/10)",
+                range: (0.0, 1.0),
+            };
+            let record = serde_json::json!({
+                "reference": args.reference,
+                "test": args.test,
+                "jod": value,
+                "setting": scorer.setting(args.fps),
+                "map": "ColorVideoVDP's per-pixel distortion (1 - JOD/10), mean over the frames",
+            });
+            write_compare_heatmap(path, &map, &style, record, policy)?;
+            value
+        }
+        None => scorer.score(&test_frames, &reference_frames, args.fps)?,
+    };
     Ok(Jod {
         jod: value,
         setting: scorer.setting(args.fps),
@@ -174,7 +205,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     }
     let mut summary = summarise(&series, &temporal);
     if args.jod {
-        summary.jod = Some(jod(args, &reference, &test)?);
+        summary.jod = Some(jod(args, &reference, &test, &policy)?);
     }
     if let (Some(path), Some(mut map)) = (&args.heatmap, map_sum) {
         let frames = per_frame.len() as f32;

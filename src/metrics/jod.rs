@@ -20,7 +20,7 @@ use std::borrow::Borrow;
 
 use colorvideovdp::{Color, Cvvdp, DisplayModel, Image, Options};
 
-use super::MetricsError;
+use super::{MetricsError, Plane};
 
 /// The display model clips are scored for unless one is named.
 pub const DEFAULT_DISPLAY: &str = "standard_fhd";
@@ -43,6 +43,8 @@ pub struct JodSetting {
 pub struct JodScorer {
     metric: Cvvdp,
     display: String,
+    /// Whether predictions keep the per-pixel distortion map ([`JodScorer::score_with_map`]).
+    mapped: bool,
 }
 
 fn error(err: colorvideovdp::Error) -> MetricsError {
@@ -52,15 +54,27 @@ fn error(err: colorvideovdp::Error) -> MetricsError {
 impl JodScorer {
     /// A scorer for the standard display model `display` (see [`JodScorer::displays`]).
     pub fn new(display: &str) -> Result<Self, MetricsError> {
+        Self::build(display, false)
+    }
+
+    /// [`JodScorer::new`] whose scores also give the per-pixel distortion map (it costs one
+    /// more plane per frame while scoring).
+    pub fn with_distortion_map(display: &str) -> Result<Self, MetricsError> {
+        Self::build(display, true)
+    }
+
+    fn build(display: &str, mapped: bool) -> Result<Self, MetricsError> {
         let model = DisplayModel::from_name(display).map_err(|err| {
             MetricsError::Jod(format!(
                 "{err}; display models: {}",
                 Self::displays().join(", ")
             ))
         })?;
+        let options = Options::default().with_distortion_map(mapped);
         Ok(Self {
-            metric: Cvvdp::new(model, Options::default()).map_err(error)?,
+            metric: Cvvdp::new(model, options).map_err(error)?,
             display: display.to_owned(),
+            mapped,
         })
     }
 
@@ -114,6 +128,57 @@ impl JodScorer {
         T: Borrow<image::RgbaImage>,
         R: Borrow<image::RgbaImage>,
     {
+        Ok(f64::from(self.predict(test, reference, fps)?.jod))
+    }
+
+    /// [`JodScorer::score`] with the per-pixel distortion map averaged over the frames: each
+    /// value is `1 - JOD / 10` of that pixel (0: no visible difference; the model does not
+    /// clip it). Only a scorer made [`JodScorer::with_distortion_map`] has the map.
+    pub fn score_with_map<T, R>(
+        &self,
+        test: &[T],
+        reference: &[R],
+        fps: f32,
+    ) -> Result<(f64, Plane), MetricsError>
+    where
+        T: Borrow<image::RgbaImage>,
+        R: Borrow<image::RgbaImage>,
+    {
+        if !self.mapped {
+            return Err(MetricsError::Jod(
+                "this scorer was made without the distortion map".to_owned(),
+            ));
+        }
+        let prediction = self.predict(test, reference, fps)?;
+        let map = prediction
+            .distortion_map
+            .ok_or_else(|| MetricsError::Jod("the model returned no distortion map".to_owned()))?;
+        let pixels = map.width * map.height;
+        let mut mean = vec![0.0f32; pixels];
+        for frame in map.data.chunks_exact(pixels) {
+            mean.iter_mut().zip(frame).for_each(|(m, v)| *m += v);
+        }
+        let frames = map.frames.max(1) as f32;
+        mean.iter_mut().for_each(|m| *m /= frames);
+        let plane = Plane {
+            width: map.width as u32,
+            height: map.height as u32,
+            data: mean,
+        };
+        Ok((f64::from(prediction.jod), plane))
+    }
+
+    /// The model's prediction for `test` against `reference` (see [`JodScorer::score`]).
+    fn predict<T, R>(
+        &self,
+        test: &[T],
+        reference: &[R],
+        fps: f32,
+    ) -> Result<colorvideovdp::Prediction, MetricsError>
+    where
+        T: Borrow<image::RgbaImage>,
+        R: Borrow<image::RgbaImage>,
+    {
         if test.len() != reference.len() {
             return Err(MetricsError::FrameCount {
                 expected: reference.len(),
@@ -146,7 +211,7 @@ impl JodScorer {
                 .predict_video(&test, &reference, fps, Color::Srgb),
         }
         .map_err(error)?;
-        Ok(f64::from(prediction.jod))
+        Ok(prediction)
     }
 }
 
@@ -184,6 +249,45 @@ mod tests {
             }
         }
         out
+    }
+
+    #[test]
+    fn the_distortion_map_is_hot_where_the_test_differs_and_only_with_a_mapping_scorer() {
+        let reference: Vec<_> = (0..4).map(|_| noise(128, 64, 0, 0)).collect();
+        // Noise on the left quarter of every test frame, different in each frame.
+        let test: Vec<_> = (0..4)
+            .map(|seed| {
+                let noisy = noise(128, 64, seed + 1, 40);
+                let mut out = reference[0].clone();
+                for (x, y, p) in out.enumerate_pixels_mut() {
+                    if x < 32 {
+                        *p = *noisy.get_pixel(x, y);
+                    }
+                }
+                out
+            })
+            .collect();
+        let mapping = JodScorer::with_distortion_map(DEFAULT_DISPLAY).expect("scorer");
+        let (jod, map) = mapping
+            .score_with_map(&test, &reference, 30.0)
+            .expect("score");
+        assert_eq!((map.width, map.height), (128, 64));
+        let plain = JodScorer::new(DEFAULT_DISPLAY).expect("scorer");
+        let plain_jod = plain.score(&test, &reference, 30.0).expect("score");
+        assert!((jod - plain_jod).abs() < 1e-3, "{jod} vs {plain_jod}");
+        let mean = |xs: std::ops::Range<u32>| {
+            let values: Vec<f32> = (0..64)
+                .flat_map(|y| xs.clone().map(move |x| (x, y)))
+                .map(|(x, y)| map.data[(y * 128 + x) as usize])
+                .collect();
+            values.iter().sum::<f32>() / values.len() as f32
+        };
+        let (noisy, clean) = (mean(0..24), mean(96..128));
+        assert!(
+            noisy > 2.0 * clean,
+            "noisy quarter {noisy}, clean quarter {clean}"
+        );
+        assert!(plain.score_with_map(&test, &reference, 30.0).is_err());
     }
 
     #[test]
