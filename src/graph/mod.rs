@@ -511,9 +511,8 @@ impl FrameGraph {
         });
         self.scene_renders = 0;
         self.statistics.begin_frame(&device);
-        let sample_counts = self.inputs_used.iter().map(|u| u.desc.sample_count);
-        let samples: Vec<u32> = sample_counts.chain([1]).collect();
-        (self.overlay).prepare(&self.gpu, &self.fullscreen, size, samples);
+        let samples = self.inputs_used.iter().map(|u| u.desc.sample_count);
+        (self.overlay).prepare(&self.gpu, &self.fullscreen, size, samples.chain([1]));
         self.scene.set_specular_aa(self.specular_aa);
         self.render_inputs(&mut encoder, &camera, size);
         // 3. Every running technique's passes (after 1, plan_inputs, and 2, render_inputs).
@@ -540,7 +539,13 @@ impl FrameGraph {
                 statistics: &mut self.statistics,
             };
             slot.technique.encode(&mut ctx, input, output);
-            if self.overlay.order() == Some(OverlayOrder::After) || input.is_none() {
+            // Before: techniques that read no pooled input (SSAA, the reference) get it here.
+            let overlaid = match self.overlay.order() {
+                Some(OverlayOrder::After) => true,
+                Some(OverlayOrder::Before) => input.is_none(),
+                None => false,
+            };
+            if overlaid {
                 self.overlay.composite(&mut encoder, output, None);
             }
         }
