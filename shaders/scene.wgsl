@@ -21,7 +21,8 @@ struct View {
     light_direction: vec4<f32>,   // xyz: direction the light travels
     light_color: vec4<f32>,
     ambient: vec4<f32>,
-    // x: texture mip bias, y: 1 when motion vectors are written
+    // x: texture mip bias, y: 1 when motion vectors are written, z: exposure scale 2^EV
+    // (HDR renders only)
     params: vec4<f32>,
 }
 
@@ -32,6 +33,8 @@ struct Material {
     params: vec4<f32>,
     // Normal detail: x periods per world unit, y ripple slope, z flake slope (0 without)
     detail: vec4<f32>,
+    // rgb: emitted radiance, added to the shading (above 1 in HDR scenes)
+    emissive: vec4<f32>,
 }
 
 struct Object {
@@ -50,6 +53,10 @@ struct Object {
 override ALPHA_TO_COVERAGE: bool = false;
 // True when the specular lobe is widened by the normal's change across the pixel.
 override SPECULAR_AA: bool = false;
+// What the colour target receives (graph/hdr.rs): 0 display values clamped to [0, 1] (the LDR
+// path), 1 linear radiance (a floating-point HDR target), 2 radiance after exposure and the
+// tonemapping operator `OPERATOR` (an HDR scene rendered for a technique after tonemapping).
+override OUTPUT: u32 = 0u;
 
 struct VertexInput {
     @location(0) position: vec3<f32>,
@@ -225,10 +232,16 @@ fn shade_fragment(
     }
     let lit = view.ambient.rgb * albedo + view.light_color.rgb * (diffuse + specular);
     let unlit = material.params.y > 0.5;
-    let rgb = select(lit, albedo, unlit);
+    let rgb = select(lit, albedo, unlit) + material.emissive.rgb;
 
     var out: FragmentOutput;
-    out.color = vec4<f32>(clamp(rgb, vec3<f32>(0.0), vec3<f32>(1.0)), alpha);
+    var shown = clamp(rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+    if OUTPUT == 1u {
+        shown = max(rgb, vec3<f32>(0.0));
+    } else if OUTPUT == 2u {
+        shown = tonemap_operator(max(rgb * view.params.z, vec3<f32>(0.0)));
+    }
+    out.color = vec4<f32>(shown, alpha);
     // Motion in UV units from the previous frame's position to this one's, without jitter.
     out.motion = (clip_to_uv(current_clip) - clip_to_uv(previous_clip)) * view.params.y;
     return out;

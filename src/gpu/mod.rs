@@ -31,6 +31,9 @@ pub fn encoded_view_formats(caps: &Capabilities) -> &'static [wgpu::TextureForma
         &[]
     }
 }
+/// Colour format of HDR scene renders and of the outputs of techniques that run before the
+/// tonemapper: linear radiance in half floats (`graph::hdr`).
+pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Depth format of scene renders.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Screen-space motion vectors, in pixels from the previous frame to this one.

@@ -32,6 +32,9 @@ pub struct Shader {
     pub path: &'static str,
     /// The WGSL text.
     pub source: &'static str,
+    /// A shared file of functions compiled in front of this one (the tonemapping operators
+    /// that the scene shader and the tonemap pass both use), so neither copies them.
+    pub prelude: Option<&'static Shader>,
 }
 
 /// A [`Shader`] from its path relative to the repository root, its text included at compile
@@ -42,11 +45,26 @@ macro_rules! wgsl {
         $crate::gpu::shader::Shader {
             path: $path,
             source: include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/", $path)),
+            prelude: None,
+        }
+    };
+    ($path:literal, prelude = $prelude:expr) => {
+        $crate::gpu::shader::Shader {
+            prelude: Some(&$prelude),
+            ..$crate::wgsl!($path)
         }
     };
 }
 
 impl Shader {
+    /// The text the GPU compiles: the prelude's, if any, then this file's.
+    pub fn composed_source(&self) -> std::borrow::Cow<'static, str> {
+        match self.prelude {
+            Some(prelude) => format!("{}\n{}", prelude.source, self.source).into(),
+            None => self.source.into(),
+        }
+    }
+
     /// The file name (the module's label).
     pub fn name(&self) -> &'static str {
         self.path.rsplit('/').next().unwrap_or(self.path)
@@ -56,7 +74,7 @@ impl Shader {
     pub fn module(&self, device: &wgpu::Device) -> wgpu::ShaderModule {
         device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(self.name()),
-            source: wgpu::ShaderSource::Wgsl(self.source.into()),
+            source: wgpu::ShaderSource::Wgsl(self.composed_source().into()),
         })
     }
 }
@@ -65,13 +83,19 @@ impl Shader {
 /// each technique's own shaders live in its folder under `src/aa/`.
 pub const SHADERS: &[Shader] = &[
     crate::wgsl!("shaders/fullscreen.wgsl"),
-    crate::wgsl!("shaders/scene.wgsl"),
+    crate::wgsl!("shaders/scene.wgsl", prelude = TONEMAP_OPERATORS),
     crate::wgsl!("shaders/metrics_ssim.wgsl"),
     crate::wgsl!("shaders/metrics_copy.wgsl"),
     crate::wgsl!("shaders/viewer_blit.wgsl"),
     crate::wgsl!("shaders/viewer_fill.wgsl"),
     crate::wgsl!("shaders/overlay.wgsl"),
+    crate::wgsl!("shaders/tonemap.wgsl", prelude = TONEMAP_OPERATORS),
+    TONEMAP_OPERATORS,
 ];
+
+/// The tonemapping operators (`tonemap_operator`), the prelude of the scene shader and of the
+/// tonemap pass (see `graph::hdr`).
+pub const TONEMAP_OPERATORS: Shader = crate::wgsl!("shaders/tonemap_operators.wgsl");
 
 /// The shared shader `shaders/<name>`.
 ///

@@ -5,10 +5,13 @@
 //! jittered render when their offsets agree), (3) runs each technique's passes into its own
 //! output texture, all in one command encoder with a GPU timer around every pass. The same
 //! graph serves the viewer and the headless CLI. Optionally (off by default) every render pass
-//! also counts its fragment-shader invocations ([`FrameGraph::set_pipeline_statistics`]), and a
+//! also counts its fragment-shader invocations ([`FrameGraph::set_pipeline_statistics`]), a
 //! user-interface overlay goes over the frames before or after the antialiasing
-//! ([`FrameGraph::set_overlay`], [`overlay`]).
+//! ([`FrameGraph::set_overlay`], [`overlay`]), and HDR scenes run each technique before or
+//! after the tonemapper ([`FrameGraph::set_tonemap`], [`hdr`]).
 
+mod context;
+pub mod hdr;
 mod memory;
 pub mod overlay;
 pub mod params;
@@ -17,6 +20,7 @@ mod statistics;
 pub mod technique;
 mod timing;
 
+pub use context::PassContext;
 pub use memory::{MemoryItem, MemoryReport, TechniqueMemory};
 pub use statistics::{FrameStatistics, PassInvocations};
 pub use technique::{DebugView, FrameInfo, SceneInput, Technique};
@@ -26,8 +30,8 @@ use std::collections::HashMap;
 
 use crate::gpu::{self, Gpu, fullscreen::Fullscreen};
 use crate::scene::Scene;
-use crate::scene::camera::ViewParams;
-use crate::scene::renderer::{PassQueries, RasterOptions, SceneRenderer, SceneTargets, TargetDesc};
+use crate::scene::renderer::{PassQueries, SceneRenderer, SceneTargets, TargetDesc, Tonemap};
+use hdr::{TonemapOrder, TonemapPass};
 use overlay::{OverlayOrder, OverlayPass};
 use pooled_input::PooledInput;
 use statistics::StatisticsRecorder;
@@ -79,6 +83,8 @@ pub struct Slot {
     /// stays the ground truth of unfiltered shading the techniques are scored against.
     pub reference: bool,
     output: Option<wgpu::Texture>,
+    /// The half-float output of a technique before the tonemapper (HDR frames only).
+    hdr_output: Option<wgpu::Texture>,
 }
 
 impl Slot {
@@ -100,160 +106,6 @@ pub enum FrameScope {
     All,
     /// Only enabled temporal techniques (warm-up frames before the frame that is kept).
     TemporalOnly,
-}
-
-/// Everything a technique's `encode` may use.
-pub struct PassContext<'a> {
-    /// Device and queue.
-    pub gpu: &'a Gpu,
-    /// The frame's command encoder.
-    pub encoder: &'a mut wgpu::CommandEncoder,
-    /// This frame's camera and flags.
-    pub frame: &'a FrameInfo,
-    /// Shared fullscreen-triangle vertex stage and pipeline helper.
-    pub fullscreen: &'a Fullscreen,
-    scene: &'a mut SceneRenderer,
-    profiler: &'a wgpu_profiler::GpuProfiler,
-    technique_id: &'static str,
-    scene_renders: &'a mut usize,
-    statistics: &'a mut StatisticsRecorder,
-}
-
-impl PassContext<'_> {
-    fn label(&self, pass: &str) -> String {
-        debug_assert!(!pass.contains('/'), "pass names have no '/': {pass}");
-        format!("{}/{pass}", self.technique_id)
-    }
-
-    /// Runs `record` with this context seeing `frame` instead (a technique that runs another
-    /// at a render scale hands it the frame at the render size); passes stay the technique's.
-    pub fn with_frame<R>(
-        &mut self,
-        frame: &FrameInfo,
-        record: impl FnOnce(&mut PassContext<'_>) -> R,
-    ) -> R {
-        record(&mut PassContext {
-            gpu: self.gpu,
-            encoder: self.encoder,
-            frame,
-            fullscreen: self.fullscreen,
-            scene: self.scene,
-            profiler: self.profiler,
-            technique_id: self.technique_id,
-            scene_renders: self.scene_renders,
-            statistics: self.statistics,
-        })
-    }
-
-    /// Records a timed render pass named `pass` (shown as `technique/pass` in timings).
-    pub fn render_pass(
-        &mut self,
-        pass: &str,
-        color_attachments: &[Option<wgpu::RenderPassColorAttachment<'_>>],
-        depth_stencil_attachment: Option<wgpu::RenderPassDepthStencilAttachment<'_>>,
-        record: impl FnOnce(&mut wgpu::RenderPass<'_>),
-    ) {
-        let label = self.label(pass);
-        let query = self.profiler.begin_pass_query(label.clone(), self.encoder);
-        let statistics = self.statistics.allocate(&label);
-        {
-            let mut render_pass = self.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(&label),
-                color_attachments,
-                depth_stencil_attachment,
-                timestamp_writes: query.render_pass_timestamp_writes(),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            if let Some((set, index)) = statistics {
-                render_pass.begin_pipeline_statistics_query(set, index);
-            }
-            record(&mut render_pass);
-            if statistics.is_some() {
-                render_pass.end_pipeline_statistics_query();
-            }
-        }
-        self.profiler.end_query(self.encoder, query);
-    }
-
-    /// Records a timed compute pass named `pass`.
-    pub fn compute_pass(&mut self, pass: &str, record: impl FnOnce(&mut wgpu::ComputePass<'_>)) {
-        let label = self.label(pass);
-        let query = self.profiler.begin_pass_query(label.clone(), self.encoder);
-        {
-            let mut compute_pass = self
-                .encoder
-                .begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(&label),
-                    timestamp_writes: query.compute_pass_timestamp_writes(),
-                });
-            record(&mut compute_pass);
-        }
-        self.profiler.end_query(self.encoder, query);
-    }
-
-    /// Records a timed fullscreen pass: one triangle into `target` with `pipeline` and
-    /// `bind_group` at group 0.
-    pub fn fullscreen_pass(
-        &mut self,
-        pass: &str,
-        target: &wgpu::TextureView,
-        pipeline: &wgpu::RenderPipeline,
-        bind_group: &wgpu::BindGroup,
-    ) {
-        let attachment = wgpu::RenderPassColorAttachment {
-            view: target,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                store: wgpu::StoreOp::Store,
-            },
-        };
-        self.render_pass(pass, &[Some(attachment)], None, |rp| {
-            rp.set_pipeline(pipeline);
-            rp.set_bind_group(0, bind_group, &[]);
-            rp.draw(0..3, 0..1);
-        });
-    }
-
-    /// Copies a whole texture into another of the same size and format, timed.
-    pub fn copy_texture(
-        &mut self,
-        pass: &str,
-        source: &wgpu::Texture,
-        destination: &wgpu::Texture,
-    ) {
-        let label = self.label(pass);
-        let query = self.profiler.begin_query(label, self.encoder);
-        self.encoder.copy_texture_to_texture(
-            source.as_image_copy(),
-            destination.as_image_copy(),
-            source.size(),
-        );
-        self.profiler.end_query(self.encoder, query);
-    }
-
-    /// Renders the scene (for techniques that produce their own scene renders, such as
-    /// supersampling tiles and accumulation passes). Counted in the frame's scene renders.
-    pub fn render_scene(
-        &mut self,
-        pass: &str,
-        targets: &SceneTargets,
-        view: &ViewParams,
-        raster: RasterOptions,
-    ) {
-        let label = self.label(pass);
-        let query = self.profiler.begin_pass_query(label.clone(), self.encoder);
-        let queries = PassQueries {
-            timestamp_writes: query.render_pass_timestamp_writes(),
-            statistics: self.statistics.allocate(&label),
-        };
-        self.scene
-            .render_queried(self.gpu, self.encoder, targets, view, raster, queries);
-        self.profiler.end_query(self.encoder, query);
-        *self.scene_renders += 1;
-    }
 }
 
 /// A texture a technique's output can be written to: RGBA8 sRGB with its encoded view, usable
@@ -297,6 +149,7 @@ pub struct FrameGraph {
     /// A finished image that stands in for the 1x scene render (image mode).
     image_input: Option<image::RgbaImage>,
     overlay: OverlayPass,
+    tonemap: TonemapPass,
     /// Geometric specular antialiasing in every scene render but the reference's.
     specular_aa: bool,
 }
@@ -335,6 +188,7 @@ impl FrameGraph {
             statistics: StatisticsRecorder::new(),
             image_input: None,
             overlay: OverlayPass::new(&gpu.device),
+            tonemap: TonemapPass::new(&gpu.device),
             specular_aa: false,
             gpu,
         }
@@ -343,6 +197,26 @@ impl FrameGraph {
     /// Where the UI overlay goes from the next frame on (`None`: no overlay, the default).
     pub fn set_overlay(&mut self, order: Option<OverlayOrder>) {
         self.overlay.set_order(order);
+    }
+
+    /// Renders HDR from the next frame on with `Some(tonemap)` (see [`hdr`]): scenes as linear
+    /// radiance, each technique before or after the tonemapper by its
+    /// [`Technique::tonemap_order`]. `None` (the default) is the LDR path. Image mode ignores
+    /// it: a finished image is already display-referred.
+    pub fn set_tonemap(&mut self, tonemap: Option<Tonemap>) {
+        (self.tonemap).set_tonemap(&self.gpu, &self.fullscreen, tonemap);
+    }
+
+    /// The tonemap of HDR frames (`None`: LDR).
+    pub fn tonemap(&self) -> Option<Tonemap> {
+        self.tonemap.tonemap()
+    }
+
+    /// Whether the slot's technique runs on radiance this frame (HDR, before the tonemapper).
+    fn on_radiance(&self, slot: &Slot) -> bool {
+        self.image_input.is_none()
+            && self.tonemap.tonemap().is_some()
+            && slot.technique.tonemap_order() == TonemapOrder::Before
     }
 
     /// Turns geometric specular antialiasing on or off in the scene renders of every technique
@@ -385,6 +259,7 @@ impl FrameGraph {
             kept: false,
             reference: false,
             output: None,
+            hdr_output: None,
         });
         self.slots.len() - 1
     }
@@ -484,6 +359,7 @@ impl FrameGraph {
             self.input_pool.clear();
             for slot in &mut self.slots {
                 slot.output = None;
+                slot.hdr_output = None;
             }
             self.size = size;
         }
@@ -514,14 +390,23 @@ impl FrameGraph {
         let samples = self.inputs_used.iter().map(|u| u.desc.sample_count);
         (self.overlay).prepare(&self.gpu, &self.fullscreen, size, samples.chain([1]));
         self.scene.set_specular_aa(self.specular_aa);
+        let tonemap = self.tonemap.tonemap().filter(|_| self.image_input.is_none());
+        self.scene.set_tonemap(tonemap);
         self.render_inputs(&mut encoder, &camera, size);
         // 3. Every running technique's passes (after 1, plan_inputs, and 2, render_inputs).
         for &i in &active {
+            let on_radiance = self.on_radiance(&self.slots[i]);
             let slot = &mut self.slots[i];
             self.scene
                 .set_specular_aa(self.specular_aa && !slot.reference);
+            let id = slot.technique.id();
             let output = slot.output.get_or_insert_with(|| {
-                output_texture(&self.gpu, &format!("{} output", slot.technique.id()), size)
+                output_texture(&self.gpu, &format!("{id} output"), size)
+            });
+            let hdr_output = on_radiance.then(|| {
+                &*slot.hdr_output.get_or_insert_with(|| {
+                    hdr::hdr_output_texture(&self.gpu, &format!("{id} hdr output"), size)
+                })
             });
             let input = self.slot_inputs[i].and_then(|n| {
                 let used = &self.inputs_used[n];
@@ -538,11 +423,16 @@ impl FrameGraph {
                 scene_renders: &mut self.scene_renders,
                 statistics: &mut self.statistics,
             };
-            slot.technique.encode(&mut ctx, input, output);
-            // Before: techniques that read no pooled input (SSAA, the reference) get it here.
+            slot.technique
+                .encode(&mut ctx, input, hdr_output.unwrap_or(output));
+            if let Some(radiance) = hdr_output {
+                self.tonemap.encode(&mut ctx, radiance, output);
+            }
+            // Before: techniques that read no pooled input (SSAA, the reference) or read
+            // radiance (the overlay is drawn on displayed values) get it here.
             let overlaid = match self.overlay.order() {
                 Some(OverlayOrder::After) => true,
-                Some(OverlayOrder::Before) => input.is_none(),
+                Some(OverlayOrder::Before) => input.is_none_or(|t| t.desc.hdr),
                 None => false,
             };
             if overlaid {
@@ -612,22 +502,24 @@ impl FrameGraph {
     /// (its render scale).
     fn plan_inputs(&mut self, frame: &FrameInfo, active: &[usize]) -> Result<(), GraphError> {
         let size = frame.output_size();
-        let mut wanted: Vec<Option<(SceneInput, (u32, u32))>> = vec![None; self.slots.len()];
+        let mut wanted: Vec<Option<(SceneInput, (u32, u32), bool)>> = vec![None; self.slots.len()];
         self.inputs_used.clear();
         for (i, slot) in self.slots.iter().enumerate().filter(|(_, s)| s.held()) {
             let render_size = slot.technique.render_size(frame);
             let input = slot.technique.scene_input(frame);
-            wanted[i] = input.map(|input| (input, render_size));
+            let hdr = self.on_radiance(slot);
+            wanted[i] = input.map(|input| (input, render_size, hdr));
             if let Some(input) = input
                 && !self
                     .inputs_used
                     .iter()
-                    .any(|used| used.is(input, render_size))
+                    .any(|used| used.is(input, render_size, hdr))
             {
                 let desc = TargetDesc {
                     size: render_size,
                     sample_count: input.sample_count(),
                     motion: input.motion(),
+                    hdr,
                 };
                 let index = self.inputs_used.iter().filter(|u| u.desc == desc).count();
                 self.inputs_used.push(PooledInput {
@@ -641,7 +533,9 @@ impl FrameGraph {
         self.slot_inputs = wanted
             .iter()
             .map(|w| {
-                w.and_then(|(input, size)| self.inputs_used.iter().position(|u| u.is(input, size)))
+                w.and_then(|(input, size, hdr)| {
+                    self.inputs_used.iter().position(|u| u.is(input, size, hdr))
+                })
             })
             .collect();
         for &i in active {
@@ -694,9 +588,10 @@ impl FrameGraph {
         }
     }
 
-    /// The UI overlay over a scene input, when it goes before the antialiasing.
+    /// The UI overlay over a scene input of display values, when it goes before the
+    /// antialiasing (a technique on radiance gets it over its tonemapped output instead).
     fn overlay_before(&self, encoder: &mut wgpu::CommandEncoder, targets: &SceneTargets) {
-        if self.overlay.order() == Some(OverlayOrder::Before) {
+        if self.overlay.order() == Some(OverlayOrder::Before) && !targets.desc.hdr {
             (self.overlay).composite(encoder, &targets.color, targets.resolved.as_ref());
         }
     }

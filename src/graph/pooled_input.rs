@@ -15,18 +15,21 @@ pub(super) struct PooledInput {
 }
 
 impl PooledInput {
-    /// Whether this is `input` rendered at `size`.
-    pub(super) fn is(&self, input: SceneInput, size: (u32, u32)) -> bool {
-        self.input == input && self.desc.size == size
+    /// Whether this is `input` rendered at `size`, as radiance when `hdr`.
+    pub(super) fn is(&self, input: SceneInput, size: (u32, u32), hdr: bool) -> bool {
+        self.input == input && self.desc.size == size && self.desc.hdr == hdr
     }
 
     /// The input's label, with its size when it is rendered below the output size `output`.
     pub(super) fn label(&self, output: (u32, u32)) -> String {
-        if self.desc.size == output {
-            self.input.label()
-        } else {
+        let mut label = self.input.label();
+        if self.desc.size != output {
             let (width, height) = self.desc.size;
-            format!("{} {width}x{height}", self.input.label())
+            label += &format!(" {width}x{height}");
         }
+        if self.desc.hdr {
+            label += " hdr";
+        }
+        label
     }
 }

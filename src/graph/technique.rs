@@ -12,6 +12,7 @@
 
 use glam::Vec2;
 
+use super::hdr::TonemapOrder;
 use super::params::{Param, ParamError, ParamValue};
 use super::{MemoryItem, PassContext};
 use crate::scene::renderer::{RasterOptions, SceneTargets};
@@ -178,6 +179,13 @@ pub trait Technique: Send {
         false
     }
 
+    /// Where the technique runs in an HDR frame: on radiance before the tonemapper (it then
+    /// reads a half-float input and writes a half-float `output`, which the graph tonemaps)
+    /// or on the displayed image after it (the default; see `graph::hdr`).
+    fn tonemap_order(&self) -> TonemapOrder {
+        TonemapOrder::After
+    }
+
     /// Whether the technique keeps state across frames, so that frame N means running frames
     /// 0..=N.
     fn temporal(&self) -> bool {
@@ -185,7 +193,8 @@ pub trait Technique: Send {
     }
 
     /// Records the technique's passes. `input` is the render of [`Technique::scene_input`];
-    /// `output` is the texture to write (RGBA8 sRGB, viewable as `Rgba8Unorm`).
+    /// `output` is the texture to write (RGBA8 sRGB, viewable as `Rgba8Unorm`; half floats
+    /// when the technique runs before the tonemapper of an HDR frame).
     fn encode(
         &mut self,
         ctx: &mut PassContext<'_>,

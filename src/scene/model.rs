@@ -152,6 +152,9 @@ pub struct Material {
     pub double_sided: bool,
     /// Procedural normal detail; `None` shades with the interpolated normal.
     pub normal_detail: Option<NormalDetail>,
+    /// Emitted radiance in linear RGB, added to the shading (above 1 for lights and glowing
+    /// edges in HDR scenes; an LDR render clamps the sum to 1).
+    pub emissive: Vec3,
 }
 
 impl Default for Material {
@@ -168,6 +171,7 @@ impl Default for Material {
             unlit: false,
             double_sided: true,
             normal_detail: None,
+            emissive: Vec3::ZERO,
         }
     }
 }

@@ -226,6 +226,7 @@ impl Multisample {
                         size,
                         sample_count: 1,
                         motion: false,
+                        hdr: false,
                     },
                 ),
                 results: [result(0), result(1)],

@@ -35,7 +35,7 @@ use crate::aa::params::{Named, Param, ParamError, ParamValue, as_i64, as_named};
 use crate::aa::{FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
-use crate::gpu::{COLOR_FORMAT, Gpu};
+use crate::gpu::{COLOR_FORMAT, Gpu, HDR_FORMAT};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::camera::PixelRect;
 use crate::scene::renderer::{RasterOptions, SceneTargets, TargetDesc};
@@ -115,6 +115,9 @@ pub struct Ssaa {
     module: wgpu::ShaderModule,
     ordered: Option<Ordered>,
     jittered: Option<Jittered>,
+    /// Whether the samples are HDR radiance (the output is `HDR_FORMAT`: the graph tonemaps
+    /// the average, as a camera would) rather than display values.
+    hdr: bool,
 }
 
 impl Ssaa {
@@ -132,12 +135,29 @@ impl Ssaa {
             module: WGSL.module(&gpu.device),
             ordered: None,
             jittered: None,
+            hdr: false,
         }
     }
 
     /// Current settings.
     pub fn settings(&self) -> SsaaSettings {
         self.settings
+    }
+
+    /// The format of the output the pipelines write.
+    fn output_format(&self) -> wgpu::TextureFormat {
+        if self.hdr { HDR_FORMAT } else { COLOR_FORMAT }
+    }
+
+    /// Follows the output's format: HDR radiance or display values (dropping the targets and
+    /// pipelines of the other).
+    fn follow_output(&mut self, output: &wgpu::Texture) {
+        let hdr = output.format() == HDR_FORMAT;
+        if hdr != self.hdr {
+            self.hdr = hdr;
+            self.ordered = None;
+            self.jittered = None;
+        }
     }
 
     fn ensure_ordered(&mut self, ctx: &PassContext<'_>, size: (u32, u32)) {
@@ -151,6 +171,7 @@ impl Ssaa {
             size: (plan.tile.x * plan.factor, plan.tile.y * plan.factor),
             sample_count: 1,
             motion: false,
+            hdr: self.hdr,
         };
         let targets = SceneTargets::new(ctx.gpu, "ssaa tile", desc);
         let tiles = plan.tiles().len() as u64;
@@ -175,7 +196,7 @@ impl Ssaa {
                 label: "ssaa downsample",
                 module: &self.module,
                 entry_point: "fs_downsample",
-                targets: &[COLOR_FORMAT],
+                targets: &[self.output_format()],
                 constants: &[],
                 layout: Some(&pipeline_layout),
             },
@@ -208,6 +229,7 @@ impl Ssaa {
     }
 
     fn encode_ordered(&mut self, ctx: &mut PassContext<'_>, output: &wgpu::Texture) {
+        self.follow_output(output);
         let size = ctx.frame.size();
         self.ensure_ordered(ctx, size);
         let Some(ordered) = &self.ordered else { return };
@@ -305,6 +327,7 @@ impl Ssaa {
                 size,
                 sample_count: 1,
                 motion: false,
+                hdr: self.hdr,
             },
         );
         let accumulate_layout = pass::stage_layout(
@@ -361,7 +384,7 @@ impl Ssaa {
                 label: "ssaa resolve accumulated",
                 module: &self.module,
                 entry_point: "fs_resolve_accumulated",
-                targets: &[COLOR_FORMAT],
+                targets: &[self.output_format()],
                 constants: &[],
                 layout: None,
             },
@@ -404,6 +427,7 @@ impl Ssaa {
     }
 
     fn encode_jittered(&mut self, ctx: &mut PassContext<'_>, output: &wgpu::Texture) {
+        self.follow_output(output);
         let size = ctx.frame.size();
         self.ensure_jittered(ctx, size, false);
         let Some(j) = &self.jittered else { return };
@@ -425,6 +449,7 @@ impl Ssaa {
         restart: bool,
         budget: u32,
     ) -> Progress {
+        self.follow_output(output);
         if self.settings.mode == Mode::Ordered {
             self.settings = SsaaSettings {
                 mode: Mode::Jittered,

@@ -27,9 +27,11 @@ use super::{AlphaMode, Filter, Scene, TextureImage, TextureSampler, Vertex, Wrap
 use crate::gpu::{self, COLOR_FORMAT, DEPTH_FORMAT, Gpu, MOTION_FORMAT};
 use crate::srgb;
 
+mod output;
 mod pipeline;
 mod textures;
 
+pub use output::{SceneOutput, Tonemap, Tonemapper};
 pub use pipeline::PipelineKey;
 
 pub use textures::{anisotropy_clamp, downsample_srgb, mip_level_count};
@@ -68,6 +70,9 @@ pub struct TargetDesc {
     pub sample_count: u32,
     /// Whether a motion-vector target is written.
     pub motion: bool,
+    /// Whether the colour holds linear radiance in [`gpu::HDR_FORMAT`] (an HDR render for a
+    /// technique before the tonemapper) instead of display values in [`COLOR_FORMAT`].
+    pub hdr: bool,
 }
 
 /// Render targets of one scene render: colour, depth and optional motion, each with
@@ -76,7 +81,8 @@ pub struct TargetDesc {
 pub struct SceneTargets {
     /// What the targets were created for.
     pub desc: TargetDesc,
-    /// Colour, `sample_count` samples (sRGB format, encoded-view compatible).
+    /// Colour, `sample_count` samples (sRGB format, encoded-view compatible; half floats when
+    /// `desc.hdr`).
     pub color: wgpu::Texture,
     /// Single-sample resolve of `color` (only when multisampled).
     pub resolved: Option<wgpu::Texture>,
@@ -120,11 +126,16 @@ impl SceneTargets {
     /// Creates targets; `label` prefixes every texture label.
     pub fn new(gpu: &Gpu, label: &str, desc: TargetDesc) -> Self {
         let n = desc.sample_count;
+        let color_format = if desc.hdr {
+            gpu::HDR_FORMAT
+        } else {
+            COLOR_FORMAT
+        };
         Self {
             desc,
-            color: target_texture(gpu, &format!("{label} color"), &desc, n, COLOR_FORMAT),
+            color: target_texture(gpu, &format!("{label} color"), &desc, n, color_format),
             resolved: (n > 1)
-                .then(|| target_texture(gpu, &format!("{label} resolved"), &desc, 1, COLOR_FORMAT)),
+                .then(|| target_texture(gpu, &format!("{label} resolved"), &desc, 1, color_format)),
             depth: target_texture(gpu, &format!("{label} depth"), &desc, n, DEPTH_FORMAT),
             motion: desc
                 .motion
@@ -181,6 +192,7 @@ struct MaterialUniform {
     specular: [f32; 4],
     params: [f32; 4],
     detail: [f32; 4],
+    emissive: [f32; 4],
 }
 
 #[repr(C)]
@@ -226,6 +238,7 @@ pub struct SceneRenderer {
     light: super::DirectionalLight,
     clear_color: Vec3,
     specular_aa: bool,
+    tonemap: Option<Tonemap>,
     triangles: usize,
     bytes: u64,
 }
@@ -395,6 +408,7 @@ fn upload_materials(
                 detail: m.normal_detail.map_or([0.0; 4], |d| {
                     [d.frequency, d.ripple.max(0.0), d.flakes.max(0.0), 0.0]
                 }),
+                emissive: m.emissive.max(Vec3::ZERO).extend(0.0).to_array(),
             };
             let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(&format!("material {}", m.name)),
@@ -487,6 +501,7 @@ impl SceneRenderer {
             light: scene.light,
             clear_color: scene.clear_color,
             specular_aa: false,
+            tonemap: None,
             triangles: scene.triangle_count(),
             bytes: geometry.bytes + texture_bytes,
         };
@@ -515,6 +530,19 @@ impl SceneRenderer {
     /// the pipelines are those of a renderer without the option, so renders are unchanged.
     pub fn set_specular_aa(&mut self, on: bool) {
         self.specular_aa = on;
+    }
+
+    /// Renders HDR from now on with `Some(tonemap)`: 8-bit targets receive tonemapped radiance
+    /// and HDR targets ([`TargetDesc::hdr`]) radiance; `None` (after
+    /// [`SceneRenderer::new`]) is the LDR path, display values clamped to [0, 1], whose
+    /// pipelines are those of a renderer without HDR, so renders are unchanged.
+    pub fn set_tonemap(&mut self, tonemap: Option<Tonemap>) {
+        self.tonemap = tonemap;
+    }
+
+    /// The tonemap of HDR renders (`None`: the LDR path).
+    pub fn tonemap(&self) -> Option<Tonemap> {
+        self.tonemap
     }
 
     fn write_objects(&self, gpu: &Gpu, frame: f32, prev_frame: f32) {
@@ -625,7 +653,7 @@ impl SceneRenderer {
             params: [
                 view.mip_bias,
                 if targets.desc.motion { 1.0 } else { 0.0 },
-                0.0,
+                self.tonemap.map_or(1.0, |t| t.scale()),
                 0.0,
             ],
         };
@@ -675,6 +703,7 @@ impl SceneRenderer {
                 raster,
                 cull_back: self.materials[d.material].cull_back,
                 specular_aa: self.specular_aa,
+                output: SceneOutput::of(targets.color.format(), self.tonemap.as_ref()),
             })
             .collect();
         let pipelines: Vec<wgpu::RenderPipeline> = keys

@@ -1,10 +1,11 @@
 //! The scene's render pipelines: one per [`PipelineKey`], built from `shaders/scene.wgsl`
 //! with the key's entry points (by [`ShadingRate`]) and override constants
-//! (`ALPHA_TO_COVERAGE`, `SPECULAR_AA`), so that a switch that is off compiles to the shader
+//! (`ALPHA_TO_COVERAGE`, `SPECULAR_AA`, `OUTPUT` and `OPERATOR`), so that a switch that is off compiles to the shader
 //! without it rather than to a branch on a uniform.
 
+use super::output::SceneOutput;
 use super::{RasterOptions, ShadingRate, Vertex};
-use crate::gpu::{COLOR_FORMAT, DEPTH_FORMAT, MOTION_FORMAT};
+use crate::gpu::{COLOR_FORMAT, DEPTH_FORMAT, HDR_FORMAT, MOTION_FORMAT};
 
 /// Everything that changes a scene pipeline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -19,6 +20,8 @@ pub struct PipelineKey {
     pub cull_back: bool,
     /// Geometric specular antialiasing (see `SceneRenderer::set_specular_aa`).
     pub specular_aa: bool,
+    /// What the colour target receives (and so its format).
+    pub output: SceneOutput,
 }
 
 /// Builds the pipeline of `key` from the scene shader module.
@@ -35,16 +38,22 @@ pub(super) fn create(
     };
     let a2c = key.raster.alpha_to_coverage && key.sample_count > 1;
     let flag = |on: bool| if on { 1.0 } else { 0.0 };
+    let [output, operator] = key.output.constants();
     let constants = [
         ("ALPHA_TO_COVERAGE", flag(a2c)),
         ("SPECULAR_AA", flag(key.specular_aa)),
+        output,
+        operator,
     ];
     let options = wgpu::PipelineCompilationOptions {
         constants: &constants,
         ..Default::default()
     };
     let color_target = wgpu::ColorTargetState {
-        format: COLOR_FORMAT,
+        format: match key.output {
+            SceneOutput::Radiance => HDR_FORMAT,
+            SceneOutput::Display | SceneOutput::Tonemapped(_) => COLOR_FORMAT,
+        },
         blend: None,
         // Alpha keeps the clear value 1: with alpha-to-coverage the shader's alpha is a
         // coverage fraction, not an image alpha.
@@ -56,11 +65,12 @@ pub(super) fn create(
         write_mask: wgpu::ColorWrites::ALL,
     });
     let label = format!(
-        "scene {}x {:?}{}{}",
+        "scene {}x {:?}{}{} {:?}",
         key.sample_count,
         key.raster.shading,
         if a2c { " a2c" } else { "" },
-        if key.specular_aa { " specular-aa" } else { "" }
+        if key.specular_aa { " specular-aa" } else { "" },
+        key.output,
     );
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(&label),
