@@ -14,6 +14,7 @@
 
 use crate::aa::{self, FrameInfo, ParamMap, TechniqueError};
 use crate::gpu::{Gpu, read_texture_rgba8, readback::ReadbackError};
+use crate::graph::hdr::TonemapChoice;
 use crate::graph::overlay::OverlayOrder;
 use crate::graph::{FrameGraph, FrameScope, FrameTimings, GraphError, MemoryReport};
 use crate::scene::Scene;
@@ -77,6 +78,13 @@ pub struct RenderSpec {
     /// reference's ([`FrameGraph::set_specular_aa`]); left out of a record when off.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub specular_aa: bool,
+    /// How the scene's radiance is displayed (`--tonemap`): `auto` (left out of a record) puts
+    /// HDR scenes through the default tonemapper and leaves the others on the LDR path.
+    #[serde(default, skip_serializing_if = "TonemapChoice::is_auto")]
+    pub tonemap: TonemapChoice,
+    /// Exposure of an HDR render in stops (`--exposure`); left out of a record when 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub exposure: f32,
     /// Image width.
     pub width: u32,
     /// Image height.
@@ -110,9 +118,20 @@ pub struct RenderSpec {
     pub build: Option<String>,
 }
 
+impl RenderSpec {
+    /// The tonemap this spec renders `scene` with (`None`: the LDR path).
+    pub fn tonemap_of(&self, scene: &Scene) -> Option<crate::scene::renderer::Tonemap> {
+        self.tonemap.resolve(scene.is_hdr(), self.exposure)
+    }
+}
+
 /// Largest frame number of a render: temporal techniques run every frame up to it, so a
 /// larger one would take days and overflow frame arithmetic.
 pub const MAX_FRAME: u64 = 1_000_000;
+
+fn is_zero(value: &f32) -> bool {
+    *value == 0.0
+}
 
 fn default_density() -> f32 {
     1.0
@@ -309,6 +328,7 @@ pub fn build_graph(gpu: &Gpu, scene: &Scene, spec: &RenderSpec) -> Result<FrameG
     let mut graph = FrameGraph::new(gpu.clone(), scene);
     graph.set_overlay(spec.overlay);
     graph.set_specular_aa(spec.specular_aa);
+    graph.set_tonemap(spec.tonemap_of(scene));
     for t in &spec.techniques {
         graph.add(t.create(gpu)?);
     }

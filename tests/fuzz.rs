@@ -345,6 +345,8 @@ fn sample_spec() -> RenderSpec {
         density: 1.0,
         seed: 7,
         specular_aa: false,
+        tonemap: aa_lab::graph::hdr::TonemapChoice::Auto,
+        exposure: 0.0,
         width: 160,
         height: 90,
         frame: 3,

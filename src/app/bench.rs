@@ -56,6 +56,10 @@ pub(super) struct BenchRequest {
     pub overlay: Option<OverlayOrder>,
     /// Whether the viewer's scene renders have specular antialiasing.
     pub specular_aa: bool,
+    /// The viewer's tonemap choice and exposure.
+    pub tonemap: crate::graph::hdr::TonemapChoice,
+    /// Exposure of HDR renders in stops.
+    pub exposure: f32,
 }
 
 /// One technique's row of the panel's table.
@@ -247,6 +251,8 @@ impl BenchFeature {
             quality: true,
             seed: SceneOptions::default().seed,
             specular_aa: request.specular_aa,
+            tonemap: request.tonemap,
+            exposure: request.exposure,
             images: None,
             overlay: request.overlay,
         };

@@ -77,6 +77,8 @@ fn bench_request(ws: &Workspace) -> Result<BenchRequest, String> {
         export_dir: ws.cx.settings.export_dir.clone(),
         overlay: ws.cx.settings.ui_overlay,
         specular_aa: engine.specular_aa(),
+        tonemap: engine.tonemap().0,
+        exposure: engine.tonemap().1,
     })
 }
 

@@ -165,6 +165,7 @@ fn view_menu(ui: &mut egui::Ui, ws: &mut Workspace, panels_hidden: &mut bool) {
     ui.separator();
     ui.menu_button("Resolution", |ui| resolution_choices(ui, ws));
     ui.menu_button("UI overlay", |ui| overlay_choices(ui, ws));
+    ui.menu_button("Tonemap", |ui| tonemap_choices(ui, ws));
     ui.separator();
     if ui
         .add_enabled(!ws.cx.blind.active(), Button::new("Blind comparison"))
@@ -202,6 +203,26 @@ fn overlay_choices(ui: &mut egui::Ui, ws: &mut Workspace) {
         .on_hover_text("Draw a game-like HUD into the scene renders the techniques read, as engines that blur their UI do (the reference gets it after its resolve)");
     ui.radio_value(overlay, Some(OverlayOrder::After), "After the antialiasing")
         .on_hover_text("Draw the HUD over each technique's output, where it stays exact");
+}
+
+fn tonemap_choices(ui: &mut egui::Ui, ws: &mut Workspace) {
+    use crate::graph::hdr::TonemapChoice;
+    use crate::graph::params::Named;
+    let settings = &mut ws.cx.settings;
+    for (choice, doc) in TonemapChoice::ALL.iter().zip(TonemapChoice::DOCS) {
+        ui.radio_value(&mut settings.tonemap, *choice, choice.name())
+            .on_hover_text(*doc);
+    }
+    ui.separator();
+    ui.add(
+        egui::Slider::new(&mut settings.exposure, -8.0..=8.0)
+            .step_by(0.5)
+            .text("Exposure (EV)"),
+    )
+    .on_hover_text(
+        "Radiance is scaled by 2^EV before the tonemapper (HDR renders only). Each technique runs \
+         before or after the tonemapper by its tonemap_order setting.",
+    );
 }
 
 fn camera_menu(ui: &mut egui::Ui, ws: &mut Workspace) {

@@ -8,6 +8,7 @@
 //! to start over (the view changed) and how many samples to add this frame; the technique
 //! reports back how many samples the image rests on.
 
+use crate::graph::hdr::TonemapOrder;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use crate::aa::ssaa::{Progress, Ssaa, SsaaSettings};
@@ -73,6 +74,11 @@ impl Technique for ProgressiveReference {
 
     fn label(&self) -> String {
         "Reference".to_owned()
+    }
+
+    /// The reference averages radiance and is tonemapped afterwards, as a camera would.
+    fn tonemap_order(&self) -> TonemapOrder {
+        TonemapOrder::Before
     }
 
     fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {

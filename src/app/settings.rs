@@ -236,6 +236,11 @@ pub struct Settings {
     pub reference_samples: u32,
     /// The UI overlay over the frames, before or after the antialiasing (`None`: off).
     pub ui_overlay: Option<crate::graph::overlay::OverlayOrder>,
+    /// How the scene's radiance is displayed (`auto`: HDR scenes through the default
+    /// tonemapper) and the exposure of HDR renders in stops.
+    pub tonemap: crate::graph::hdr::TonemapChoice,
+    /// Exposure of HDR renders in stops (EV).
+    pub exposure: f32,
     /// Compute SSIM, PSNR and FLIP against the reference.
     pub quality: bool,
     /// Panels shown.
@@ -272,6 +277,8 @@ impl Default for Settings {
             export_dir: PathBuf::from("screenshots"),
             reference_samples: 64,
             ui_overlay: None,
+            tonemap: crate::graph::hdr::TonemapChoice::Auto,
+            exposure: 0.0,
             quality: true,
             show_techniques: true,
             show_metrics: true,

@@ -58,6 +58,7 @@ impl Workspace {
     pub(super) fn update(&mut self, ctx: &egui::Context) {
         if let Some(engine) = &mut self.cx.engine {
             engine.set_overlay(self.cx.settings.ui_overlay);
+            engine.set_tonemap(self.cx.settings.tonemap, self.cx.settings.exposure);
         }
         self.cx.tick_clip(ctx);
         self.cx.tick_sequences(ctx);

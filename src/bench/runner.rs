@@ -20,6 +20,7 @@
 //! ([`BenchProgress`]) and writes the reports ([`RunReport::write_sidecars`], the run's
 //! [`crate::export::report::BenchReport`]).
 
+use crate::graph::hdr::TonemapChoice;
 use std::path::PathBuf;
 
 use super::{QualityScores, TRACK_STEP_PX, TimingSamples, sum_samples};
@@ -182,6 +183,11 @@ pub struct BenchOptions {
     /// Geometric specular antialiasing in the techniques' scene renders (never the
     /// reference's).
     pub specular_aa: bool,
+    /// How the scenes' radiance is displayed (`auto`: HDR scenes through the default
+    /// tonemapper), and the exposure of HDR renders.
+    pub tonemap: TonemapChoice,
+    /// Exposure of HDR renders in stops.
+    pub exposure: f32,
     /// Where the quality images go, when kept.
     pub images: Option<ImageOutput>,
     /// The UI overlay over every frame, and where it is drawn.
@@ -267,6 +273,8 @@ impl BenchRunner<'_> {
             density: run.density,
             seed: self.options.seed,
             specular_aa: self.options.specular_aa,
+            tonemap: self.options.tonemap,
+            exposure: self.options.exposure,
             width: run.size.0,
             height: run.size.1,
             frame: self.options.quality_frame,
@@ -328,6 +336,8 @@ impl BenchRunner<'_> {
             scales: None,
             jod: None,
             specular_aa: options.specular_aa,
+            tonemap: options.tonemap,
+            exposure: options.exposure,
         }
     }
 

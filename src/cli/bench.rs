@@ -133,6 +133,13 @@ pub struct BenchArgs {
     /// by the normal's variation inside the pixel); the reference stays unfiltered.
     #[arg(long)]
     pub specular_aa: bool,
+    /// How radiance is displayed: auto, none, reinhard, aces, agx or neutral (see
+    /// `render --help`).
+    #[arg(long, value_name = "NAME", default_value = "auto", value_parser = super::render::parse_tonemap)]
+    pub tonemap: crate::graph::hdr::TonemapChoice,
+    /// Exposure of HDR renders in stops (EV).
+    #[arg(long, value_name = "EV", default_value_t = 0.0, allow_hyphen_values = true, value_parser = super::render::parse_exposure)]
+    pub exposure: f32,
     /// Output directory for report.json, report.md, charts and sidecars.
     #[arg(long, short, default_value = "report")]
     pub out: PathBuf,
@@ -343,6 +350,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         quality: !args.no_quality && args.sweep.is_none_or(|s| s == Sweep::Scale),
         seed: args.seed,
         specular_aa: args.specular_aa,
+        tonemap: args.tonemap,
+        exposure: args.exposure,
         images: args.images.then(|| ImageOutput {
             folder: args.out.clone(),
             policy: policy.clone(),

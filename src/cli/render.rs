@@ -15,6 +15,7 @@ use crate::export::{
 };
 use crate::files::{self, Overwrite};
 use crate::gpu::Gpu;
+use crate::graph::hdr::TonemapChoice;
 use crate::graph::overlay::OverlayOrder;
 use crate::scene::procedural::SceneOptions;
 use crate::scene::source::{self, DEFAULT_SCENE};
@@ -93,7 +94,7 @@ pub(super) fn print_build_progress(path: &Path, elapsed: Duration) {
 /// Which scene, at what size, seen from where; shared by `render`, `sheet` and `clip`.
 #[derive(Clone, Debug, clap::Args)]
 pub struct SceneSource {
-    /// Built-in scene (hairball, atrium, chart, sparkle) or path to an .obj, .gltf or .glb file.
+    /// Built-in scene (hairball, atrium, chart, sparkle, neon) or path to an .obj, .gltf or .glb file.
     #[arg(long, default_value = DEFAULT_SCENE)]
     pub scene: String,
     /// Built-in scene density (hairball: 1 is about 300k triangles, 7 over 2M).
@@ -107,6 +108,16 @@ pub struct SceneSource {
     /// a reference for `compare` without this flag.
     #[arg(long)]
     pub specular_aa: bool,
+    /// How radiance is displayed: auto (HDR scenes such as neon through agx, the others on
+    /// the LDR path), none (the LDR path: values clamped to white), or an HDR render through
+    /// reinhard, aces, agx or neutral. Techniques then run before or after the tonemapper by
+    /// their tonemap_order setting.
+    #[arg(long, value_name = "NAME", default_value = "auto", value_parser = parse_tonemap)]
+    pub tonemap: TonemapChoice,
+    /// Exposure of an HDR render in stops (EV): radiance is scaled by 2^EV before the
+    /// tonemapper.
+    #[arg(long, value_name = "EV", default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_exposure)]
+    pub exposure: f32,
     /// Image size, WIDTHxHEIGHT in pixels (each at least 1, at most the adapter's largest
     /// texture side, e.g. 16384).
     #[arg(long, default_value = "1280x720", value_parser = parse_size, allow_hyphen_values = true)]
@@ -160,7 +171,7 @@ pub struct RenderArgs {
     pub debug_views: bool,
     /// Reproduce a render from a sidecar JSON or from a PNG aa-lab wrote (scene, size, frame,
     /// camera and every technique setting come from the record).
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "technique", "size", "frame", "density", "seed", "ui_overlay", "specular_aa"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "technique", "size", "frame", "density", "seed", "ui_overlay", "specular_aa", "tonemap", "exposure"])]
     pub from: Option<PathBuf>,
     /// Replace existing output files (without it, aa-lab never replaces a file; an input is
     /// never replaced).
@@ -169,7 +180,7 @@ pub struct RenderArgs {
     /// Run the techniques that work on a finished image (No AA, FXAA, SMAA 1x) on this PNG or
     /// JPEG instead of a scene, e.g. a capture from another engine; others are refused with
     /// the reason.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "from", "size", "frame", "density", "seed", "specular_aa", "camera_eye", "fov"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "from", "size", "frame", "density", "seed", "specular_aa", "tonemap", "exposure", "camera_eye", "fov"])]
     pub image: Option<PathBuf>,
 }
 
@@ -190,6 +201,8 @@ pub fn spec_for_image(
         density: 1.0,
         seed: SceneOptions::default().seed,
         specular_aa: false,
+        tonemap: TonemapChoice::Auto,
+        exposure: 0.0,
         width: image.width(),
         height: image.height(),
         frame: 0,
@@ -212,6 +225,21 @@ pub fn load_input_image(path: &Path) -> anyhow::Result<image::RgbaImage> {
 
 /// Parses `WIDTHxHEIGHT`, both whole numbers of at least 1.
 /// Parses `--ui-overlay`.
+pub fn parse_tonemap(text: &str) -> Result<TonemapChoice, String> {
+    TonemapChoice::from_name(text)
+        .ok_or_else(|| format!("expected one of {}", TonemapChoice::NAMES.join(", ")))
+}
+
+/// Exposures beyond +-20 stops (a factor of a million) are mistakes, not looks.
+pub fn parse_exposure(text: &str) -> Result<f32, String> {
+    match text.trim().parse::<f32>() {
+        Ok(ev) if ev.is_finite() && ev.abs() <= 20.0 => Ok(ev),
+        _ => Err(format!(
+            "`{text}` is not an exposure: a number of stops between -20 and 20"
+        )),
+    }
+}
+
 pub fn parse_overlay(text: &str) -> Result<OverlayOrder, String> {
     OverlayOrder::from_name(text)
         .ok_or_else(|| format!("expected one of {}", OverlayOrder::NAMES.join(", ")))
@@ -457,6 +485,8 @@ pub fn spec_for_scene(
         density: scene.density,
         seed: scene.seed,
         specular_aa: scene.specular_aa,
+        tonemap: scene.tonemap,
+        exposure: scene.exposure,
         width: scene.size.0,
         height: scene.size.1,
         frame,

@@ -84,6 +84,11 @@ pub struct BenchSettings {
     /// reference's); left out when off.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub specular_aa: bool,
+    /// How the scenes' radiance was displayed (`--tonemap`); left out when `auto`.
+    #[serde(skip_serializing_if = "crate::graph::hdr::TonemapChoice::is_auto")]
+    pub tonemap: crate::graph::hdr::TonemapChoice,
+    /// Exposure of HDR renders in stops.
+    pub exposure: f32,
 }
 
 /// [`BenchSettings::sweep`] of a sweep over render scales: every technique at every scale, at

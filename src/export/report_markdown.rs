@@ -224,6 +224,15 @@ fn intro_markdown(out: &mut String, report: &BenchReport) {
              (`--specular-aa`); the reference's did not.\n",
         );
     }
+    if !s.tonemap.is_auto() || s.exposure != 0.0 {
+        let _ = writeln!(
+            out,
+            "- Tonemap **{}** at exposure {:+.1} EV (`--tonemap`, `--exposure`); each technique \
+             ran before or after it by its `tonemap_order`.",
+            crate::graph::params::Named::name(s.tonemap),
+            s.exposure
+        );
+    }
     if s.quality {
         let _ = writeln!(
             out,

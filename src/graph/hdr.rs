@@ -25,7 +25,7 @@
 
 use crate::gpu::fullscreen::{FragmentDesc, Fullscreen};
 use crate::gpu::{self, Gpu};
-use crate::graph::params::Named;
+use crate::graph::params::{Named, Param};
 use crate::scene::renderer::{Tonemap, Tonemapper};
 
 crate::named_enum! {
@@ -41,15 +41,85 @@ crate::named_enum! {
     }
 }
 
-impl Named for Tonemapper {
-    const ALL: &'static [Self] = &[Self::Reinhard, Self::Aces, Self::Agx, Self::Neutral];
-    const NAMES: &'static [&'static str] = &["reinhard", "aces", "agx", "neutral"];
-    const DOCS: &'static [&'static str] = &[
-        "Reinhard, x / (1 + x) per channel",
-        "ACES, Narkowicz's fit of the reference and sRGB output transforms",
-        "AgX, Blender 4's view transform",
-        "Khronos PBR Neutral",
-    ];
+crate::named_enum! {
+    /// The tonemapping of a render as the command line, the viewer and records name it.
+    #[derive(serde::Serialize, serde::Deserialize)]
+    #[serde(rename_all = "lowercase")]
+    pub enum TonemapChoice {
+        /// HDR scenes (emitters brighter than white) through AgX, the others on the LDR path.
+        Auto => "auto",
+        /// The LDR path: display values clamped to [0, 1], as before HDR existed.
+        None => "none",
+        /// Reinhard, x / (1 + x) per channel.
+        Reinhard => "reinhard",
+        /// Narkowicz's fit of the ACES reference and sRGB output transforms.
+        Aces => "aces",
+        /// AgX, Blender 4's view transform.
+        Agx => "agx",
+        /// Khronos PBR Neutral.
+        Neutral => "neutral",
+    }
+}
+
+impl Default for TonemapChoice {
+    fn default() -> Self {
+        Self::Auto
+    }
+}
+
+impl TonemapChoice {
+    /// Whether this is [`TonemapChoice::Auto`] (records leave it out).
+    pub fn is_auto(&self) -> bool {
+        *self == Self::Auto
+    }
+
+    /// The tonemap of a render of a scene that `is_hdr` or not, at `exposure` stops (`None`:
+    /// the LDR path).
+    pub fn resolve(self, is_hdr: bool, exposure: f32) -> Option<Tonemap> {
+        let operator = match self {
+            Self::Auto if is_hdr => DEFAULT_TONEMAPPER,
+            Self::Auto | Self::None => return None,
+            Self::Reinhard => Tonemapper::Reinhard,
+            Self::Aces => Tonemapper::Aces,
+            Self::Agx => Tonemapper::Agx,
+            Self::Neutral => Tonemapper::Neutral,
+        };
+        Some(Tonemap { operator, exposure })
+    }
+
+    /// The choice naming `operator`.
+    pub fn of(operator: Tonemapper) -> Self {
+        match operator {
+            Tonemapper::Reinhard => Self::Reinhard,
+            Tonemapper::Aces => Self::Aces,
+            Tonemapper::Agx => Self::Agx,
+            Tonemapper::Neutral => Self::Neutral,
+        }
+    }
+}
+
+/// A short description of a tonemap for labels and reports (`agx +1.0 EV`, `LDR`).
+pub fn describe(tonemap: Option<Tonemap>) -> String {
+    match tonemap {
+        Some(t) if t.exposure == 0.0 => TonemapChoice::of(t.operator).name().to_owned(),
+        Some(t) => format!("{} {:+.1} EV", TonemapChoice::of(t.operator).name(), t.exposure),
+        None => "LDR".to_owned(),
+    }
+}
+
+impl TonemapOrder {
+    /// The `tonemap_order` parameter of the techniques that can run on either side.
+    pub fn param(self) -> Param {
+        Param::named(
+            "tonemap_order",
+            "Tonemap order",
+            "In HDR scenes (ignored in LDR ones): before runs the technique on linear radiance \
+             and tonemaps its result, as engines do with MSAA resolves and TAA (a very bright \
+             sample dominates every average, so bright edges stay aliased unless samples are \
+             weighted); after runs it on the tonemapped, displayed image.",
+            self,
+        )
+    }
 }
 
 /// The operator HDR scenes get when no tonemap is asked for.
@@ -97,7 +167,7 @@ impl TonemapPass {
         let pipeline = fullscreen.pipeline(
             &gpu.device,
             &FragmentDesc {
-                label: &format!("tonemap {}", tonemap.operator.name()),
+                label: &format!("tonemap {}", describe(Some(tonemap))),
                 module: &self.module,
                 entry_point: "fs_tonemap",
                 targets: &[gpu::COLOR_FORMAT],

@@ -89,7 +89,7 @@ use std::collections::{HashMap, HashSet};
 use std::hash::Hash;
 use std::sync::{Mutex, PoisonError};
 
-use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Texture2d, texture_2d};
+use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, HDR_FORMAT, Texture2d, texture_2d};
 
 /// A clamp-to-edge bilinear sampler (post passes read neighbours past the image border as the
 /// border pixel).
@@ -115,6 +115,23 @@ pub fn view_as(texture: &wgpu::Texture, format: wgpu::TextureFormat) -> wgpu::Te
 /// A view of an RGBA8 sRGB texture that reads and writes the encoded values.
 pub fn encoded_view(texture: &wgpu::Texture) -> wgpu::TextureView {
     view_as(texture, COLOR_FORMAT_ENCODED_VIEW)
+}
+
+/// Whether a colour texture holds radiance: the input or output of a technique running before
+/// the tonemapper of an HDR frame (`graph::hdr`).
+pub fn holds_radiance(texture: &wgpu::Texture) -> bool {
+    texture.format() == HDR_FORMAT
+}
+
+/// The view a pass that works on display-encoded values reads or writes: the encoded view of
+/// an RGBA8 sRGB texture, or the plain view of a radiance texture (which has no encoding: the
+/// pass then works on radiance, as an engine's post pass before its tonemapper does).
+pub fn encoded_or_radiance_view(texture: &wgpu::Texture) -> wgpu::TextureView {
+    if holds_radiance(texture) {
+        texture.create_view(&Default::default())
+    } else {
+        encoded_view(texture)
+    }
 }
 
 /// A debug-view texture: RGBA8 sRGB at the output size, readable back and viewable by egui,

@@ -260,6 +260,18 @@ pub fn gather_weights(filter: Filter, positions: &[Vec2]) -> Vec<f32> {
     normalise(table)
 }
 
+/// Weights of the box resolve as a gather table: each of the pixel's own `samples` samples
+/// weighs 1 / samples (what the hardware resolve computes), for the custom resolve's
+/// luminance-weighted box.
+pub fn own_sample_weights(samples: u32) -> Vec<f32> {
+    let n = (samples as usize).clamp(1, GATHER_SLOTS);
+    let mut table = vec![0.0; 9 * GATHER_SLOTS];
+    for s in 0..n {
+        table[gather_index(0, 0, s)] = 1.0 / n as f32;
+    }
+    table
+}
+
 /// Weights of the quincunx-style resolve (after NVIDIA's Quincunx, as the thesis describes it):
 /// half the pixel's own samples, plus an eighth for each of the pixel's four corners, a corner
 /// being the mean of the samples of the four pixels around it that lie in the quadrant touching

@@ -28,6 +28,12 @@
 // comes out at half the encoded scale, 21% of the light, instead of half the light).
 // fs_fxaa writes the antialiased image; fs_mask writes the debug mask of the same analysis
 // (through an Rgba8Unorm view: the mask colours are display values).
+//
+// With RADIANCE (an HDR frame with FXAA before the tonemapper, graph/hdr.rs) both `image` and
+// `image_linear` are the same half-float radiance: the luma tests see linear radiance and the
+// blend writes radiance, unencoded, as an engine's FXAA before its tonemapper does.
+
+override RADIANCE: bool = false;
 
 struct FxaaParams {
     // xy: size of one pixel in UV, z: subpix (0 off .. 1 softest), w: unused.
@@ -95,6 +101,9 @@ fn encode_srgb(linear: vec3<f32>) -> vec3<f32> {
 // 0..1; three multiply-adds where the exact curve costs a pow, which on a software rasteriser
 // is a tenth of this pass).
 fn decode_srgb(encoded: f32) -> f32 {
+    if RADIANCE {
+        return encoded;
+    }
     let c = saturate(encoded);
     return c * (c * (c * 0.305306011 + 0.682171111) + 0.012522878);
 }
@@ -265,7 +274,7 @@ fn analyse(position: vec2<f32>) -> Analysis {
         read_at.x += offset * across;
     }
     let mixed = textureSampleLevel(image_linear, bilinear, read_at, 0.0).rgb;
-    result.colour = vec4<f32>(encode_srgb(mixed), 1.0);
+    result.colour = vec4<f32>(select(encode_srgb(mixed), mixed, RADIANCE), 1.0);
     return result;
 }
 

@@ -35,13 +35,17 @@ pub use settings::{FxaaSettings, MAX_STEPS, Preset, Quality};
 
 use crate::aa::common::color::LumaSource;
 use crate::aa::common::pass;
-use crate::aa::common::{PipelineCache, bilinear_clamp_sampler, debug_texture, encoded_view};
+use crate::aa::common::{
+    PipelineCache, bilinear_clamp_sampler, debug_texture, encoded_or_radiance_view, encoded_view,
+    holds_radiance,
+};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
-use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
+use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu, HDR_FORMAT};
+use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
 
@@ -73,8 +77,8 @@ enum Pass {
     Mask,
 }
 
-/// Everything a pipeline is specialised on.
-type PipelineKey = (Quality, LumaSource, Pass);
+/// Everything a pipeline is specialised on (the last: whether it runs on radiance).
+type PipelineKey = (Quality, LumaSource, Pass, bool);
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -122,12 +126,18 @@ impl Fxaa {
     }
 
     /// The pipeline for a pass with the current preset, built on first use.
-    fn pipeline(&mut self, ctx: &PassContext<'_>, pass: Pass) -> wgpu::RenderPipeline {
+    /// On `radiance` (before the tonemapper) the antialiasing pass writes half floats.
+    fn pipeline(
+        &mut self,
+        ctx: &PassContext<'_>,
+        pass: Pass,
+        radiance: bool,
+    ) -> wgpu::RenderPipeline {
         let settings = self.settings;
         let (device, module) = (&self.device, &self.module);
         self.pipelines
-            .get_or_build((settings.quality, settings.luma, pass), |_| {
-                let owned = settings.constants();
+            .get_or_build((settings.quality, settings.luma, pass, radiance), |_| {
+                let owned = settings.constants(radiance);
                 let constants: Vec<(&str, f64)> =
                     owned.iter().map(|(k, v)| (k.as_str(), *v)).collect();
                 let entry_point = match pass {
@@ -144,7 +154,11 @@ impl Fxaa {
                         ),
                         module,
                         entry_point,
-                        targets: &[COLOR_FORMAT_ENCODED_VIEW],
+                        targets: &[if radiance && pass == Pass::Antialias {
+                            HDR_FORMAT
+                        } else {
+                            COLOR_FORMAT_ENCODED_VIEW
+                        }],
                         constants: &constants,
                         layout: None,
                     },
@@ -204,11 +218,14 @@ impl Technique for Fxaa {
         ctx.gpu
             .queue
             .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
-        let source = encoded_view(input.color_1x());
+        // Before the tonemapper both reads see radiance (it has no encoding).
+        let radiance = holds_radiance(input.color_1x());
+        let source = encoded_or_radiance_view(input.color_1x());
         let linear = input.color_1x().create_view(&Default::default());
-        let pipeline = self.pipeline(ctx, Pass::Antialias);
+        let pipeline = self.pipeline(ctx, Pass::Antialias, radiance);
         let bind_group = self.bind_group(&pipeline, &source, &linear);
-        ctx.fullscreen_pass("fxaa", &encoded_view(output), &pipeline, &bind_group);
+        let target = encoded_or_radiance_view(output);
+        ctx.fullscreen_pass("fxaa", &target, &pipeline, &bind_group);
 
         if self.debug_enabled {
             if self
@@ -218,12 +235,16 @@ impl Technique for Fxaa {
             {
                 self.mask = Some(debug_texture(&self.device, "fxaa edges", (width, height)));
             }
-            let pipeline = self.pipeline(ctx, Pass::Mask);
+            let pipeline = self.pipeline(ctx, Pass::Mask, radiance);
             let bind_group = self.bind_group(&pipeline, &source, &linear);
             if let Some(mask) = &self.mask {
                 ctx.fullscreen_pass("debug edges", &encoded_view(mask), &pipeline, &bind_group);
             }
         }
+    }
+
+    fn tonemap_order(&self) -> TonemapOrder {
+        self.settings.tonemap_order
     }
 
     fn memory(&self) -> Vec<MemoryItem> {

@@ -5,6 +5,7 @@
 
 use crate::aa::common::color::LumaSource;
 use crate::aa::params::{Param, ParamValue, Tunable};
+use crate::graph::hdr::TonemapOrder;
 
 /// Most search steps a preset has (the shader has this many step constants).
 pub const MAX_STEPS: usize = 12;
@@ -122,6 +123,8 @@ pub struct FxaaSettings {
     pub edge_threshold_min: f32,
     /// How luma is computed.
     pub luma: LumaSource,
+    /// In HDR frames, before or after the tonemapper (after, as engines run it).
+    pub tonemap_order: TonemapOrder,
 }
 
 impl Default for FxaaSettings {
@@ -133,6 +136,7 @@ impl Default for FxaaSettings {
             edge_threshold: 0.166,
             edge_threshold_min: 0.0833,
             luma: LumaSource::Bt601,
+            tonemap_order: TonemapOrder::After,
         }
     }
 }
@@ -188,6 +192,7 @@ impl Tunable for FxaaSettings {
                  edges between colours of equal green).",
                 s.luma,
             ),
+            s.tonemap_order.param(),
         ]
     }
 
@@ -196,14 +201,27 @@ impl Tunable for FxaaSettings {
             self,
             key,
             value,
-            [quality, subpix, edge_threshold, edge_threshold_min, luma]
+            [
+                quality,
+                subpix,
+                edge_threshold,
+                edge_threshold_min,
+                luma,
+                tonemap_order
+            ]
         )
     }
 
-    /// Lottes' defaults, or a sensitivity level's two thresholds (the rest kept).
+    /// Lottes' defaults, or a sensitivity level's two thresholds (the rest kept; the tonemap
+    /// order is no part of a preset).
     fn apply_preset(&mut self, preset: Preset) {
         match preset.thresholds() {
-            None => *self = Self::default(),
+            None => {
+                *self = Self {
+                    tonemap_order: self.tonemap_order,
+                    ..Self::default()
+                }
+            }
             Some((threshold, threshold_min)) => {
                 self.edge_threshold = threshold;
                 self.edge_threshold_min = threshold_min;
@@ -213,10 +231,12 @@ impl Tunable for FxaaSettings {
 }
 
 impl FxaaSettings {
-    /// The override constants of the quality preset and luma choice.
-    pub(super) fn constants(&self) -> Vec<(String, f64)> {
+    /// The override constants of the quality preset and luma choice, and `RADIANCE` (the pass
+    /// runs on radiance, before the tonemapper).
+    pub(super) fn constants(&self, radiance: bool) -> Vec<(String, f64)> {
         let steps = self.quality.search_steps();
         let mut constants = vec![
+            ("RADIANCE".to_owned(), f64::from(u8::from(radiance))),
             (
                 "GREEN_AS_LUMA".to_owned(),
                 f64::from(u8::from(self.luma == LumaSource::Green)),
@@ -271,8 +291,8 @@ mod tests {
             luma: LumaSource::Green,
             ..FxaaSettings::default()
         };
-        let constants = settings.constants();
-        assert_eq!(constants.len(), 2 + MAX_STEPS);
+        let constants = settings.constants(false);
+        assert_eq!(constants.len(), 3 + MAX_STEPS);
         let get = |k: &str| constants.iter().find(|(n, _)| n == k).expect("constant").1;
         assert_eq!(get("GREEN_AS_LUMA"), 1.0);
         assert_eq!(get("STEP_COUNT"), 3.0);

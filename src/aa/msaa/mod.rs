@@ -25,13 +25,17 @@ pub mod settings;
 pub use settings::Resolve;
 
 use crate::aa::common::pass::{self, Binding};
-use crate::aa::common::sampling::{gather_weights, quincunx_weights, standard_msaa_positions};
+use crate::aa::common::sampling::{
+    gather_weights, own_sample_weights, quincunx_weights, standard_msaa_positions,
+};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::{Named, Param, ParamError, ParamValue, as_bool, as_named};
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
-use crate::gpu::{COLOR_FORMAT, Capabilities, Gpu};
+use crate::aa::common::holds_radiance;
+use crate::gpu::{Capabilities, Gpu};
+use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::{RasterOptions, SceneTargets, ShadingRate};
 use debug::MsaaDebug;
@@ -117,19 +121,32 @@ fn availability(caps: &Capabilities, samples: u32) -> Result<(), String> {
     }
 }
 
+/// What a custom resolve's pipeline and weights are built for: the filter, the luminance
+/// weighting and whether it resolves radiance (a half-float output).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct CustomKey {
+    resolve: Resolve,
+    luma_weighted: bool,
+    radiance: bool,
+}
+
 /// MSAA with a fixed sample count.
 pub struct Msaa {
     id: &'static str,
     samples: u32,
     resolve: Resolve,
+    /// Karis' 1 / (1 + luma) weighting of every sample in the resolve.
+    luma_weighted: bool,
+    /// In HDR frames, resolve radiance (before the tonemapper) or tonemapped samples.
+    tonemap_order: TonemapOrder,
     raster: RasterOptions,
     device: wgpu::Device,
     resolve_module: wgpu::ShaderModule,
     /// The custom resolve's bindings: the samples and the weight table.
     resolve_layout: wgpu::BindGroupLayout,
     resolve_pipeline_layout: wgpu::PipelineLayout,
-    /// The custom resolve's pipeline and its weight table, for the resolve they were built for.
-    custom: Option<(Resolve, wgpu::RenderPipeline, wgpu::Buffer)>,
+    /// The custom resolve's pipeline and its weight table, for what they were built for.
+    custom: Option<(CustomKey, wgpu::RenderPipeline, wgpu::Buffer)>,
     debug: Option<MsaaDebug>,
     debug_enabled: bool,
 }
@@ -153,6 +170,8 @@ impl Msaa {
             id: id_for(samples).unwrap_or("msaa"),
             samples,
             resolve: Resolve::Box,
+            luma_weighted: false,
+            tonemap_order: TonemapOrder::Before,
             raster: RasterOptions::default(),
             resolve_module: RESOLVE_WGSL.module(&gpu.device),
             resolve_layout,
@@ -167,9 +186,10 @@ impl Msaa {
     /// The weight table of a custom resolve.
     fn resolve_weights(&self) -> Vec<f32> {
         let positions = standard_msaa_positions(self.samples).unwrap_or_default();
-        match self.resolve.filter() {
-            Some(filter) => gather_weights(filter, &positions),
-            None => quincunx_weights(&positions),
+        match (self.resolve, self.resolve.filter()) {
+            (Resolve::Box, _) => own_sample_weights(self.samples),
+            (_, Some(filter)) => gather_weights(filter, &positions),
+            (_, None) => quincunx_weights(&positions),
         }
     }
 
@@ -179,11 +199,12 @@ impl Msaa {
         input: &SceneTargets,
         output: &wgpu::Texture,
     ) {
-        if self
-            .custom
-            .as_ref()
-            .is_none_or(|(name, _, _)| *name != self.resolve)
-        {
+        let key = CustomKey {
+            resolve: self.resolve,
+            luma_weighted: self.luma_weighted,
+            radiance: holds_radiance(output),
+        };
+        if self.custom.as_ref().is_none_or(|(built, _, _)| *built != key) {
             let weights = self.resolve_weights();
             let pipeline = ctx.fullscreen.pipeline(
                 &self.device,
@@ -191,8 +212,8 @@ impl Msaa {
                     label: &format!("{} resolve {}", self.id, self.resolve.name()),
                     module: &self.resolve_module,
                     entry_point: "fs_resolve",
-                    targets: &[COLOR_FORMAT],
-                    constants: &[],
+                    targets: &[output.format()],
+                    constants: &[("LUMA_WEIGHT", f64::from(u8::from(key.luma_weighted)))],
                     layout: Some(&self.resolve_pipeline_layout),
                 },
             );
@@ -203,7 +224,7 @@ impl Msaa {
                     contents: bytemuck::cast_slice(&weights),
                     usage: wgpu::BufferUsages::UNIFORM,
                 });
-            self.custom = Some((self.resolve, pipeline, table));
+            self.custom = Some((key, pipeline, table));
         }
         let Some((_, pipeline, table)) = &self.custom else {
             return;
@@ -241,6 +262,10 @@ impl Technique for Msaa {
             .to_owned()
     }
 
+    fn tonemap_order(&self) -> TonemapOrder {
+        self.tonemap_order
+    }
+
     fn scene_input(&self, _frame: &FrameInfo) -> Option<SceneInput> {
         Some(SceneInput::Msaa {
             samples: self.samples,
@@ -255,7 +280,7 @@ impl Technique for Msaa {
         output: &wgpu::Texture,
     ) {
         let Some(input) = input else { return };
-        if self.resolve == Resolve::Box {
+        if self.resolve == Resolve::Box && !self.luma_weighted {
             ctx.copy_texture("copy resolve", input.color_1x(), output);
         } else {
             self.custom_resolve(ctx, input, output);
@@ -272,9 +297,9 @@ impl Technique for Msaa {
 
     fn memory(&self) -> Vec<MemoryItem> {
         let mut items = Vec::new();
-        if let Some((name, _, table)) = &self.custom {
+        if let Some((key, _, table)) = &self.custom {
             items.push(MemoryItem::buffer(
-                format!("{} {} weights", self.id, name.name()),
+                format!("{} {} weights", self.id, key.resolve.name()),
                 table,
             ));
         }
@@ -303,6 +328,15 @@ impl Technique for Msaa {
                 self.resolve,
             ),
             Param::bool(
+                "luma_weighted",
+                "Luminance-weighted resolve",
+                "Weigh every sample by 1 / (1 + luminance) (Karis), normalised: the tonemap-aware \
+                 resolve HDR renderers use, so one very bright sample cannot take over an edge \
+                 pixel's average and bright edges keep their antialiasing after the tonemapper.",
+                self.luma_weighted,
+            ),
+            self.tonemap_order.param(),
+            Param::bool(
                 "alpha_to_coverage",
                 "Alpha to coverage",
                 "Alpha-masked materials (foliage, fences) set as many samples as their alpha covers \
@@ -330,6 +364,8 @@ impl Technique for Msaa {
     fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
         match key {
             "resolve" => self.resolve = as_named(value).unwrap_or(Resolve::Box),
+            "luma_weighted" => self.luma_weighted = as_bool(value),
+            "tonemap_order" => self.tonemap_order = as_named(value).unwrap_or(TonemapOrder::Before),
             "alpha_to_coverage" => self.raster.alpha_to_coverage = as_bool(value),
             "centroid" => {
                 if as_bool(value) {

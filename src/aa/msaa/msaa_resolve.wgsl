@@ -9,6 +9,11 @@ struct Weights {
     w: array<vec4<f32>, 36>,
 }
 
+// Karis' weighting: every sample's weight is divided by 1 + its luminance and the sum is
+// normalised, so one very bright sample of an HDR render cannot take over the average (the
+// tonemap-aware resolve); without it the weights are used as given.
+override LUMA_WEIGHT: bool = false;
+
 @group(0) @binding(0) var samples: texture_multisampled_2d<f32>;
 @group(0) @binding(1) var<uniform> weights: Weights;
 
@@ -22,6 +27,7 @@ fn fs_resolve(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> 
     let size = vec2<i32>(textureDimensions(samples));
     let n = textureNumSamples(samples);
     var sum = vec3<f32>(0.0);
+    var total = 0.0;
     for (var dy = -1; dy <= 1; dy++) {
         for (var dx = -1; dx <= 1; dx++) {
             let neighbour = clamp(pixel + vec2<i32>(dx, dy), vec2<i32>(0), size - 1);
@@ -29,10 +35,17 @@ fn fs_resolve(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> 
             for (var s = 0u; s < n; s++) {
                 let w = weight(base + s);
                 if w != 0.0 {
-                    sum += w * textureLoad(samples, neighbour, i32(s)).rgb;
+                    let c = textureLoad(samples, neighbour, i32(s)).rgb;
+                    var weighted = w;
+                    if LUMA_WEIGHT {
+                        weighted = w / (1.0 + dot(c, vec3<f32>(0.2126, 0.7152, 0.0722)));
+                    }
+                    sum += weighted * c;
+                    total += weighted;
                 }
             }
         }
     }
-    return vec4<f32>(sum, 1.0);
+    // Normalised weights sum to 1 already; only the luminance weighting needs the division.
+    return vec4<f32>(select(sum, sum / max(total, 1e-8), LUMA_WEIGHT), 1.0);
 }

@@ -36,6 +36,7 @@ use crate::aa::{FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
 use crate::gpu::{COLOR_FORMAT, Gpu, HDR_FORMAT};
+use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::camera::PixelRect;
 use crate::scene::renderer::{RasterOptions, SceneTargets, TargetDesc};
@@ -542,6 +543,12 @@ impl Technique for Ssaa {
         None
     }
 
+    /// Before by default: supersampling averages radiance and is tonemapped afterwards, as a
+    /// camera would.
+    fn tonemap_order(&self) -> TonemapOrder {
+        self.settings.tonemap_order
+    }
+
     fn encode(
         &mut self,
         ctx: &mut PassContext<'_>,
@@ -620,6 +627,15 @@ impl Technique for Ssaa {
                  slightly softer).",
                 s.filter,
             ),
+            Param::named(
+                "tonemap_order",
+                "Tonemap order",
+                "In HDR scenes: before averages radiance and tonemaps the average, as a camera \
+                 would (the reference's default: a thin emitter brighter than white widens); after \
+                 tonemaps every sample and averages the displayed values (the display-referred \
+                 ideal that tonemap-aware resolves such as Karis' weighting approximate).",
+                s.tonemap_order,
+            ),
         ]
     }
 
@@ -631,6 +647,7 @@ impl Technique for Ssaa {
             "samples" => s.samples = as_i64(value).clamp(1, i64::from(MAX_SAMPLES)) as u32,
             "pattern" => s.pattern = as_named(value).unwrap_or(s.pattern),
             "filter" => s.filter = as_named(value).unwrap_or(s.filter),
+            "tonemap_order" => s.tonemap_order = as_named(value).unwrap_or(s.tonemap_order),
             _ => return Err(ParamError::unknown_key(ID, key, &self.params())),
         }
         Ok(())

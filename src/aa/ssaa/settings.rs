@@ -1,6 +1,7 @@
 //! SSAA's settings: ordered grid or jittered accumulation, the grid factor, the jittered
 //! sample count, pattern and reconstruction filter.
 
+use crate::graph::hdr::TonemapOrder;
 use crate::aa::common::sampling::{Filter, Pattern};
 
 crate::named_enum! {
@@ -32,6 +33,10 @@ pub struct SsaaSettings {
     pub pattern: Pattern,
     /// Jittered reconstruction filter.
     pub filter: Filter,
+    /// In HDR frames: average radiance and tonemap the average, as a camera would (before, the
+    /// default and the reference's), or tonemap every sample and average the displayed values
+    /// (after: the display-referred ideal that tonemap-aware resolves approximate).
+    pub tonemap_order: TonemapOrder,
 }
 
 impl Default for SsaaSettings {
@@ -42,6 +47,7 @@ impl Default for SsaaSettings {
             samples: 16,
             pattern: Pattern::RotatedGrid,
             filter: Filter::Box,
+            tonemap_order: TonemapOrder::Before,
         }
     }
 }

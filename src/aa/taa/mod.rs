@@ -58,7 +58,7 @@ pub use settings::{
 
 use glam::Vec2;
 
-use crate::aa::common::encoded_view;
+use crate::aa::common::{encoded_view, holds_radiance};
 use crate::aa::common::pass::Binding;
 use crate::aa::common::temporal::{
     HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset,
@@ -67,7 +67,8 @@ use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
-use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu};
+use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu, HDR_FORMAT};
+use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
 use debug::TaaDebug;
@@ -134,6 +135,8 @@ struct PipelineKey {
     velocity: VelocityTaps,
     neighbourhood: Neighbourhood,
     debug: bool,
+    /// Before the tonemapper of an HDR frame: radiance in and out, luminance-weighted.
+    radiance: bool,
 }
 
 #[repr(C)]
@@ -150,6 +153,8 @@ pub struct Taa {
     settings: TaaSettings,
     resolve: ResolvePass<PipelineKey>,
     history: Option<PingPong>,
+    /// Whether the history holds radiance (it is dropped when the tonemap order flips).
+    history_radiance: bool,
     reset: HistoryReset,
     debug_enabled: bool,
     debug: Option<TaaDebug>,
@@ -175,6 +180,7 @@ impl Taa {
             settings,
             resolve: ResolvePass::new::<TaaUniform>(gpu, "taa resolve", &WGSL, &bindings),
             history: None,
+            history_radiance: false,
             reset: HistoryReset::default(),
             debug_enabled: false,
             debug: None,
@@ -192,8 +198,14 @@ impl Taa {
         self.reset.invalidate();
     }
 
-    fn resolve_pipeline(&mut self, ctx: &PassContext<'_>, debug: bool) -> wgpu::RenderPipeline {
+    fn resolve_pipeline(
+        &mut self,
+        ctx: &PassContext<'_>,
+        debug: bool,
+        radiance: bool,
+    ) -> wgpu::RenderPipeline {
         let s = self.settings;
+        let output = if radiance { HDR_FORMAT } else { COLOR_FORMAT };
         let key = PipelineKey {
             history_filter: s.history_filter,
             rectify: s.rectify,
@@ -201,17 +213,18 @@ impl Taa {
             velocity: s.velocity,
             neighbourhood: s.neighbourhood,
             debug,
+            radiance,
         };
         let (entry_point, targets): (&str, &[wgpu::TextureFormat]) = if debug {
             (
                 "fs_resolve_debug",
-                &[COLOR_FORMAT, HISTORY_FORMAT, COLOR_FORMAT_ENCODED_VIEW],
+                &[output, HISTORY_FORMAT, COLOR_FORMAT_ENCODED_VIEW],
             )
         } else {
-            ("fs_resolve", &[COLOR_FORMAT, HISTORY_FORMAT])
+            ("fs_resolve", &[output, HISTORY_FORMAT])
         };
         self.resolve
-            .pipeline(ctx, key, entry_point, targets, &s.constants())
+            .pipeline(ctx, key, entry_point, targets, &s.constants(radiance))
     }
 }
 
@@ -235,6 +248,10 @@ impl Technique for Taa {
         true
     }
 
+    fn tonemap_order(&self) -> TonemapOrder {
+        self.settings.tonemap_order
+    }
+
     fn encode(
         &mut self,
         ctx: &mut PassContext<'_>,
@@ -248,7 +265,11 @@ impl Technique for Taa {
             return;
         };
         let size = input.desc.size;
-        if self.history.as_ref().is_none_or(|h| h.size() != size) {
+        let radiance = holds_radiance(output);
+        if self.history.as_ref().is_none_or(|h| h.size() != size)
+            || self.history_radiance != radiance
+        {
+            self.history_radiance = radiance;
             self.history = Some(PingPong::new(
                 &self.resolve.device,
                 "taa history",
@@ -263,7 +284,7 @@ impl Technique for Taa {
                 self.debug = Some(TaaDebug::new(ctx, &self.resolve.device, &DEBUG_WGSL, size));
             }
         }
-        let pipeline = self.resolve_pipeline(ctx, debug);
+        let pipeline = self.resolve_pipeline(ctx, debug, radiance);
         let camera = ctx.frame.camera;
         let reset = self.reset.restarts(ctx.frame);
         let Some(history) = &mut self.history else {

@@ -4,6 +4,7 @@
 //! override constants the structural choices become.
 
 pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
+use crate::graph::hdr::TonemapOrder;
 use crate::graph::params::{Named, Param, ParamValue, Tunable};
 
 crate::named_enum! {
@@ -114,6 +115,9 @@ pub struct TaaSettings {
     pub neighbourhood: Neighbourhood,
     /// Texture mip bias of the jittered render.
     pub mip_bias: f32,
+    /// In HDR frames, before the tonemapper (on radiance, as engines run TAA; the blend is
+    /// then always luminance-weighted) or after it.
+    pub tonemap_order: TonemapOrder,
 }
 
 impl Default for TaaSettings {
@@ -134,6 +138,7 @@ impl Default for TaaSettings {
             velocity: VelocityTaps::Quads,
             neighbourhood: Neighbourhood::Cross,
             mip_bias: -1.5,
+            tonemap_order: TonemapOrder::Before,
         }
     }
 }
@@ -319,6 +324,7 @@ impl Tunable for TaaSettings {
                 0.0,
                 s.mip_bias,
             ),
+            s.tonemap_order.param(),
         ]
     }
 
@@ -343,13 +349,17 @@ impl Tunable for TaaSettings {
                 resample_feedback,
                 trust_sharp_only,
                 mip_bias,
+                tonemap_order,
             ]
         )
     }
 
-    /// Replaces every setting with the preset's.
+    /// Replaces every setting with the preset's but the tonemap order, which no preset sets.
     fn apply_preset(&mut self, preset: Preset) {
-        *self = Self::preset(preset);
+        *self = Self {
+            tonemap_order: self.tonemap_order,
+            ..Self::preset(preset)
+        };
     }
 }
 
@@ -400,15 +410,16 @@ impl TaaSettings {
         }
     }
 
-    /// The override constants of the structural settings.
-    pub(super) fn constants(&self) -> [(&'static str, f64); 6] {
+    /// The override constants of the structural settings; on `radiance` (before the
+    /// tonemapper of an HDR frame) the blend is luminance-weighted whatever `luma_weight` says.
+    pub(super) fn constants(&self, radiance: bool) -> [(&'static str, f64); 6] {
         [
             (
                 "HISTORY_FILTER",
                 f64::from(u8::from(self.history_filter == HistoryFilter::CatmullRom)),
             ),
             ("RECTIFY", self.rectify.index() as f64),
-            ("LUMA_WEIGHT", f64::from(u8::from(self.luma_weight))),
+            ("LUMA_WEIGHT", f64::from(u8::from(self.luma_weight | radiance))),
             ("VELOCITY_TAPS", self.velocity.index() as f64),
             (
                 "NEIGHBOURHOOD",

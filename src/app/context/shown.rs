@@ -211,6 +211,8 @@ impl Context {
             density: 1.0,
             seed: crate::scene::procedural::SceneOptions::default().seed,
             specular_aa: engine.specular_aa(),
+            tonemap: engine.tonemap().0,
+            exposure: engine.tonemap().1,
             width: camera.size.0,
             height: camera.size.1,
             frame: camera.frame,

@@ -42,6 +42,7 @@ use crate::aa::ssaa::Progress;
 use crate::aa::{self, FrameInfo, Param, ParamError, ParamValue};
 use crate::gpu::Capabilities;
 use crate::graph::MemoryReport;
+use crate::graph::hdr::TonemapChoice;
 use crate::graph::overlay::OverlayOrder;
 use crate::graph::params::validate_setting;
 use crate::scene::Scene;
@@ -233,6 +234,8 @@ pub struct Engine {
     reference_revision: u64,
     scene_generation: u64,
     overlay: Option<OverlayOrder>,
+    /// The tonemap choice and exposure every render follows.
+    tonemap: (TonemapChoice, f32),
     /// Geometric specular antialiasing in the techniques' scene renders.
     specular_aa: bool,
     /// Counts view changes (see [`Engine::current_view`]).
@@ -314,6 +317,7 @@ impl Engine {
             reference_revision: 0,
             scene_generation: 0,
             overlay: None,
+            tonemap: (TonemapChoice::Auto, 0.0),
             specular_aa: false,
             view_serial: 0,
             publish_serial: 0,

@@ -34,6 +34,23 @@ impl Engine {
         }
     }
 
+    /// The tonemap choice and exposure every render follows.
+    pub fn tonemap(&self) -> (TonemapChoice, f32) {
+        self.tonemap
+    }
+
+    /// Shows the scene through `choice` at `exposure` stops (see `graph::hdr`): every output and
+    /// the reference start over, as after a scene change.
+    pub fn set_tonemap(&mut self, choice: TonemapChoice, exposure: f32) {
+        if (choice, exposure) != self.tonemap {
+            self.tonemap = (choice, exposure);
+            self.send(Command::Tonemap(choice, exposure));
+            self.scene_generation += 1;
+            self.memory = None;
+            self.discard_clip();
+        }
+    }
+
     /// Switches a technique on or off (unavailable ones stay off).
     pub fn set_enabled(&mut self, id: &str, on: bool) {
         if let Some(entry) = self.entries.iter_mut().find(|e| e.id == id)

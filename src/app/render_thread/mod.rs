@@ -188,6 +188,9 @@ pub enum Command {
     Overlay(Option<crate::graph::overlay::OverlayOrder>),
     /// Geometric specular antialiasing on or off in every scene render but the reference's.
     SpecularAa(bool),
+    /// Show the scene through this tonemap choice at this exposure (stops) from the next
+    /// frame on.
+    Tonemap(crate::graph::hdr::TonemapChoice, f32),
     /// Render a frame.
     Render(FramePlan),
     /// Record a clip.
@@ -425,6 +428,10 @@ struct RenderState {
     /// User technique builds in progress, by registry index (one per index: a newer build
     /// replaces an older one, whose result is dropped).
     builds: Vec<(usize, PendingBuild)>,
+    /// The tonemap choice and exposure asked for, and whether the scene is HDR (which
+    /// resolves `auto`).
+    tonemap: (crate::graph::hdr::TonemapChoice, f32),
+    scene_is_hdr: bool,
 }
 
 impl RenderState {
@@ -478,6 +485,8 @@ impl RenderState {
             watcher: aa::user::watch::Watcher::default(),
             user_ids: Vec::new(),
             builds: Vec::new(),
+            tonemap: (crate::graph::hdr::TonemapChoice::Auto, 0.0),
+            scene_is_hdr: scene.is_hdr(),
         };
         Ok((state, ready))
     }
@@ -485,7 +494,15 @@ impl RenderState {
     /// Carries out `command`, answering through `send`.
     fn handle(&mut self, command: Command, send: &dyn Fn(Event)) {
         match command {
-            Command::Scene(scene) => self.graph.set_scene(&scene),
+            Command::Scene(scene) => {
+                self.graph.set_scene(&scene);
+                self.scene_is_hdr = scene.is_hdr();
+                self.apply_tonemap();
+            }
+            Command::Tonemap(choice, exposure) => {
+                self.tonemap = (choice, exposure);
+                self.apply_tonemap();
+            }
             Command::Configure(index, change) => {
                 if let Some(event) = self.configure(index, change) {
                     send(event);
@@ -513,6 +530,12 @@ impl RenderState {
     }
 
     /// Replaces the reference with one of `samples` samples per pixel.
+    /// Gives the graph the tonemap of the choice asked for and the current scene.
+    fn apply_tonemap(&mut self) {
+        let (choice, exposure) = self.tonemap;
+        (self.graph).set_tonemap(choice.resolve(self.scene_is_hdr, exposure));
+    }
+
     fn set_reference_samples(&mut self, samples: u32) {
         if samples != self.reference_samples {
             let (reference, control) = ProgressiveReference::new(&self.gpu, samples);

@@ -1,7 +1,8 @@
 //! Built-in procedural scenes, selectable by name: `hairball` (fine geometry under a strong
 //! highlight), `atrium` (an arcaded courtyard in the spirit of Crytek Sponza), `chart` (a
-//! flat resolution chart seen head-on, with an analytic layout for exact ground truth) and
-//! `sparkle` (shiny surfaces with sub-pixel normal detail: specular aliasing).
+//! flat resolution chart seen head-on, with an analytic layout for exact ground truth),
+//! `sparkle` (shiny surfaces with sub-pixel normal detail: specular aliasing) and `neon` (thin
+//! emitters far brighter than white on dark surfaces: an HDR scene).
 //!
 //! Everything, meshes and textures alike, is generated in code from [`SceneOptions::seed`]
 //! with the generators' own SplitMix64 (module `rng`), so a scene never changes with a crate
@@ -25,6 +26,7 @@ mod atrium;
 mod chart;
 mod geometry;
 mod hairball;
+mod neon;
 mod rng;
 mod sparkle;
 mod texture;
@@ -35,12 +37,13 @@ pub use chart::{
     chart, chart_layout,
 };
 pub use hairball::hairball;
+pub use neon::neon;
 pub use sparkle::sparkle;
 
 use crate::scene::Scene;
 
 /// Names [`builtin`] accepts.
-pub const BUILTIN_SCENES: &[&str] = &["hairball", "atrium", "chart", "sparkle"];
+pub const BUILTIN_SCENES: &[&str] = &["hairball", "atrium", "chart", "sparkle", "neon"];
 
 /// Densities outside this range are clamped (with a warning in the scene): below it the
 /// hairball has no curves left, above it (~10M triangles) it outgrows GPU buffers.
@@ -95,6 +98,7 @@ pub fn builtin(name: &str, options: &SceneOptions) -> Option<Scene> {
         "atrium" => Some(atrium(options)),
         "chart" => Some(chart(options)),
         "sparkle" => Some(sparkle(options)),
+        "neon" => Some(neon(options)),
         _ => None,
     }
 }
