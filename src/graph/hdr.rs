@@ -102,7 +102,11 @@ impl TonemapChoice {
 pub fn describe(tonemap: Option<Tonemap>) -> String {
     match tonemap {
         Some(t) if t.exposure == 0.0 => TonemapChoice::of(t.operator).name().to_owned(),
-        Some(t) => format!("{} {:+.1} EV", TonemapChoice::of(t.operator).name(), t.exposure),
+        Some(t) => format!(
+            "{} {:+.1} EV",
+            TonemapChoice::of(t.operator).name(),
+            t.exposure
+        ),
         None => "LDR".to_owned(),
     }
 }
@@ -154,13 +158,22 @@ impl TonemapPass {
     }
 
     /// Sets the tonemap of the next frames (`None`: the LDR path) and makes its pipeline.
-    pub(super) fn set_tonemap(&mut self, gpu: &Gpu, fullscreen: &Fullscreen, tonemap: Option<Tonemap>) {
+    pub(super) fn set_tonemap(
+        &mut self,
+        gpu: &Gpu,
+        fullscreen: &Fullscreen,
+        tonemap: Option<Tonemap>,
+    ) {
         self.tonemap = tonemap;
         let Some(tonemap) = tonemap else { return };
         let scale = [tonemap.scale(), 0.0, 0.0, 0.0];
         gpu.queue
             .write_buffer(&self.exposure, 0, bytemuck::cast_slice(&scale));
-        if self.pipeline.as_ref().is_some_and(|(op, _)| *op == tonemap.operator) {
+        if self
+            .pipeline
+            .as_ref()
+            .is_some_and(|(op, _)| *op == tonemap.operator)
+        {
             return;
         }
         let operator = f64::from(tonemap.operator.shader_index());
@@ -186,22 +199,27 @@ impl TonemapPass {
         source: &wgpu::Texture,
         target: &wgpu::Texture,
     ) {
-        let Some((_, pipeline)) = &self.pipeline else { return };
+        let Some((_, pipeline)) = &self.pipeline else {
+            return;
+        };
         let source_view = source.create_view(&Default::default());
-        let bind_group = ctx.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("tonemap"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&source_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: self.exposure.as_entire_binding(),
-                },
-            ],
-        });
+        let bind_group = ctx
+            .gpu
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("tonemap"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&source_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: self.exposure.as_entire_binding(),
+                    },
+                ],
+            });
         let target_view = target.create_view(&Default::default());
         ctx.fullscreen_pass("tonemap", &target_view, pipeline, &bind_group);
     }

@@ -136,9 +136,11 @@ impl MemoryReport {
                     input_items: input
                         .map_or_else(Vec::new, |(label, _, t)| MemoryItem::of_targets(label, t)),
                     private_items: (slot.technique.memory().into_iter())
-                        .chain(slot.hdr_output.as_ref().map(|o| {
-                            MemoryItem::texture(format!("{id} hdr output"), o)
-                        }))
+                        .chain(
+                            slot.hdr_output
+                                .as_ref()
+                                .map(|o| MemoryItem::texture(format!("{id} hdr output"), o)),
+                        )
                         .collect(),
                     output: slot
                         .output

@@ -390,7 +390,10 @@ impl FrameGraph {
         let samples = self.inputs_used.iter().map(|u| u.desc.sample_count);
         (self.overlay).prepare(&self.gpu, &self.fullscreen, size, samples.chain([1]));
         self.scene.set_specular_aa(self.specular_aa);
-        let tonemap = self.tonemap.tonemap().filter(|_| self.image_input.is_none());
+        let tonemap = self
+            .tonemap
+            .tonemap()
+            .filter(|_| self.image_input.is_none());
         self.scene.set_tonemap(tonemap);
         self.render_inputs(&mut encoder, &camera, size);
         // 3. Every running technique's passes (after 1, plan_inputs, and 2, render_inputs).
@@ -400,9 +403,9 @@ impl FrameGraph {
             self.scene
                 .set_specular_aa(self.specular_aa && !slot.reference);
             let id = slot.technique.id();
-            let output = slot.output.get_or_insert_with(|| {
-                output_texture(&self.gpu, &format!("{id} output"), size)
-            });
+            let output = slot
+                .output
+                .get_or_insert_with(|| output_texture(&self.gpu, &format!("{id} output"), size));
             let hdr_output = on_radiance.then(|| {
                 &*slot.hdr_output.get_or_insert_with(|| {
                     hdr::hdr_output_texture(&self.gpu, &format!("{id} hdr output"), size)

@@ -292,7 +292,9 @@ impl Scene {
     /// Whether the scene emits radiance above the display's white (an emissive material
     /// brighter than 1), so that it is shown through a tonemapper by default (`graph::hdr`).
     pub fn is_hdr(&self) -> bool {
-        self.materials.iter().any(|m| m.emissive.max_element() > 1.0)
+        self.materials
+            .iter()
+            .any(|m| m.emissive.max_element() > 1.0)
     }
 
     /// A scene with nothing in it (image mode draws no scene), called `name`.

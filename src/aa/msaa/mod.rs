@@ -24,6 +24,7 @@ pub mod settings;
 
 pub use settings::Resolve;
 
+use crate::aa::common::holds_radiance;
 use crate::aa::common::pass::{self, Binding};
 use crate::aa::common::sampling::{
     gather_weights, own_sample_weights, quincunx_weights, standard_msaa_positions,
@@ -33,7 +34,6 @@ use crate::aa::params::{Named, Param, ParamError, ParamValue, as_bool, as_named}
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
-use crate::aa::common::holds_radiance;
 use crate::gpu::{Capabilities, Gpu};
 use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
@@ -204,7 +204,11 @@ impl Msaa {
             luma_weighted: self.luma_weighted,
             radiance: holds_radiance(output),
         };
-        if self.custom.as_ref().is_none_or(|(built, _, _)| *built != key) {
+        if self
+            .custom
+            .as_ref()
+            .is_none_or(|(built, _, _)| *built != key)
+        {
             let weights = self.resolve_weights();
             let pipeline = ctx.fullscreen.pipeline(
                 &self.device,

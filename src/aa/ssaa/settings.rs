@@ -1,8 +1,8 @@
 //! SSAA's settings: ordered grid or jittered accumulation, the grid factor, the jittered
 //! sample count, pattern and reconstruction filter.
 
-use crate::graph::hdr::TonemapOrder;
 use crate::aa::common::sampling::{Filter, Pattern};
+use crate::graph::hdr::TonemapOrder;
 
 crate::named_enum! {
     /// How the samples are taken (the `mode` parameter).

@@ -58,11 +58,11 @@ pub use settings::{
 
 use glam::Vec2;
 
-use crate::aa::common::{encoded_view, holds_radiance};
 use crate::aa::common::pass::Binding;
 use crate::aa::common::temporal::{
     HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset,
 };
+use crate::aa::common::{encoded_view, holds_radiance};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};

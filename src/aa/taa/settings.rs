@@ -419,7 +419,10 @@ impl TaaSettings {
                 f64::from(u8::from(self.history_filter == HistoryFilter::CatmullRom)),
             ),
             ("RECTIFY", self.rectify.index() as f64),
-            ("LUMA_WEIGHT", f64::from(u8::from(self.luma_weight | radiance))),
+            (
+                "LUMA_WEIGHT",
+                f64::from(u8::from(self.luma_weight | radiance)),
+            ),
             ("VELOCITY_TAPS", self.velocity.index() as f64),
             (
                 "NEIGHBOURHOOD",

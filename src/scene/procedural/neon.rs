@@ -111,7 +111,8 @@ fn sign_path(rng: &mut Rng, kind: usize, at: Vec3, size: f32) -> (Vec<Vec3>, boo
         }
         // A long stroke at a shallow angle (the staircase every AA method is judged on).
         _ => {
-            let angle = rng.range(2.0, 12.0).to_radians() * if rng.unit() < 0.5 { -1.0 } else { 1.0 };
+            let angle =
+                rng.range(2.0, 12.0).to_radians() * if rng.unit() < 0.5 { -1.0 } else { 1.0 };
             let half = Vec3::new(angle.cos(), angle.sin(), 0.0) * size * 0.7;
             (stroke(at - half, at + half), false)
         }
@@ -185,7 +186,11 @@ pub fn neon(options: &SceneOptions) -> Scene {
             let mut tube = MeshBuilder::default();
             tube.tube(&path, TUBE_SIDES, closed, 1.0, |_| radius);
             materials.push(emitter(format!("neon sign {row}.{column}"), radiance));
-            meshes.push(tube.build(&format!("neon sign {row}.{column}"), materials.len() - 1, None));
+            meshes.push(tube.build(
+                &format!("neon sign {row}.{column}"),
+                materials.len() - 1,
+                None,
+            ));
         }
     }
 
@@ -203,7 +208,11 @@ pub fn neon(options: &SceneOptions) -> Scene {
     for k in 0..BULBS {
         let t = (k as f32 + 0.5) / BULBS as f32;
         let at = Vec3::new((t - 0.5) * 2.0 * (HALF_WIDTH - 0.4), sag(t) - 0.04, -1.4);
-        bulbs.cuboid(at - Vec3::splat(BULB_HALF), at + Vec3::splat(BULB_HALF), 1.0);
+        bulbs.cuboid(
+            at - Vec3::splat(BULB_HALF),
+            at + Vec3::splat(BULB_HALF),
+            1.0,
+        );
     }
     meshes.push(wire.build("neon bulb wire", 1, None));
     materials.push(emitter(
@@ -215,7 +224,10 @@ pub fn neon(options: &SceneOptions) -> Scene {
     // The spinning ring in front of the fence.
     let centre = Vec3::new(1.4, 0.75, 0.2);
     let axis = Vec3::new(0.3, 0.2, 1.0).normalize();
-    let (u, v) = (axis.any_orthonormal_vector(), axis.cross(axis.any_orthonormal_vector()));
+    let (u, v) = (
+        axis.any_orthonormal_vector(),
+        axis.cross(axis.any_orthonormal_vector()),
+    );
     let ring: Vec<Vec3> = (0..96)
         .map(|k| {
             let (sin, cos) = (k as f32 / 96.0 * std::f32::consts::TAU).sin_cos();

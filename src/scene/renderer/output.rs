@@ -79,6 +79,9 @@ impl SceneOutput {
             Self::Radiance => (1, 0),
             Self::Tonemapped(operator) => (2, operator.shader_index()),
         };
-        [("OUTPUT", f64::from(output)), ("OPERATOR", f64::from(operator))]
+        [
+            ("OUTPUT", f64::from(output)),
+            ("OPERATOR", f64::from(operator)),
+        ]
     }
 }

@@ -1,0 +1,283 @@
+//! GPU tests of the HDR path (`graph::hdr`) on the `neon` scene: the reference averages
+//! radiance (a thin emitter widens, unlike the display-referred average of tonemapped
+//! samples); which tonemap order scores better depends on which of the two references a
+//! technique is held to, and the tests pin both (FXAA, TAA, and MSAA's luminance-weighted
+//! resolve against its box resolve); LDR scenes ignore every HDR setting; and the command line
+//! records the tonemap and reproduces it.
+
+mod common;
+
+use aa_lab::graph::hdr::TonemapChoice;
+use aa_lab::graph::{FrameGraph, Technique};
+use aa_lab::metrics::compare;
+use aa_lab::scene::Scene;
+use aa_lab::scene::renderer::{Tonemap, Tonemapper};
+use aa_lab::scene::source::load;
+use image::RgbaImage;
+
+/// Small, and an odd size, so tubes fall anywhere in the pixel grid.
+const SIZE: (u32, u32) = (401, 227);
+/// The frame the figures are taken at (TAA has accumulated a full jitter cycle by then).
+const FRAME: u64 = 9;
+
+fn neon() -> Scene {
+    load("neon", &Default::default()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Renders `techniques` (made on `gpu`) on `scene` through `tonemap` over frames 0..=FRAME.
+fn render(
+    gpu: &aa_lab::gpu::Gpu,
+    scene: &Scene,
+    tonemap: Option<Tonemap>,
+    techniques: Vec<Box<dyn Technique>>,
+) -> Vec<RgbaImage> {
+    let mut graph: FrameGraph = common::graph(gpu, scene, techniques);
+    graph.set_tonemap(tonemap);
+    common::render_frames(&mut graph, scene, SIZE, 0..=FRAME)
+}
+
+fn agx() -> Option<Tonemap> {
+    Some(Tonemap {
+        operator: Tonemapper::Agx,
+        exposure: 0.0,
+    })
+}
+
+/// The 64-sample reference: `before` averages radiance (a camera), `after` tonemaps every
+/// sample (display-referred).
+fn reference(gpu: &aa_lab::gpu::Gpu, order: &str) -> Box<dyn Technique> {
+    common::technique(gpu, "ssaa", &[("factor", "8"), ("tonemap_order", order)])
+}
+
+fn flip(reference: &RgbaImage, test: &RgbaImage) -> f64 {
+    compare(reference, test).expect("same size").flip
+}
+
+/// Mean of every channel of every pixel (display values).
+fn mean_level(image: &RgbaImage) -> f64 {
+    image
+        .pixels()
+        .map(|p| f64::from(p[0]) + f64::from(p[1]) + f64::from(p[2]))
+        .sum::<f64>()
+        / (3.0 * f64::from(image.width() * image.height()))
+}
+
+#[test]
+fn the_reference_averages_radiance_so_thin_emitters_widen() {
+    let gpu = common::gpu();
+    let scene = neon();
+    assert!(scene.is_hdr());
+    let images = render(
+        &gpu,
+        &scene,
+        agx(),
+        vec![reference(&gpu, "before"), reference(&gpu, "after")],
+    );
+    let bright = |image: &RgbaImage| {
+        (image.pixels())
+            .filter(|p| p[0].max(p[1]).max(p[2]) > 160)
+            .count()
+    };
+    let (camera, display) = (bright(&images[0]), bright(&images[1]));
+    println!("bright pixels: radiance averaged {camera}, tonemapped samples averaged {display}");
+    // A pixel a quarter covered by a tube of radiance 8 averages to 2, which the tonemapper
+    // shows nearly as bright as the tube itself, where a quarter of the tube's displayed value
+    // is a dim grey: around every emitter the camera reference has more bright pixels.
+    assert!(
+        camera as f64 > display as f64 * 1.3,
+        "{camera} vs {display}"
+    );
+}
+
+#[test]
+fn each_tonemap_order_wins_against_its_own_reference() {
+    let gpu = common::gpu();
+    let scene = neon();
+    let technique = |id: &str, settings: &[(&str, &str)]| common::technique(&gpu, id, settings);
+    let images = render(
+        &gpu,
+        &scene,
+        agx(),
+        vec![
+            reference(&gpu, "before"),
+            reference(&gpu, "after"),
+            technique("fxaa", &[("tonemap_order", "before")]),
+            technique("fxaa", &[("tonemap_order", "after")]),
+            technique("taa", &[("tonemap_order", "before")]),
+            technique("taa", &[("tonemap_order", "after")]),
+        ],
+    );
+    let (camera, display) = (&images[0], &images[1]);
+    for (name, before, after) in [
+        ("fxaa", &images[2], &images[3]),
+        ("taa", &images[4], &images[5]),
+    ] {
+        let against_camera = (flip(camera, before), flip(camera, after));
+        let against_display = (flip(display, before), flip(display, after));
+        println!(
+            "{name} FLIP (before, after) against the camera reference {against_camera:.4?}, \
+             against the display-referred one {against_display:.4?}"
+        );
+        // Run on radiance, the technique spreads a bright tube's radiance over its
+        // neighbours, as the camera's average does; run on displayed values, it blends
+        // displayed values, as the display-referred average does.
+        assert!(
+            against_camera.0 < against_camera.1 * 0.8,
+            "{name}: {against_camera:?}"
+        );
+        assert!(
+            against_display.1 < against_display.0 * 0.8,
+            "{name}: {against_display:?}"
+        );
+    }
+}
+
+#[test]
+fn the_luminance_weighted_msaa_resolve_keeps_bright_edges_antialiased() {
+    let gpu = common::gpu();
+    let scene = neon();
+    let msaa = |settings: &[(&str, &str)]| common::technique(&gpu, "msaa4", settings);
+    let images = render(
+        &gpu,
+        &scene,
+        agx(),
+        vec![
+            reference(&gpu, "after"),
+            msaa(&[]),
+            msaa(&[("luma_weighted", "on")]),
+            msaa(&[("tonemap_order", "after")]),
+        ],
+    );
+    let display = &images[0];
+    let [box_resolve, weighted, tonemapped] = [1, 2, 3].map(|i| flip(display, &images[i]));
+    println!(
+        "MSAA 4x FLIP against the display-referred reference: box resolve of radiance \
+         {box_resolve:.4}, luminance-weighted {weighted:.4}, box resolve of tonemapped samples \
+         {tonemapped:.4}"
+    );
+    // The box resolve of radiance shows a quarter-covered bright edge pixel nearly white (the
+    // stair steps stay); weighting each sample by 1 / (1 + luma) brings it towards the
+    // quarter grey the display-referred average has; resolving tonemapped samples is that
+    // average at four samples.
+    assert!(weighted < box_resolve * 0.85, "{weighted} vs {box_resolve}");
+    assert!(tonemapped < weighted, "{tonemapped} vs {weighted}");
+}
+
+#[test]
+fn ldr_scenes_ignore_the_tonemap_order_and_auto_leaves_them_on_the_ldr_path() {
+    let gpu = common::gpu();
+    let scene = load(
+        "hairball",
+        &aa_lab::scene::procedural::SceneOptions {
+            density: 0.05,
+            ..Default::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(!scene.is_hdr());
+    assert_eq!(TonemapChoice::Auto.resolve(scene.is_hdr(), 1.0), None);
+    assert!(TonemapChoice::Auto.resolve(true, 0.0).is_some());
+    let set = |order: &str| {
+        vec![
+            common::technique(&gpu, "fxaa", &[("tonemap_order", order)]),
+            common::technique(&gpu, "msaa4", &[("tonemap_order", order)]),
+            common::technique(&gpu, "taa", &[("tonemap_order", order)]),
+        ]
+    };
+    let before = render(&gpu, &scene, None, set("before"));
+    let after = render(&gpu, &scene, None, set("after"));
+    assert_eq!(before, after, "the order must not matter on the LDR path");
+}
+
+#[test]
+fn the_ldr_path_clamps_what_the_hdr_path_tonemaps() {
+    let scene = neon();
+    let gpu = common::gpu();
+    let ldr = render(
+        &gpu,
+        &scene,
+        None,
+        vec![common::technique(&gpu, "none", &[])],
+    );
+    let hdr = render(
+        &gpu,
+        &scene,
+        agx(),
+        vec![common::technique(&gpu, "none", &[])],
+    );
+    // Clamped, every tube pixel brighter than white in some channel shows 255 there; through
+    // AgX only the bulbs do (AgX reaches white 16.5 stops above black, the tubes stay below).
+    let clipped = |image: &RgbaImage| {
+        image
+            .pixels()
+            .filter(|p| p[0].max(p[1]).max(p[2]) == 255)
+            .count()
+    };
+    let (clamped, tonemapped) = (clipped(&ldr[0]), clipped(&hdr[0]));
+    println!("pixels at 255: LDR {clamped}, AgX {tonemapped}");
+    assert!(
+        clamped > 200 && tonemapped < clamped / 2,
+        "{clamped} vs {tonemapped}"
+    );
+    // Exposure scales radiance before the tonemapper: three stops down darkens the frame.
+    let darker = Some(Tonemap {
+        exposure: -3.0,
+        ..agx().expect("a tonemap")
+    });
+    let dim = render(
+        &gpu,
+        &scene,
+        darker,
+        vec![common::technique(&gpu, "none", &[])],
+    );
+    assert!(mean_level(&dim[0]) < mean_level(&hdr[0]) * 0.8);
+}
+
+#[test]
+fn the_command_line_records_the_tonemap_and_reproduces_it() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("neon.png");
+    let output = common::aa_lab(&[
+        "render",
+        "--scene",
+        "neon",
+        "--size",
+        "96x54",
+        "--technique",
+        "fxaa",
+        "--set",
+        "fxaa.tonemap_order=before",
+        "--tonemap",
+        "aces",
+        "--exposure",
+        "-1.5",
+        "--out",
+        out.to_str().expect("utf-8 path"),
+    ]);
+    assert!(output.status.success(), "{}", common::stderr(&output));
+    let text = aa_lab::export::png::read_record(&out)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .expect("an aa-lab record");
+    let record = aa_lab::spec::parse_record(&text).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        (record.tonemap, record.exposure),
+        (TonemapChoice::Aces, -1.5)
+    );
+    let fxaa = &record.techniques[0].settings;
+    assert_eq!(
+        fxaa.get("tonemap_order")
+            .map(ToString::to_string)
+            .as_deref(),
+        Some("before"),
+        "{fxaa:?}"
+    );
+    common::assert_from_reproduces(&out);
+    common::fails_with(
+        &["render", "--scene", "neon", "--tonemap", "filmic"],
+        &["filmic", "reinhard, aces, agx, neutral"],
+    );
+    common::fails_with(
+        &["render", "--scene", "neon", "--exposure", "40"],
+        &["40", "between -20 and 20"],
+    );
+}
