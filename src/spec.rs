@@ -288,6 +288,9 @@ pub struct RenderOutput {
     pub memory: MemoryReport,
     /// Scene renders recorded in the kept frame.
     pub scene_renders: usize,
+    /// Technique id and linear radiance of every technique that ran before the tonemapper
+    /// of an HDR frame (read back only when [`RunOptions::radiance`] asks).
+    pub radiance: Vec<(String, image::Rgb32FImage)>,
 }
 
 /// Options of [`run`].
@@ -303,6 +306,8 @@ pub struct RunOptions<'a> {
     /// Image mode: this finished image (the spec's size) replaces the 1x scene render; a
     /// technique that needs more than its colour is refused with the reason.
     pub image: Option<&'a image::RgbaImage>,
+    /// Also read back the radiance of the techniques that ran before the tonemapper.
+    pub radiance: bool,
 }
 
 /// The camera of frame `frame` for a spec.
@@ -407,6 +412,16 @@ pub fn run(
             });
         }
     }
+    let mut radiance = Vec::new();
+    for slot in graph.slots().iter().filter(|_| options.radiance) {
+        if let Some(texture) = slot.hdr_output() {
+            let bytes = crate::gpu::readback::read_texture_bytes(gpu, texture)?;
+            let size = (texture.width(), texture.height());
+            if let Some(image) = crate::export::radiance::from_half_floats(size, &bytes) {
+                radiance.push((slot.technique.id().to_owned(), image));
+            }
+        }
+    }
     let notes = graph
         .slots()
         .iter()
@@ -438,5 +453,6 @@ pub fn run(
         timings,
         memory,
         scene_renders,
+        radiance,
     })
 }

@@ -281,3 +281,57 @@ fn the_command_line_records_the_tonemap_and_reproduces_it() {
         &["40", "between -20 and 20"],
     );
 }
+
+#[test]
+fn render_writes_the_radiance_of_techniques_before_the_tonemapper_and_compare_scores_it_with_hdr_flip()
+ {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().to_str().expect("utf-8 path");
+    let output = common::aa_lab(&[
+        "render",
+        "--scene",
+        "neon",
+        "--size",
+        "160x90",
+        "--frame",
+        "2",
+        "--technique",
+        "ssaa,msaa4,fxaa",
+        "--set",
+        "ssaa.factor=4",
+        "--exr",
+        "--out",
+        out,
+    ]);
+    assert!(output.status.success(), "{}", common::stderr(&output));
+    // SSAA and MSAA run on radiance by default, FXAA after the tonemapper: no radiance.
+    let exr = |name: &str| dir.path().join(format!("neon-{name}.exr"));
+    assert!(exr("ssaa").is_file() && exr("msaa4").is_file());
+    assert!(!exr("fxaa").exists());
+    let path = |p: std::path::PathBuf| p.to_str().expect("utf-8 path").to_owned();
+    let scored = common::aa_lab(&["compare", "--json", &path(exr("ssaa")), &path(exr("msaa4"))]);
+    assert!(scored.status.success(), "{}", common::stderr(&scored));
+    let json: serde_json::Value =
+        serde_json::from_str(&common::stdout(&scored)).expect("compare --json prints JSON");
+    let hdr_flip = json["hdr_flip"].as_f64().expect("an HDR-FLIP figure");
+    assert!(hdr_flip > 0.0 && hdr_flip < 0.5, "{json}");
+    assert!(
+        json["exposures"].as_u64().expect("exposures") >= 2,
+        "{json}"
+    );
+    let same = common::aa_lab(&["compare", "--json", &path(exr("ssaa")), &path(exr("ssaa"))]);
+    let same: serde_json::Value = serde_json::from_str(&common::stdout(&same)).expect("JSON");
+    assert_eq!(same["hdr_flip"].as_f64(), Some(0.0));
+    common::fails_with(
+        &[
+            "compare",
+            &path(exr("ssaa")),
+            &path(exr("msaa4")),
+            "--heatmap",
+            &path(dir.path().join("h.png")),
+            "--metric",
+            "ssim",
+        ],
+        &["HDR-FLIP only"],
+    );
+}

@@ -739,6 +739,7 @@ impl BenchRunner<'_> {
             timing_repeats: 0,
             progress: Some(&progress),
             image: None,
+            radiance: false,
         };
         let output = spec::run(self.gpu, scene, spec, &options)?;
         self.progress

@@ -1,6 +1,7 @@
 //! `aa-lab compare REFERENCE TEST`: scores a test image against a reference with SSIM, PSNR,
 //! MAE and FLIP (see `metrics`), as text or JSON, and optionally writes a heatmap of one
-//! metric's per-pixel map. `--gpu` also runs the compute-shader path and prints its numbers
+//! metric's per-pixel map; two OpenEXR images are scored with HDR-FLIP by
+//! [`super::compare_hdr`]. `--gpu` also runs the compute-shader path and prints its numbers
 //! next to the CPU reference's. Two sequences (folders or globs of numbered frames) are scored
 //! frame by frame and over time by [`super::compare_sequences`].
 
@@ -170,6 +171,10 @@ pub(super) fn heatmap_policy<'p>(
 
 /// Runs `aa-lab compare` on two images (the caller checked that neither is a sequence).
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    use crate::export::radiance::is_exr;
+    if is_exr(&args.reference) && is_exr(&args.test) {
+        return super::compare_hdr::run(args);
+    }
     let policy = heatmap_policy(args, [args.reference.as_path(), args.test.as_path()])?;
     let read = |path: &Path| read_image_limited(path, MAX_COMPARE_PIXELS, "compare");
     let reference = read(&args.reference)?;

@@ -16,8 +16,10 @@ mod clip_frames;
 mod clip_record;
 mod clip_sequences;
 mod compare;
+mod compare_hdr;
 mod compare_sequences;
 mod info;
+mod parse;
 mod render;
 mod sheet;
 

@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
+pub use super::parse::{parse_exposure, parse_overlay, parse_size, parse_tonemap};
 use crate::aa::ssaa::Mode;
 use crate::aa::{self, Named, ParamValue, params::parse_value};
 use crate::export::{
@@ -169,6 +170,11 @@ pub struct RenderArgs {
     /// Also write each technique's debug views (<scene>-<technique>-<view>.png).
     #[arg(long)]
     pub debug_views: bool,
+    /// Also write the linear radiance of every technique that ran before the tonemapper of an
+    /// HDR frame (the reference, MSAA, and whatever has tonemap_order=before) as OpenEXR beside
+    /// its PNG, for `compare` to score with HDR-FLIP.
+    #[arg(long)]
+    pub exr: bool,
     /// Reproduce a render from a sidecar JSON or from a PNG aa-lab wrote (scene, size, frame,
     /// camera and every technique setting come from the record).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "technique", "size", "frame", "density", "seed", "ui_overlay", "specular_aa", "tonemap", "exposure"])]
@@ -221,41 +227,6 @@ pub fn spec_for_image(
 /// aa-lab reads (a regular file of bounded size, pixel count checked from the header).
 pub fn load_input_image(path: &Path) -> anyhow::Result<image::RgbaImage> {
     Ok(crate::export::png::read_image(path)?)
-}
-
-/// Parses `WIDTHxHEIGHT`, both whole numbers of at least 1.
-/// Parses `--ui-overlay`.
-pub fn parse_tonemap(text: &str) -> Result<TonemapChoice, String> {
-    TonemapChoice::from_name(text)
-        .ok_or_else(|| format!("expected one of {}", TonemapChoice::NAMES.join(", ")))
-}
-
-/// Exposures beyond +-20 stops (a factor of a million) are mistakes, not looks.
-pub fn parse_exposure(text: &str) -> Result<f32, String> {
-    match text.trim().parse::<f32>() {
-        Ok(ev) if ev.is_finite() && ev.abs() <= 20.0 => Ok(ev),
-        _ => Err(format!(
-            "`{text}` is not an exposure: a number of stops between -20 and 20"
-        )),
-    }
-}
-
-pub fn parse_overlay(text: &str) -> Result<OverlayOrder, String> {
-    OverlayOrder::from_name(text)
-        .ok_or_else(|| format!("expected one of {}", OverlayOrder::NAMES.join(", ")))
-}
-
-pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
-    let expected =
-        "a size is WIDTHxHEIGHT in pixels, both whole numbers of at least 1 (e.g. 1280x720)";
-    let (w, h) = text
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("`{text}`: {expected}"))?;
-    let parse = |s: &str| match s.trim().parse::<u32>() {
-        Ok(0) | Err(_) => Err(format!("`{s}` in `{text}` is not a size; {expected}")),
-        Ok(v) => Ok(v),
-    };
-    Ok((parse(w)?, parse(h)?))
 }
 
 /// The technique ids of a `--technique` list; `all` expands to every technique this adapter
@@ -599,6 +570,19 @@ fn output_paths(
         .collect())
 }
 
+/// Where the radiance of each technique that has it goes: its PNG's path as `.exr`.
+fn radiance_paths<'o>(
+    output: &'o spec::RenderOutput,
+    paths: &[PathBuf],
+) -> Vec<(&'o image::Rgb32FImage, PathBuf)> {
+    (output.radiance.iter())
+        .filter_map(|(id, image)| {
+            let index = (output.images.iter()).position(|i| i.id == *id && i.view.is_none())?;
+            Some((image, paths[index].with_extension("exr")))
+        })
+        .collect()
+}
+
 fn progress_bar(total: u64) -> ProgressBar {
     let bar = ProgressBar::new(total);
     bar.set_style(
@@ -697,6 +681,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         timing_repeats: if args.timings { 5 } else { 0 },
         progress: temporal_frames.then_some(&progress as &dyn Fn(u64, u64)),
         image: input.as_ref(),
+        radiance: args.exr,
     };
     let output = spec::run(&gpu, &scene, &spec, &run_options)?;
     bar.finish_and_clear();
@@ -710,9 +695,20 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     )?;
     // Every output is checked before the first is written: all or nothing.
     policy.check_all(paths.iter().map(PathBuf::as_path))?;
+    let radiance_paths = radiance_paths(&output, &paths);
+    policy.check_all(radiance_paths.iter().map(|(_, p)| p.as_path()))?;
     for (image, path) in output.images.iter().zip(&paths) {
         let replaced = export::write_png(path, &image.image, Some(&record), &policy)?;
         println!("{}", files::wrote_line(path, replaced));
+    }
+    for (image, path) in radiance_paths {
+        let replaced = export::radiance::write_exr(&path, image, &policy)?;
+        println!("{}", files::wrote_line(&path, replaced));
+    }
+    if args.exr && output.radiance.is_empty() {
+        eprintln!(
+            "--exr: no technique ran before the tonemapper of an HDR frame; no radiance written"
+        );
     }
     for (id, note) in &output.notes {
         println!("{id}: {note}");

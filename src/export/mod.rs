@@ -12,6 +12,7 @@ pub mod gif;
 pub mod heatmap;
 pub mod html;
 pub mod png;
+pub mod radiance;
 pub mod report;
 pub mod report_markdown;
 pub mod sheet;

@@ -131,14 +131,13 @@ pub fn read_record(path: &Path) -> Result<Option<String>, ExportError> {
     chunk.get_text().map(Some).map_err(|e| read(e.to_string()))
 }
 
-/// Reads any PNG/JPEG/TGA/OpenEXR image as RGBA8 (OpenEXR through [`crate::srgb::display_rgba8`]),
-/// refusing from its header an image of more than
-/// `max_pixels` pixels (`purpose` names the command in that message).
-pub fn read_image_limited(
+/// Decodes an image of at most `max_pixels` pixels (checked from its header before anything is
+/// decoded), from a regular file of bounded size; `purpose` names the limit in the error.
+pub fn read_dynamic_limited(
     path: &Path,
     max_pixels: u64,
     purpose: &'static str,
-) -> Result<image::RgbaImage, ExportError> {
+) -> Result<image::DynamicImage, ExportError> {
     let read = |reason: String| ExportError::Read {
         path: path.to_owned(),
         reason,
@@ -164,10 +163,18 @@ pub fn read_image_limited(
     let mut limits = image::Limits::default();
     limits.max_alloc = Some(max_pixels.saturating_mul(16));
     reader.limits(limits);
-    reader
-        .decode()
-        .map(crate::srgb::display_rgba8)
-        .map_err(|e| read(e.to_string()))
+    reader.decode().map_err(|e| read(e.to_string()))
+}
+
+/// Reads any PNG/JPEG/TGA/OpenEXR image as RGBA8 (OpenEXR through [`crate::srgb::display_rgba8`]),
+/// refusing from its header an image of more than
+/// `max_pixels` pixels (`purpose` names the command in that message).
+pub fn read_image_limited(
+    path: &Path,
+    max_pixels: u64,
+    purpose: &'static str,
+) -> Result<image::RgbaImage, ExportError> {
+    read_dynamic_limited(path, max_pixels, purpose).map(crate::srgb::display_rgba8)
 }
 
 /// Most pixels [`read_image`] accepts: 16384 x 16384.

@@ -97,6 +97,12 @@ impl Slot {
     pub fn output(&self) -> Option<&wgpu::Texture> {
         self.output.as_ref()
     }
+
+    /// The technique's latest radiance, when it ran before the tonemapper of an HDR frame
+    /// (half floats, [`gpu::HDR_FORMAT`]).
+    pub fn hdr_output(&self) -> Option<&wgpu::Texture> {
+        self.hdr_output.as_ref()
+    }
 }
 
 /// Which techniques a frame runs.

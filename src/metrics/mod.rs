@@ -21,6 +21,7 @@
 pub mod coverage;
 pub mod flip;
 pub mod gpu;
+pub mod hdr_flip;
 pub mod jod;
 pub mod map;
 pub mod pixel;
