@@ -450,7 +450,7 @@ mod tests {
         for value in Rectify::ALL {
             assert_eq!(Rectify::from_name(value.name()), Some(*value));
         }
-        let constants = TaaSettings::preset(Preset::Fast).constants();
+        let constants = TaaSettings::preset(Preset::Fast).constants(false);
         assert_eq!(
             constants,
             [
