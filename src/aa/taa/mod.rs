@@ -459,7 +459,8 @@ mod tests {
                 ("LUMA_WEIGHT", 0.0),
                 ("VELOCITY_TAPS", 0.0),
                 ("NEIGHBOURHOOD", 1.0),
-                ("TRUST_OWN_SPEED", 0.0)
+                ("TRUST_OWN_SPEED", 0.0),
+                ("RADIANCE", 0.0)
             ]
         );
     }

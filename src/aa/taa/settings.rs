@@ -115,8 +115,8 @@ pub struct TaaSettings {
     pub neighbourhood: Neighbourhood,
     /// Texture mip bias of the jittered render.
     pub mip_bias: f32,
-    /// In HDR frames, before the tonemapper (on radiance, as engines run TAA; the blend is
-    /// then always luminance-weighted) or after it.
+    /// In HDR frames, before the tonemapper (on radiance, as engines run TAA, through Karis'
+    /// reversible tonemap) or after it.
     pub tonemap_order: TonemapOrder,
 }
 
@@ -410,19 +410,17 @@ impl TaaSettings {
         }
     }
 
-    /// The override constants of the structural settings; on `radiance` (before the
-    /// tonemapper of an HDR frame) the blend is luminance-weighted whatever `luma_weight` says.
-    pub(super) fn constants(&self, radiance: bool) -> [(&'static str, f64); 6] {
+    /// The override constants of the structural settings, and `RADIANCE` (before the
+    /// tonemapper of an HDR frame: the resolve works through Karis' reversible tonemap).
+    pub(super) fn constants(&self, radiance: bool) -> [(&'static str, f64); 7] {
         [
             (
                 "HISTORY_FILTER",
                 f64::from(u8::from(self.history_filter == HistoryFilter::CatmullRom)),
             ),
             ("RECTIFY", self.rectify.index() as f64),
-            (
-                "LUMA_WEIGHT",
-                f64::from(u8::from(self.luma_weight | radiance)),
-            ),
+            ("LUMA_WEIGHT", f64::from(u8::from(self.luma_weight))),
+            ("RADIANCE", f64::from(u8::from(radiance))),
             ("VELOCITY_TAPS", self.velocity.index() as f64),
             (
                 "NEIGHBOURHOOD",

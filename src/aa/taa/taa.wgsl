@@ -82,6 +82,16 @@ fn luminance(c: vec3<f32>) -> f32 {
     return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
 }
 
+// Before the tonemapper of an HDR frame (graph/hdr.rs) the input is radiance: every read goes
+// through Karis' reversible tonemap c / (1 + luma), so the neighbourhood, the rectification and
+// the blend work on values below 1 that no bright sample dominates; the history keeps them,
+// and the output is mapped back to radiance (c / (1 - luma)).
+override RADIANCE: bool = false;
+
+fn to_output(c: vec3<f32>) -> vec3<f32> {
+    return select(c, c / max(1.0 - luminance(c), 1e-3), RADIANCE);
+}
+
 fn rgb_to_ycocg(c: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(
         0.25 * c.r + 0.5 * c.g + 0.25 * c.b,
@@ -156,7 +166,8 @@ fn history_at(uv: vec2<f32>) -> vec4<f32> {
 
 // The current frame's colour at a pixel, clamped to the image.
 fn current_at(pixel: vec2<i32>, last: vec2<i32>) -> vec3<f32> {
-    return textureLoad(current, clamp(pixel, vec2<i32>(0), last), 0).rgb;
+    let c = textureLoad(current, clamp(pixel, vec2<i32>(0), last), 0).rgb;
+    return select(c, c / (1.0 + luminance(c)), RADIANCE);
 }
 
 // A value of the fragment's partner across its 2x2 quad in x: the fine derivative is the odd
@@ -438,7 +449,7 @@ struct ResolveOutput {
 @fragment
 fn fs_resolve(in: Varying) -> ResolveOutput {
     let r = resolve(in.position.xy);
-    return ResolveOutput(vec4<f32>(r.colour, 1.0), vec4<f32>(r.colour, r.speed));
+    return ResolveOutput(vec4<f32>(to_output(r.colour), 1.0), vec4<f32>(r.colour, r.speed));
 }
 
 struct ResolveDebugOutput {
@@ -457,5 +468,9 @@ fn fs_resolve_debug(in: Varying) -> ResolveDebugOutput {
     if r.rejected {
         mask = vec3<f32>(0.9, 0.1, 0.1);
     }
-    return ResolveDebugOutput(vec4<f32>(r.colour, 1.0), vec4<f32>(r.colour, r.speed), vec4<f32>(mask, 1.0));
+    return ResolveDebugOutput(
+        vec4<f32>(to_output(r.colour), 1.0),
+        vec4<f32>(r.colour, r.speed),
+        vec4<f32>(mask, 1.0),
+    );
 }
