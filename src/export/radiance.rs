@@ -45,7 +45,7 @@ pub fn is_exr(path: &Path) -> bool {
 /// or `None` when the byte count does not match the size.
 pub fn from_half_floats(size: (u32, u32), bytes: &[u8]) -> Option<image::Rgb32FImage> {
     let texels = bytes.len() / 8;
-    if texels != (size.0 as usize) * (size.1 as usize) || bytes.len() % 8 != 0 {
+    if texels != (size.0 as usize) * (size.1 as usize) || !bytes.len().is_multiple_of(8) {
         return None;
     }
     let values: Vec<f32> = bytes

@@ -74,7 +74,7 @@ impl Shader {
     pub fn module(&self, device: &wgpu::Device) -> wgpu::ShaderModule {
         device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(self.name()),
-            source: wgpu::ShaderSource::Wgsl(self.composed_source().into()),
+            source: wgpu::ShaderSource::Wgsl(self.composed_source()),
         })
     }
 }

@@ -61,6 +61,8 @@ crate::named_enum! {
     }
 }
 
+// `named_enum!` takes doc attributes only, so `#[default]` cannot go on the variant.
+#[allow(clippy::derivable_impls)]
 impl Default for TonemapChoice {
     fn default() -> Self {
         Self::Auto

@@ -511,7 +511,9 @@ impl FrameGraph {
     /// (its render scale).
     fn plan_inputs(&mut self, frame: &FrameInfo, active: &[usize]) -> Result<(), GraphError> {
         let size = frame.output_size();
-        let mut wanted: Vec<Option<(SceneInput, (u32, u32), bool)>> = vec![None; self.slots.len()];
+        // Per slot: its input, the size it renders at, and whether as radiance.
+        type Wanted = (SceneInput, (u32, u32), bool);
+        let mut wanted: Vec<Option<Wanted>> = vec![None; self.slots.len()];
         self.inputs_used.clear();
         for (i, slot) in self.slots.iter().enumerate().filter(|(_, s)| s.held()) {
             let render_size = slot.technique.render_size(frame);
