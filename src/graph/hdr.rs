@@ -231,14 +231,6 @@ impl TonemapPass {
 pub(super) fn hdr_output_texture(gpu: &Gpu, label: &str, size: (u32, u32)) -> wgpu::Texture {
     gpu::texture_2d(
         &gpu.device,
-        &gpu::Texture2d::new(
-            label,
-            size,
-            gpu::HDR_FORMAT,
-            wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC
-                | wgpu::TextureUsages::COPY_DST,
-        ),
+        &gpu::Texture2d::new(label, size, gpu::HDR_FORMAT, super::OUTPUT_USAGE),
     )
 }

@@ -123,18 +123,17 @@ pub fn output_texture(gpu: &Gpu, label: &str, size: (u32, u32)) -> wgpu::Texture
         &gpu.device,
         &gpu::Texture2d {
             view_formats: gpu::encoded_view_formats(&gpu.caps),
-            ..gpu::Texture2d::new(
-                label,
-                size,
-                gpu::COLOR_FORMAT,
-                wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::COPY_SRC
-                    | wgpu::TextureUsages::COPY_DST,
-            )
+            ..gpu::Texture2d::new(label, size, gpu::COLOR_FORMAT, OUTPUT_USAGE)
         },
     )
 }
+
+/// What a technique's output (displayed or radiance) is used as: a render target, a sampled
+/// texture, and a copy's source or destination.
+const OUTPUT_USAGE: wgpu::TextureUsages = wgpu::TextureUsages::RENDER_ATTACHMENT
+    .union(wgpu::TextureUsages::TEXTURE_BINDING)
+    .union(wgpu::TextureUsages::COPY_SRC)
+    .union(wgpu::TextureUsages::COPY_DST);
 
 /// The frame graph. See the module docs.
 pub struct FrameGraph {

@@ -245,10 +245,8 @@ pub fn neon(options: &SceneOptions) -> Scene {
     meshes.push(spinner.build("neon ring", materials.len() - 1, Some(spin)));
 
     Scene {
-        name: "neon".to_owned(),
         meshes,
         materials,
-        textures: Vec::new(),
         camera: CameraRig {
             target: Vec3::new(0.0, 1.2, -1.0),
             distance: 5.5,
@@ -259,16 +257,13 @@ pub fn neon(options: &SceneOptions) -> Scene {
             far: 40.0,
             orbit_degrees_per_frame: 0.4,
         },
-        interior: false,
         light: DirectionalLight {
             direction: Vec3::new(-0.4, -0.8, -0.45).normalize(),
             color: Vec3::new(0.12, 0.14, 0.2),
             ambient: Vec3::splat(0.02),
         },
         clear_color: Vec3::new(0.002, 0.003, 0.008),
-        views: Vec::new(),
-        warnings: Vec::new(),
-        notes: Vec::new(),
+        ..Scene::empty("neon")
     }
 }
 
