@@ -398,14 +398,19 @@ impl BenchRunner<'_> {
             &timed.meters,
         )?;
         // 4. Quality on the scene's own camera path.
-        let scores = if options.quality {
+        let (scores, hdr_flips) = if options.quality {
             self.quality(run, scene, &spec, &reference_spec)?
         } else {
-            Vec::new()
+            (Vec::new(), Vec::new())
         };
         let floor_ms = Summary::of(&timed.samples.floor);
         let mut techniques =
             self.technique_reports(run, &timed, &scores, &flicker, floor_ms.median);
+        for (id, score) in hdr_flips {
+            if let Some(report) = techniques.iter_mut().find(|t| t.id == id) {
+                report.hdr_flip = Some(score);
+            }
+        }
         if let (Some(scorer), true) = (jod, keep) {
             self.stop_if_cancelled()?;
             self.progress.phase(run, "ColorVideoVDP");
@@ -709,6 +714,7 @@ impl BenchRunner<'_> {
                     fragment_invocations: invocations,
                     quality,
                     truth,
+                    hdr_flip: None,
                     mean_change: meter.and_then(ChangeMeter::mean_change),
                     flicker_ratio: meter.and_then(|m| flicker_ratio(m, &flicker.reference)),
                     ghosting,
@@ -719,14 +725,16 @@ impl BenchRunner<'_> {
     }
 
     /// Renders the quality frame of every technique and the reference and scores them; on the
-    /// chart also against the exact coverage. Returns (id, vs reference, vs truth).
+    /// chart also against the exact coverage. Returns (id, vs reference, vs truth), and the
+    /// HDR-FLIP of every technique whose radiance can be scored against the reference's (both
+    /// ran before the tonemapper of an HDR frame).
     fn quality(
         &self,
         run: &RunPlan,
         scene: &Scene,
         spec: &RenderSpec,
         reference_spec: &RenderSpec,
-    ) -> Result<Vec<QualityScores>, BenchError> {
+    ) -> Result<(Vec<QualityScores>, Vec<(String, f64)>), BenchError> {
         self.stop_if_cancelled()?;
         self.progress.phase(run, "quality frame");
         let reported = std::cell::Cell::new(0);
@@ -739,14 +747,27 @@ impl BenchRunner<'_> {
             timing_repeats: 0,
             progress: Some(&progress),
             image: None,
-            radiance: false,
+            radiance: true,
         };
         let output = spec::run(self.gpu, scene, spec, &options)?;
         self.progress
             .advance((spec.frame + 1).saturating_sub(reported.get()));
         self.stop_if_cancelled()?;
         self.progress.phase(run, "reference frame");
-        let reference = spec::run(self.gpu, scene, reference_spec, &RunOptions::default())?;
+        let reference_options = RunOptions {
+            radiance: true,
+            ..RunOptions::default()
+        };
+        let reference = spec::run(self.gpu, scene, reference_spec, &reference_options)?;
+        let hdr_flips = match reference.radiance.first() {
+            Some((_, reference_radiance)) => (output.radiance.iter())
+                .map(|(id, radiance)| {
+                    let score = crate::metrics::hdr_flip::hdr_flip(reference_radiance, radiance)?;
+                    Ok((id.clone(), score.mean))
+                })
+                .collect::<Result<Vec<_>, BenchError>>()?,
+            None => Vec::new(),
+        };
         self.progress.advance(1);
         let reference_image = reference
             .images
@@ -782,6 +803,6 @@ impl BenchRunner<'_> {
             }
             scores.push((image.id.clone(), quality, truth_score));
         }
-        Ok(scores)
+        Ok((scores, hdr_flips))
     }
 }

@@ -181,6 +181,10 @@ pub struct TechniqueReport {
     pub quality: Option<Comparison>,
     /// Scores against the analytic ground truth (`chart` only), over the test elements.
     pub truth: Option<Comparison>,
+    /// HDR-FLIP of its radiance against the reference's, when it ran before the tonemapper of
+    /// an HDR frame (`metrics::hdr_flip`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hdr_flip: Option<f64>,
     /// Mean absolute luma change per frame over the flicker frames.
     pub mean_change: Option<f64>,
     /// `mean_change` over the reference's: the `temporal_instability` of `aa-lab clip`
