@@ -628,6 +628,7 @@ impl FrameGraph {
                     size: render_size,
                     sample_count: input.sample_count(),
                     motion: input.motion(),
+                    reactive_mask: input.reactive_mask(),
                 };
                 let index = self.inputs_used.iter().filter(|u| u.desc == desc).count();
                 self.inputs_used.push(PooledInput {

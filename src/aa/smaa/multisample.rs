@@ -226,6 +226,7 @@ impl Multisample {
                         size,
                         sample_count: 1,
                         motion: false,
+                        reactive_mask: false,
                     },
                 ),
                 results: [result(0), result(1)],

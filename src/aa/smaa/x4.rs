@@ -89,6 +89,7 @@ impl Targets {
                     size,
                     sample_count,
                     motion,
+                    reactive_mask: false,
                 },
             )
         };

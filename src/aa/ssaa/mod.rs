@@ -151,6 +151,7 @@ impl Ssaa {
             size: (plan.tile.x * plan.factor, plan.tile.y * plan.factor),
             sample_count: 1,
             motion: false,
+            reactive_mask: false,
         };
         let targets = SceneTargets::new(ctx.gpu, "ssaa tile", desc);
         let tiles = plan.tiles().len() as u64;
@@ -305,6 +306,7 @@ impl Ssaa {
                 size,
                 sample_count: 1,
                 motion: false,
+                reactive_mask: false,
             },
         );
         let accumulate_layout = pass::stage_layout(

@@ -114,6 +114,9 @@ pub struct TaaSettings {
     pub neighbourhood: Neighbourhood,
     /// Texture mip bias of the jittered render.
     pub mip_bias: f32,
+    /// Least share of the current frame where blended surfaces cover the pixel fully (the
+    /// reactive mask's strength); 0 reads no mask.
+    pub reactive_mask: f32,
 }
 
 impl Default for TaaSettings {
@@ -134,6 +137,7 @@ impl Default for TaaSettings {
             velocity: VelocityTaps::Quads,
             neighbourhood: Neighbourhood::Cross,
             mip_bias: -1.5,
+            reactive_mask: 0.0,
         }
     }
 }
@@ -319,6 +323,19 @@ impl Tunable for TaaSettings {
                 0.0,
                 s.mip_bias,
             ),
+            Param::float(
+                "reactive_mask",
+                "Reactive mask",
+                "Reactive mask (after AMD FidelityFX FSR 2's): where alpha-blended surfaces cover \
+                 the pixel (the renderer's mask of their coverage), the current frame's share \
+                 rises to at least this times the coverage, and the history is rectified in full \
+                 there: glass and particles, whose colour the background's motion vectors do not \
+                 carry, then follow the current frame instead of smearing. 0 (the default) reads \
+                 no mask and renders none.",
+                0.0,
+                1.0,
+                s.reactive_mask,
+            ),
         ]
     }
 
@@ -343,6 +360,7 @@ impl Tunable for TaaSettings {
                 resample_feedback,
                 trust_sharp_only,
                 mip_bias,
+                reactive_mask,
             ]
         )
     }
@@ -401,7 +419,7 @@ impl TaaSettings {
     }
 
     /// The override constants of the structural settings.
-    pub(super) fn constants(&self) -> [(&'static str, f64); 6] {
+    pub(super) fn constants(&self) -> [(&'static str, f64); 7] {
         [
             (
                 "HISTORY_FILTER",
@@ -415,6 +433,10 @@ impl TaaSettings {
                 f64::from(u8::from(self.neighbourhood == Neighbourhood::Cross)),
             ),
             ("TRUST_OWN_SPEED", f64::from(u8::from(self.trust_own_speed))),
+            (
+                "REACTIVE_MASK",
+                f64::from(u8::from(self.reactive_mask > 0.0)),
+            ),
         ]
     }
 }

@@ -1,7 +1,8 @@
 //! Built-in procedural scenes, selectable by name: `hairball` (fine geometry under a strong
 //! highlight), `atrium` (an arcaded courtyard in the spirit of Crytek Sponza), `chart` (a
 //! flat resolution chart seen head-on, with an analytic layout for exact ground truth) and
-//! `sparkle` (shiny surfaces with sub-pixel normal detail: specular aliasing).
+//! `sparkle` (shiny surfaces with sub-pixel normal detail: specular aliasing) and `glass`
+//! (alpha-blended panes and moving particles over a fine lattice: transparency).
 //!
 //! Everything, meshes and textures alike, is generated in code from [`SceneOptions::seed`]
 //! with the generators' own SplitMix64 (module `rng`), so a scene never changes with a crate
@@ -24,6 +25,7 @@
 mod atrium;
 mod chart;
 mod geometry;
+mod glass;
 mod hairball;
 mod rng;
 mod sparkle;
@@ -34,13 +36,14 @@ pub use chart::{
     CHART_PIXELS_PER_UNIT_720P, ChartFeature, ChartLayout, ChartPolygon, ChartRegion, ZonePlate,
     chart, chart_layout,
 };
+pub use glass::glass;
 pub use hairball::hairball;
 pub use sparkle::sparkle;
 
 use crate::scene::Scene;
 
 /// Names [`builtin`] accepts.
-pub const BUILTIN_SCENES: &[&str] = &["hairball", "atrium", "chart", "sparkle"];
+pub const BUILTIN_SCENES: &[&str] = &["hairball", "atrium", "chart", "sparkle", "glass"];
 
 /// Densities outside this range are clamped (with a warning in the scene): below it the
 /// hairball has no curves left, above it (~10M triangles) it outgrows GPU buffers.
@@ -50,7 +53,7 @@ const DENSITY_RANGE: (f32, f32) = (0.001, 32.0);
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneOptions {
     /// Geometric density, 1.0 by default: the hairball's triangle count scales linearly with
-    /// it (about 300k at 1, over 2M at 7). The atrium, the chart and sparkle are fixed designs
+    /// it (about 300k at 1, over 2M at 7). The atrium, the chart, sparkle and glass are fixed designs
     /// and ignore it. Values outside 0.001..=32 are clamped and non-finite values replaced by 1,
     /// with a warning in [`Scene::warnings`].
     pub density: f32,
@@ -95,6 +98,7 @@ pub fn builtin(name: &str, options: &SceneOptions) -> Option<Scene> {
         "atrium" => Some(atrium(options)),
         "chart" => Some(chart(options)),
         "sparkle" => Some(sparkle(options)),
+        "glass" => Some(glass(options)),
         _ => None,
     }
 }
