@@ -8,7 +8,7 @@ mod common;
 
 use aa_lab::aa::Technique;
 use aa_lab::gpu::Gpu;
-use aa_lab::graph::FrameScope;
+use aa_lab::graph::{FrameGraph, FrameScope};
 use aa_lab::metrics::Plane;
 use aa_lab::metrics::stability::MovingEdgeError;
 use aa_lab::scene::procedural::{SceneOptions, builtin};
@@ -149,16 +149,14 @@ fn temporal_with_and_without_mask(gpu: &Gpu) -> Vec<Box<dyn Technique>> {
         .collect()
 }
 
-/// The images of `techniques` on `scene` over frames `0..=last` of a still camera (only
-/// the particles move).
+/// Every technique's image of every frame `0..=last` of `scene` seen by a still camera at
+/// `size` (only the particles move).
 fn still_frames(
-    gpu: &Gpu,
+    mut graph: FrameGraph,
     scene: &Scene,
-    techniques: Vec<Box<dyn Technique>>,
     size: (u32, u32),
     last: u64,
 ) -> Vec<Vec<RgbaImage>> {
-    let mut graph = common::graph(gpu, scene, techniques);
     (0..=last)
         .map(|frame| {
             let camera = Motion::Still.camera(&scene.camera, size, 0.25, frame);
@@ -172,8 +170,8 @@ fn still_frames(
 fn the_reactive_mask_changes_nothing_without_blended_surfaces() {
     let gpu = common::gpu();
     let scene = builtin("sparkle", &SceneOptions::default()).expect("built-in");
-    let techniques = temporal_with_and_without_mask(&gpu);
-    let frames = still_frames(&gpu, &scene, techniques, (96, 64), 4);
+    let graph = common::graph(&gpu, &scene, temporal_with_and_without_mask(&gpu));
+    let frames = still_frames(graph, &scene, (96, 64), 4);
     for images in &frames {
         assert!(images[0] == images[1], "TAA changed with the mask");
         assert!(images[2] == images[3], "TAAU changed with the mask");
@@ -190,7 +188,7 @@ fn the_reactive_mask_lowers_temporal_error_behind_the_moving_particles() {
     let mut techniques = temporal_with_and_without_mask(&gpu);
     let reference = aa_lab::bench::reference_spec(&gpu).expect("reference");
     techniques.push(reference.create(&gpu).expect("reference technique"));
-    let frames = still_frames(&gpu, &scene, techniques, size, LAST);
+    let frames = still_frames(common::graph(&gpu, &scene, techniques), &scene, size, LAST);
     let luma: Vec<Vec<Plane>> = frames
         .iter()
         .map(|images| images.iter().map(Plane::luma).collect())

@@ -33,19 +33,19 @@ const BAR_WIDTH: f32 = 0.012;
 const BAR_PITCH: f32 = 0.06;
 /// Pillars standing between the wall and the panes.
 const PILLARS: usize = 4;
-/// Particles, their radius range and segments around each.
+/// Particles, their radius range and segments around each, and the range of their circling
+/// speeds in radians per frame (either direction).
 const PARTICLES: usize = 40;
 const PARTICLE_RADIUS: (f32, f32) = (0.03, 0.06);
 const PARTICLE_SEGMENTS: u32 = 12;
-/// Radians per frame of the particles' circling (either direction).
 const PARTICLE_SPEED: (f32, f32) = (0.03, 0.07);
 
-/// Material indices.
+/// Material indices: wall, lattice, floor, then the panes', then the particles'.
 const WALL: usize = 0;
-const BARS: usize = 1;
-const FLOOR: usize = 2;
-const FIRST_PANE: usize = 3;
-const FIRST_PARTICLE: usize = 6;
+const BARS: usize = WALL + 1;
+const FLOOR: usize = WALL + 2;
+const FIRST_PANE: usize = FLOOR + 1;
+const FIRST_PARTICLE: usize = FIRST_PANE + PANES.len();
 
 /// The panes: tint (linear) and alpha, centre, half size.
 const PANES: [(Vec3, f32, Vec3, (f32, f32)); 3] = [
@@ -229,10 +229,8 @@ pub fn glass(options: &SceneOptions) -> Scene {
     meshes.extend(panes(&mut rng));
     meshes.extend(particles(&mut rng));
     Scene {
-        name: "glass".to_owned(),
         meshes,
         materials: materials(),
-        textures: Vec::new(),
         camera: CameraRig {
             target: Vec3::new(0.0, 1.2, -0.3),
             distance: 5.0,
@@ -243,16 +241,13 @@ pub fn glass(options: &SceneOptions) -> Scene {
             far: 40.0,
             orbit_degrees_per_frame: 0.3,
         },
-        interior: false,
         light: DirectionalLight {
             direction: Vec3::new(-0.35, -0.8, -0.5).normalize(),
             color: Vec3::splat(0.9),
             ambient: Vec3::splat(0.2),
         },
         clear_color: Vec3::new(0.02, 0.02, 0.03),
-        views: Vec::new(),
-        warnings: Vec::new(),
-        notes: Vec::new(),
+        ..Scene::empty("glass")
     }
 }
 

@@ -252,19 +252,6 @@ pub struct SceneRenderer {
     bytes: u64,
 }
 
-/// A colour attachment of the scene pass that starts at zero (motion, reactive mask).
-fn cleared_to_zero(view: &wgpu::TextureView) -> wgpu::RenderPassColorAttachment<'_> {
-    wgpu::RenderPassColorAttachment {
-        view,
-        depth_slice: None,
-        resolve_target: None,
-        ops: wgpu::Operations {
-            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-            store: wgpu::StoreOp::Store,
-        },
-    }
-}
-
 fn mat(m: Mat4) -> [[f32; 4]; 4] {
     m.to_cols_array_2d()
 }
@@ -691,12 +678,12 @@ impl SceneRenderer {
                 store: wgpu::StoreOp::Store,
             },
         };
-        let motion_attachment = motion_view.as_ref().map(cleared_to_zero);
+        let motion_attachment = motion_view.as_ref().map(gpu::cleared_attachment);
         let reactive_view = targets
             .reactive
             .as_ref()
             .map(|t| t.create_view(&Default::default()));
-        let reactive_attachment = reactive_view.as_ref().map(cleared_to_zero);
+        let reactive_attachment = reactive_view.as_ref().map(gpu::cleared_attachment);
         // Opaque and masked draws in scene order, then the blended ones back to front.
         let order: Vec<usize> = (0..self.draws.len())
             .filter(|&i| !self.blended.contains(i))
