@@ -2,7 +2,8 @@
 //! its alpha; two overlapping panes give the same picture whichever order the scene lists
 //! them in (the renderer sorts them back to front); a scene without blended surfaces renders
 //! the same with the reactive mask asked for; on `glass`, the mask lowers TAA's and TAAU's
-//! error against the 64-sample reference where the particles move.
+//! error against the 64-sample reference where the particles move; the render record keeps
+//! the setting and `render --from` reproduces it.
 
 mod common;
 
@@ -216,4 +217,34 @@ fn the_reactive_mask_lowers_temporal_error_behind_the_moving_particles() {
         taau_mask < 0.9 * taau,
         "TAAU: {taau_mask:.2} with, {taau:.2} without"
     );
+}
+
+#[test]
+fn render_records_the_mask_setting_on_glass_and_from_reproduces_it() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let recorded = dir.path().join("glass-taa.png");
+    let out = common::aa_lab(&[
+        "render",
+        "--scene",
+        "glass",
+        "--size",
+        "160x90",
+        "--frame",
+        "3",
+        "--technique",
+        "taa",
+        "--set",
+        "taa.reactive_mask=0.5",
+        "--out",
+        recorded.to_str().expect("utf-8"),
+    ]);
+    assert!(out.status.success(), "{}", common::stderr(&out));
+    let record = aa_lab::export::png::read_record(&recorded)
+        .expect("readable")
+        .expect("has a record");
+    assert!(
+        record.contains("\"scene\": \"glass\"") && record.contains("\"reactive_mask\": 0.5"),
+        "{record}"
+    );
+    common::assert_from_reproduces(&recorded);
 }
