@@ -1,7 +1,9 @@
 // Forward Blinn-Phong scene shader: one directional light, ambient + diffuse + specular,
 // base-colour texture with mip bias, alpha-mask materials (alpha test, or sharpened
 // alpha-to-coverage), procedural normal detail (ripples and flakes in world space), optional
-// geometric specular antialiasing, and screen-space motion vectors in a second target.
+// geometric specular antialiasing, and screen-space motion vectors in a second target;
+// alpha-blended materials output premultiplied colour and their alpha as a reactive mask
+// (a third target, present only when asked for).
 //
 // Three vertex/fragment entry-point pairs differ only in how varyings are interpolated:
 //   *_center   : at the pixel centre (ordinary MSAA: one shade per pixel)
@@ -57,6 +59,9 @@ override SPECULAR_AA: bool = false;
 // path), 1 linear radiance (a floating-point HDR target), 2 radiance after exposure and the
 // tonemapping operator `OPERATOR` (an HDR scene rendered for a technique after tonemapping).
 override OUTPUT: u32 = 0u;
+// True in the pipelines of alpha-blended materials: colour is premultiplied by alpha (the
+// blend composites it over the target), and the alpha is the reactive mask's coverage.
+override BLENDED: bool = false;
 
 struct VertexInput {
     @location(0) position: vec3<f32>,
@@ -88,6 +93,8 @@ fn shade_vertex(v: VertexInput) -> Shaded {
 struct FragmentOutput {
     @location(0) color: vec4<f32>,
     @location(1) motion: vec2<f32>,
+    // How much a blended surface covers the pixel (ignored without a reactive-mask target).
+    @location(2) reactive: f32,
 }
 
 fn clip_to_uv(clip: vec4<f32>) -> vec2<f32> {
@@ -242,6 +249,11 @@ fn shade_fragment(
         shown = tonemap_operator(max(rgb * view.params.z, vec3<f32>(0.0)));
     }
     out.color = vec4<f32>(shown, alpha);
+    if BLENDED {
+        let coverage = saturate(alpha);
+        out.color = vec4<f32>(out.color.rgb * coverage, coverage);
+        out.reactive = coverage;
+    }
     // Motion in UV units from the previous frame's position to this one's, without jitter.
     out.motion = (clip_to_uv(current_clip) - clip_to_uv(previous_clip)) * view.params.y;
     return out;

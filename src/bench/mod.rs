@@ -50,6 +50,23 @@ pub fn reference_spec(gpu: &Gpu) -> Result<TechniqueSpec, TechniqueError> {
     Ok(TechniqueSpec::of(ssaa.as_ref()))
 }
 
+/// The HDR-FLIP of every technique of `output` that has radiance against the radiance of
+/// `reference` (the reference's run), by technique id; none when the reference has none.
+pub fn hdr_flips(
+    reference: &crate::spec::RenderOutput,
+    output: &crate::spec::RenderOutput,
+) -> Result<Vec<(String, f64)>, crate::metrics::MetricsError> {
+    let Some((_, reference)) = reference.radiance.first() else {
+        return Ok(Vec::new());
+    };
+    (output.radiance.iter())
+        .map(|(id, radiance)| {
+            let score = crate::metrics::hdr_flip::hdr_flip(reference, radiance)?;
+            Ok((id.clone(), score.mean))
+        })
+        .collect()
+}
+
 /// A technique's quality against the reference and, on `chart`, against the exact coverage.
 pub type QualityScores = (String, Comparison, Option<Comparison>);
 

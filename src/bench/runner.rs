@@ -759,15 +759,7 @@ impl BenchRunner<'_> {
             ..RunOptions::default()
         };
         let reference = spec::run(self.gpu, scene, reference_spec, &reference_options)?;
-        let hdr_flips = match reference.radiance.first() {
-            Some((_, reference_radiance)) => (output.radiance.iter())
-                .map(|(id, radiance)| {
-                    let score = crate::metrics::hdr_flip::hdr_flip(reference_radiance, radiance)?;
-                    Ok((id.clone(), score.mean))
-                })
-                .collect::<Result<Vec<_>, BenchError>>()?,
-            None => Vec::new(),
-        };
+        let hdr_flips = super::hdr_flips(&reference, &output)?;
         self.progress.advance(1);
         let reference_image = reference
             .images

@@ -78,7 +78,7 @@ impl Sweep {
 /// Arguments of `aa-lab bench`.
 #[derive(Debug, clap::Args)]
 pub struct BenchArgs {
-    /// Comma-separated scenes (hairball, atrium, chart, sparkle or .obj/.gltf/.glb paths).
+    /// Comma-separated scenes (hairball, atrium, chart, sparkle, glass or .obj/.gltf/.glb paths).
     #[arg(long, default_value = "hairball,atrium")]
     pub scene: String,
     /// Comma-separated technique ids, or `all` (every technique this adapter can run).
@@ -176,7 +176,9 @@ fn plan(args: &BenchArgs) -> anyhow::Result<Vec<RunPlan>> {
         .map(str::to_owned)
         .collect();
     if scenes.is_empty() {
-        bail!("no scene given; use --scene with hairball, atrium, chart, sparkle or an .obj path");
+        bail!(
+            "no scene given; use --scene with hairball, atrium, chart, sparkle, glass or an .obj path"
+        );
     }
     let sizes: Vec<(u32, u32)> = match args.sweep {
         Some(Sweep::Resolution) => RESOLUTION_SWEEP.to_vec(),

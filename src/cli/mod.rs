@@ -53,7 +53,7 @@ pub struct Cli {
     /// What to do; without a subcommand the viewer opens.
     #[command(subcommand)]
     pub command: Option<Command>,
-    /// Viewer: open this built-in scene (hairball, atrium, chart, sparkle) or .obj file instead of the
+    /// Viewer: open this built-in scene (hairball, atrium, chart, sparkle, glass) or .obj file instead of the
     /// last one.
     #[arg(long)]
     pub scene: Option<String>,

@@ -95,7 +95,7 @@ pub(super) fn print_build_progress(path: &Path, elapsed: Duration) {
 /// Which scene, at what size, seen from where; shared by `render`, `sheet` and `clip`.
 #[derive(Clone, Debug, clap::Args)]
 pub struct SceneSource {
-    /// Built-in scene (hairball, atrium, chart, sparkle, neon) or path to an .obj, .gltf or .glb file.
+    /// Built-in scene (hairball, atrium, chart, sparkle, glass, neon) or path to an .obj, .gltf or .glb file.
     #[arg(long, default_value = DEFAULT_SCENE)]
     pub scene: String,
     /// Built-in scene density (hairball: 1 is about 300k triangles, 7 over 2M).

@@ -276,3 +276,16 @@ pub fn texture_bytes(texture: &wgpu::Texture) -> u64 {
         .sum();
     texels * texel * u64::from(texture.sample_count())
 }
+
+/// A colour attachment cleared to zero and stored.
+pub fn cleared_attachment(view: &wgpu::TextureView) -> wgpu::RenderPassColorAttachment<'_> {
+    wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            store: wgpu::StoreOp::Store,
+        },
+    }
+}

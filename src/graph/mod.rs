@@ -530,6 +530,7 @@ impl FrameGraph {
                     sample_count: input.sample_count(),
                     motion: input.motion(),
                     hdr,
+                    reactive_mask: input.reactive_mask(),
                 };
                 let index = self.inputs_used.iter().filter(|u| u.desc == desc).count();
                 self.inputs_used.push(PooledInput {

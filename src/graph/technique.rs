@@ -29,6 +29,8 @@ pub enum SceneInput {
         offset_fixed: (i32, i32),
         /// Texture mip bias in 1/256 (temporal techniques sharpen textures).
         mip_bias_fixed: i32,
+        /// Whether the render writes the reactive mask of blended surfaces.
+        reactive_mask: bool,
     },
     /// `samples` samples per pixel at the standard positions: MSAA and SMAA S2x.
     Msaa {
@@ -48,7 +50,36 @@ impl SceneInput {
                 (offset.y * 65536.0).round() as i32,
             ),
             mip_bias_fixed: (mip_bias * 256.0).round() as i32,
+            reactive_mask: false,
         }
+    }
+
+    /// This input with the reactive mask of blended surfaces written (`on`) or not; inputs
+    /// other than jittered ones write none.
+    pub fn with_reactive_mask(self, on: bool) -> Self {
+        match self {
+            Self::Jittered1x {
+                offset_fixed,
+                mip_bias_fixed,
+                ..
+            } => Self::Jittered1x {
+                offset_fixed,
+                mip_bias_fixed,
+                reactive_mask: on,
+            },
+            other => other,
+        }
+    }
+
+    /// Whether the render writes the reactive mask.
+    pub fn reactive_mask(&self) -> bool {
+        matches!(
+            self,
+            Self::Jittered1x {
+                reactive_mask: true,
+                ..
+            }
+        )
     }
 
     /// Jitter offset in pixels (zero for unjittered inputs).
@@ -94,7 +125,10 @@ impl SceneInput {
     pub fn label(&self) -> String {
         match self {
             Self::Shared1x => "scene 1x".to_owned(),
-            Self::Jittered1x { .. } => "scene 1x jittered".to_owned(),
+            Self::Jittered1x { reactive_mask, .. } => {
+                let mask = if *reactive_mask { " reactive" } else { "" };
+                format!("scene 1x jittered{mask}")
+            }
             Self::Msaa { samples, raster } => {
                 let mut label = format!("scene msaa{samples}");
                 match raster.shading {

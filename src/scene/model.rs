@@ -52,6 +52,10 @@ pub enum AlphaMode {
         /// Alpha threshold in 0..1.
         cutoff: f32,
     },
+    /// Alpha-blended (glTF `BLEND`): drawn after every opaque and masked surface, farthest
+    /// object first, over what is behind it by its alpha, without writing depth or motion
+    /// (`scene::renderer` says how and what that order cannot get right).
+    Blend,
 }
 
 /// How a texture is filtered when magnified or minified.

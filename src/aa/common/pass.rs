@@ -239,17 +239,7 @@ pub fn target(
 }
 
 /// A colour attachment cleared to zero.
-pub fn cleared(view: &wgpu::TextureView) -> wgpu::RenderPassColorAttachment<'_> {
-    wgpu::RenderPassColorAttachment {
-        view,
-        depth_slice: None,
-        resolve_target: None,
-        ops: wgpu::Operations {
-            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-            store: wgpu::StoreOp::Store,
-        },
-    }
-}
+pub use crate::gpu::cleared_attachment as cleared;
 
 /// One full-screen draw of a morphological pass into `target` (cleared first) with the edge
 /// stencil `stencil` bound at reference 1: the edge pass clears the stencil

@@ -227,6 +227,7 @@ impl Multisample {
                         sample_count: 1,
                         motion: false,
                         hdr: false,
+                        reactive_mask: false,
                     },
                 ),
                 results: [result(0), result(1)],

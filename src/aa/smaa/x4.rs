@@ -90,6 +90,7 @@ impl Targets {
                     sample_count,
                     motion,
                     hdr: false,
+                    reactive_mask: false,
                 },
             )
         };

@@ -173,6 +173,7 @@ impl Ssaa {
             sample_count: 1,
             motion: false,
             hdr: self.hdr,
+            reactive_mask: false,
         };
         let targets = SceneTargets::new(ctx.gpu, "ssaa tile", desc);
         let tiles = plan.tiles().len() as u64;
@@ -329,6 +330,7 @@ impl Ssaa {
                 sample_count: 1,
                 motion: false,
                 hdr: self.hdr,
+                reactive_mask: false,
             },
         );
         let accumulate_layout = pass::stage_layout(

@@ -45,6 +45,15 @@
 //! uniforms. Debug views: `velocity` (motion vectors), `rejection` (where the history was
 //! rectified or dropped) and `jitter` (the sample pattern inside one pixel).
 //!
+//! Transparency: alpha-blended surfaces (glass, particles) write no motion, so their colour
+//! is reprojected with the motion of the opaque surface behind them and smears or ghosts. The
+//! `reactive_mask` setting (0, off, by default) ports the idea of AMD FidelityFX FSR 2's
+//! reactive mask (FSR 2 documentation, "Reactive mask"; no AMD code): the scene render then
+//! writes how much blended surfaces cover each pixel, and where they do the current frame's
+//! share rises to at least the setting times that coverage and the velocity trust is dropped
+//! by the same measure, so the pixel follows the current frame. Off, the pipeline compiles
+//! without the read and the render writes no mask.
+//!
 //! What each read earns, the costs on lavapipe and on a GPU, and what was tried:
 //! `docs/techniques/taa.md`.
 
@@ -134,6 +143,7 @@ struct PipelineKey {
     luma_weight: bool,
     velocity: VelocityTaps,
     neighbourhood: Neighbourhood,
+    reactive_mask: bool,
     debug: bool,
     /// Before the tonemapper of an HDR frame: radiance in and out, luminance-weighted.
     radiance: bool,
@@ -175,6 +185,7 @@ impl Taa {
             (3, Binding::Texture),
             (4, Binding::Sampler),
             (5, Binding::Uniform),
+            (6, Binding::Texture),
         ];
         Self {
             settings,
@@ -212,6 +223,7 @@ impl Taa {
             luma_weight: s.luma_weight,
             velocity: s.velocity,
             neighbourhood: s.neighbourhood,
+            reactive_mask: s.reactive_mask > 0.0,
             debug,
             radiance,
         };
@@ -238,10 +250,11 @@ impl Technique for Taa {
     }
 
     fn scene_input(&self, frame: &FrameInfo) -> Option<SceneInput> {
-        Some(SceneInput::jittered(
+        let input = SceneInput::jittered(
             jitter_offset(frame.camera.frame, self.settings.samples.count()),
             self.settings.mip_bias,
-        ))
+        );
+        Some(input.with_reactive_mask(self.settings.reactive_mask > 0.0))
     }
 
     fn temporal(&self) -> bool {
@@ -308,7 +321,7 @@ impl Technique for Taa {
                 self.settings.velocity_tolerance,
                 f32::from(u8::from(self.settings.resample_feedback)),
                 f32::from(u8::from(self.settings.trust_sharp_only)),
-                0.0,
+                self.settings.reactive_mask,
             ],
             current_filter: current_filter_weights(
                 &self.settings,
@@ -322,6 +335,11 @@ impl Technique for Taa {
         let depth_view = input.depth.create_view(&Default::default());
         let motion_view = motion.create_view(&Default::default());
         let history_view = history.read().create_view(&Default::default());
+        // Without the mask the pipeline reads nothing at binding 6: the motion view fills it.
+        let reactive_view = input.reactive.as_ref().map_or_else(
+            || motion_view.clone(),
+            |t| t.create_view(&Default::default()),
+        );
         let texture = |binding, view| wgpu::BindGroupEntry {
             binding,
             resource: wgpu::BindingResource::TextureView(view),
@@ -344,6 +362,7 @@ impl Technique for Taa {
                         binding: 5,
                         resource: resolve.uniform.as_entire_binding(),
                     },
+                    texture(6, &reactive_view),
                 ],
             });
         let output_view = output.create_view(&Default::default());
@@ -460,7 +479,8 @@ mod tests {
                 ("VELOCITY_TAPS", 0.0),
                 ("NEIGHBOURHOOD", 1.0),
                 ("TRUST_OWN_SPEED", 0.0),
-                ("RADIANCE", 0.0)
+                ("RADIANCE", 0.0),
+                ("REACTIVE_MASK", 0.0)
             ]
         );
     }

@@ -118,6 +118,9 @@ pub struct TaaSettings {
     /// In HDR frames, before the tonemapper (on radiance, as engines run TAA, through Karis'
     /// reversible tonemap) or after it.
     pub tonemap_order: TonemapOrder,
+    /// Least share of the current frame where blended surfaces cover the pixel fully (the
+    /// reactive mask's strength); 0 reads no mask.
+    pub reactive_mask: f32,
 }
 
 impl Default for TaaSettings {
@@ -139,6 +142,7 @@ impl Default for TaaSettings {
             neighbourhood: Neighbourhood::Cross,
             mip_bias: -1.5,
             tonemap_order: TonemapOrder::Before,
+            reactive_mask: 0.0,
         }
     }
 }
@@ -325,6 +329,19 @@ impl Tunable for TaaSettings {
                 s.mip_bias,
             ),
             s.tonemap_order.param(),
+            Param::float(
+                "reactive_mask",
+                "Reactive mask",
+                "Reactive mask (after AMD FidelityFX FSR 2's): where alpha-blended surfaces cover \
+                 the pixel (the renderer's mask of their coverage), the current frame's share \
+                 rises to at least this times the coverage, and the history is rectified in full \
+                 there: glass and particles, whose colour the background's motion vectors do not \
+                 carry, then follow the current frame instead of smearing. 0 (the default) reads \
+                 no mask and renders none.",
+                0.0,
+                1.0,
+                s.reactive_mask,
+            ),
         ]
     }
 
@@ -350,6 +367,7 @@ impl Tunable for TaaSettings {
                 trust_sharp_only,
                 mip_bias,
                 tonemap_order,
+                reactive_mask,
             ]
         )
     }
@@ -412,7 +430,7 @@ impl TaaSettings {
 
     /// The override constants of the structural settings, and `RADIANCE` (before the
     /// tonemapper of an HDR frame: the resolve works through Karis' reversible tonemap).
-    pub(super) fn constants(&self, radiance: bool) -> [(&'static str, f64); 7] {
+    pub(super) fn constants(&self, radiance: bool) -> [(&'static str, f64); 8] {
         [
             (
                 "HISTORY_FILTER",
@@ -420,13 +438,17 @@ impl TaaSettings {
             ),
             ("RECTIFY", self.rectify.index() as f64),
             ("LUMA_WEIGHT", f64::from(u8::from(self.luma_weight))),
-            ("RADIANCE", f64::from(u8::from(radiance))),
             ("VELOCITY_TAPS", self.velocity.index() as f64),
             (
                 "NEIGHBOURHOOD",
                 f64::from(u8::from(self.neighbourhood == Neighbourhood::Cross)),
             ),
             ("TRUST_OWN_SPEED", f64::from(u8::from(self.trust_own_speed))),
+            ("RADIANCE", f64::from(u8::from(radiance))),
+            (
+                "REACTIVE_MASK",
+                f64::from(u8::from(self.reactive_mask > 0.0)),
+            ),
         ]
     }
 }

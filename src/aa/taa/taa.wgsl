@@ -44,7 +44,8 @@ struct TaaParams {
     // x: change of speed (pixels per frame) between the history and the current pixel at which
     // rectification applies in full (0: always in full); y: 1 to raise the current weight with
     // the blur of resampling the history (else with the speed); z: 1 to ease the trust off as
-    // that blur grows; w: unused. (Whose speed the trust compares is TRUST_OWN_SPEED.)
+    // that blur grows; w: the reactive mask's strength (with REACTIVE_MASK). (Whose speed the
+    // trust compares is TRUST_OWN_SPEED.)
     trust: vec4<f32>,
     // Weights of the current frame's filter for the 3x3 taps, row by row (index 3 (dy + 1) +
     // dx + 1), normalised over the taps of the colour neighbourhood: exp(-a d^2) of each
@@ -59,6 +60,8 @@ struct TaaParams {
 @group(0) @binding(3) var history: texture_2d<f32>;
 @group(0) @binding(4) var bilinear: sampler;
 @group(0) @binding(5) var<uniform> params: TaaParams;
+// Coverage of alpha-blended surfaces (read only with REACTIVE_MASK).
+@group(0) @binding(6) var reactive: texture_2d<f32>;
 
 // 0: bilinear history, 1: five-tap Catmull-Rom.
 override HISTORY_FILTER: u32 = 1u;
@@ -77,6 +80,9 @@ override NEIGHBOURHOOD: u32 = 0u;
 // instead of the nearest surface's. A constant, not a uniform, so that the read is skipped
 // when it is off.
 override TRUST_OWN_SPEED: bool = false;
+// Reactive mask (after FSR 2's): where blended surfaces cover the pixel, the current frame's
+// share rises to at least trust.w times their coverage and the velocity trust falls by it.
+override REACTIVE_MASK: bool = false;
 
 fn luminance(c: vec3<f32>) -> f32 {
     return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
@@ -410,6 +416,11 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // A blurred history spreads a little into its neighbours every frame; trusted, that
     // spread is never rectified away.
     trust *= select(1.0, 1.0 - blur, params.trust.z > 0.5);
+    var reactive_share = 0.0;
+    if REACTIVE_MASK {
+        reactive_share = params.trust.w * textureLoad(reactive, pixel, 0).r;
+        trust *= 1.0 - reactive_share;
+    }
     kept = mix(kept, reprojected, trust);
 
     // 4. Blend. Motion-adaptive feedback: the current frame's share rises from blend.x towards
@@ -417,7 +428,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // still camera and whole-pixel motion keep the history sharp; half-pixel motion softens it
     // most).
     let adapt = select(saturate(speed), blur, params.trust.y > 0.5);
-    let alpha = mix(params.blend.x, max(params.blend.x, params.blend.w), adapt);
+    let alpha = max(mix(params.blend.x, max(params.blend.x, params.blend.w), adapt), reactive_share);
     // The current frame's estimate of the pixel: where the history stays sharp (still camera,
     // whole-pixel motion) the accumulated point samples converge to the pixel's box average and
     // the pixel's own sample is exact; where resampling blurs the history every frame it never

@@ -24,9 +24,12 @@
 //! - **Thin features** are kept by TAA's velocity trust instead of FSR 2's locks: the history
 //!   keeps the speed it was written with, and rectification eases off where the pixel moves at
 //!   that speed (a missed thin line moves with its surroundings, a ghost does not).
-//! - **Reactive mask**: aa-lab's renderer has no blended transparency and writes no mask, so
-//!   the mask is derived: surfaces whose motion the camera does not explain (objects moving on
-//!   their own) keep less history (`reactive`, off by default).
+//! - **Reactive mask**: derived from motion, surfaces whose motion the camera does not explain
+//!   (objects moving on their own) keep less history (`reactive`, off by default); and, as
+//!   FSR 2's reactive mask for transparency, the renderer's mask of how much alpha-blended
+//!   surfaces cover each render pixel (`reactive_mask`, off by default: the render then writes
+//!   no mask and the pipeline reads none), which keeps that much less history and drops the
+//!   velocity trust there (blended surfaces carry the motion of what is behind them).
 //!
 //! The history is dropped when the frame asks for it, when the camera does not continue the
 //! history's, when the output or render size changes and when a setting changes (as TAA's).
@@ -87,7 +90,7 @@ const FILL_FLOOR: f32 = 1.0;
 /// Everything a resolve pipeline is specialised on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct PipelineKey {
-    constants: [(&'static str, u64); 3],
+    constants: [(&'static str, u64); 4],
     debug: bool,
 }
 
@@ -141,6 +144,7 @@ impl Taau {
             (4, Binding::UnfilterableTexture),
             (5, Binding::Sampler),
             (6, Binding::Uniform),
+            (7, Binding::Texture),
         ];
         Self {
             settings,
@@ -212,7 +216,7 @@ impl Taau {
                 s.gamma,
                 s.velocity_tolerance,
             ],
-            guard: [s.depth_tolerance, s.reactive, FILL_FLOOR, 0.0],
+            guard: [s.depth_tolerance, s.reactive, FILL_FLOOR, s.reactive_mask],
             reproject: Mat4::to_cols_array_2d(&reproject),
         }
     }
@@ -251,10 +255,8 @@ impl Technique for Taau {
     }
 
     fn scene_input(&self, frame: &FrameInfo) -> Option<SceneInput> {
-        Some(SceneInput::jittered(
-            self.jitter(frame),
-            self.settings.mip_bias,
-        ))
+        let input = SceneInput::jittered(self.jitter(frame), self.settings.mip_bias);
+        Some(input.with_reactive_mask(self.settings.reactive_mask > 0.0))
     }
 
     fn temporal(&self) -> bool {
@@ -284,17 +286,19 @@ impl Technique for Taau {
         let Some(history) = &mut self.history else {
             return;
         };
+        // Without the mask the pipeline reads nothing at binding 7: the motion fills it.
         let views = [
             &input.color,
             &input.depth,
             motion,
             history.colour.read(),
             history.aux.read(),
+            input.reactive.as_ref().unwrap_or(motion),
         ]
         .map(|t| t.create_view(&Default::default()));
         let mut resources: Vec<(u32, wgpu::BindingResource<'_>)> = views
             .iter()
-            .zip(0..)
+            .zip([0, 1, 2, 3, 4, 7])
             .map(|(view, binding)| (binding, wgpu::BindingResource::TextureView(view)))
             .collect();
         let resolve = &self.resolve;

@@ -69,6 +69,9 @@ pub struct TaauSettings {
     pub reactive: f32,
     /// Texture mip bias added to the render scale's log2(render / output).
     pub mip_bias: f32,
+    /// How far the renderer's mask of blended surfaces' coverage leans on the current frame;
+    /// 0 reads no mask.
+    pub reactive_mask: f32,
 }
 
 impl Default for TaauSettings {
@@ -86,6 +89,7 @@ impl Default for TaauSettings {
             depth_tolerance: 0.05,
             reactive: 0.0,
             mip_bias: -1.0,
+            reactive_mask: 0.0,
         }
     }
 }
@@ -223,6 +227,18 @@ impl Tunable for TaauSettings {
                 0.0,
                 s.mip_bias,
             ),
+            Param::float(
+                "reactive_mask",
+                "Transparency reactive mask",
+                "Reactive mask of transparency (after AMD FidelityFX FSR 2's): where \
+                 alpha-blended surfaces cover the pixel (the renderer's mask of their coverage), \
+                 the history keeps this times the coverage fewer of its samples, so glass and \
+                 particles follow the current frame instead of smearing. 0 (the default) reads \
+                 no mask and renders none.",
+                0.0,
+                1.0,
+                s.reactive_mask,
+            ),
         ]
     }
 
@@ -244,6 +260,7 @@ impl Tunable for TaauSettings {
                 depth_tolerance,
                 reactive,
                 mip_bias,
+                reactive_mask,
             ]
         )
     }
@@ -282,7 +299,7 @@ impl TaauSettings {
     }
 
     /// The override constants of the structural settings.
-    pub(super) fn constants(&self) -> [(&'static str, f64); 3] {
+    pub(super) fn constants(&self) -> [(&'static str, f64); 4] {
         [
             (
                 "HISTORY_FILTER",
@@ -290,6 +307,10 @@ impl TaauSettings {
             ),
             ("RECTIFY", self.rectify.index() as f64),
             ("KERNEL", self.kernel.index() as f64),
+            (
+                "REACTIVE_MASK",
+                f64::from(u8::from(self.reactive_mask > 0.0)),
+            ),
         ]
     }
 }

@@ -40,7 +40,8 @@ struct TaauParams {
     // gamma, w: velocity tolerance (output pixels per frame; 0: always rectify in full).
     accumulate: vec4<f32>,
     // x: relative depth tolerance of the disocclusion test, y: reactive strength, z: the
-    // confidence below which the spatial estimate fills in, w: unused.
+    // confidence below which the spatial estimate fills in, w: the transparency reactive
+    // mask's strength (with REACTIVE_MASK).
     guard: vec4<f32>,
     // Current frame's NDC (x, y, depth) to the previous frame's clip space, camera only.
     reproject: mat4x4<f32>,
@@ -53,6 +54,8 @@ struct TaauParams {
 @group(0) @binding(4) var history_aux: texture_2d<f32>;
 @group(0) @binding(5) var bilinear: sampler;
 @group(0) @binding(6) var<uniform> params: TaauParams;
+// Coverage of alpha-blended surfaces at the render size (read only with REACTIVE_MASK).
+@group(0) @binding(7) var transparency: texture_2d<f32>;
 
 // 0: bilinear history, 1: five-tap Catmull-Rom.
 override HISTORY_FILTER: u32 = 1u;
@@ -60,6 +63,9 @@ override HISTORY_FILTER: u32 = 1u;
 override RECTIFY: u32 = 3u;
 // 0: Gaussian, 1: radial Lanczos-2.
 override KERNEL: u32 = 0u;
+// The renderer's mask of blended surfaces (after FSR 2's reactive mask) joins the derived one:
+// the history keeps guard.w times their coverage fewer samples, and no velocity trust.
+override REACTIVE_MASK: bool = false;
 
 // exp(-a d^2) with a = 6: the variance of a one-pixel box (1/12 per axis).
 const BOX_SHARPNESS: f32 = 6.0;
@@ -241,7 +247,11 @@ fn resolve(position: vec2<f32>) -> Resolved {
     let previous_clip = params.reproject * vec4<f32>(ndc, 1.0);
     let camera_uv = vec2<f32>(0.5, -0.5) * previous_clip.xy / max(previous_clip.w, 1e-12) + 0.5;
     let own_motion = length((uv - velocity - camera_uv) * params.output.xy);
-    let reactive = params.guard.y * saturate(own_motion);
+    var reactive = params.guard.y * saturate(own_motion);
+    if REACTIVE_MASK {
+        let render_pixel = clamp(vec2<i32>(centre), vec2<i32>(0), vec2<i32>(params.render.xy) - 1);
+        reactive = max(reactive, params.guard.w * textureLoad(transparency, render_pixel, 0).r);
+    }
 
     let previous = uv - velocity;
     let off_screen = any(previous < vec2<f32>(0.0)) || any(previous > vec2<f32>(1.0));
@@ -309,11 +319,14 @@ fn resolve(position: vec2<f32>) -> Resolved {
             }
             // Thin features: where the content moves as it did, trust the history.
             let tolerance = params.accumulate.w;
-            let trust = select(
+            var trust = select(
                 0.0,
                 saturate(1.0 - abs(speed - here) / max(tolerance, 1e-6)),
                 tolerance > 0.0,
             );
+            if REACTIVE_MASK {
+                trust *= 1.0 - reactive;
+            }
             kept = mix(clipped, reprojected, trust);
             // Reading between texels blurs the history: keep fewer samples the more it does.
             let cap = mix(params.accumulate.x, min(params.accumulate.y, params.accumulate.x), blur);

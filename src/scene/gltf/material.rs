@@ -38,10 +38,7 @@ impl Loader<'_> {
             gltf::material::AlphaMode::Mask => AlphaMode::Mask {
                 cutoff: material.alpha_cutoff().unwrap_or(0.5).clamp(0.0, 1.0),
             },
-            gltf::material::AlphaMode::Blend => {
-                self.blended.push(name.clone());
-                AlphaMode::Mask { cutoff: 0.5 }
-            }
+            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
         };
         if let Some(info) = info {
             let texture = info.texture();

@@ -23,9 +23,8 @@
 //!   texture's alpha), `baseColorTexture` (sRGB, PNG or JPEG, from a file, a `data:` URI or a
 //!   buffer view) with its sampler's filters and wrapping, `doubleSided`, `alphaMode`:
 //!   `OPAQUE`; `MASK` with `alphaCutoff` (default 0.5), drawn like the OBJ and atrium alpha
-//!   masks, so MSAA's alpha-to-coverage setting applies; `BLEND`, which the forward renderer
-//!   cannot sort and blend: it is drawn as a mask with cutoff 0.5 (alpha-to-coverage under
-//!   MSAA when enabled), and a warning names the materials. Metallic and roughness values,
+//!   masks, so MSAA's alpha-to-coverage setting applies; `BLEND`, alpha-blended by the
+//!   renderer after the opaque surfaces, sorted back to front by object. Metallic and roughness values,
 //!   normal, occlusion and emissive maps are not used: the renderer shades Blinn-Phong with a
 //!   fixed dim specular. `KHR_materials_unlit` is honoured.
 //! * Cameras: every perspective camera of the drawn nodes becomes a [`SceneView`] (its
@@ -167,7 +166,6 @@ pub fn load_gltf(path: &Path) -> Result<Scene, GltfError> {
         texture_slots: HashMap::new(),
         cameras: Vec::new(),
         skipped_modes: Vec::new(),
-        blended: Vec::new(),
         warnings: Vec::new(),
         scene_vertices: 0,
         scene_indices: 0,
@@ -198,14 +196,6 @@ pub fn load_gltf(path: &Path) -> Result<Scene, GltfError> {
             "{}: {} primitive(s) of points or lines draw nothing (only triangles are drawn)",
             path.display(),
             loader.skipped_modes.len()
-        ));
-    }
-    if !loader.blended.is_empty() {
-        warnings.push(format!(
-            "{}: material(s) {} use alphaMode BLEND, which aa-lab does not blend: they are \
-             drawn alpha-masked at cutoff 0.5 (alpha-to-coverage under MSAA when enabled)",
-            path.display(),
-            loader.blended.join(", ")
         ));
     }
     let mut scene = Scene {
@@ -311,7 +301,6 @@ struct Loader<'a> {
     texture_slots: HashMap<usize, (usize, bool)>,
     cameras: Vec<CameraNode>,
     skipped_modes: Vec<String>,
-    blended: Vec<String>,
     warnings: Vec<String>,
     /// Vertices and indices of the meshes so far (see [`MAX_SCENE_VERTICES`]).
     scene_vertices: usize,

@@ -81,6 +81,27 @@ impl MeshBuilder {
         }
     }
 
+    /// A UV sphere about `center` with `around` segments around and half as many from pole
+    /// to pole, facing outwards, with exact radial normals.
+    pub(crate) fn uv_sphere(&mut self, center: Vec3, radius: f32, around: u32) {
+        let base = self.next_index();
+        let along = around / 2;
+        for j in 0..=along {
+            let latitude = (j as f32 / along as f32 - 0.5) * std::f32::consts::PI;
+            for i in 0..=around {
+                let longitude = i as f32 / around as f32 * std::f32::consts::TAU;
+                let normal = Vec3::new(
+                    latitude.cos() * longitude.sin(),
+                    latitude.sin(),
+                    latitude.cos() * longitude.cos(),
+                );
+                let uv = [i as f32 / around as f32, 1.0 - j as f32 / along as f32];
+                self.vertex(center + normal * radius, normal, uv);
+            }
+        }
+        self.grid(base, around, along);
+    }
+
     /// A flat quad seen from its front as `origin` (bottom-left), `origin + right`,
     /// `origin + right + up`, `origin + up`; it faces `right x up`. Texture coordinates
     /// are planar in world units: one repeat per `texel_world`, u growing along `right` and

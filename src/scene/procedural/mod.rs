@@ -1,8 +1,9 @@
 //! Built-in procedural scenes, selectable by name: `hairball` (fine geometry under a strong
 //! highlight), `atrium` (an arcaded courtyard in the spirit of Crytek Sponza), `chart` (a
 //! flat resolution chart seen head-on, with an analytic layout for exact ground truth),
-//! `sparkle` (shiny surfaces with sub-pixel normal detail: specular aliasing) and `neon` (thin
-//! emitters far brighter than white on dark surfaces: an HDR scene).
+//! `sparkle` (shiny surfaces with sub-pixel normal detail: specular aliasing), `glass`
+//! (alpha-blended panes and moving particles over a fine lattice: transparency) and `neon`
+//! (thin emitters far brighter than white on dark surfaces: an HDR scene).
 //!
 //! Everything, meshes and textures alike, is generated in code from [`SceneOptions::seed`]
 //! with the generators' own SplitMix64 (module `rng`), so a scene never changes with a crate
@@ -25,6 +26,7 @@
 mod atrium;
 mod chart;
 mod geometry;
+mod glass;
 mod hairball;
 mod neon;
 mod rng;
@@ -36,6 +38,7 @@ pub use chart::{
     CHART_PIXELS_PER_UNIT_720P, ChartFeature, ChartLayout, ChartPolygon, ChartRegion, ZonePlate,
     chart, chart_layout,
 };
+pub use glass::glass;
 pub use hairball::hairball;
 pub use neon::neon;
 pub use sparkle::sparkle;
@@ -43,7 +46,7 @@ pub use sparkle::sparkle;
 use crate::scene::Scene;
 
 /// Names [`builtin`] accepts.
-pub const BUILTIN_SCENES: &[&str] = &["hairball", "atrium", "chart", "sparkle", "neon"];
+pub const BUILTIN_SCENES: &[&str] = &["hairball", "atrium", "chart", "sparkle", "glass", "neon"];
 
 /// Densities outside this range are clamped (with a warning in the scene): below it the
 /// hairball has no curves left, above it (~10M triangles) it outgrows GPU buffers.
@@ -53,7 +56,7 @@ const DENSITY_RANGE: (f32, f32) = (0.001, 32.0);
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneOptions {
     /// Geometric density, 1.0 by default: the hairball's triangle count scales linearly with
-    /// it (about 300k at 1, over 2M at 7). The atrium, the chart and sparkle are fixed designs
+    /// it (about 300k at 1, over 2M at 7). The atrium, the chart, sparkle and glass are fixed designs
     /// and ignore it. Values outside 0.001..=32 are clamped and non-finite values replaced by 1,
     /// with a warning in [`Scene::warnings`].
     pub density: f32,
@@ -98,6 +101,7 @@ pub fn builtin(name: &str, options: &SceneOptions) -> Option<Scene> {
         "atrium" => Some(atrium(options)),
         "chart" => Some(chart(options)),
         "sparkle" => Some(sparkle(options)),
+        "glass" => Some(glass(options)),
         "neon" => Some(neon(options)),
         _ => None,
     }

@@ -91,25 +91,9 @@ fn materials() -> Vec<Material> {
     ]
 }
 
-/// A UV sphere standing on the floor at `foot`, with exact radial normals.
+/// A UV sphere standing on the floor at `foot`.
 fn sphere(builder: &mut MeshBuilder, foot: Vec3, radius: f32) {
-    let center = foot + Vec3::Y * radius;
-    let base = builder.vertices.len() as u32;
-    let (around, along) = (SEGMENTS, SEGMENTS / 2);
-    for j in 0..=along {
-        let latitude = (j as f32 / along as f32 - 0.5) * std::f32::consts::PI;
-        for i in 0..=around {
-            let longitude = i as f32 / around as f32 * std::f32::consts::TAU;
-            let normal = Vec3::new(
-                latitude.cos() * longitude.sin(),
-                latitude.sin(),
-                latitude.cos() * longitude.cos(),
-            );
-            let uv = [i as f32 / around as f32, 1.0 - j as f32 / along as f32];
-            builder.vertex(center + normal * radius, normal, uv);
-        }
-    }
-    builder.grid(base, around, along);
+    builder.uv_sphere(foot + Vec3::Y * radius, radius, SEGMENTS);
 }
 
 /// A torus about `center` whose ring lies in the plane with unit normal `axis`.

@@ -16,6 +16,14 @@
 //! lanes extrapolate the coordinates far out, as in the hairball's sub-pixel tubes) that box
 //! spans millions of texels per axis and one fragment never finishes: the queue stalls and
 //! every later submission waits behind it.
+//!
+//! Alpha-blended materials are drawn last, back to front, by a second set of pipelines
+//! (premultiplied alpha, depth test without depth or motion writes; see [`blend`] for the
+//! order and its limits). A target description can ask for a reactive mask
+//! ([`TargetDesc::reactive_mask`]): an extra single-channel target into which blended surfaces
+//! write how much they cover each pixel (their alphas composited over one another), for
+//! temporal techniques to trust their history less there. Without blended materials, or
+//! without the mask, the pipelines and draws are those of a renderer without either.
 
 use std::collections::HashMap;
 
@@ -27,6 +35,7 @@ use super::{AlphaMode, Filter, Scene, TextureImage, TextureSampler, Vertex, Wrap
 use crate::gpu::{self, COLOR_FORMAT, DEPTH_FORMAT, Gpu, MOTION_FORMAT};
 use crate::srgb;
 
+mod blend;
 mod output;
 mod pipeline;
 mod textures;
@@ -73,7 +82,13 @@ pub struct TargetDesc {
     /// Whether the colour holds linear radiance in [`gpu::HDR_FORMAT`] (an HDR render for a
     /// technique before the tonemapper) instead of display values in [`COLOR_FORMAT`].
     pub hdr: bool,
+    /// Whether a reactive-mask target is written ([`REACTIVE_FORMAT`]: the coverage of
+    /// alpha-blended surfaces, 0 where there are none).
+    pub reactive_mask: bool,
 }
+
+/// Format of the reactive mask: one linear channel.
+pub const REACTIVE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 
 /// Render targets of one scene render: colour, depth and optional motion, each with
 /// `sample_count` samples, plus a single-sample resolve of the colour when multisampled.
@@ -90,6 +105,8 @@ pub struct SceneTargets {
     pub depth: wgpu::Texture,
     /// Motion vectors in UV units (previous to current position), when requested.
     pub motion: Option<wgpu::Texture>,
+    /// The reactive mask, when requested.
+    pub reactive: Option<wgpu::Texture>,
 }
 
 fn target_texture(
@@ -140,6 +157,9 @@ impl SceneTargets {
             motion: desc
                 .motion
                 .then(|| target_texture(gpu, &format!("{label} motion"), &desc, n, MOTION_FORMAT)),
+            reactive: desc.reactive_mask.then(|| {
+                target_texture(gpu, &format!("{label} reactive"), &desc, n, REACTIVE_FORMAT)
+            }),
         }
     }
 
@@ -148,7 +168,7 @@ impl SceneTargets {
         self.resolved.as_ref().unwrap_or(&self.color)
     }
 
-    /// Every texture with a short name (`color`, `resolve`, `depth`, `motion`), for memory
+    /// Every texture with a short name (`color`, `resolve`, `depth`, `motion`, `reactive`), for memory
     /// reports.
     pub fn textures(&self) -> Vec<(&'static str, &wgpu::Texture)> {
         [
@@ -156,6 +176,7 @@ impl SceneTargets {
             self.resolved.as_ref().map(|t| ("resolve", t)),
             Some(("depth", &self.depth)),
             self.motion.as_ref().map(|t| ("motion", t)),
+            self.reactive.as_ref().map(|t| ("reactive", t)),
         ]
         .into_iter()
         .flatten()
@@ -225,6 +246,7 @@ pub struct SceneRenderer {
     vertex_buffer: wgpu::Buffer,
     index_buffer: wgpu::Buffer,
     draws: Vec<Draw>,
+    blended: blend::BlendOrder,
     materials: Vec<GpuMaterial>,
     object_buffer: wgpu::Buffer,
     object_bind_group: wgpu::BindGroup,
@@ -398,7 +420,7 @@ fn upload_materials(
         .map(|i| {
             let m = scene.materials.get(i).unwrap_or(&default_material);
             let (masked, cutoff) = match m.alpha_mode {
-                AlphaMode::Opaque => (0.0, 0.0),
+                AlphaMode::Opaque | AlphaMode::Blend => (0.0, 0.0),
                 AlphaMode::Mask { cutoff } => (1.0, cutoff),
             };
             let uniform = MaterialUniform {
@@ -485,6 +507,7 @@ impl SceneRenderer {
             immediate_size: 0,
         });
         let renderer = Self {
+            blended: blend::BlendOrder::new(scene, &geometry.draws),
             vertex_buffer: geometry.vertex_buffer,
             index_buffer: geometry.index_buffer,
             draws: geometry.draws,
@@ -683,27 +706,28 @@ impl SceneRenderer {
                 store: wgpu::StoreOp::Store,
             },
         };
-        let motion_attachment = motion_view
+        let motion_attachment = motion_view.as_ref().map(gpu::cleared_attachment);
+        let reactive_view = targets
+            .reactive
             .as_ref()
-            .map(|view| wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            });
-        let keys: Vec<PipelineKey> = self
-            .draws
+            .map(|t| t.create_view(&Default::default()));
+        let reactive_attachment = reactive_view.as_ref().map(gpu::cleared_attachment);
+        // Opaque and masked draws in scene order, then the blended ones back to front.
+        let order: Vec<usize> = (0..self.draws.len())
+            .filter(|&i| !self.blended.contains(i))
+            .chain(self.blended.back_to_front(view.eye, view.frame))
+            .collect();
+        let keys: Vec<PipelineKey> = order
             .iter()
-            .map(|d| PipelineKey {
+            .map(|&i| PipelineKey {
                 sample_count: targets.desc.sample_count,
                 motion: targets.desc.motion,
                 raster,
-                cull_back: self.materials[d.material].cull_back,
+                cull_back: self.materials[self.draws[i].material].cull_back,
                 specular_aa: self.specular_aa,
                 output: SceneOutput::of(targets.color.format(), self.tonemap.as_ref()),
+                blend: self.blended.contains(i),
+                reactive_mask: targets.desc.reactive_mask,
             })
             .collect();
         let pipelines: Vec<wgpu::RenderPipeline> = keys
@@ -712,7 +736,11 @@ impl SceneRenderer {
             .collect();
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("scene"),
-            color_attachments: &[Some(color_attachment), motion_attachment],
+            color_attachments: &[
+                Some(color_attachment),
+                motion_attachment,
+                reactive_attachment,
+            ][..if targets.desc.reactive_mask { 3 } else { 2 }],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &depth_view,
                 depth_ops: Some(wgpu::Operations {
@@ -731,7 +759,7 @@ impl SceneRenderer {
         pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
         pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
         pass.set_bind_group(0, &view_bind_group, &[view_offset]);
-        for (draw, pipeline) in self.draws.iter().zip(&pipelines) {
+        for (draw, pipeline) in order.iter().map(|&i| &self.draws[i]).zip(&pipelines) {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(1, &self.materials[draw.material].bind_group, &[]);
             pass.set_bind_group(

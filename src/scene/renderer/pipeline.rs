@@ -1,10 +1,13 @@
 //! The scene's render pipelines: one per [`PipelineKey`], built from `shaders/scene.wgsl`
 //! with the key's entry points (by [`ShadingRate`]) and override constants
-//! (`ALPHA_TO_COVERAGE`, `SPECULAR_AA`, `OUTPUT` and `OPERATOR`), so that a switch that is off compiles to the shader
-//! without it rather than to a branch on a uniform.
+//! (`ALPHA_TO_COVERAGE`, `SPECULAR_AA`, `BLENDED`, `OUTPUT` and `OPERATOR`), so that a switch
+//! that is off compiles to the shader without it rather than to a branch on a uniform. Blended
+//! pipelines composite premultiplied colour over the target, test depth without writing it,
+//! leave motion alone and composite their alpha into the reactive mask; opaque ones leave the
+//! mask at its clear value, zero.
 
 use super::output::SceneOutput;
-use super::{RasterOptions, ShadingRate, Vertex};
+use super::{REACTIVE_FORMAT, RasterOptions, ShadingRate, Vertex};
 use crate::gpu::{COLOR_FORMAT, DEPTH_FORMAT, HDR_FORMAT, MOTION_FORMAT};
 
 /// Everything that changes a scene pipeline.
@@ -22,6 +25,68 @@ pub struct PipelineKey {
     pub specular_aa: bool,
     /// What the colour target receives (and so its format).
     pub output: SceneOutput,
+    /// An alpha-blended material's pipeline.
+    pub blend: bool,
+    /// Reactive-mask target present.
+    pub reactive_mask: bool,
+}
+
+/// Premultiplied "over": the source plus what its alpha leaves of the destination.
+const PREMULTIPLIED_OVER: wgpu::BlendComponent = wgpu::BlendComponent {
+    src_factor: wgpu::BlendFactor::One,
+    dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+    operation: wgpu::BlendOperation::Add,
+};
+
+/// The reactive mask's "over": coverage a over m gives a + m (1 - a).
+const COVERAGE_OVER: wgpu::BlendComponent = wgpu::BlendComponent {
+    src_factor: wgpu::BlendFactor::One,
+    dst_factor: wgpu::BlendFactor::OneMinusSrc,
+    operation: wgpu::BlendOperation::Add,
+};
+
+/// The colour, motion and reactive-mask targets of `key`'s pipeline.
+fn targets(key: &PipelineKey) -> Vec<Option<wgpu::ColorTargetState>> {
+    let blend = key.blend.then_some(wgpu::BlendState {
+        color: PREMULTIPLIED_OVER,
+        alpha: PREMULTIPLIED_OVER,
+    });
+    let color_target = wgpu::ColorTargetState {
+        format: match key.output {
+            SceneOutput::Radiance => HDR_FORMAT,
+            SceneOutput::Display | SceneOutput::Tonemapped(_) => COLOR_FORMAT,
+        },
+        blend,
+        // Alpha keeps the clear value 1: with alpha-to-coverage the shader's alpha is a
+        // coverage fraction, not an image alpha.
+        write_mask: wgpu::ColorWrites::COLOR,
+    };
+    let motion_target = key.motion.then_some(wgpu::ColorTargetState {
+        format: MOTION_FORMAT,
+        blend: None,
+        // Blended surfaces keep the motion of the opaque surface behind them.
+        write_mask: if key.blend {
+            wgpu::ColorWrites::empty()
+        } else {
+            wgpu::ColorWrites::ALL
+        },
+    });
+    let mut targets = vec![Some(color_target), motion_target];
+    if key.reactive_mask {
+        targets.push(Some(wgpu::ColorTargetState {
+            format: REACTIVE_FORMAT,
+            blend: key.blend.then_some(wgpu::BlendState {
+                color: COVERAGE_OVER,
+                alpha: COVERAGE_OVER,
+            }),
+            write_mask: if key.blend {
+                wgpu::ColorWrites::RED
+            } else {
+                wgpu::ColorWrites::empty()
+            },
+        }));
+    }
+    targets
 }
 
 /// Builds the pipeline of `key` from the scene shader module.
@@ -36,12 +101,13 @@ pub(super) fn create(
         ShadingRate::Centroid => ("vs_centroid", "fs_centroid"),
         ShadingRate::Sample => ("vs_sample", "fs_sample"),
     };
-    let a2c = key.raster.alpha_to_coverage && key.sample_count > 1;
+    let a2c = key.raster.alpha_to_coverage && key.sample_count > 1 && !key.blend;
     let flag = |on: bool| if on { 1.0 } else { 0.0 };
     let [output, operator] = key.output.constants();
     let constants = [
         ("ALPHA_TO_COVERAGE", flag(a2c)),
         ("SPECULAR_AA", flag(key.specular_aa)),
+        ("BLENDED", flag(key.blend)),
         output,
         operator,
     ];
@@ -49,27 +115,14 @@ pub(super) fn create(
         constants: &constants,
         ..Default::default()
     };
-    let color_target = wgpu::ColorTargetState {
-        format: match key.output {
-            SceneOutput::Radiance => HDR_FORMAT,
-            SceneOutput::Display | SceneOutput::Tonemapped(_) => COLOR_FORMAT,
-        },
-        blend: None,
-        // Alpha keeps the clear value 1: with alpha-to-coverage the shader's alpha is a
-        // coverage fraction, not an image alpha.
-        write_mask: wgpu::ColorWrites::COLOR,
-    };
-    let motion_target = key.motion.then_some(wgpu::ColorTargetState {
-        format: MOTION_FORMAT,
-        blend: None,
-        write_mask: wgpu::ColorWrites::ALL,
-    });
+    let targets = targets(&key);
     let label = format!(
-        "scene {}x {:?}{}{} {:?}",
+        "scene {}x {:?}{}{}{} {:?}",
         key.sample_count,
         key.raster.shading,
         if a2c { " a2c" } else { "" },
         if key.specular_aa { " specular-aa" } else { "" },
+        if key.blend { " blend" } else { "" },
         key.output,
     );
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -91,7 +144,7 @@ pub(super) fn create(
         },
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
-            depth_write_enabled: Some(true),
+            depth_write_enabled: Some(!key.blend),
             depth_compare: Some(wgpu::CompareFunction::Greater),
             stencil: Default::default(),
             bias: Default::default(),
@@ -105,7 +158,7 @@ pub(super) fn create(
             module: shader,
             entry_point: Some(fs),
             compilation_options: options,
-            targets: &[Some(color_target), motion_target],
+            targets: &targets,
         }),
         multiview_mask: None,
         cache: None,
