@@ -117,6 +117,10 @@ pub fn encoded_view(texture: &wgpu::Texture) -> wgpu::TextureView {
     view_as(texture, COLOR_FORMAT_ENCODED_VIEW)
 }
 
+/// Karis' reversible tonemap (`compressed`, `to_output`) for the temporal techniques before
+/// the tonemapper: the prelude of `taa.wgsl` and `taau.wgsl`.
+pub const RADIANCE_WGSL: crate::gpu::shader::Shader = crate::wgsl!("src/aa/common/radiance.wgsl");
+
 /// Whether a colour texture holds radiance: the input or output of a technique running before
 /// the tonemapper of an HDR frame (`graph::hdr`).
 pub fn holds_radiance(texture: &wgpu::Texture) -> bool {

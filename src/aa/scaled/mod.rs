@@ -30,6 +30,7 @@ use crate::aa::combo::Combo;
 use crate::aa::combo::Upscaler;
 use crate::aa::common::{debug_texture, intern};
 use crate::aa::{DebugView, FrameInfo, ParamError, ParamValue, SceneInput, Technique};
+use crate::graph::hdr::TonemapOrder;
 use crate::graph::params::{Named, Param};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
@@ -135,6 +136,17 @@ impl Technique for Scaled {
 
     fn temporal(&self) -> bool {
         self.inner.temporal()
+    }
+
+    /// The inner technique's when it writes the output itself (a temporal upscaler without
+    /// sharpening); after the tonemapper otherwise, as the upscale and sharpening passes run
+    /// on display values.
+    fn tonemap_order(&self) -> TonemapOrder {
+        if self.inner.reconstructs_at_output() && self.combo.sharpen.is_none() {
+            self.inner.tonemap_order()
+        } else {
+            TonemapOrder::After
+        }
     }
 
     fn encode(

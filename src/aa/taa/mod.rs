@@ -71,7 +71,7 @@ use crate::aa::common::pass::Binding;
 use crate::aa::common::temporal::{
     HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset,
 };
-use crate::aa::common::{encoded_view, holds_radiance};
+use crate::aa::common::{RADIANCE_WGSL, encoded_view, holds_radiance};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
@@ -86,7 +86,7 @@ use debug::TaaDebug;
 pub const ID: &str = "taa";
 
 /// The resolve (reprojection, rectification, blend).
-const WGSL: Shader = crate::wgsl!("src/aa/taa/taa.wgsl");
+const WGSL: Shader = crate::wgsl!("src/aa/taa/taa.wgsl", prelude = RADIANCE_WGSL);
 /// The velocity and jitter debug views.
 const DEBUG_WGSL: Shader = crate::wgsl!("src/aa/taa/taa_debug.wgsl");
 
@@ -102,7 +102,7 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
          history cannot be matched (disocclusions, transparency, fast-changing shading).",
     availability: needs_encoded_views,
     create: |gpu| Box::new(Taa::new(gpu)),
-    shaders: &[WGSL, DEBUG_WGSL],
+    shaders: &[WGSL, DEBUG_WGSL, RADIANCE_WGSL],
 };
 
 /// Format of the accumulated history.

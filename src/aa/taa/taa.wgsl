@@ -88,16 +88,6 @@ fn luminance(c: vec3<f32>) -> f32 {
     return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
 }
 
-// Before the tonemapper of an HDR frame (graph/hdr.rs) the input is radiance: every read goes
-// through Karis' reversible tonemap c / (1 + luma), so the neighbourhood, the rectification and
-// the blend work on values below 1 that no bright sample dominates; the history keeps them,
-// and the output is mapped back to radiance (c / (1 - luma)).
-override RADIANCE: bool = false;
-
-fn to_output(c: vec3<f32>) -> vec3<f32> {
-    return select(c, c / max(1.0 - luminance(c), 1e-3), RADIANCE);
-}
-
 fn rgb_to_ycocg(c: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(
         0.25 * c.r + 0.5 * c.g + 0.25 * c.b,
@@ -172,8 +162,8 @@ fn history_at(uv: vec2<f32>) -> vec4<f32> {
 
 // The current frame's colour at a pixel, clamped to the image.
 fn current_at(pixel: vec2<i32>, last: vec2<i32>) -> vec3<f32> {
-    let c = textureLoad(current, clamp(pixel, vec2<i32>(0), last), 0).rgb;
-    return select(c, c / (1.0 + luminance(c)), RADIANCE);
+    // Compressed before the tonemapper (radiance.wgsl, the prelude).
+    return compressed(textureLoad(current, clamp(pixel, vec2<i32>(0), last), 0).rgb);
 }
 
 // A value of the fragment's partner across its 2x2 quad in x: the fine derivative is the odd

@@ -47,11 +47,13 @@ use crate::aa::common::pass::{self, Binding};
 use crate::aa::common::temporal::{
     HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset,
 };
+use crate::aa::common::{RADIANCE_WGSL, holds_radiance};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
-use crate::gpu::{COLOR_FORMAT, Gpu};
+use crate::gpu::{COLOR_FORMAT, Gpu, HDR_FORMAT};
+use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
 use debug::{STATE_FORMAT, TaauDebug};
@@ -60,7 +62,7 @@ use debug::{STATE_FORMAT, TaauDebug};
 pub const ID: &str = "taau";
 
 /// The resolve (samples, reprojection, disocclusion, rectification, accumulation).
-const WGSL: Shader = crate::wgsl!("src/aa/taau/taau.wgsl");
+const WGSL: Shader = crate::wgsl!("src/aa/taau/taau.wgsl", prelude = RADIANCE_WGSL);
 /// The debug views.
 const DEBUG_WGSL: Shader = crate::wgsl!("src/aa/taau/taau_debug.wgsl");
 
@@ -77,7 +79,7 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
          vectors, softness under motion and possible ghosting.",
     availability: needs_encoded_views,
     create: |gpu| Box::new(Taau::new(gpu)),
-    shaders: &[WGSL, DEBUG_WGSL],
+    shaders: &[WGSL, DEBUG_WGSL, RADIANCE_WGSL],
 };
 
 /// Format of the accumulated colour (alpha: samples accumulated).
@@ -90,7 +92,7 @@ const FILL_FLOOR: f32 = 1.0;
 /// Everything a resolve pipeline is specialised on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct PipelineKey {
-    constants: [(&'static str, u64); 4],
+    constants: [(&'static str, u64); 5],
     debug: bool,
 }
 
@@ -116,6 +118,8 @@ struct History {
     colour: PingPong,
     aux: PingPong,
     render_size: (u32, u32),
+    /// Whether it holds compressed radiance (the technique runs before the tonemapper).
+    radiance: bool,
 }
 
 /// The temporal upscaler.
@@ -175,8 +179,14 @@ impl Taau {
         )
     }
 
-    fn resolve_pipeline(&mut self, ctx: &PassContext<'_>, debug: bool) -> wgpu::RenderPipeline {
-        let constants = self.settings.constants();
+    fn resolve_pipeline(
+        &mut self,
+        ctx: &PassContext<'_>,
+        debug: bool,
+        radiance: bool,
+    ) -> wgpu::RenderPipeline {
+        let constants = self.settings.constants(radiance);
+        let output = if radiance { HDR_FORMAT } else { COLOR_FORMAT };
         let key = PipelineKey {
             constants: constants.map(|(name, value)| (name, value.to_bits())),
             debug,
@@ -184,10 +194,10 @@ impl Taau {
         let (entry_point, targets): (&str, &[wgpu::TextureFormat]) = if debug {
             (
                 "fs_resolve_debug",
-                &[COLOR_FORMAT, HISTORY_FORMAT, AUX_FORMAT, STATE_FORMAT],
+                &[output, HISTORY_FORMAT, AUX_FORMAT, STATE_FORMAT],
             )
         } else {
-            ("fs_resolve", &[COLOR_FORMAT, HISTORY_FORMAT, AUX_FORMAT])
+            ("fs_resolve", &[output, HISTORY_FORMAT, AUX_FORMAT])
         };
         self.resolve
             .pipeline(ctx, key, entry_point, targets, &constants)
@@ -223,18 +233,20 @@ impl Taau {
 
     /// Makes sure the history and the debug views fit this frame; whether the history must
     /// start again.
-    fn prepare(&mut self, ctx: &PassContext<'_>, render_size: (u32, u32)) -> bool {
+    /// Makes the history and debug targets fit; `radiance`: the history holds compressed
+    /// radiance (before the tonemapper), and a flip starts it over.
+    fn prepare(&mut self, ctx: &PassContext<'_>, render_size: (u32, u32), radiance: bool) -> bool {
         let output_size = ctx.frame.output_size();
-        let fits = self
-            .history
-            .as_ref()
-            .is_some_and(|h| h.colour.size() == output_size && h.render_size == render_size);
+        let fits = self.history.as_ref().is_some_and(|h| {
+            h.colour.size() == output_size && h.render_size == render_size && h.radiance == radiance
+        });
         if !fits {
             let device = &self.resolve.device;
             self.history = Some(History {
                 colour: PingPong::new(device, "taau history", output_size, HISTORY_FORMAT),
                 aux: PingPong::new(device, "taau depth", output_size, AUX_FORMAT),
                 render_size,
+                radiance,
             });
         }
         let device = &self.resolve.device;
@@ -252,6 +264,10 @@ impl Technique for Taau {
 
     fn label(&self) -> String {
         INFO.name.to_owned()
+    }
+
+    fn tonemap_order(&self) -> TonemapOrder {
+        self.settings.tonemap_order
     }
 
     fn scene_input(&self, frame: &FrameInfo) -> Option<SceneInput> {
@@ -278,9 +294,10 @@ impl Technique for Taau {
             // Jittered inputs always carry motion vectors.
             return;
         };
-        let reset = self.prepare(ctx, input.desc.size);
+        let radiance = holds_radiance(output);
+        let reset = self.prepare(ctx, input.desc.size, radiance);
         let debug = self.debug_enabled;
-        let pipeline = self.resolve_pipeline(ctx, debug);
+        let pipeline = self.resolve_pipeline(ctx, debug, radiance);
         self.resolve
             .write_uniform(ctx, &self.uniform(ctx.frame, reset));
         let Some(history) = &mut self.history else {

@@ -4,6 +4,7 @@
 //! structural choices become.
 
 pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
+use crate::graph::hdr::TonemapOrder;
 use crate::graph::params::{Named, Param, ParamValue, Tunable};
 
 crate::named_enum! {
@@ -72,6 +73,9 @@ pub struct TaauSettings {
     /// How far the renderer's mask of blended surfaces' coverage leans on the current frame;
     /// 0 reads no mask.
     pub reactive_mask: f32,
+    /// In HDR frames, before the tonemapper (on radiance, through Karis' reversible tonemap,
+    /// as engines run their temporal upscalers) or after it.
+    pub tonemap_order: TonemapOrder,
 }
 
 impl Default for TaauSettings {
@@ -90,6 +94,7 @@ impl Default for TaauSettings {
             reactive: 0.0,
             mip_bias: -1.0,
             reactive_mask: 0.0,
+            tonemap_order: TonemapOrder::Before,
         }
     }
 }
@@ -239,6 +244,7 @@ impl Tunable for TaauSettings {
                 1.0,
                 s.reactive_mask,
             ),
+            s.tonemap_order.param(),
         ]
     }
 
@@ -261,13 +267,17 @@ impl Tunable for TaauSettings {
                 reactive,
                 mip_bias,
                 reactive_mask,
+                tonemap_order,
             ]
         )
     }
 
-    /// Replaces every setting with the preset's.
+    /// Replaces every setting with the preset's but the tonemap order, which no preset sets.
     fn apply_preset(&mut self, preset: Preset) {
-        *self = Self::preset(preset);
+        *self = Self {
+            tonemap_order: self.tonemap_order,
+            ..Self::preset(preset)
+        };
     }
 }
 
@@ -298,8 +308,9 @@ impl TaauSettings {
         }
     }
 
-    /// The override constants of the structural settings.
-    pub(super) fn constants(&self) -> [(&'static str, f64); 4] {
+    /// The override constants of the structural settings, and `RADIANCE` (before the
+    /// tonemapper of an HDR frame; `aa/common/radiance.wgsl`).
+    pub(super) fn constants(&self, radiance: bool) -> [(&'static str, f64); 5] {
         [
             (
                 "HISTORY_FILTER",
@@ -307,6 +318,7 @@ impl TaauSettings {
             ),
             ("RECTIFY", self.rectify.index() as f64),
             ("KERNEL", self.kernel.index() as f64),
+            ("RADIANCE", f64::from(u8::from(radiance))),
             (
                 "REACTIVE_MASK",
                 f64::from(u8::from(self.reactive_mask > 0.0)),

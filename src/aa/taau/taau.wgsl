@@ -176,7 +176,8 @@ fn gather_samples(centre: vec2<f32>) -> Samples {
         for (var dx = -1; dx <= 1; dx++) {
             let pixel = base + vec2<i32>(dx, dy);
             let inside = clamp(pixel, vec2<i32>(0), last);
-            let rgb = textureLoad(current, inside, 0).rgb;
+            // Compressed before the tonemapper (radiance.wgsl, the prelude).
+            let rgb = compressed(textureLoad(current, inside, 0).rgb);
             // The sample's offset from the output pixel's centre, in render pixels.
             let offset = vec2<f32>(pixel) + 0.5 - jitter - centre;
             let in_pixel = all(abs(offset * ratio) < vec2<f32>(0.5));
@@ -356,7 +357,7 @@ struct ResolveOutput {
 fn fs_resolve(in: Varying) -> ResolveOutput {
     let r = resolve(in.position.xy);
     return ResolveOutput(
-        vec4<f32>(r.colour, 1.0),
+        vec4<f32>(to_output(r.colour), 1.0),
         vec4<f32>(r.colour, r.confidence),
         vec2<f32>(r.depth, r.speed),
     );
@@ -375,7 +376,7 @@ struct ResolveDebugOutput {
 fn fs_resolve_debug(in: Varying) -> ResolveDebugOutput {
     let r = resolve(in.position.xy);
     return ResolveDebugOutput(
-        vec4<f32>(r.colour, 1.0),
+        vec4<f32>(to_output(r.colour), 1.0),
         vec4<f32>(r.colour, r.confidence),
         vec2<f32>(r.depth, r.speed),
         vec4<f32>(r.dropped, r.confidence, r.weight, r.reactive),
