@@ -50,12 +50,15 @@ pub fn reference_spec(gpu: &Gpu) -> Result<TechniqueSpec, TechniqueError> {
     Ok(TechniqueSpec::of(ssaa.as_ref()))
 }
 
+/// HDR-FLIP per technique id (see [`hdr_flips`]).
+pub type HdrFlipScores = Vec<(String, f64)>;
+
 /// The HDR-FLIP of every technique of `output` that has radiance against the radiance of
 /// `reference` (the reference's run), by technique id; none when the reference has none.
 pub fn hdr_flips(
     reference: &crate::spec::RenderOutput,
     output: &crate::spec::RenderOutput,
-) -> Result<Vec<(String, f64)>, crate::metrics::MetricsError> {
+) -> Result<HdrFlipScores, crate::metrics::MetricsError> {
     let Some((_, reference)) = reference.radiance.first() else {
         return Ok(Vec::new());
     };

@@ -734,7 +734,7 @@ impl BenchRunner<'_> {
         scene: &Scene,
         spec: &RenderSpec,
         reference_spec: &RenderSpec,
-    ) -> Result<(Vec<QualityScores>, Vec<(String, f64)>), BenchError> {
+    ) -> Result<(Vec<QualityScores>, super::HdrFlipScores), BenchError> {
         self.stop_if_cancelled()?;
         self.progress.phase(run, "quality frame");
         let reported = std::cell::Cell::new(0);
