@@ -304,12 +304,12 @@ fn a_recorded_clip_plays_every_pane_in_lockstep_and_exports_an_animation() {
     }
     // ColorVideoVDP scores every technique in the background, shown as it comes.
     wait(&mut harness, "the clip's JOD", |app| {
-        (0..scores.len()).all(|slot| app.clip_jod(slot).is_some())
+        (0..scores.len()).all(|slot| app.jod(slot).is_some())
     });
     for slot in 0..scores.len() {
         let jod = harness
             .state()
-            .clip_jod(slot)
+            .jod(slot)
             .expect("scored")
             .expect("a JOD");
         assert!(jod.is_finite() && jod <= 10.0, "slot {slot}: {jod}");
