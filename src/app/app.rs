@@ -427,7 +427,10 @@ impl AaLabApp {
 
     /// ColorVideoVDP's distortion map of pane `id` (1 - JOD/10 per pixel, mean over the
     /// frames) once computed, or why there is none yet; `None` for panes not scored with maps.
-    pub fn jod_map(&self, id: &str) -> Option<Result<std::sync::Arc<crate::metrics::Plane>, String>> {
+    pub fn jod_map(
+        &self,
+        id: &str,
+    ) -> Option<Result<std::sync::Arc<crate::metrics::Plane>, String>> {
         self.ws.cx.jod_maps.panes.get(id).cloned()
     }
 

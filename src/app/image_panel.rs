@@ -8,9 +8,9 @@ use egui::RichText;
 
 use super::context::Context;
 use super::image_set::IMAGE_IDS;
+use super::jod_panel;
 use super::quality;
 use super::style::{self, SLOT_COLORS, SLOT_LETTERS, number, number_weak};
-use super::jod_panel;
 use super::workspace::Workspace;
 
 /// What the reference of an image set is, for tooltips.

@@ -215,6 +215,9 @@ pub struct JodScores {
     /// Per slot, as they come.
     figures: BTreeMap<usize, Figure>,
     maps: BTreeMap<usize, Arc<Plane>>,
+    /// With maps of sequences, the reference pane's: all zero, as the reference has no
+    /// visible difference from itself (ColorVideoVDP scores identical clips 10 JOD).
+    reference_map: Option<(usize, Arc<Plane>)>,
     /// The sequences the user asked to score: scored again (with the map, on another display)
     /// while they stay as they are.
     asked: Option<Subject>,
@@ -284,6 +287,14 @@ impl JodScores {
         if self.worker.as_mut().is_some_and(|w| w.submit(job)) {
             self.figures.clear();
             self.maps.clear();
+            self.reference_map = match (&key.subject, key.mapped, cx.images.open()) {
+                (Subject::Sequences { reference, .. }, true, Some(set)) => {
+                    let (width, height) = set.size();
+                    let zero = Plane::from_fn(width, height, |_, _| 0.0);
+                    Some((*reference, Arc::new(zero)))
+                }
+                _ => None,
+            };
             self.generation += 1;
             self.scored = Some(key.clone());
             self.running = Some((key, cancel));
@@ -487,6 +498,11 @@ impl JodScores {
                 (None, None) => Err("ColorVideoVDP: computing the distortion map…".to_owned()),
             };
             published.panes.insert(id, pane);
+        }
+        if let Some((slot, zero)) = &self.reference_map
+            && let Some(id) = ids.get(*slot)
+        {
+            published.panes.insert(id, Ok(Arc::clone(zero)));
         }
         published
     }

@@ -135,7 +135,10 @@ pub struct JodMaps {
     pub generation: u64,
     /// Per pane id: its map (1 - JOD/10 per pixel, mean over the frames), or why it has none
     /// yet. Panes that are not being scored are absent.
-    pub panes: std::collections::BTreeMap<&'static str, Result<std::sync::Arc<crate::metrics::Plane>, String>>,
+    pub panes: std::collections::BTreeMap<
+        &'static str,
+        Result<std::sync::Arc<crate::metrics::Plane>, String>,
+    >,
 }
 
 impl Context {
