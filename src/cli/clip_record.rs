@@ -237,7 +237,7 @@ pub struct JodDisplayArgs {
     pub jod_display: String,
     /// The viewing distance --jod scores for, as pixels per degree of visual angle replacing
     /// the display model's (ColorVideoVDP keeps a display's geometry as pixels per degree:
-    /// twice as far is about twice as many; standard_fhd has about 62). Recorded with the
+    /// twice as far is about twice as many; standard_fhd has about 38). Recorded with the
     /// figures either way.
     #[arg(long, value_name = "PPD", requires = "jod", value_parser = parse_pixels_per_degree)]
     pub jod_ppd: Option<f64>,

@@ -35,8 +35,9 @@ pub const DEFAULT_DISPLAY: &str = "standard_fhd";
 /// The ColorVideoVDP version of the calibrated model.
 pub const MODEL_VERSION: &str = Cvvdp::MODEL_VERSION;
 
-/// The most pixels per degree a viewing distance may give (a 4K display seen from about
-/// ten times its height); the model's standard displays have 26 to 76.
+/// The most pixels per degree a viewing distance may give (a 4K display seen from about 16
+/// times its height); the standard display models have 25 (a zoomed HDR view) to 121 (a
+/// phone).
 pub const MAX_PIXELS_PER_DEGREE: f64 = 600.0;
 
 /// The display a JOD is predicted for: one of ColorVideoVDP's standard display models by name,
