@@ -14,7 +14,8 @@
 //! - Sequences are scored when asked (the metrics panel's button, or choosing the distortion
 //!   heatmap): the worker reads their frames itself, every instant the set plays (through each
 //!   sequence's small cache), so the UI thread never waits for a decode; the reference's frames
-//!   are read once for all sequences.
+//!   are read once for all sequences. Sets whose scoring would hold more than
+//!   [`jod::MAX_SCORED_BYTES`] are refused, with the reason as each sequence's figure.
 //! - The distortion map costs one more plane per frame while scoring, so it is computed only
 //!   while that heatmap is chosen: choosing it scores again with the map, and figures with the
 //!   map serve a later request without it.
@@ -35,7 +36,7 @@ use super::engine::PlayRate;
 use super::image_set::IMAGE_IDS;
 use super::worker::{Reporter, Worker};
 use crate::metrics::Plane;
-use crate::metrics::jod::{JodDisplay, JodScorer};
+use crate::metrics::jod::{self, JodDisplay, JodScorer};
 use crate::sequence::Sequence;
 
 /// What is scored.
@@ -159,6 +160,14 @@ fn score(scorer: &mut Option<JodScorer>, job: Job, reporter: &Reporter<Scored>) 
             }
         }
     };
+    // Sequences of any length can be open; their scoring holds every frame.
+    if let Frames::Sequence {
+        sequence, count, ..
+    } = &job.reference
+        && let Err(err) = jod::check_memory(sequence.size(), *count)
+    {
+        return fail_all(err.to_string());
+    }
     let reference = match job.reference.load(&job.cancel) {
         None => return,
         Some(Err(err)) => return fail_all(format!("the reference: {err}")),
@@ -238,7 +247,16 @@ impl JodScores {
     /// sequences when asked or when the distortion heatmap is chosen.
     pub fn update(&mut self, cx: &mut Context, ctx: &egui::Context) {
         self.collect();
-        let Some(mut key) = Self::current(cx) else {
+        let current = Self::current(cx);
+        // A job for what is no longer shown is moot: it stops after its technique.
+        if let Some((running, _)) = &self.running
+            && current
+                .as_ref()
+                .is_none_or(|c| c.subject != running.subject)
+        {
+            self.stop_running();
+        }
+        let Some(mut key) = current else {
             return;
         };
         key.mapped = cx.settings.show_magnifier
