@@ -322,3 +322,107 @@ fn a_captured_pane_beside_the_rendered_technique_it_captured_scores_the_same() {
     );
     assert!(!third.exists(), "{wrong}");
 }
+
+/// Issue 27: `clip --jod-heatmap DIR` writes every pane's ColorVideoVDP distortion map, with
+/// its JOD (the record's) embedded; `--jod-ppd` replaces the display model's viewing distance,
+/// is recorded, changes the figures and is what `compare --jod-ppd` gives for the same pair;
+/// the flags need `--jod`, bad distances are refused, and no map is written over.
+#[test]
+fn clip_writes_jod_heatmaps_and_records_the_viewing_distance() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let root = dir.path();
+    let reference = png_sequence(root, "ssaa", 0, FRAMES, |i| i, 0);
+    let blurred = png_sequence(root, "taa", 0, FRAMES, |i| i, 1);
+    let lagging = png_sequence(root, "lag", 0, FRAMES, |i| i.saturating_sub(1), 0);
+    let maps = root.join("maps");
+    let clip = |out: &str, extra: &[&str]| {
+        let out = root.join(out);
+        let (blurred, lagging) = (
+            format!("blurred={}", text(&blurred)),
+            format!("lagging={}", text(&lagging)),
+        );
+        let mut args = vec![
+            "clip",
+            "--sequence",
+            &blurred,
+            "--sequence",
+            &lagging,
+            "--reference-sequence",
+            text(&reference),
+            "--out",
+            text(&out),
+        ];
+        args.extend_from_slice(extra);
+        let run = common::aa_lab(&args);
+        (run, out.with_extension("json"))
+    };
+    let (run, json) = clip(
+        "near.png",
+        &["--jod", "--jod-ppd", "20", "--jod-heatmap", text(&maps)],
+    );
+    assert!(run.status.success(), "{}", stderr(&run));
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(json).expect("record")).expect("JSON");
+    assert_eq!(record["jod"]["pixels_per_degree"], 20.0);
+    assert_eq!(record["jod"]["pixels_per_degree_given"], true);
+    let panes = record["techniques"].as_array().expect("panes");
+    for (pane, label) in panes.iter().zip(["blurred", "lagging"]) {
+        let map = maps.join(format!("{label}-jod.png"));
+        let embedded = aa_lab::export::png::read_record(&map)
+            .expect("a PNG")
+            .expect("its record");
+        let embedded: serde_json::Value = serde_json::from_str(&embedded).expect("JSON");
+        assert!(
+            (number(&embedded["compare"], "jod") - number(pane, "jod")).abs() < 1e-9,
+            "{embedded} vs {pane}"
+        );
+        assert_eq!(embedded["compare"]["setting"]["pixels_per_degree"], 20.0);
+    }
+    assert_eq!(std::fs::read_dir(&maps).expect("maps").count(), 2);
+    // compare gives the same JOD at the same distance.
+    let out = common::aa_lab(&[
+        "compare",
+        text(&reference),
+        text(&lagging),
+        "--json",
+        "--jod",
+        "--jod-ppd",
+        "20",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let compared: serde_json::Value = serde_json::from_str(&common::stdout(&out)).expect("JSON");
+    let jod = &compared["summary"]["jod"];
+    assert_eq!(jod["pixels_per_degree"], 20.0);
+    assert!((number(jod, "jod") - number(&panes[1], "jod")).abs() < 1e-6);
+
+    // The model's own distance: recorded as such, and another figure.
+    let (run, json) = clip("own.png", &["--jod"]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let own: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(json).expect("record")).expect("JSON");
+    assert_eq!(own["jod"]["pixels_per_degree_given"], false);
+    let model_ppd = number(&own["jod"], "pixels_per_degree");
+    assert!(
+        (30.0..45.0).contains(&model_ppd),
+        "standard_fhd: {model_ppd}"
+    );
+    let own_lagging = number(&own["techniques"][1], "jod");
+    assert!((own_lagging - number(&panes[1], "jod")).abs() > 1e-3);
+
+    // The maps are never written over without --force; the flags need --jod; bad distances.
+    let (run, _) = clip("again.png", &["--jod", "--jod-heatmap", text(&maps)]);
+    assert!(!run.status.success());
+    assert!(stderr(&run).contains("blurred-jod.png"), "{}", stderr(&run));
+    assert!(
+        !root.join("again.png").exists(),
+        "refused before anything was written"
+    );
+    let (run, _) = clip("x.png", &["--jod-heatmap", text(&maps)]);
+    assert!(!run.status.success() && stderr(&run).contains("--jod"));
+    let (run, _) = clip("x.png", &["--jod", "--jod-ppd", "0"]);
+    assert!(
+        !run.status.success() && stderr(&run).contains("pixels per degree must be above 0"),
+        "{}",
+        stderr(&run)
+    );
+}

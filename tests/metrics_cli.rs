@@ -365,6 +365,8 @@ fn bench_jod_scores_every_technique_over_the_flicker_frames() {
         "--jod",
         "--jod-display",
         "standard_4k",
+        "--jod-ppd",
+        "45.5",
         "--out",
         out.to_str().unwrap(),
     ];
@@ -374,6 +376,10 @@ fn bench_jod_scores_every_technique_over_the_flicker_frames() {
     let jod = &report["settings"]["jod"];
     assert_eq!(jod["display"], "standard_4k");
     assert_eq!(jod["fps"], 30.0);
+    assert_eq!(
+        jod["pixels_per_degree"], 45.5,
+        "the viewing distance is recorded"
+    );
     let techniques = report["runs"][0]["techniques"].as_array().unwrap();
     let jods: Vec<f64> = techniques
         .iter()

@@ -304,14 +304,10 @@ fn a_recorded_clip_plays_every_pane_in_lockstep_and_exports_an_animation() {
     }
     // ColorVideoVDP scores every technique in the background, shown as it comes.
     wait(&mut harness, "the clip's JOD", |app| {
-        (0..scores.len()).all(|slot| app.clip_jod(slot).is_some())
+        (0..scores.len()).all(|slot| app.jod(slot).is_some())
     });
     for slot in 0..scores.len() {
-        let jod = harness
-            .state()
-            .clip_jod(slot)
-            .expect("scored")
-            .expect("a JOD");
+        let jod = harness.state().jod(slot).expect("scored").expect("a JOD");
         assert!(jod.is_finite() && jod <= 10.0, "slot {slot}: {jod}");
     }
 
@@ -771,7 +767,9 @@ fn the_difference_mode_maps_the_lens_exactly() {
                 }
                 DiffMetric::Ssim => ssim::ssim(&reference, &output).unwrap().map,
                 DiffMetric::Flip => flip::flip_map(&reference, &output).unwrap(),
-                DiffMetric::Instability => unreachable!("a comparison of two images"),
+                DiffMetric::Instability | DiffMetric::JodDistortion => {
+                    unreachable!("a comparison of two images")
+                }
             };
             let mut sum = 0.0;
             for j in y..y + h {

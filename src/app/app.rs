@@ -414,10 +414,24 @@ impl AaLabApp {
         self.ws.cx.clip_scores()
     }
 
-    /// The ColorVideoVDP JOD of the shown clip's technique in pane `slot`, once scored (or
-    /// why it has none).
-    pub fn clip_jod(&self, slot: usize) -> Option<Result<f64, String>> {
+    /// The ColorVideoVDP JOD of the technique (of the shown clip) or sequence (of the open
+    /// set) in pane `slot`, once scored (or why it has none).
+    pub fn jod(&self, slot: usize) -> Option<Result<f64, String>> {
         self.ws.jod.figure(&self.ws.cx, slot).cloned()
+    }
+
+    /// Panes scored and to score while ColorVideoVDP scores.
+    pub fn jod_progress(&self) -> Option<(usize, usize)> {
+        self.ws.jod.progress()
+    }
+
+    /// ColorVideoVDP's distortion map of pane `id` (1 - JOD/10 per pixel, mean over the
+    /// frames) once computed, or why there is none yet; `None` for panes not scored with maps.
+    pub fn jod_map(
+        &self,
+        id: &str,
+    ) -> Option<Result<std::sync::Arc<crate::metrics::Plane>, String>> {
+        self.ws.cx.jod_maps.panes.get(id).cloned()
     }
 
     /// The index of the clip frame on screen (`None` when the live view is).

@@ -31,18 +31,22 @@ pub enum DiffMetric {
     Flip,
     /// Per pixel temporal instability over the shown clip (see `metrics::stability`).
     Instability,
+    /// ColorVideoVDP's per-pixel distortion over the shown clip or sequences (1 - JOD/10,
+    /// mean over the frames; see `jod.rs`).
+    JodDistortion,
 }
 
 impl DiffMetric {
     /// Every metric comparing two images, in menu order.
     pub const ALL: [Self; 3] = [Self::AbsoluteError, Self::Ssim, Self::Flip];
 
-    /// Every metric of the menu: the comparisons, then the clip's temporal one.
-    pub const MENU: [Self; 4] = [
+    /// Every metric of the menu: the comparisons, then those over the clip or sequences.
+    pub const MENU: [Self; 5] = [
         Self::AbsoluteError,
         Self::Ssim,
         Self::Flip,
         Self::Instability,
+        Self::JodDistortion,
     ];
 
     /// Menu label.
@@ -52,6 +56,7 @@ impl DiffMetric {
             Self::Ssim => "SSIM map",
             Self::Flip => "FLIP",
             Self::Instability => "Temporal instability",
+            Self::JodDistortion => "JOD distortion",
         }
     }
 
@@ -87,6 +92,12 @@ impl DiffMetric {
                  reference's mean change or more: where a technique crawls and shimmers.",
                 INSTABILITY_FULL_SCALE
             ),
+            Self::JodDistortion => "Per pixel, over the shown clip (recorded with the reference) \
+                 or the open sequences: ColorVideoVDP's distortion, 1 - JOD/10, averaged over \
+                 the frames, on the display and viewing distance of the metrics panel. Black is \
+                 no visible difference, the brightest colour 1 (JOD 0). Choosing it scores \
+                 again with the map (seconds per technique)."
+                .to_owned(),
         }
     }
 }
@@ -109,6 +120,9 @@ impl DiffMetric {
             Self::Ssim => ssim::ssim(reference, test).map(|s| s.map),
             Self::Flip => flip::flip_map(reference, test),
             Self::Instability => Err(MetricsError::NotTemporal),
+            Self::JodDistortion => Err(MetricsError::Jod(
+                "the distortion map is scored over a clip or sequences, not two images".to_owned(),
+            )),
         }
     }
 
@@ -119,6 +133,7 @@ impl DiffMetric {
             Self::Ssim => 1.0 - value,
             Self::Flip => value,
             Self::Instability => value / INSTABILITY_FULL_SCALE,
+            Self::JodDistortion => value,
         }
     }
 
@@ -129,6 +144,7 @@ impl DiffMetric {
             Self::Ssim => ("SSIM 1", "0".to_owned()),
             Self::Flip => ("0", "1".to_owned()),
             Self::Instability => ("still", format!("{INSTABILITY_FULL_SCALE:.0}x ref")),
+            Self::JodDistortion => ("JOD 10", "JOD 0".to_owned()),
         }
     }
 
@@ -139,6 +155,7 @@ impl DiffMetric {
             Self::Ssim => format!("lens SSIM {mean:.4}"),
             Self::Flip => format!("lens FLIP {mean:.4}"),
             Self::Instability => format!("lens instability {mean:.2}"),
+            Self::JodDistortion => format!("lens distortion {mean:.3}"),
         }
     }
 }
@@ -249,7 +266,7 @@ fn colored(metric: DiffMetric, map: &Plane, offset: (u32, u32), lens: Region) ->
 pub enum HeatInput {
     /// The pane's image, compared with the reference.
     Image(Arc<image::RgbaImage>),
-    /// A whole-frame map already measured (the clip's instability).
+    /// A whole-frame map already measured (the clip's instability, the JOD distortion).
     Map(Arc<Plane>),
     /// No map: why.
     Missing(String),
@@ -278,6 +295,9 @@ pub struct HeatKey {
     pub view: u64,
     /// The metric.
     pub metric: DiffMetric,
+    /// With the JOD distortion, the generation of the maps published (see
+    /// `context::JodMaps`): a map that arrives is drawn.
+    pub maps: u64,
 }
 
 /// One pane's heatmap, or why there is none.

@@ -8,6 +8,7 @@ use egui::RichText;
 
 use super::context::Context;
 use super::image_set::IMAGE_IDS;
+use super::jod_panel;
 use super::quality;
 use super::style::{self, SLOT_COLORS, SLOT_LETTERS, number, number_weak};
 use super::workspace::Workspace;
@@ -240,6 +241,10 @@ pub(super) fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
         ui.label(RichText::new(note).small().color(style::ERROR));
     }
     played_section(ui, &ws.cx, &names, reference);
+    if ws.cx.images.has_sequences() {
+        ui.separator();
+        jod_panel::sequences_section(ui, ws);
+    }
 }
 
 /// The temporal figures of the sequences' frames played in a row (sequence sets only).

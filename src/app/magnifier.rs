@@ -145,20 +145,30 @@ impl MagnifierState {
             let Some(image) = cx.source_image(source).filter(|i| i.size() == size) else {
                 continue;
             };
-            let input = if metric == DiffMetric::Instability {
-                // The clip's map of the technique, whichever of its frames shows.
-                match cx.instability_map(id) {
+            // The maps over the clip or sequences hold whichever of their frames shows.
+            let input = match metric {
+                DiffMetric::Instability => match cx.instability_map(id) {
                     Some(map) => HeatInput::Map(map),
                     None => HeatInput::Missing(
                         "temporal instability needs a clip recorded with the reference on screen"
                             .to_owned(),
                     ),
+                },
+                DiffMetric::JodDistortion => match cx.jod_maps.panes.get(id) {
+                    Some(Ok(map)) => HeatInput::Map(std::sync::Arc::clone(map)),
+                    Some(Err(why)) => HeatInput::Missing(why.clone()),
+                    None => HeatInput::Missing(
+                        "the JOD distortion needs a clip recorded with the reference, or \
+                         sequences with a reference"
+                            .to_owned(),
+                    ),
+                },
+                _ => {
+                    let Some(pixels) = &image.pixels else {
+                        continue;
+                    };
+                    HeatInput::Image(std::sync::Arc::clone(pixels))
                 }
-            } else {
-                let Some(pixels) = &image.pixels else {
-                    continue;
-                };
-                HeatInput::Image(std::sync::Arc::clone(pixels))
             };
             images.push(image.stamp.serial);
             tests.push((source, input));
@@ -169,7 +179,11 @@ impl MagnifierState {
                 images,
                 sources: tests.iter().map(|(s, _)| *s).collect(),
                 view: reference.stamp.view,
-                metric: cx.settings.magnifier.metric,
+                metric,
+                maps: match metric {
+                    DiffMetric::JodDistortion => cx.jod_maps.generation,
+                    _ => 0,
+                },
             },
             reference: reference_pixels,
             tests,

@@ -15,11 +15,11 @@ use egui_plot::{Legend, Line, Plot};
 use super::bench::{BenchFeature, BenchRequest};
 use super::engine::ReferenceState;
 use super::image_panel;
+use super::jod_panel;
 use super::quality;
 use super::reference::REFERENCE_ID;
 use super::style::{self, ACCENT, SLOT_COLORS, SLOT_LETTERS, number, number_weak};
 use super::workspace::Workspace;
-use crate::metrics::jod::JodScorer;
 
 /// The panel. See the module docs.
 pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace, bench: &mut BenchFeature) {
@@ -271,8 +271,6 @@ fn clip_section(ui: &mut egui::Ui, ws: &mut Workspace) {
         });
         return;
     };
-    let jod = &ws.jod;
-    let cx = &ws.cx;
     style::figures_table(
         ui,
         "clip table",
@@ -280,7 +278,7 @@ fn clip_section(ui: &mut egui::Ui, ws: &mut Workspace) {
             ("technique", None),
             ("instability", None),
             ("ghosting", None),
-            ("JOD", Some(JOD_HELP)),
+            ("JOD", Some(jod_panel::JOD_HELP)),
         ],
         |ui| {
             for (slot, (id, scores)) in clip.techniques.iter().zip(scores).enumerate() {
@@ -298,15 +296,7 @@ fn clip_section(ui: &mut egui::Ui, ws: &mut Workspace) {
                     figure(scores.ghosting, 1),
                     "Mean luma error against the reference where the reference moved (levels of 0..255): trails and aliasing on moving edges.",
                 );
-                match jod.figure(cx, slot) {
-                    Some(Ok(value)) => number(ui, format!("{value:.2}"), JOD_HELP),
-                    Some(Err(err)) => {
-                        ui.weak("n/a").on_hover_text(err);
-                    }
-                    None => {
-                        ui.weak("…").on_hover_text("being scored");
-                    }
-                }
+                jod_panel::figure_cell(ui, ws, slot);
                 ui.end_row();
             }
         },
@@ -316,30 +306,8 @@ fn clip_section(ui: &mut egui::Ui, ws: &mut Workspace) {
             "reference: {change:.2} luma levels change per pixel and frame"
         ));
     }
-    if let Some((done, total)) = ws.jod.progress() {
-        ui.add(
-            egui::ProgressBar::new(done as f32 / total.max(1) as f32)
-                .text(format!("ColorVideoVDP: {done}/{total} techniques scored")),
-        );
-    }
-    ui.horizontal(|ui| {
-        ui.label("JOD display");
-        egui::ComboBox::from_id_salt("jod display")
-            .selected_text(ws.cx.settings.jod_display.as_str())
-            .show_ui(ui, |ui| {
-                for name in JodScorer::displays() {
-                    ui.selectable_value(&mut ws.cx.settings.jod_display, name.to_owned(), name);
-                }
-            })
-            .response
-            .on_hover_text("The display model ColorVideoVDP predicts for: its size, resolution, viewing distance, peak luminance and room light.");
-    });
+    jod_panel::controls(ui, ws);
 }
-
-/// What the JOD column means.
-const JOD_HELP: &str = "ColorVideoVDP: how visible the technique's difference from the reference \
-    is to a person watching the clip on the chosen display, in JOD (10: none; one JOD apart, 75 % \
-    of observers prefer the higher). Computed on a thread of its own once the clip is complete.";
 
 fn memory_section(ui: &mut egui::Ui, ws: &mut Workspace) {
     style::section(ui, "GPU memory");

@@ -14,7 +14,8 @@
 //!   what the panes show, the image set, clips, the blind session).
 //! - The features own their state and take the context as an argument: the magnifier's
 //!   heatmaps (magnifier.rs), the quality figures (quality.rs), exports (export.rs), the bench
-//!   (bench.rs), the clip bar (clip_bar.rs). No feature imports another; what one asks of
+//!   (bench.rs), the clip bar (clip_bar.rs), ColorVideoVDP's JOD and distortion maps of clips
+//!   and sequences (jod.rs). No feature imports another; what one asks of
 //!   another is a `context::Command` that the workspace (workspace.rs, the context and the
 //!   features together) carries out after the panels.
 //! - The panels are the shell above them: they take the workspace and never each other; what
@@ -51,13 +52,14 @@ mod blind;
 mod blit;
 mod camera;
 mod clip_bar;
-mod clip_jod;
 mod context;
 mod difference;
 mod engine;
 mod export;
 mod image_panel;
 mod image_set;
+mod jod;
+mod jod_panel;
 mod lens;
 mod magnifier;
 mod metrics_panel;

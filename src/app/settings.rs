@@ -228,6 +228,9 @@ pub struct Settings {
     pub combinations: Vec<String>,
     /// The display model clips are scored for with ColorVideoVDP (`metrics::jod`).
     pub jod_display: String,
+    /// The viewing distance ColorVideoVDP scores for, as pixels per degree replacing the
+    /// display model's (`None`: the model's own).
+    pub jod_pixels_per_degree: Option<f64>,
     /// Camera bookmarks.
     pub bookmarks: Vec<Bookmark>,
     /// Folder exports go to.
@@ -273,6 +276,7 @@ impl Default for Settings {
             user_techniques: Vec::new(),
             combinations: Vec::new(),
             jod_display: crate::metrics::jod::DEFAULT_DISPLAY.to_owned(),
+            jod_pixels_per_degree: None,
             bookmarks: Vec::new(),
             export_dir: PathBuf::from("screenshots"),
             reference_samples: 64,

@@ -1,5 +1,5 @@
 //! [`Workspace`]: the viewer's shared [`Context`] and the features that own their state beside
-//! it (the magnifier's heatmaps, the quality figures, the exports, the clip's JOD), and the carrying out of
+//! it (the magnifier's heatmaps, the quality figures, the exports, the JOD of clips and sequences), and the carrying out of
 //! what features ask of one another ([`Command`]).
 //!
 //! Every UI frame the app calls [`Workspace::poll_background`] and [`Workspace::update`]
@@ -11,9 +11,9 @@
 
 use std::collections::BTreeMap;
 
-use super::clip_jod::ClipJod;
 use super::context::{Command, Context};
 use super::export::ExportState;
+use super::jod::JodScores;
 use super::magnifier::MagnifierState;
 use super::quality::{Figures, QualityTracker};
 
@@ -27,8 +27,8 @@ pub(super) struct Workspace {
     pub(super) quality: QualityTracker,
     /// The running export and the files of the last one.
     pub(super) export: ExportState,
-    /// The shown clip's ColorVideoVDP figures.
-    pub(super) jod: ClipJod,
+    /// The ColorVideoVDP figures and maps of the shown clip or sequences.
+    pub(super) jod: JodScores,
 }
 
 impl Workspace {
@@ -39,7 +39,7 @@ impl Workspace {
             magnifier: MagnifierState::default(),
             quality: QualityTracker::default(),
             export: ExportState::default(),
-            jod: ClipJod::default(),
+            jod: JodScores::default(),
         }
     }
 
@@ -54,7 +54,7 @@ impl Workspace {
     }
 
     /// Advances what changes with time before the panels draw: the clip's or the sequences'
-    /// player, the clip's JOD, the quality figures and the magnifier's heatmaps.
+    /// player, the JOD figures, the quality figures and the magnifier's heatmaps.
     pub(super) fn update(&mut self, ctx: &egui::Context) {
         if let Some(engine) = &mut self.cx.engine {
             engine.set_overlay(self.cx.settings.ui_overlay);
@@ -64,6 +64,7 @@ impl Workspace {
         self.cx.tick_sequences(ctx);
         self.jod.update(&mut self.cx, ctx);
         self.cx.clip_jod = self.jod.published(&self.cx);
+        self.cx.jod_maps = self.jod.maps(&self.cx);
         self.quality.update(&mut self.cx, ctx);
         self.magnifier.update(&mut self.cx, ctx);
     }

@@ -31,6 +31,7 @@ use std::time::Instant;
 use anyhow::{Context, bail};
 use indicatif::ProgressBar;
 
+use super::clip_record::JodDisplayArgs;
 use super::render::{
     configured_specs, parse_size, progress_bar_with_eta, set_flags, technique_ids,
 };
@@ -42,7 +43,7 @@ use crate::bench::{
 use crate::export::report::{self, BenchReport, BenchSettings, RunReport};
 use crate::files::Overwrite;
 use crate::gpu::Gpu;
-use crate::metrics::jod::{self, JodScorer};
+use crate::metrics::jod::JodScorer;
 use crate::scene::procedural::SceneOptions;
 use crate::scene::source;
 use crate::spec::{self, TechniqueSpec};
@@ -151,10 +152,9 @@ pub struct BenchArgs {
     /// none). Keeps the flicker frames whole until scored.
     #[arg(long)]
     pub jod: bool,
-    /// The display model --jod scores for: one of ColorVideoVDP's standard displays (e.g.
-    /// standard_fhd, standard_4k, standard_phone, standard_hmd).
-    #[arg(long, default_value = jod::DEFAULT_DISPLAY, value_name = "NAME", requires = "jod")]
-    pub jod_display: String,
+    /// The display model and viewing distance of --jod.
+    #[command(flatten)]
+    pub jod_view: JodDisplayArgs,
     /// Replace files of an earlier bench in --out (without it, aa-lab never replaces a file).
     #[arg(long)]
     pub force: bool,
@@ -285,7 +285,7 @@ fn jod_scorer(args: &BenchArgs) -> anyhow::Result<Option<JodScorer>> {
     if matches!(args.sweep, Some(Sweep::Resolution | Sweep::Density)) {
         bail!("--jod scores quality, which a --sweep over resolution or density does not measure");
     }
-    Ok(Some(JodScorer::new(&args.jod_display)?))
+    Ok(Some(args.jod_view.scorer(false)?))
 }
 
 /// The render scales of a sweep over scales: `--scales`, or every preset.

@@ -25,8 +25,8 @@ use anyhow::{Context, bail};
 use super::camera::CameraMotion;
 use super::clip_frames::{Recorded, Recording, pane_dirs, record};
 use super::clip_record::{
-    ClipFigures, ClipPanes, ClipRecord, ClipShape, RenderedPart, clip_record, jod_figures,
-    print_table, show_figures,
+    ClipFigures, ClipPanes, ClipRecord, ClipShape, JodDisplayArgs, RenderedPart, clip_record,
+    jod_figures, jod_heatmap_paths, print_table, show_figures,
 };
 use super::clip_sequences::{ClipSequences, REFERENCE_LABEL};
 use super::render::{
@@ -42,7 +42,7 @@ use crate::export::sheet::{self, Rect};
 use crate::files;
 use crate::gpu::Gpu;
 use crate::graph::FrameGraph;
-use crate::metrics::jod::{self, JodScorer};
+use crate::metrics::jod::JodScorer;
 use crate::scene::Scene;
 use crate::scene::motion::{DEFAULT_SPEED_PX, Motion};
 use crate::spec::{self, RenderSpec, TechniqueSpec};
@@ -116,10 +116,14 @@ pub struct ClipArgs {
     /// frames in memory and takes seconds per technique.
     #[arg(long)]
     pub jod: bool,
-    /// The display model --jod scores for: one of ColorVideoVDP's standard displays (e.g.
-    /// standard_fhd, standard_4k, standard_phone, standard_hmd).
-    #[arg(long, default_value = jod::DEFAULT_DISPLAY, value_name = "NAME", requires = "jod")]
-    pub jod_display: String,
+    /// The display model and viewing distance of --jod.
+    #[command(flatten)]
+    pub jod_view: JodDisplayArgs,
+    /// With --jod: also write every technique's ColorVideoVDP per-pixel distortion map (1 -
+    /// JOD/10 over the whole frame, averaged over the clip's frames) as a heatmap with legend:
+    /// DIR/<technique>-jod.png, each with its record (JOD, display model) embedded.
+    #[arg(long, value_name = "DIR", requires = "jod")]
+    pub jod_heatmap: Option<PathBuf>,
     /// Threads compressing frames while the next ones render (default: one per core).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
@@ -376,7 +380,12 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     )?;
     let scorer = args
         .jod
-        .then(|| JodScorer::new(&args.jod_display))
+        .then(|| args.jod_view.scorer(args.jod_heatmap.is_some()))
+        .transpose()?;
+    let jod_maps = args
+        .jod_heatmap
+        .as_deref()
+        .map(|dir| jod_heatmap_paths(dir, &ids, &policy))
         .transpose()?;
     let name = scene
         .as_ref()
@@ -442,7 +451,10 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     let rendered = started.elapsed();
     let jods = scorer
         .as_ref()
-        .map(|scorer| jod_figures(scorer, &recorded.whole_frames, &labels, args.fps))
+        .map(|scorer| {
+            let heatmaps = jod_maps.as_deref().map(|paths| (paths, &policy));
+            jod_figures(scorer, &recorded.whole_frames, &labels, args.fps, heatmaps)
+        })
         .transpose()?;
     let panes = ClipPanes {
         ids: &ids,

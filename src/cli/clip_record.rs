@@ -5,14 +5,19 @@
 //! the same figures as a table on standard output. The captions and the JOD scoring of the
 //! panes are here too, as they turn a recorded clip into its figures.
 
+use std::path::{Path, PathBuf};
+
 use anyhow::Context;
 
 use super::clip_sequences::{ClipSequences, SequenceRecord};
+use super::compare::write_jod_heatmap;
+use crate::aa::user::file_name_part;
 use crate::export::clip::{self, Definitions, figure};
 use crate::export::clip_writer::ClipFormat;
 use crate::export::sheet::Rect;
+use crate::files::Overwrite;
 use crate::metrics::Comparison;
-use crate::metrics::jod::{JodScorer, JodSetting};
+use crate::metrics::jod::{self, JodDisplay, JodScorer, JodSetting};
 use crate::metrics::series::{FrameSeries, SeriesSummary};
 use crate::metrics::stability::{ClipMetrics, TemporalScores};
 use crate::scene::motion::Motion;
@@ -223,30 +228,111 @@ pub(super) fn clip_record(
     })
 }
 
+/// The display flags of `--jod`, shared by `clip`, `bench` and `compare`.
+#[derive(Clone, Debug, clap::Args)]
+pub struct JodDisplayArgs {
+    /// The display model --jod scores for: one of ColorVideoVDP's standard displays (e.g.
+    /// standard_fhd, standard_4k, standard_phone, standard_hmd).
+    #[arg(long, default_value = jod::DEFAULT_DISPLAY, value_name = "NAME", requires = "jod")]
+    pub jod_display: String,
+    /// The viewing distance --jod scores for, as pixels per degree of visual angle replacing
+    /// the display model's (ColorVideoVDP keeps a display's geometry as pixels per degree:
+    /// twice as far is about twice as many; standard_fhd has about 38). Recorded with the
+    /// figures either way.
+    #[arg(long, value_name = "PPD", requires = "jod", value_parser = parse_pixels_per_degree)]
+    pub jod_ppd: Option<f64>,
+}
+
+impl JodDisplayArgs {
+    /// The display the flags name.
+    pub fn display(&self) -> JodDisplay {
+        JodDisplay {
+            name: self.jod_display.clone(),
+            pixels_per_degree: self.jod_ppd,
+        }
+    }
+
+    /// A scorer for the display, giving the distortion map when `mapped`.
+    pub fn scorer(&self, mapped: bool) -> anyhow::Result<JodScorer> {
+        Ok(JodScorer::for_display(&self.display(), mapped)?)
+    }
+}
+
+fn parse_pixels_per_degree(text: &str) -> Result<f64, String> {
+    let value: f64 = text
+        .parse()
+        .map_err(|_| format!("`{text}` is not a number of pixels per degree"))?;
+    jod::check_pixels_per_degree(value).map_err(|e| e.to_string())
+}
+
+/// The heatmap files of `clip --jod-heatmap DIR`: `DIR/<technique>-jod.png` for every pane
+/// but the reference (the last of `ids`), checked against `policy` before anything renders.
+pub(super) fn jod_heatmap_paths(
+    dir: &Path,
+    ids: &[String],
+    policy: &Overwrite,
+) -> anyhow::Result<Vec<PathBuf>> {
+    let techniques = &ids[..ids.len().saturating_sub(1)];
+    let paths: Vec<PathBuf> = techniques
+        .iter()
+        .map(|id| dir.join(format!("{}-jod.png", file_name_part(id))))
+        .collect();
+    for (i, path) in paths.iter().enumerate() {
+        if let Some(other) = paths[..i].iter().position(|o| o == path) {
+            anyhow::bail!(
+                "--jod-heatmap: the panes {} and {} would both write {}; label the sequence otherwise",
+                techniques[other],
+                techniques[i],
+                path.display()
+            );
+        }
+        policy.check(path)?;
+    }
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("cannot create directory {}", dir.display()))?;
+    Ok(paths)
+}
+
 /// Each pane's JOD over the clip's whole frames (`frames[t][pane]`) against the reference's
-/// (the last pane), played at the clip's rate.
+/// (the last pane), played at the clip's rate; with `heatmaps` (one path per technique, see
+/// [`jod_heatmap_paths`]) each technique's distortion map is written there too (the scorer
+/// must give maps).
 pub(super) fn jod_figures(
     scorer: &JodScorer,
     frames: &[Vec<image::RgbaImage>],
     labels: &[String],
     fps: u16,
+    heatmaps: Option<(&[PathBuf], &Overwrite)>,
 ) -> anyhow::Result<Vec<f64>> {
     let techniques = labels.len().saturating_sub(1);
     let reference: Vec<&image::RgbaImage> = frames.iter().filter_map(|f| f.last()).collect();
-    let tests: Vec<Vec<&image::RgbaImage>> = (0..techniques)
-        .map(|i| frames.iter().filter_map(|f| f.get(i)).collect())
-        .collect();
-    let mut current = 0;
-    scorer
-        .score_each(&tests, &reference, f32::from(fps), |i| {
-            current = i;
+    let fps = f32::from(fps);
+    (0..techniques)
+        .map(|i| {
             eprintln!(
                 "scoring {} with ColorVideoVDP ({}/{techniques})…",
                 labels[i],
                 i + 1
             );
+            let test: Vec<&image::RgbaImage> = frames.iter().filter_map(|f| f.get(i)).collect();
+            let context = || format!("the JOD of {}", labels[i]);
+            let Some((paths, policy)) = heatmaps else {
+                return scorer.score(&test, &reference, fps).with_context(context);
+            };
+            let (jod, map) = scorer
+                .score_with_map(&test, &reference, fps)
+                .with_context(context)?;
+            let record = serde_json::json!({
+                "technique": labels[i],
+                "frames": test.len(),
+                "jod": jod,
+                "setting": scorer.setting(fps),
+                "map": "ColorVideoVDP's per-pixel distortion (1 - JOD/10), mean over the clip's frames",
+            });
+            write_jod_heatmap(&paths[i], &map, record, policy)?;
+            Ok(jod)
         })
-        .with_context(|| format!("the JOD of {}", labels[current]))
+        .collect()
 }
 
 /// Captions every pane of `layout` with its figures, fitted to `width` pixels: the panes'

@@ -45,9 +45,9 @@ pub struct CompareArgs {
     /// frame of both in memory.
     #[arg(long)]
     pub jod: bool,
-    /// The display model --jod scores for: one of ColorVideoVDP's standard displays.
-    #[arg(long, default_value = crate::metrics::jod::DEFAULT_DISPLAY, value_name = "NAME", requires = "jod")]
-    pub jod_display: String,
+    /// The display model and viewing distance of --jod.
+    #[command(flatten)]
+    pub jod_view: super::clip_record::JodDisplayArgs,
     /// The frame rate the sequences play at, for --jod.
     #[arg(long, default_value_t = 30.0, value_name = "FPS", requires = "jod")]
     pub fps: f32,
@@ -152,6 +152,22 @@ pub(super) fn write_compare_heatmap(
     )?;
     eprintln!("{}", files::wrote_line(path, replaced));
     Ok(())
+}
+
+/// Writes ColorVideoVDP's per-pixel distortion `map` (1 - JOD/10, see
+/// [`crate::metrics::jod::JodScorer::score_with_map`]) as a heatmap to `path` with a sidecar
+/// record holding `compare` (`compare --jod-heatmap`, `clip --jod-heatmap`).
+pub(super) fn write_jod_heatmap(
+    path: &Path,
+    map: &crate::metrics::Plane,
+    compare: serde_json::Value,
+    policy: &Overwrite,
+) -> anyhow::Result<()> {
+    let style = HeatmapStyle {
+        legend: "ColorVideoVDP distortion (1 - JOD/10)",
+        range: (0.0, 1.0),
+    };
+    write_compare_heatmap(path, map, &style, compare, policy)
 }
 
 /// The overwrite policy of `--heatmap` with `inputs` (the compared files) never written,

@@ -15,12 +15,11 @@ use std::path::Path;
 use anyhow::Context;
 
 use super::compare::{
-    CompareArgs, MAX_COMPARE_PIXELS, heatmap_policy, write_compare_heatmap, write_metric_heatmap,
+    CompareArgs, MAX_COMPARE_PIXELS, heatmap_policy, write_jod_heatmap, write_metric_heatmap,
 };
 use crate::export::clip::{Definitions, figure};
-use crate::export::heatmap::HeatmapStyle;
 use crate::files::Overwrite;
-use crate::metrics::jod::{JodScorer, JodSetting};
+use crate::metrics::jod::{self, JodSetting};
 use crate::metrics::series::{FrameSeries, SeriesSummary};
 use crate::metrics::stability::{ClipMetrics, TemporalScores};
 use crate::metrics::{Comparison, Plane};
@@ -63,10 +62,6 @@ struct Jod {
     setting: JodSetting,
 }
 
-/// Most bytes `--jod` may hold: every frame of both sequences as 8-bit pixels, and as the
-/// model's floats for the two being scored (16 bytes a pixel and frame in all).
-const MAX_JOD_BYTES: u64 = 8 << 30;
-
 /// The JOD of `test` against `reference` (both whole, in memory).
 fn jod(
     args: &CompareArgs,
@@ -74,20 +69,8 @@ fn jod(
     test: &Sequence,
     policy: &Overwrite,
 ) -> anyhow::Result<Jod> {
-    let (width, height) = reference.size();
-    let bytes = u64::from(width) * u64::from(height) * 16 * reference.len() as u64;
-    anyhow::ensure!(
-        bytes <= MAX_JOD_BYTES,
-        "--jod holds every frame of both sequences: {} frames of {width}x{height} take {} GiB, \
-         more than the {} GiB it allows; score a shorter glob of the frames",
-        reference.len(),
-        bytes >> 30,
-        MAX_JOD_BYTES >> 30
-    );
-    let scorer = match &args.jod_heatmap {
-        Some(_) => JodScorer::with_distortion_map(&args.jod_display)?,
-        None => JodScorer::new(&args.jod_display)?,
-    };
+    jod::check_memory(reference.size(), reference.len())?;
+    let scorer = args.jod_view.scorer(args.jod_heatmap.is_some())?;
     let all = |sequence: &Sequence| -> anyhow::Result<Vec<_>> {
         (0..sequence.len())
             .map(|i| Ok(sequence.frame(i)?))
@@ -98,10 +81,6 @@ fn jod(
     let value = match &args.jod_heatmap {
         Some(path) => {
             let (value, map) = scorer.score_with_map(&test_frames, &reference_frames, args.fps)?;
-            let style = HeatmapStyle {
-                legend: "ColorVideoVDP distortion (1 - JOD/10)",
-                range: (0.0, 1.0),
-            };
             let record = serde_json::json!({
                 "reference": args.reference,
                 "test": args.test,
@@ -109,7 +88,7 @@ fn jod(
                 "setting": scorer.setting(args.fps),
                 "map": "ColorVideoVDP's per-pixel distortion (1 - JOD/10), mean over the frames",
             });
-            write_compare_heatmap(path, &map, &style, record, policy)?;
+            write_jod_heatmap(path, &map, record, policy)?;
             value
         }
         None => scorer.score(&test_frames, &reference_frames, args.fps)?,

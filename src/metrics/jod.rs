@@ -13,12 +13,19 @@
 //! `standard_fhd`, a 24-inch 1920x1080 200 cd/m² monitor seen from 0.6 m under office light,
 //! [`DEFAULT_DISPLAY`]). A clip is scored as a video at its playback rate; one frame as an image.
 //!
+//! **Viewing distance.** The model sees the display's geometry only as pixels per degree of
+//! visual angle (`colorvideovdp::Geometry`: once a standard display is loaded it keeps its
+//! resolution and pixels per degree, not its diagonal or distance), so a nearer or farther
+//! viewer is given as pixels per degree replacing the model's ([`JodDisplay`]: twice the
+//! distance is about twice the pixels per degree). Records state the pixels per degree used,
+//! overridden or not, so a replay scores on the same geometry.
+//!
 //! Cost: the model keeps each clip's frames as 32-bit floats (12 bytes a pixel, so a 48-frame
 //! 1280x720 clip and its reference take about 1 GB together) and works on every core.
 
 use std::borrow::Borrow;
 
-use colorvideovdp::{Color, Cvvdp, DisplayModel, Image, Options};
+use colorvideovdp::{Color, Cvvdp, DisplayModel, Geometry, Image, Options};
 
 use super::{MetricsError, Plane};
 
@@ -28,11 +35,87 @@ pub const DEFAULT_DISPLAY: &str = "standard_fhd";
 /// The ColorVideoVDP version of the calibrated model.
 pub const MODEL_VERSION: &str = Cvvdp::MODEL_VERSION;
 
+/// The most pixels per degree a viewing distance may give (a 4K display seen from about 16
+/// times its height); the standard display models have 25 (a zoomed HDR view) to 121 (a
+/// phone).
+pub const MAX_PIXELS_PER_DEGREE: f64 = 600.0;
+
+/// The display a JOD is predicted for: one of ColorVideoVDP's standard display models by name,
+/// and optionally the pixels per degree of visual angle replacing the model's (a viewer nearer
+/// or farther than the model's; see the module docs).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct JodDisplay {
+    /// The display model's name (see [`JodScorer::displays`]).
+    pub name: String,
+    /// Pixels per degree replacing the model's (`None`: the model's own).
+    pub pixels_per_degree: Option<f64>,
+}
+
+impl JodDisplay {
+    /// The standard display `name` at its own viewing distance.
+    pub fn named(name: &str) -> Self {
+        Self {
+            name: name.to_owned(),
+            pixels_per_degree: None,
+        }
+    }
+
+    /// A short description for labels: the name, and the pixels per degree when replaced.
+    pub fn describe(&self) -> String {
+        match self.pixels_per_degree {
+            Some(ppd) => format!("{} at {ppd:.1} px/deg", self.name),
+            None => self.name.clone(),
+        }
+    }
+}
+
+impl Default for JodDisplay {
+    fn default() -> Self {
+        Self::named(DEFAULT_DISPLAY)
+    }
+}
+
+/// Most bytes a scoring may hold: every frame of a test and of its reference as 8-bit pixels
+/// and as the model's floats (16 bytes a pixel and frame in all).
+pub const MAX_SCORED_BYTES: u64 = 8 << 30;
+
+/// Checks that scoring `frames` frames of `size` stays within [`MAX_SCORED_BYTES`].
+pub fn check_memory(size: (u32, u32), frames: usize) -> Result<(), MetricsError> {
+    let bytes = u64::from(size.0) * u64::from(size.1) * 16 * frames as u64;
+    if bytes <= MAX_SCORED_BYTES {
+        return Ok(());
+    }
+    Err(MetricsError::Jod(format!(
+        "scoring holds every frame of the test and the reference: {frames} frames of {}x{} take \
+         {} GiB, more than the {} GiB allowed; score fewer frames",
+        size.0,
+        size.1,
+        bytes >> 30,
+        MAX_SCORED_BYTES >> 30
+    )))
+}
+
+/// Checks pixels per degree given for a viewing distance: finite, above 0 and at most
+/// [`MAX_PIXELS_PER_DEGREE`].
+pub fn check_pixels_per_degree(ppd: f64) -> Result<f64, MetricsError> {
+    if ppd.is_finite() && ppd > 0.0 && ppd <= MAX_PIXELS_PER_DEGREE {
+        Ok(ppd)
+    } else {
+        Err(MetricsError::Jod(format!(
+            "pixels per degree must be above 0 and at most {MAX_PIXELS_PER_DEGREE}, not {ppd}"
+        )))
+    }
+}
+
 /// How JOD figures were computed, as records state it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct JodSetting {
     /// The display model, by its ColorVideoVDP name.
     pub display: String,
+    /// The pixels per degree the model saw: the display model's own or the one given.
+    pub pixels_per_degree: f64,
+    /// Whether `pixels_per_degree` replaced the display model's (a viewing distance given).
+    pub pixels_per_degree_given: bool,
     /// The model's calibration version.
     pub model: &'static str,
     /// The frame rate the clips were played at.
@@ -42,7 +125,7 @@ pub struct JodSetting {
 /// Scores clips against their reference on one display model.
 pub struct JodScorer {
     metric: Cvvdp,
-    display: String,
+    display: JodDisplay,
     /// Whether predictions keep the per-pixel distortion map ([`JodScorer::score_with_map`]).
     mapped: bool,
 }
@@ -52,30 +135,48 @@ fn error(err: colorvideovdp::Error) -> MetricsError {
 }
 
 impl JodScorer {
-    /// A scorer for the standard display model `display` (see [`JodScorer::displays`]).
+    /// A scorer for the standard display model `display` at its own viewing distance (see
+    /// [`JodScorer::displays`]).
     pub fn new(display: &str) -> Result<Self, MetricsError> {
-        Self::build(display, false)
+        Self::for_display(&JodDisplay::named(display), false)
     }
 
     /// [`JodScorer::new`] whose scores also give the per-pixel distortion map (it costs one
     /// more plane per frame while scoring).
     pub fn with_distortion_map(display: &str) -> Result<Self, MetricsError> {
-        Self::build(display, true)
+        Self::for_display(&JodDisplay::named(display), true)
     }
 
-    fn build(display: &str, mapped: bool) -> Result<Self, MetricsError> {
-        let model = DisplayModel::from_name(display).map_err(|err| {
+    /// A scorer for `display` (a standard model, its pixels per degree replaced when given);
+    /// `mapped`: its scores also give the distortion map ([`JodScorer::score_with_map`]).
+    pub fn for_display(display: &JodDisplay, mapped: bool) -> Result<Self, MetricsError> {
+        let mut model = DisplayModel::from_name(&display.name).map_err(|err| {
             MetricsError::Jod(format!(
                 "{err}; display models: {}",
                 Self::displays().join(", ")
             ))
         })?;
+        if let Some(ppd) = display.pixels_per_degree {
+            let ppd = check_pixels_per_degree(ppd)?;
+            model.geometry = Geometry::from_ppd(model.geometry.resolution(), ppd).map_err(error)?;
+        }
         let options = Options::default().with_distortion_map(mapped);
         Ok(Self {
             metric: Cvvdp::new(model, options).map_err(error)?,
-            display: display.to_owned(),
+            display: display.clone(),
             mapped,
         })
+    }
+
+    /// Whether its scores give the distortion map.
+    pub fn mapped(&self) -> bool {
+        self.mapped
+    }
+
+    /// The pixels per degree of the standard display `name` at its own viewing distance.
+    pub fn model_pixels_per_degree(name: &str) -> Option<f64> {
+        let model = DisplayModel::from_name(name).ok()?;
+        Some(model.geometry.pixels_per_degree())
     }
 
     /// The names of the display models the model ships with.
@@ -83,15 +184,22 @@ impl JodScorer {
         DisplayModel::names().unwrap_or_default()
     }
 
-    /// The display model's name.
-    pub fn display(&self) -> &str {
+    /// The display it scores for.
+    pub fn display(&self) -> &JodDisplay {
         &self.display
+    }
+
+    /// The pixels per degree the model sees (the display model's own or the one given).
+    pub fn pixels_per_degree(&self) -> f64 {
+        self.metric.display().geometry.pixels_per_degree()
     }
 
     /// What a record says of figures this scorer gives at `fps`.
     pub fn setting(&self, fps: f32) -> JodSetting {
         JodSetting {
-            display: self.display.clone(),
+            display: self.display.name.clone(),
+            pixels_per_degree: self.pixels_per_degree(),
+            pixels_per_degree_given: self.display.pixels_per_degree.is_some(),
             model: MODEL_VERSION,
             fps,
         }
@@ -311,6 +419,38 @@ mod tests {
             flicker < steady - 0.5,
             "flicker {flicker} should score well below the steady error {steady}"
         );
+    }
+
+    #[test]
+    fn a_nearer_viewer_sees_more_of_the_error_and_the_setting_says_so() {
+        let reference: Vec<_> = (0..4).map(|_| noise(96, 64, 0, 0)).collect();
+        let test: Vec<_> = (0..4).map(|seed| noise(96, 64, seed + 1, 12)).collect();
+        let standard = JodScorer::new(DEFAULT_DISPLAY).expect("display");
+        let own = standard.pixels_per_degree();
+        let score = |ppd: f64| {
+            let display = JodDisplay {
+                name: DEFAULT_DISPLAY.to_owned(),
+                pixels_per_degree: Some(ppd),
+            };
+            let scorer = JodScorer::for_display(&display, false).expect("display");
+            let setting = scorer.setting(30.0);
+            assert_eq!(setting.pixels_per_degree, ppd);
+            assert!(setting.pixels_per_degree_given);
+            scorer.score(&test, &reference, 30.0).expect("score")
+        };
+        // Fine noise is masked for a viewer far away (many pixels per degree) and plain to
+        // one close up.
+        let (near, far) = (score(own / 3.0), score(own * 3.0));
+        assert!(near < far - 0.2, "near {near}, far {far}");
+        let setting = standard.setting(30.0);
+        assert!(!setting.pixels_per_degree_given && (20.0..100.0).contains(&own));
+        for bad in [0.0, -3.0, f64::NAN, MAX_PIXELS_PER_DEGREE + 1.0] {
+            let display = JodDisplay {
+                name: DEFAULT_DISPLAY.to_owned(),
+                pixels_per_degree: Some(bad),
+            };
+            assert!(JodScorer::for_display(&display, false).is_err(), "{bad}");
+        }
     }
 
     #[test]

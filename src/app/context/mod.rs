@@ -111,6 +111,9 @@ pub(super) struct Context {
     /// The shown clip's ColorVideoVDP JOD per technique, as the clip's JOD feature last
     /// published it (blind answers record it).
     pub(super) clip_jod: std::collections::BTreeMap<&'static str, f64>,
+    /// ColorVideoVDP's distortion maps of what is shown, as the JOD feature last published
+    /// them (the magnifier's "JOD distortion" heatmap).
+    pub(super) jod_maps: JodMaps,
     /// Frame pixels a magnifier pane covers (the magnifier sizes it to its panes): with the
     /// settings' centre it places the lens ([`Context::lens`]).
     pub(super) lens_side: u32,
@@ -123,6 +126,19 @@ pub(super) struct Context {
     engine_frame_delay: Duration,
     /// How the engine's images reach the screen.
     display: Display,
+}
+
+/// ColorVideoVDP's per-pixel distortion maps of the panes shown (the JOD feature's, `jod.rs`).
+#[derive(Clone, Default)]
+pub struct JodMaps {
+    /// Counts changes of the JOD feature's figures and maps.
+    pub generation: u64,
+    /// Per pane id: its map (1 - JOD/10 per pixel, mean over the frames), or why it has none
+    /// yet. Panes that are not being scored are absent.
+    pub panes: std::collections::BTreeMap<
+        &'static str,
+        Result<std::sync::Arc<crate::metrics::Plane>, String>,
+    >,
 }
 
 impl Context {
@@ -149,6 +165,7 @@ impl Context {
             render_size: (0, 0),
             lens_side: 0,
             clip_jod: Default::default(),
+            jod_maps: JodMaps::default(),
             images: ImageSetState::new(super::blit::Uploader::new(state)),
             blind: BlindState::default(),
             file_dialog: None,
