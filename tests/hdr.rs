@@ -335,3 +335,29 @@ fn render_writes_the_radiance_of_techniques_before_the_tonemapper_and_compare_sc
         &["HDR-FLIP only"],
     );
 }
+
+#[test]
+fn the_memory_report_counts_the_radiance_outputs_only_while_they_exist() {
+    let gpu = common::gpu();
+    let scene = neon();
+    let techniques = vec![common::technique(
+        &gpu,
+        "fxaa",
+        &[("tonemap_order", "before")],
+    )];
+    let mut graph = common::graph(&gpu, &scene, techniques);
+    let radiance_bytes = |graph: &FrameGraph| -> u64 {
+        (graph.memory_report().techniques.iter())
+            .flat_map(|t| &t.private_items)
+            .filter(|item| item.label.contains("hdr output"))
+            .map(|item| item.bytes)
+            .sum()
+    };
+    graph.set_tonemap(agx());
+    common::render_frames(&mut graph, &scene, SIZE, 0..=0);
+    // Half floats, four channels.
+    assert_eq!(radiance_bytes(&graph), u64::from(SIZE.0 * SIZE.1) * 8);
+    graph.set_tonemap(None);
+    common::render_frames(&mut graph, &scene, SIZE, 0..=0);
+    assert_eq!(radiance_bytes(&graph), 0);
+}

@@ -408,6 +408,10 @@ impl FrameGraph {
             self.scene
                 .set_specular_aa(self.specular_aa && !slot.reference);
             let id = slot.technique.id();
+            if !on_radiance {
+                // Radiance of an earlier HDR frame is released (and leaves the memory report).
+                slot.hdr_output = None;
+            }
             let output = slot
                 .output
                 .get_or_insert_with(|| output_texture(&self.gpu, &format!("{id} output"), size));
