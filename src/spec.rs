@@ -415,11 +415,8 @@ pub fn run(
     let mut radiance = Vec::new();
     for slot in graph.slots().iter().filter(|_| options.radiance) {
         if let Some(texture) = slot.hdr_output() {
-            let bytes = crate::gpu::readback::read_texture_bytes(gpu, texture)?;
-            let size = (texture.width(), texture.height());
-            if let Some(image) = crate::export::radiance::from_half_floats(size, &bytes) {
-                radiance.push((slot.technique.id().to_owned(), image));
-            }
+            let image = crate::gpu::readback::read_texture_radiance(gpu, texture)?;
+            radiance.push((slot.technique.id().to_owned(), image));
         }
     }
     let notes = graph

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 use super::clip_sequences::{ClipSequences, SequenceRecord};
-use super::compare::write_jod_heatmap;
+use super::heatmap_files::write_jod_heatmap;
 use crate::aa::user::file_name_part;
 use crate::export::clip::{self, Definitions, figure};
 use crate::export::clip_writer::ClipFormat;

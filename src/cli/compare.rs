@@ -1,7 +1,7 @@
 //! `aa-lab compare REFERENCE TEST`: scores a test image against a reference with SSIM, PSNR,
 //! MAE and FLIP (see `metrics`), as text or JSON, and optionally writes a heatmap of one
-//! metric's per-pixel map; two OpenEXR images are scored with HDR-FLIP by
-//! [`super::compare_hdr`]. `--gpu` also runs the compute-shader path and prints its numbers
+//! metric's per-pixel map (two OpenEXR images go to [`super::compare_hdr`] instead, for
+//! HDR-FLIP). `--gpu` also runs the compute-shader path and prints its numbers
 //! next to the CPU reference's. Two sequences (folders or globs of numbered frames) are scored
 //! frame by frame and over time by [`super::compare_sequences`].
 
@@ -9,9 +9,9 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
 
-use crate::export::heatmap::{HeatmapStyle, write_heatmap};
+use super::heatmap_files::write_metric_heatmap;
 use crate::export::png::{read_image_limited, read_record};
-use crate::files::{self, Overwrite};
+use crate::files::Overwrite;
 use crate::gpu::Gpu;
 use crate::metrics::gpu::{GpuMetrics, upload_image};
 use crate::metrics::{Comparison, Metric, MetricsError, compare_with_maps};
@@ -105,71 +105,6 @@ fn gpu_scores(reference: &image::RgbaImage, test: &image::RgbaImage) -> anyhow::
     })
 }
 
-/// The heatmap's colour range: SSIM and FLIP span their full 0..1 scale so heatmaps compare
-/// across images; absolute error spans 0 to the largest error (at least 1).
-fn heatmap_range(metric: Metric, map: &crate::metrics::Plane) -> (f32, f32) {
-    match metric {
-        Metric::Ssim | Metric::Flip => (0.0, 1.0),
-        Metric::Mae => (0.0, map.range().1.max(1.0).ceil()),
-    }
-}
-
-/// Writes the heatmap of `metric`'s `map` to `path` with a sidecar record holding `compare`
-/// (what was compared and the scores) and the build.
-pub(super) fn write_metric_heatmap(
-    path: &Path,
-    metric: Metric,
-    map: &crate::metrics::Plane,
-    compare: serde_json::Value,
-    policy: &Overwrite,
-) -> anyhow::Result<()> {
-    let style = HeatmapStyle {
-        legend: metric.legend(),
-        range: heatmap_range(metric, map),
-    };
-    write_compare_heatmap(path, map, &style, compare, policy)
-}
-
-/// Writes a heatmap of `map` in `style` to `path` with a sidecar record holding `compare`
-/// (what was compared and the scores) and the build.
-pub(super) fn write_compare_heatmap(
-    path: &Path,
-    map: &crate::metrics::Plane,
-    style: &HeatmapStyle,
-    compare: serde_json::Value,
-    policy: &Overwrite,
-) -> anyhow::Result<()> {
-    let sidecar = serde_json::json!({
-        "compare": compare,
-        "build": crate::spec::build_id(),
-    });
-    let replaced = write_heatmap(
-        path,
-        map,
-        style,
-        Some(&serde_json::to_string_pretty(&sidecar)?),
-        policy,
-    )?;
-    eprintln!("{}", files::wrote_line(path, replaced));
-    Ok(())
-}
-
-/// Writes ColorVideoVDP's per-pixel distortion `map` (1 - JOD/10, see
-/// [`crate::metrics::jod::JodScorer::score_with_map`]) as a heatmap to `path` with a sidecar
-/// record holding `compare` (`compare --jod-heatmap`, `clip --jod-heatmap`).
-pub(super) fn write_jod_heatmap(
-    path: &Path,
-    map: &crate::metrics::Plane,
-    compare: serde_json::Value,
-    policy: &Overwrite,
-) -> anyhow::Result<()> {
-    let style = HeatmapStyle {
-        legend: "ColorVideoVDP distortion (1 - JOD/10)",
-        range: (0.0, 1.0),
-    };
-    write_compare_heatmap(path, map, &style, compare, policy)
-}
-
 /// The overwrite policy of `--heatmap` with `inputs` (the compared files) never written,
 /// checked against the heatmap's path before any work is done.
 pub(super) fn heatmap_policy<'p>(
@@ -187,10 +122,6 @@ pub(super) fn heatmap_policy<'p>(
 
 /// Runs `aa-lab compare` on two images (the caller checked that neither is a sequence).
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    use crate::export::radiance::is_exr;
-    if is_exr(&args.reference) && is_exr(&args.test) {
-        return super::compare_hdr::run(args);
-    }
     let policy = heatmap_policy(args, [args.reference.as_path(), args.test.as_path()])?;
     let read = |path: &Path| read_image_limited(path, MAX_COMPARE_PIXELS, "compare");
     let reference = read(&args.reference)?;

@@ -7,7 +7,8 @@ use std::path::Path;
 
 use anyhow::{Context, bail};
 
-use super::compare::{CompareArgs, MAX_COMPARE_PIXELS, heatmap_policy, write_metric_heatmap};
+use super::compare::{CompareArgs, MAX_COMPARE_PIXELS, heatmap_policy};
+use super::heatmap_files::write_metric_heatmap;
 use crate::export::radiance::read_radiance;
 use crate::metrics::Metric;
 use crate::metrics::hdr_flip::hdr_flip;

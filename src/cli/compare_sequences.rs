@@ -14,9 +14,8 @@ use std::path::Path;
 
 use anyhow::Context;
 
-use super::compare::{
-    CompareArgs, MAX_COMPARE_PIXELS, heatmap_policy, write_jod_heatmap, write_metric_heatmap,
-};
+use super::compare::{CompareArgs, MAX_COMPARE_PIXELS, heatmap_policy};
+use super::heatmap_files::{write_jod_heatmap, write_metric_heatmap};
 use crate::export::clip::{Definitions, figure};
 use crate::files::Overwrite;
 use crate::metrics::jod::{self, JodSetting};

@@ -18,6 +18,7 @@ mod clip_sequences;
 mod compare;
 mod compare_hdr;
 mod compare_sequences;
+mod heatmap_files;
 mod info;
 mod parse;
 mod render;
@@ -228,7 +229,8 @@ pub fn error_message(err: &anyhow::Error) -> String {
     text
 }
 
-/// `aa-lab compare`: two images ([`compare`]) or two sequences ([`compare_sequences`]).
+/// `aa-lab compare`: two images ([`compare`]; two OpenEXR images: [`compare_hdr`]) or two
+/// sequences ([`compare_sequences`]).
 fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
     match (
         is_sequence_path(&args.reference),
@@ -239,6 +241,12 @@ fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
             "--jod scores two sequences (ColorVideoVDP is a video metric); record a clip with \
              `aa-lab clip --jod` or compare two folders of frames"
         ),
+        (false, false)
+            if crate::export::radiance::is_exr(&args.reference)
+                && crate::export::radiance::is_exr(&args.test) =>
+        {
+            compare_hdr::run(args)
+        }
         (false, false) => compare::run(args),
         (reference, _) => anyhow::bail!(
             "cannot compare {} with {}: {} is a sequence (a folder or a pattern of frames) and \

@@ -41,36 +41,14 @@ pub fn is_exr(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
 }
 
-/// The linear RGB image of half-float RGBA texels (`gpu::HDR_FORMAT`, tightly packed rows),
-/// or `None` when the byte count does not match the size.
-pub fn from_half_floats(size: (u32, u32), bytes: &[u8]) -> Option<image::Rgb32FImage> {
-    let texels = bytes.len() / 8;
-    if texels != (size.0 as usize) * (size.1 as usize) || !bytes.len().is_multiple_of(8) {
-        return None;
-    }
-    let values: Vec<f32> = bytes
-        .chunks_exact(8)
-        .flat_map(|texel| {
-            (0..3).map(move |c| half::f16::from_le_bytes([texel[2 * c], texel[2 * c + 1]]).to_f32())
-        })
-        .collect();
-    image::Rgb32FImage::from_raw(size.0, size.1, values)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn half_floats_decode_and_a_written_file_reads_back() {
-        let texel = |v: f32| {
-            let h = half::f16::from_f32(v).to_le_bytes();
-            [h[0], h[1], h[0], h[1], h[0], h[1], 0, 0x3c]
-        };
-        let bytes: Vec<u8> = [0.5f32, 40.0].iter().flat_map(|&v| texel(v)).collect();
-        let image = from_half_floats((2, 1), &bytes).expect("two texels");
-        assert_eq!(image.get_pixel(1, 0).0, [40.0; 3]);
-        assert!(from_half_floats((3, 1), &bytes).is_none());
+    fn a_written_file_reads_back_and_is_never_replaced_without_force() {
+        let image = image::Rgb32FImage::from_raw(2, 1, vec![0.5, 0.5, 0.5, 40.0, 40.0, 40.0])
+            .expect("two pixels");
         let dir = tempfile::tempdir().expect("temp dir");
         let path = dir.path().join("r.exr");
         assert!(is_exr(&path));

@@ -81,6 +81,37 @@ pub fn read_texture_bytes(gpu: &Gpu, texture: &wgpu::Texture) -> Result<Vec<u8>,
     )
 }
 
+/// Reads a half-float RGBA texture (`Rgba16Float`: the radiance of a technique before the
+/// tonemapper) into a linear RGB image (alpha dropped): one encoder, one submission, a
+/// blocking wait.
+pub fn read_texture_radiance(
+    gpu: &Gpu,
+    texture: &wgpu::Texture,
+) -> Result<image::Rgb32FImage, ReadbackError> {
+    if texture.format() != wgpu::TextureFormat::Rgba16Float {
+        return Err(ReadbackError::UnsupportedFormat(texture.format()));
+    }
+    let bytes = read_texture_bytes(gpu, texture)?;
+    from_half_floats((texture.width(), texture.height()), &bytes)
+        .ok_or(ReadbackError::UnsupportedFormat(texture.format()))
+}
+
+/// The linear RGB image of half-float RGBA texels (`gpu::HDR_FORMAT`, tightly packed rows),
+/// or `None` when the byte count does not match the size.
+fn from_half_floats(size: (u32, u32), bytes: &[u8]) -> Option<image::Rgb32FImage> {
+    let texels = bytes.len() / 8;
+    if texels != (size.0 as usize) * (size.1 as usize) || !bytes.len().is_multiple_of(8) {
+        return None;
+    }
+    let values: Vec<f32> = bytes
+        .chunks_exact(8)
+        .flat_map(|texel| {
+            (0..3).map(move |c| half::f16::from_le_bytes([texel[2 * c], texel[2 * c + 1]]).to_f32())
+        })
+        .collect();
+    image::Rgb32FImage::from_raw(size.0, size.1, values)
+}
+
 /// Reads an RGBA8 texture (`Rgba8Unorm` or `Rgba8UnormSrgb`: the stored, encoded bytes) into an
 /// image: one encoder, one submission, a blocking wait (on a belt of its own).
 pub fn read_texture_rgba8(
@@ -126,5 +157,17 @@ mod tests {
         send::<PendingReadback>();
         send::<ReadbackFrame>();
         send::<Ticket>();
+    }
+
+    #[test]
+    fn half_float_texels_decode_to_linear_rgb() {
+        let texel = |v: f32| {
+            let h = half::f16::from_f32(v).to_le_bytes();
+            [h[0], h[1], h[0], h[1], h[0], h[1], 0, 0x3c]
+        };
+        let bytes: Vec<u8> = [0.5f32, 40.0].iter().flat_map(|&v| texel(v)).collect();
+        let image = from_half_floats((2, 1), &bytes).expect("two texels");
+        assert_eq!(image.get_pixel(1, 0).0, [40.0; 3]);
+        assert!(from_half_floats((3, 1), &bytes).is_none());
     }
 }
