@@ -127,6 +127,12 @@ pub fn holds_radiance(texture: &wgpu::Texture) -> bool {
     texture.format() == HDR_FORMAT
 }
 
+/// The format of a technique's output: half-float radiance before the tonemapper, display
+/// values otherwise.
+pub fn output_format(radiance: bool) -> wgpu::TextureFormat {
+    if radiance { HDR_FORMAT } else { COLOR_FORMAT }
+}
+
 /// The view a pass that works on display-encoded values reads or writes: the encoded view of
 /// an RGBA8 sRGB texture, or the plain view of a radiance texture (which has no encoding: the
 /// pass then works on radiance, as an engine's post pass before its tonemapper does).

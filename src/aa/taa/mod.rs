@@ -71,12 +71,12 @@ use crate::aa::common::pass::Binding;
 use crate::aa::common::temporal::{
     HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset,
 };
-use crate::aa::common::{RADIANCE_WGSL, encoded_view, holds_radiance};
+use crate::aa::common::{RADIANCE_WGSL, encoded_view, holds_radiance, output_format};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
-use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu, HDR_FORMAT};
+use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
 use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
@@ -216,7 +216,7 @@ impl Taa {
         radiance: bool,
     ) -> wgpu::RenderPipeline {
         let s = self.settings;
-        let output = if radiance { HDR_FORMAT } else { COLOR_FORMAT };
+        let output = output_format(radiance);
         let key = PipelineKey {
             history_filter: s.history_filter,
             rectify: s.rectify,

@@ -47,12 +47,12 @@ use crate::aa::common::pass::{self, Binding};
 use crate::aa::common::temporal::{
     HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset,
 };
-use crate::aa::common::{RADIANCE_WGSL, holds_radiance};
+use crate::aa::common::{RADIANCE_WGSL, holds_radiance, output_format};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
+use crate::gpu::Gpu;
 use crate::gpu::shader::Shader;
-use crate::gpu::{COLOR_FORMAT, Gpu, HDR_FORMAT};
 use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
@@ -186,7 +186,7 @@ impl Taau {
         radiance: bool,
     ) -> wgpu::RenderPipeline {
         let constants = self.settings.constants(radiance);
-        let output = if radiance { HDR_FORMAT } else { COLOR_FORMAT };
+        let output = output_format(radiance);
         let key = PipelineKey {
             constants: constants.map(|(name, value)| (name, value.to_bits())),
             debug,
