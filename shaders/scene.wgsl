@@ -246,7 +246,7 @@ fn shade_fragment(
     if OUTPUT == 1u {
         shown = max(rgb, vec3<f32>(0.0));
     } else if OUTPUT == 2u {
-        shown = tonemap_operator(max(rgb * view.params.z, vec3<f32>(0.0)));
+        shown = tonemap_radiance(rgb, view.params.z);
     }
     out.color = vec4<f32>(shown, alpha);
     if BLENDED {

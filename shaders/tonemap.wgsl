@@ -9,14 +9,10 @@ struct Exposure {
 
 @group(0) @binding(1) var<uniform> exposure: Exposure;
 
-fn tonemap(radiance: vec3<f32>) -> vec3<f32> {
-    return tonemap_operator(max(radiance * exposure.scale.x, vec3<f32>(0.0)));
-}
-
 @group(0) @binding(0) var source: texture_2d<f32>;
 
 @fragment
 fn fs_tonemap(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let texel = textureLoad(source, vec2<i32>(position.xy), 0);
-    return vec4<f32>(tonemap(texel.rgb), texel.a);
+    return vec4<f32>(tonemap_radiance(texel.rgb, exposure.scale.x), texel.a);
 }

@@ -63,6 +63,11 @@ fn pbr_neutral(color_in: vec3<f32>) -> vec3<f32> {
     return mix(color, vec3<f32>(new_peak), g);
 }
 
+// Radiance through an exposure `scale` (2^EV) and the operator, to linear display values.
+fn tonemap_radiance(radiance: vec3<f32>, scale: f32) -> vec3<f32> {
+    return tonemap_operator(max(radiance * scale, vec3<f32>(0.0)));
+}
+
 // The operator of `OPERATOR` on exposed radiance `x` (non-negative), to linear display values.
 fn tonemap_operator(x: vec3<f32>) -> vec3<f32> {
     switch OPERATOR {

@@ -25,7 +25,7 @@
 
 use crate::gpu::fullscreen::{FragmentDesc, Fullscreen};
 use crate::gpu::{self, Gpu};
-use crate::graph::params::{Named, Param};
+use crate::graph::params::Param;
 use crate::scene::renderer::{Tonemap, Tonemapper};
 
 crate::named_enum! {
@@ -87,29 +87,6 @@ impl TonemapChoice {
             Self::Neutral => Tonemapper::Neutral,
         };
         Some(Tonemap { operator, exposure })
-    }
-
-    /// The choice naming `operator`.
-    pub fn of(operator: Tonemapper) -> Self {
-        match operator {
-            Tonemapper::Reinhard => Self::Reinhard,
-            Tonemapper::Aces => Self::Aces,
-            Tonemapper::Agx => Self::Agx,
-            Tonemapper::Neutral => Self::Neutral,
-        }
-    }
-}
-
-/// A short description of a tonemap for labels and reports (`agx +1.0 EV`, `LDR`).
-pub fn describe(tonemap: Option<Tonemap>) -> String {
-    match tonemap {
-        Some(t) if t.exposure == 0.0 => TonemapChoice::of(t.operator).name().to_owned(),
-        Some(t) => format!(
-            "{} {:+.1} EV",
-            TonemapChoice::of(t.operator).name(),
-            t.exposure
-        ),
-        None => "LDR".to_owned(),
     }
 }
 
@@ -182,7 +159,7 @@ impl TonemapPass {
         let pipeline = fullscreen.pipeline(
             &gpu.device,
             &FragmentDesc {
-                label: &format!("tonemap {}", describe(Some(tonemap))),
+                label: &format!("tonemap {:?}", tonemap.operator),
                 module: &self.module,
                 entry_point: "fs_tonemap",
                 targets: &[gpu::COLOR_FORMAT],

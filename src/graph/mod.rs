@@ -212,16 +212,16 @@ impl FrameGraph {
         (self.tonemap).set_tonemap(&self.gpu, &self.fullscreen, tonemap);
     }
 
-    /// The tonemap of HDR frames (`None`: LDR).
-    pub fn tonemap(&self) -> Option<Tonemap> {
-        self.tonemap.tonemap()
+    /// The tonemap this frame renders with: the one set, unless in image mode (`None`: LDR).
+    fn frame_tonemap(&self) -> Option<Tonemap> {
+        self.tonemap
+            .tonemap()
+            .filter(|_| self.image_input.is_none())
     }
 
     /// Whether the slot's technique runs on radiance this frame (HDR, before the tonemapper).
     fn on_radiance(&self, slot: &Slot) -> bool {
-        self.image_input.is_none()
-            && self.tonemap.tonemap().is_some()
-            && slot.technique.tonemap_order() == TonemapOrder::Before
+        self.frame_tonemap().is_some() && slot.technique.tonemap_order() == TonemapOrder::Before
     }
 
     /// Turns geometric specular antialiasing on or off in the scene renders of every technique
@@ -395,11 +395,7 @@ impl FrameGraph {
         let samples = self.inputs_used.iter().map(|u| u.desc.sample_count);
         (self.overlay).prepare(&self.gpu, &self.fullscreen, size, samples.chain([1]));
         self.scene.set_specular_aa(self.specular_aa);
-        let tonemap = self
-            .tonemap
-            .tonemap()
-            .filter(|_| self.image_input.is_none());
-        self.scene.set_tonemap(tonemap);
+        self.scene.set_tonemap(self.frame_tonemap());
         self.render_inputs(&mut encoder, &camera, size);
         // 3. Every running technique's passes (after 1, plan_inputs, and 2, render_inputs).
         for &i in &active {
