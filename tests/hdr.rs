@@ -120,9 +120,10 @@ fn each_tonemap_order_wins_against_its_own_reference() {
         );
         // Run on radiance, the technique spreads a bright tube's radiance over its
         // neighbours, as the camera's average does; run on displayed values, it blends
-        // displayed values, as the display-referred average does.
+        // displayed values, as the display-referred average does. (The first margin is the
+        // smaller: on the wide background the two orders now agree, and the gap is the tubes'.)
         assert!(
-            against_camera.0 < against_camera.1 * 0.8,
+            against_camera.0 < against_camera.1 * 0.9,
             "{name}: {against_camera:?}"
         );
         assert!(
@@ -360,4 +361,39 @@ fn the_memory_report_counts_the_radiance_outputs_only_while_they_exist() {
     graph.set_tonemap(None);
     common::render_frames(&mut graph, &scene, SIZE, 0..=0);
     assert_eq!(radiance_bytes(&graph), 0);
+}
+
+#[test]
+fn the_background_is_tonemapped_alike_before_and_after_the_tonemapper() {
+    // The clear colour of a tonemapped render is tonemapped on the CPU (`Tonemap::apply`);
+    // that of a render of radiance goes through the graph's tonemap pass on the GPU. The
+    // corner of neon is background: both must show it alike, for every operator and an
+    // exposure that lifts it.
+    let gpu = common::gpu();
+    let scene = neon();
+    for operator in [
+        Tonemapper::Reinhard,
+        Tonemapper::Aces,
+        Tonemapper::Agx,
+        Tonemapper::Neutral,
+    ] {
+        let tonemap = Some(Tonemap {
+            operator,
+            exposure: 4.0,
+        });
+        let techniques = vec![
+            common::technique(&gpu, "none", &[]),
+            common::technique(&gpu, "msaa4", &[]),
+        ];
+        let images = render(&gpu, &scene, tonemap, techniques);
+        let (after, before) = (images[0].get_pixel(2, 2), images[1].get_pixel(2, 2));
+        assert!(
+            common::largest_channel_difference(after, before) <= 1,
+            "{operator:?}: {after:?} after the tonemapper, {before:?} before"
+        );
+        assert!(
+            after[2] > 20,
+            "{operator:?}: the background {after:?} is not lifted"
+        );
+    }
 }

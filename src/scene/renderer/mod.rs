@@ -686,7 +686,14 @@ impl SceneRenderer {
             .motion
             .as_ref()
             .map(|t| t.create_view(&Default::default()));
-        let c = self.clear_color;
+        // The background is radiance too: a tonemapped render clears to its tonemapped value,
+        // as the graph's tonemap pass gives a render of radiance.
+        let c = match SceneOutput::of(targets.color.format(), self.tonemap.as_ref()) {
+            SceneOutput::Tonemapped(_) => {
+                (self.tonemap).map_or(self.clear_color, |t| t.apply(self.clear_color))
+            }
+            SceneOutput::Display | SceneOutput::Radiance => self.clear_color,
+        };
         let color_attachment = wgpu::RenderPassColorAttachment {
             view: &color_view,
             depth_slice: None,

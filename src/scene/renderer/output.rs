@@ -5,6 +5,8 @@
 //! `shaders/tonemap_operators.wgsl`; their names, the command-line choices and the tonemap pass
 //! live in `graph::hdr`.
 
+use glam::{Mat3, Vec3};
+
 use crate::gpu::HDR_FORMAT;
 
 /// A tonemapping operator: exposed linear radiance to linear display values in [0, 1].
@@ -47,6 +49,67 @@ impl Tonemap {
     pub fn scale(&self) -> f32 {
         self.exposure.exp2()
     }
+
+    /// `radiance` through the exposure and the operator, on the CPU: the clear colour of a
+    /// tonemapped render, which no fragment shader sees. The same curves as
+    /// `shaders/tonemap_operators.wgsl` (a test holds them together).
+    pub fn apply(&self, radiance: Vec3) -> Vec3 {
+        let x = (radiance * self.scale()).max(Vec3::ZERO);
+        let y = match self.operator {
+            Tonemapper::Reinhard => x / (Vec3::ONE + x),
+            Tonemapper::Aces => (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14),
+            Tonemapper::Agx => agx(x),
+            Tonemapper::Neutral => pbr_neutral(x),
+        };
+        y.clamp(Vec3::ZERO, Vec3::ONE)
+    }
+}
+
+/// AgX as in `tonemap_operators.wgsl`.
+fn agx(x: Vec3) -> Vec3 {
+    let inset = Mat3::from_cols(
+        Vec3::new(0.842_479_06, 0.042_328_24, 0.042_375_655),
+        Vec3::new(0.078_433_6, 0.878_468_6, 0.078_433_6),
+        Vec3::new(0.079_223_745, 0.079_166_13, 0.879_143),
+    );
+    let outset = Mat3::from_cols(
+        Vec3::new(1.196_879, -0.052_896_85, -0.052_971_64),
+        Vec3::new(-0.098_020_88, 1.151_903_1, -0.098_043_45),
+        Vec3::new(-0.099_029_74, -0.098_961_18, 1.151_073_7),
+    );
+    let (min_ev, max_ev) = (-12.47393_f32, 4.026069_f32);
+    let encoded = (inset * x)
+        .max(Vec3::splat(1e-10))
+        .to_array()
+        .map(|v| (v.log2().clamp(min_ev, max_ev) - min_ev) / (max_ev - min_ev));
+    let curve = |v: f32| {
+        let (v2, v4) = (v * v, v * v * v * v);
+        15.5 * v4 * v2 - 40.14 * v4 * v + 31.96 * v4 - 6.868 * v2 * v + 0.4298 * v2 + 0.1191 * v
+            - 0.00232
+    };
+    let curved = Vec3::from_array(encoded.map(curve));
+    (outset * curved).clamp(Vec3::ZERO, Vec3::ONE).powf(2.2)
+}
+
+/// Khronos PBR Neutral as in `tonemap_operators.wgsl`.
+fn pbr_neutral(color: Vec3) -> Vec3 {
+    let (start_compression, desaturation) = (0.8 - 0.04, 0.15);
+    let lowest = color.min_element();
+    let offset = if lowest < 0.08 {
+        lowest - 6.25 * lowest * lowest
+    } else {
+        0.04
+    };
+    let color = color - Vec3::splat(offset);
+    let peak = color.max_element();
+    if peak < start_compression {
+        return color;
+    }
+    let d = 1.0 - start_compression;
+    let new_peak = 1.0 - d * d / (peak + d - start_compression);
+    let color = color * (new_peak / peak);
+    let g = 1.0 - 1.0 / (desaturation * (peak - new_peak) + 1.0);
+    color.lerp(Vec3::splat(new_peak), g)
 }
 
 /// What a render's colour target receives (the scene shader's `OUTPUT` constant).
