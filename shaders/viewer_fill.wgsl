@@ -1,6 +1,6 @@
-// The viewer's solid fill (src/app/blit.rs): one opaque colour over the viewport egui set,
-// without blending (egui's own rectangles blend and sample a texture per pixel, which a
-// software rasteriser pays for on every pixel of every panel).
+// The viewer's solid fill (src/app/blit.rs): one colour over the viewport egui set, opaque or
+// (premultiplied) blended by the pipeline, without a texture (egui's own rectangles sample a
+// texture per pixel, which a software rasteriser pays for on every pixel of every panel).
 
 @group(0) @binding(0) var<uniform> color: vec4<f32>;
 

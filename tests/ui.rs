@@ -23,7 +23,8 @@ use egui_kittest::kittest::Queryable;
 use egui_kittest::{Harness, SnapshotOptions};
 use viewer::{
     TIMEOUT, WINDOW, add_user_technique_instead_of_fxaa, blind_answers, click_with, drag,
-    drop_on_window, launch_in, pan_clip_with_reference, settled, viewer, viewer_with, wait,
+    drop_on_window, launch_in, launch_stepped, pan_clip_with_reference, settled, viewer,
+    viewer_with, wait,
 };
 
 /// The lens rectangle on screen, from the magnifier settings and the drawn image.
@@ -188,6 +189,50 @@ fn layouts_switch_from_toolbar_and_keys() {
     assert!(
         tile.0 < single.0 && tile.1 < single.1,
         "{tile:?} vs {single:?}"
+    );
+}
+
+/// The mean brightness of the window's left strip (beside the centred help overlay).
+fn left_strip_brightness(screen: &image::RgbaImage) -> f64 {
+    let strip = (0..screen.height()).flat_map(|y| (0..24).map(move |x| (x, y)));
+    let (sum, count) = strip.fold((0u64, 0u64), |(sum, count), (x, y)| {
+        let p = screen.get_pixel(x, y).0;
+        (
+            sum + u64::from(p[0]) + u64::from(p[1]) + u64::from(p[2]),
+            count + 3,
+        )
+    });
+    sum as f64 / count as f64
+}
+
+#[test]
+fn the_help_overlay_shows_in_full_on_the_first_frame_after_its_key() {
+    // Frames a display's refresh apart, with egui's animations on (egui_kittest turns them off),
+    // as in the window.
+    let builder = Harness::<AaLabApp>::builder().with_step_dt(1.0 / 60.0);
+    let mut harness = launch_stepped(WINDOW, "chart", Duration::ZERO, DisplayPath::Auto, builder);
+    harness.state_mut().camera_mut().playing = false;
+    let animation_time = egui::Style::default().animation_time;
+    harness
+        .ctx
+        .all_styles_mut(|style| style.animation_time = animation_time);
+    wait(&mut harness, "the first frame", AaLabApp::frame_ready);
+    let before = left_strip_brightness(&harness.render().expect("the UI renders"));
+    harness.key_press(egui::Key::F1);
+    harness.step();
+    let _ = harness.get_by_label("Keyboard and mouse");
+    let shown = left_strip_brightness(&harness.render().expect("the UI renders"));
+    // The backdrop darkens the window by 100/255 at once (no fade over later frames).
+    assert!(
+        shown < before * 0.7,
+        "the window under the help is not dimmed on the first frame: {shown:.1} vs {before:.1}"
+    );
+    harness.key_press(egui::Key::F1);
+    harness.step();
+    let closed = left_strip_brightness(&harness.render().expect("the UI renders"));
+    assert!(
+        (closed - before).abs() < before * 0.02,
+        "the window is not restored after the help closes: {closed:.1} vs {before:.1}"
     );
 }
 

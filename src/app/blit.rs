@@ -166,6 +166,7 @@ impl<K: std::hash::Hash + Eq> Pass<K> {
         state: &egui_wgpu::RenderState,
         shader: &str,
         entries: &[wgpu::BindGroupLayoutEntry],
+        blend: Option<wgpu::BlendState>,
     ) -> Self {
         let device = &state.device;
         let module = crate::gpu::shader::module(device, shader);
@@ -193,7 +194,7 @@ impl<K: std::hash::Hash + Eq> Pass<K> {
                 compilation_options: Default::default(),
                 targets: &[Some(wgpu::ColorTargetState {
                     format: state.target_format,
-                    blend: None,
+                    blend,
                     write_mask: wgpu::ColorWrites::ALL,
                 })],
             }),
@@ -245,7 +246,8 @@ impl<K: std::hash::Hash + Eq> Pass<K> {
 /// The passes (in egui's callback resources) and the frame they last drew.
 struct Resources {
     images: Pass<ImageKey>,
-    fills: Pass<[u8; 4]>,
+    /// Opaque fills, and translucent ones blended over what is under them ([`fill_pass`]).
+    fills: [Pass<[u8; 4]>; 2],
     /// The framebuffer encodes to sRGB itself (fill colours are written linear then).
     srgb_target: bool,
     frame: u64,
@@ -258,7 +260,7 @@ impl Resources {
             self.frame = frame;
             let oldest = frame.saturating_sub(KEEP_FRAMES);
             self.images.evict(oldest);
-            self.fills.evict(oldest);
+            self.fills.iter_mut().for_each(|pass| pass.evict(oldest));
         }
     }
 }
@@ -298,8 +300,15 @@ pub fn install(state: &egui_wgpu::RenderState) {
         count: None,
     };
     let resources = Resources {
-        images: Pass::new(state, "viewer_blit.wgsl", &[texture, uniform_entry(1)]),
-        fills: Pass::new(state, "viewer_fill.wgsl", &[uniform_entry(0)]),
+        images: Pass::new(
+            state,
+            "viewer_blit.wgsl",
+            &[texture, uniform_entry(1)],
+            None,
+        ),
+        // egui's framebuffer holds premultiplied alpha, as `Color32` does.
+        fills: [None, Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING)]
+            .map(|blend| Pass::new(state, "viewer_fill.wgsl", &[uniform_entry(0)], blend)),
         srgb_target: state.target_format.is_srgb(),
         frame: 0,
     };
@@ -369,6 +378,11 @@ struct Fill {
     frame: u64,
 }
 
+/// Which of [`Resources::fills`] draws `color`: translucent colours blend.
+fn fill_pass(color: egui::Color32) -> usize {
+    usize::from(!color.is_opaque())
+}
+
 impl egui_wgpu::CallbackTrait for Fill {
     fn prepare(
         &self,
@@ -381,11 +395,12 @@ impl egui_wgpu::CallbackTrait for Fill {
         if let Some(resources) = resources.get_mut::<Resources>() {
             resources.begin(self.frame);
             let srgb_target = resources.srgb_target;
-            resources
-                .fills
-                .prepare(self.color.to_array(), self.frame, |layout| {
+            resources.fills[fill_pass(self.color)].prepare(
+                self.color.to_array(),
+                self.frame,
+                |layout| {
                     // The colour as the framebuffer takes it: encoded bytes on a linear target
-                    // (egui's convention), linear light on an sRGB one.
+                    // (egui's convention), linear light on an sRGB one; premultiplied.
                     let channel = |c: u8| {
                         if srgb_target {
                             egui::ecolor::linear_f32_from_gamma_u8(c)
@@ -393,8 +408,8 @@ impl egui_wgpu::CallbackTrait for Fill {
                             f32::from(c) / 255.0
                         }
                     };
-                    let [r, g, b, _] = self.color.to_array();
-                    let color = [channel(r), channel(g), channel(b), 1.0];
+                    let [r, g, b, a] = self.color.to_array();
+                    let color = [channel(r), channel(g), channel(b), f32::from(a) / 255.0];
                     let buffer = uniform_buffer(device, bytemuck::bytes_of(&color));
                     device.create_bind_group(&wgpu::BindGroupDescriptor {
                         label: Some("display fill"),
@@ -404,7 +419,8 @@ impl egui_wgpu::CallbackTrait for Fill {
                             resource: buffer.as_entire_binding(),
                         }],
                     })
-                });
+                },
+            );
         }
         Vec::new()
     }
@@ -416,23 +432,28 @@ impl egui_wgpu::CallbackTrait for Fill {
         resources: &egui_wgpu::CallbackResources,
     ) {
         if let Some(resources) = resources.get::<Resources>() {
-            resources.fills.draw(&self.color.to_array(), pass);
+            resources.fills[fill_pass(self.color)].draw(&self.color.to_array(), pass);
         }
     }
 }
 
-/// Fills `rect` (points, within `painter`'s clip rectangle) with the opaque `color`, without
-/// egui's per-pixel texture sampling and blending: for the large backgrounds of the window.
+/// Fills `rect` (points, within `painter`'s clip rectangle) with `color`, without egui's
+/// per-pixel texture sampling: for the large backgrounds of the window, and (translucent,
+/// blended) for dimming it under an overlay.
 pub fn fill(painter: &egui::Painter, rect: Rect, color: egui::Color32) {
     let shown = rect.intersect(painter.clip_rect());
-    if !shown.is_positive() {
-        return;
+    if shown.is_positive() {
+        painter.add(fill_shape(painter.ctx(), shown, color));
     }
+}
+
+/// The shape [`fill`] adds, for a place reserved in a painter before the rectangle was known.
+pub fn fill_shape(ctx: &egui::Context, rect: Rect, color: egui::Color32) -> egui::Shape {
     let fill = Fill {
         color,
-        frame: painter.ctx().cumulative_frame_nr(),
+        frame: ctx.cumulative_frame_nr(),
     };
-    painter.add(egui_wgpu::Callback::new_paint_callback(shown, fill));
+    egui_wgpu::Callback::new_paint_callback(rect, fill).into()
 }
 
 /// Draws the `uv` part of `texture` into `rect` (points) with `painter`'s clip rectangle,

@@ -6,6 +6,7 @@ use egui::{Key, KeyboardShortcut, Modifiers};
 
 use super::blind::DIGIT_KEYS;
 use super::settings::Layout;
+use super::{blit, style};
 
 /// Something a shortcut does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -228,53 +229,88 @@ pub(super) fn shortcut_hint(ctx: &egui::Context, action: Action, text: &str) -> 
 }
 
 /// The help overlay (a modal listing every key), while `open` is set.
+///
+/// It shows in full on the first frame after the key, and its large areas are painted by
+/// [`blit::fill`]: egui's modal fades in over several frames and paints its backdrop and
+/// frame through egui's textured shader, which on a software rasteriser made each frame of
+/// the overlay several times as slow as the window without it (figures: `docs/viewer.md`).
 pub fn help_overlay(ctx: &egui::Context, open: &mut bool) {
     if !*open {
         return;
     }
-    let modal = egui::Modal::new(egui::Id::unique("aa-lab help")).show(ctx, |ui| {
-        ui.set_width(560.0);
-        ui.heading("Keyboard and mouse");
-        ui.add_space(6.0);
-        egui::Grid::new("shortcut table")
-            .num_columns(2)
-            .spacing([24.0, 4.0])
-            .striped(true)
-            .show(ui, |ui| {
-                let mut seen = Vec::new();
-                for s in SHORTCUTS {
-                    if seen.contains(&s.action) {
-                        continue;
-                    }
-                    seen.push(s.action);
-                    let keys: Vec<String> = SHORTCUTS
-                        .iter()
-                        .filter(|o| o.action == s.action)
-                        .map(|o| ctx.format_shortcut(&o.shortcut))
-                        .collect();
-                    ui.monospace(keys.join("  or  "));
-                    ui.label(s.help);
-                    ui.end_row();
-                }
-                for (keys, help) in OTHER_KEYS {
-                    ui.monospace(*keys);
-                    ui.label(*help);
-                    ui.end_row();
-                }
-            });
-        ui.add_space(8.0);
-        ui.horizontal(|ui| {
-            ui.weak("Every number in the metrics panel explains itself in a tooltip.");
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                ui.button("Close").clicked()
-            })
-            .inner
-        })
-        .inner
-    });
+    let id = egui::Id::unique("aa-lab help");
+    // Between the panels (background) and the modal (foreground).
+    let backdrop = ctx.layer_painter(egui::LayerId::new(egui::Order::Middle, id.with("backdrop")));
+    blit::fill(&backdrop, ctx.content_rect(), HELP_BACKDROP);
+    let modal = egui::Modal::new(id)
+        .area(egui::Modal::default_area(id).fade_in(false))
+        .backdrop_color(egui::Color32::TRANSPARENT)
+        .frame(egui::Frame::NONE)
+        .show(ctx, |ui| {
+            let background = ui.painter().add(egui::Shape::Noop);
+            let panel = egui::Frame::NONE
+                .inner_margin(HELP_MARGIN)
+                .show(ui, help_contents);
+            let rect = panel.response.rect;
+            ui.painter()
+                .set(background, blit::fill_shape(ctx, rect, style::PANEL_FILL));
+            let border = egui::Stroke::new(1.0, ui.visuals().window_stroke.color);
+            ui.painter()
+                .rect_stroke(rect, 0.0, border, egui::StrokeKind::Inside);
+            panel.inner
+        });
     if modal.inner || modal.should_close() {
         *open = false;
     }
+}
+
+/// How much the help overlay darkens the window under it.
+const HELP_BACKDROP: egui::Color32 = egui::Color32::from_black_alpha(100);
+
+/// The margin around the help overlay's text (points).
+const HELP_MARGIN: f32 = 14.0;
+
+/// The help overlay's text; true when its Close button was clicked.
+fn help_contents(ui: &mut egui::Ui) -> bool {
+    let ctx = ui.ctx().clone();
+    ui.set_width(560.0);
+    ui.heading("Keyboard and mouse");
+    ui.add_space(6.0);
+    egui::Grid::new("shortcut table")
+        .num_columns(2)
+        .spacing([24.0, 4.0])
+        .striped(true)
+        .show(ui, |ui| {
+            let mut seen = Vec::new();
+            for s in SHORTCUTS {
+                if seen.contains(&s.action) {
+                    continue;
+                }
+                seen.push(s.action);
+                let keys: Vec<String> = SHORTCUTS
+                    .iter()
+                    .filter(|o| o.action == s.action)
+                    .map(|o| ctx.format_shortcut(&o.shortcut))
+                    .collect();
+                ui.monospace(keys.join("  or  "));
+                ui.label(s.help);
+                ui.end_row();
+            }
+            for (keys, help) in OTHER_KEYS {
+                ui.monospace(*keys);
+                ui.label(*help);
+                ui.end_row();
+            }
+        });
+    ui.add_space(8.0);
+    ui.horizontal(|ui| {
+        ui.weak("Every number in the metrics panel explains itself in a tooltip.");
+        ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+            ui.button("Close").clicked()
+        })
+        .inner
+    })
+    .inner
 }
 
 #[cfg(test)]

@@ -63,8 +63,25 @@ pub fn launch_in(
     frame_delay: Duration,
     display: DisplayPath,
 ) -> Harness<'static, AaLabApp> {
+    launch_stepped(
+        window,
+        scene,
+        frame_delay,
+        display,
+        Harness::<AaLabApp>::builder(),
+    )
+}
+
+/// [`launch_in`] with the harness's own settings from `builder` (its time step, say).
+pub fn launch_stepped(
+    window: egui::Vec2,
+    scene: &str,
+    frame_delay: Duration,
+    display: DisplayPath,
+    builder: egui_kittest::HarnessBuilder<AaLabApp>,
+) -> Harness<'static, AaLabApp> {
     let scene = scene.to_owned();
-    Harness::builder()
+    builder
         .with_size(window)
         .wgpu_setup(aa_lab::app::wgpu_setup())
         .build_eframe(move |cc| {
