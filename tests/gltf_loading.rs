@@ -408,6 +408,62 @@ fn sparse_accessor_overrides_positions() {
 }
 
 #[test]
+fn emission_and_its_strength_make_an_hdr_scene_and_an_emissive_map_warns() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut asset = Asset::new();
+    asset.ensure("materials");
+    let material = |asset: &mut Asset, extra: Value| {
+        let mut json = json!({"name": format!("m{extra}"), "emissiveFactor": [1.0, 0.5, 0.25]});
+        json.as_object_mut()
+            .expect("object")
+            .extend(extra.as_object().expect("object").clone());
+        let index = asset.push("materials", json);
+        let mesh = asset.quad(Some(index), true);
+        asset.node(json!({"mesh": mesh}), true);
+    };
+    // A lamp 8 times brighter than the display's white, a dim glow, and a map.
+    let strength = json!({"KHR_materials_emissive_strength": {"emissiveStrength": 8.0}});
+    material(&mut asset, json!({"extensions": strength}));
+    material(&mut asset, json!({}));
+    asset.json["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
+    asset.json["extensionsRequired"] = json!(["KHR_materials_emissive_strength"]);
+    let path = temp_file(&dir, "lamps.glb");
+    asset.write_glb(&path);
+    let scene = load(&path);
+    let emission: Vec<[f32; 3]> = scene
+        .meshes
+        .iter()
+        .map(|m| scene.materials[m.material].emissive.to_array())
+        .collect();
+    assert_eq!(emission, [[8.0, 4.0, 2.0], [1.0, 0.5, 0.25]]);
+    assert!(scene.is_hdr(), "an emitter above white makes the scene HDR");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+
+    let mut dim = Asset::new();
+    dim.ensure("materials");
+    material(&mut dim, json!({}));
+    let dim_path = temp_file(&dir, "glow.glb");
+    dim.write_glb(&dim_path);
+    assert!(
+        !load(&dim_path).is_hdr(),
+        "an emission up to white stays on the LDR path"
+    );
+
+    let mut mapped = scene_asset(true);
+    mapped.json["materials"][0]["emissiveFactor"] = json!([1.0, 1.0, 1.0]);
+    mapped.json["materials"][0]["emissiveTexture"] = json!({"index": 0});
+    let mapped_path = temp_file(&dir, "mapped.glb");
+    mapped.write_glb(&mapped_path);
+    let scene = load(&mapped_path);
+    assert!(scene.materials.iter().all(|m| m.emissive == Vec3::ZERO));
+    assert!(
+        scene.warnings.iter().any(|w| w.contains("emissive map")),
+        "{:?}",
+        scene.warnings
+    );
+}
+
+#[test]
 fn required_unknown_extension_is_refused_and_used_one_warns() {
     let dir = tempfile::tempdir().expect("temp dir");
     let mut asset = scene_asset(false);

@@ -1,6 +1,7 @@
 //! glTF materials as the forward renderer draws them: base colour factor and texture (with
-//! its sampler), alpha mode and cutoff, double-sidedness and `KHR_materials_unlit`; textures
-//! are decoded once per image and a missing one draws the checker with a warning.
+//! its sampler), alpha mode and cutoff, double-sidedness, `KHR_materials_unlit` and the
+//! emission (`emissiveFactor` with `KHR_materials_emissive_strength`); textures are decoded
+//! once per image and a missing one draws the checker with a warning.
 
 use super::*;
 
@@ -31,6 +32,7 @@ impl Loader<'_> {
             // The renderer's Blinn-Phong term: a dim, broad highlight for every glTF material.
             specular: Vec3::splat(0.04),
             shininess: 32.0,
+            emissive: self.emission(material, &name),
             ..Material::default()
         };
         converted.alpha_mode = match material.alpha_mode() {
@@ -55,6 +57,30 @@ impl Loader<'_> {
         self.materials.push(converted);
         self.material_slots.insert(Some(index), slot);
         (slot, tex_coord)
+    }
+
+    /// The radiance `material` emits: its emissive factor times its strength (linear RGB, no
+    /// upper bound). The renderer samples no emissive map, and the factor alone would light a
+    /// whole surface that its map lights in places, so a material with a map emits nothing
+    /// and a warning says so.
+    fn emission(&mut self, material: &gltf::Material<'_>, name: &str) -> Vec3 {
+        let strength = material.emissive_strength().unwrap_or(1.0);
+        let emission = Vec3::from(material.emissive_factor()) * strength;
+        if emission == Vec3::ZERO {
+            return Vec3::ZERO;
+        }
+        if material.emissive_texture().is_some() {
+            self.warnings.push(format!(
+                "{}: {name} emits through an emissive map, which is not drawn: it emits nothing",
+                self.path.display()
+            ));
+            return Vec3::ZERO;
+        }
+        if emission.is_finite() {
+            emission.max(Vec3::ZERO)
+        } else {
+            Vec3::ZERO
+        }
     }
 
     /// The scene texture of a glTF image (decoded on first use) and whether it is the

@@ -24,15 +24,18 @@
 //!   buffer view) with its sampler's filters and wrapping, `doubleSided`, `alphaMode`:
 //!   `OPAQUE`; `MASK` with `alphaCutoff` (default 0.5), drawn like the OBJ and atrium alpha
 //!   masks, so MSAA's alpha-to-coverage setting applies; `BLEND`, alpha-blended by the
-//!   renderer after the opaque surfaces, sorted back to front by object. Metallic and roughness values,
-//!   normal, occlusion and emissive maps are not used: the renderer shades Blinn-Phong with a
+//!   renderer after the opaque surfaces, sorted back to front by object; `emissiveFactor`
+//!   times `KHR_materials_emissive_strength` as the material's emitted radiance (a strength
+//!   above 1 makes the scene HDR, as `neon` is: `crate::graph::hdr`). Metallic and roughness
+//!   values, normal, occlusion and emissive maps are not used (a material whose emission
+//!   comes from a map emits nothing, with a warning): the renderer shades Blinn-Phong with a
 //!   fixed dim specular. `KHR_materials_unlit` is honoured.
 //! * Cameras: every perspective camera of the drawn nodes becomes a [`SceneView`] (its
 //!   position and viewing direction; roll is dropped because the orbit camera keeps +Y up);
 //!   the first is the default view. The rig turns about a point ahead of the camera at the
 //!   depth of the model's centre. Without cameras the OBJ loader's default applies: the orbit
 //!   framing, or an inside view for an interior ([`super::interior`]).
-//! * Extensions: a file that *requires* an extension other than `KHR_materials_unlit` is
+//! * Extensions: a file that *requires* an extension other than the two above is
 //!   refused with an error naming it; one that merely uses others loads with a warning
 //!   naming them (they are ignored).
 //! * A missing or undecodable image does not fail the load, as with OBJ: the material draws
@@ -73,7 +76,7 @@ mod uri;
 use uri::{UriUse, load_buffers, read_uri};
 
 /// Extensions this loader implements (a file may require these).
-const IMPLEMENTED_EXTENSIONS: &[&str] = &["KHR_materials_unlit"];
+const IMPLEMENTED_EXTENSIONS: &[&str] = &["KHR_materials_unlit", "KHR_materials_emissive_strength"];
 
 /// Deepest node hierarchy followed (deeper means a cycle or a hostile file).
 const MAX_NODE_DEPTH: usize = 256;
