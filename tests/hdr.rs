@@ -2,8 +2,10 @@
 //! radiance (a thin emitter widens, unlike the display-referred average of tonemapped
 //! samples); which tonemap order scores better depends on which of the two references a
 //! technique is held to, and the tests pin both (FXAA, TAA, and MSAA's luminance-weighted
-//! resolve against its box resolve); LDR scenes ignore every HDR setting; and the command line
-//! records the tonemap and reproduces it.
+//! resolve against its box resolve); the morphological techniques (SMAA in every mode, CMAA 2,
+//! MLAA) run on radiance before the tonemapper and then side with the camera reference; LDR
+//! scenes ignore every HDR setting; and the command line records the tonemap and reproduces
+//! it.
 
 mod common;
 
@@ -133,6 +135,49 @@ fn each_tonemap_order_wins_against_its_own_reference() {
     }
 }
 
+/// The morphological techniques, each in both orders, after the tonemapper's references.
+const MORPHOLOGICAL: [&str; 6] = ["smaa", "cmaa2", "mlaa", "smaa-t2x", "smaa-s2x", "smaa-4x"];
+
+#[test]
+fn the_morphological_techniques_run_on_radiance_before_the_tonemapper() {
+    let gpu = common::gpu();
+    let scene = neon();
+    let mut techniques = vec![
+        reference(&gpu, "before"),
+        common::technique(&gpu, "none", &[]),
+    ];
+    for id in MORPHOLOGICAL {
+        for order in ["before", "after"] {
+            techniques.push(common::technique(&gpu, id, &[("tonemap_order", order)]));
+        }
+    }
+    let images = render(&gpu, &scene, agx(), techniques);
+    let (camera, no_aa) = (&images[0], &images[1]);
+    let no_aa_flip = flip(camera, no_aa);
+    for (i, id) in MORPHOLOGICAL.into_iter().enumerate() {
+        let (before, after) = (&images[2 + 2 * i], &images[3 + 2 * i]);
+        let against_camera = (flip(camera, before), flip(camera, after));
+        let between = flip(after, before);
+        println!(
+            "{id} FLIP (before, after) against the camera reference {against_camera:.4?} (No AA \
+             {no_aa_flip:.4}), between the orders {between:.4}"
+        );
+        // The order ran: edges found on the perceptual copy, blends of radiance.
+        assert_ne!(before, after, "{id}: the order changed nothing");
+        // A sensible image: the same frame as after the tonemapper but for the edges (not
+        // radiance shown raw, not a black or white frame, not edges torn apart), and closer to
+        // the camera reference than no antialiasing.
+        assert!(between < 0.05, "{id}: {between} from the after-order image");
+        assert!(against_camera.0 < no_aa_flip, "{id}: {against_camera:?}");
+        // Blending radiance spreads a bright tube over its neighbours as the camera's average
+        // does: closer to the camera reference than blending displayed values.
+        assert!(
+            against_camera.0 < against_camera.1 * 0.9,
+            "{id}: {against_camera:?}"
+        );
+    }
+}
+
 #[test]
 fn the_luminance_weighted_msaa_resolve_keeps_bright_edges_antialiased() {
     let gpu = common::gpu();
@@ -179,11 +224,9 @@ fn ldr_scenes_ignore_the_tonemap_order_and_auto_leaves_them_on_the_ldr_path() {
     assert_eq!(TonemapChoice::Auto.resolve(scene.is_hdr(), 1.0), None);
     assert!(TonemapChoice::Auto.resolve(true, 0.0).is_some());
     let set = |order: &str| {
-        vec![
-            common::technique(&gpu, "fxaa", &[("tonemap_order", order)]),
-            common::technique(&gpu, "msaa4", &[("tonemap_order", order)]),
-            common::technique(&gpu, "taa", &[("tonemap_order", order)]),
-        ]
+        (["fxaa", "msaa4", "taa"].into_iter().chain(MORPHOLOGICAL))
+            .map(|id| common::technique(&gpu, id, &[("tonemap_order", order)]))
+            .collect()
     };
     let before = render(&gpu, &scene, None, set("before"));
     let after = render(&gpu, &scene, None, set("after"));
@@ -237,42 +280,49 @@ fn the_ldr_path_clamps_what_the_hdr_path_tonemaps() {
 #[test]
 fn the_command_line_records_the_tonemap_and_reproduces_it() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let out = dir.path().join("neon.png");
-    let output = common::aa_lab(&[
-        "render",
-        "--scene",
-        "neon",
-        "--size",
-        "96x54",
-        "--technique",
-        "fxaa",
-        "--set",
-        "fxaa.tonemap_order=before",
-        "--tonemap",
-        "aces",
-        "--exposure",
-        "-1.5",
-        "--out",
-        out.to_str().expect("utf-8 path"),
-    ]);
-    assert!(output.status.success(), "{}", common::stderr(&output));
-    let text = aa_lab::export::png::read_record(&out)
-        .unwrap_or_else(|e| panic!("{e}"))
-        .expect("an aa-lab record");
-    let record = aa_lab::spec::parse_record(&text).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(
-        (record.tonemap, record.exposure),
-        (TonemapChoice::Aces, -1.5)
-    );
-    let fxaa = &record.techniques[0].settings;
-    assert_eq!(
-        fxaa.get("tonemap_order")
-            .map(ToString::to_string)
-            .as_deref(),
-        Some("before"),
-        "{fxaa:?}"
-    );
-    common::assert_from_reproduces(&out);
+    // FXAA, and SMAA T2x for the morphological techniques (its temporal resolve included).
+    for id in ["fxaa", "smaa-t2x"] {
+        let out = dir.path().join(id).join("neon.png");
+        let order = format!("{id}.tonemap_order=before");
+        std::fs::create_dir_all(dir.path().join(id)).expect("a folder");
+        let output = common::aa_lab(&[
+            "render",
+            "--scene",
+            "neon",
+            "--size",
+            "96x54",
+            "--frame",
+            "2",
+            "--technique",
+            id,
+            "--set",
+            &order,
+            "--tonemap",
+            "aces",
+            "--exposure",
+            "-1.5",
+            "--out",
+            out.to_str().expect("utf-8 path"),
+        ]);
+        assert!(output.status.success(), "{}", common::stderr(&output));
+        let text = aa_lab::export::png::read_record(&out)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .expect("an aa-lab record");
+        let record = aa_lab::spec::parse_record(&text).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(
+            (record.tonemap, record.exposure),
+            (TonemapChoice::Aces, -1.5)
+        );
+        let settings = &record.techniques[0].settings;
+        assert_eq!(
+            (settings.get("tonemap_order"))
+                .map(ToString::to_string)
+                .as_deref(),
+            Some("before"),
+            "{id}: {settings:?}"
+        );
+        common::assert_from_reproduces(&out);
+    }
     common::fails_with(
         &["render", "--scene", "neon", "--tonemap", "filmic"],
         &["filmic", "reinhard, aces, agx, neutral"],

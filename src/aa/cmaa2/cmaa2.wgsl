@@ -13,6 +13,13 @@
 //   cleared for the next frame, every other pixel passes through unchanged.
 // Edges are found on the sRGB-encoded values (binding 0), colours are blended in linear light
 // (binding 1, the sRGB view) and encoded again by the apply pass.
+// With RADIANCE (CMAA 2 before the tonemapper of an HDR frame, aa::common::perceptual) binding
+// 0 is the perceptual copy of the radiance (Karis-compressed, encoded: the thresholds keep
+// their meaning), binding 1 the radiance, which the blends mix; a pixel's blends are summed
+// Karis-weighted, compressed to c / (1 + max channel) (below 1, as the fixed-point sums need),
+// and their average is expanded back to radiance, which the apply pass writes unencoded.
+
+override RADIANCE: bool = false;
 
 struct Params {
     // width, height, pixel count (the capacity of the candidate list), unused
@@ -191,13 +198,29 @@ fn edges_at(p: vec2<i32>) -> vec4<f32> {
     return vec4<f32>(bits & vec4<u32>(1u));
 }
 
+fn max_channel(c: vec3<f32>) -> f32 {
+    return max(c.x, max(c.y, c.z));
+}
+
+// A blended colour as the sums hold it: display values clamped to [0, 1], or radiance
+// compressed (Karis' weighting in its max-channel form).
+fn to_sum(color: vec3<f32>) -> vec3<f32> {
+    let c = max(color, vec3<f32>(0.0));
+    return select(saturate(color), c / (1.0 + max_channel(c)), RADIANCE);
+}
+
+// The average of a pixel's sums as a colour: `to_sum` reversed.
+fn from_sum(average: vec3<f32>) -> vec3<f32> {
+    return select(average, average / max(1.0 - max_channel(average), 1e-3), RADIANCE);
+}
+
 // Adds one blended colour to a pixel's sums.
 fn add_blend(p: vec2<i32>, color: vec3<f32>, weight: u32) {
     if !inside(p) {
         return;
     }
     let base = 4u * pixel_index(p);
-    let fixed = vec3<u32>(saturate(color) * COLOR_SCALE + 0.5) * (weight & WEIGHT_MASK);
+    let fixed = vec3<u32>(to_sum(color) * COLOR_SCALE + 0.5) * (weight & WEIGHT_MASK);
     atomicAdd(&sums[base], fixed.x);
     atomicAdd(&sums[base + 1u], fixed.y);
     atomicAdd(&sums[base + 2u], fixed.z);
@@ -344,7 +367,7 @@ fn decode_sums(raw: vec4<u32>) -> Sums {
     var s: Sums;
     s.weight = raw.w & WEIGHT_MASK;
     s.z_blends = raw.w >> Z_SHIFT;
-    s.color = vec3<f32>(raw.xyz) / (COLOR_SCALE * f32(max(s.weight, 1u)));
+    s.color = from_sum(vec3<f32>(raw.xyz) / (COLOR_SCALE * f32(max(s.weight, 1u))));
     return s;
 }
 
@@ -355,11 +378,12 @@ fn encode_srgb(linear: vec3<f32>) -> vec3<f32> {
     return select(high, low, c <= vec3<f32>(0.0031308));
 }
 
-// Written through the output's encoded view: untouched pixels keep their exact bytes.
+// Written through the output's encoded view (or, on radiance, into the half-float output):
+// untouched pixels keep their exact bytes.
 @fragment
 fn fs_apply(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(position.xy);
-    let source = textureLoad(color_encoded, clamped(p), 0);
+    let source = select(textureLoad(color_encoded, clamped(p), 0), textureLoad(color_linear, clamped(p), 0), RADIANCE);
     let base = 4u * pixel_index(p);
     if atomicLoad(&sums[base + 3u]) == 0u {
         return source;
@@ -370,7 +394,8 @@ fn fs_apply(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
         atomicExchange(&sums[base + 2u], 0u),
         atomicExchange(&sums[base + 3u], 0u),
     );
-    return vec4<f32>(encode_srgb(decode_sums(raw).color), source.a);
+    let color = decode_sums(raw).color;
+    return vec4<f32>(select(encode_srgb(color), color, RADIANCE), source.a);
 }
 
 fn dimmed(p: vec2<i32>) -> vec3<f32> {

@@ -30,6 +30,12 @@
 //! threshold 0.15/0.10/0.07/0.05), extra sharpness, luma or colour edges. Debug views: `edges`
 //! and `blends` (which pixels changed, by which kind of blend, and how much).
 //!
+//! Before the tonemapper of an HDR frame (`tonemap_order`, after by default, as engines run
+//! it) the edge pass reads the perceptual copy of the radiance (Karis-compressed and
+//! sRGB-encoded, `aa::common::perceptual`, so the thresholds keep their meaning), the blends
+//! mix radiance, a pixel's blends are averaged Karis-weighted (`RADIANCE` in `cmaa2.wgsl`) and
+//! the apply pass writes radiance; that set of pipelines is built on the first such frame.
+//!
 //! Measurements and what was tried: `docs/techniques/cmaa2.md`.
 
 pub mod settings;
@@ -37,12 +43,17 @@ pub mod settings;
 pub use settings::{Cmaa2Settings, EdgeDetection, Quality};
 
 use crate::aa::common::pass;
-use crate::aa::common::{debug_texture, encoded_view};
+use crate::aa::common::perceptual::{PERCEPTUAL_WGSL, PerceptualCopy};
+use crate::aa::common::{
+    RADIANCE_WGSL, debug_texture, encoded_or_radiance_view, encoded_view, holds_radiance,
+};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, Technique};
+use crate::gpu::fullscreen::{FragmentDesc, Fullscreen};
 use crate::gpu::shader::Shader;
-use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
+use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu, HDR_FORMAT};
+use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
 
@@ -65,7 +76,7 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
          and, like every post process, cannot recover geometry the single sample missed.",
     availability: needs_encoded_views,
     create: |gpu| Box::new(Cmaa2::new(gpu)),
-    shaders: &[WGSL],
+    shaders: &[WGSL, PERCEPTUAL_WGSL, RADIANCE_WGSL],
 };
 
 /// Threads per workgroup side of the edge pass (`cs_edges`).
@@ -150,42 +161,102 @@ struct Pass<P> {
     bindings: &'static [Binding],
 }
 
-/// The CMAA 2 technique.
-pub struct Cmaa2 {
-    settings: Cmaa2Settings,
-    device: wgpu::Device,
-    uniform: wgpu::Buffer,
+/// The pipelines of every pass, for display values or for radiance (`RADIANCE`).
+struct Passes {
     edges: Pass<wgpu::ComputePipeline>,
     candidate_args: Pass<wgpu::ComputePipeline>,
     process: Pass<wgpu::ComputePipeline>,
     apply: Pass<wgpu::RenderPipeline>,
     debug_edges: Pass<wgpu::RenderPipeline>,
     debug_blends: Pass<wgpu::RenderPipeline>,
+}
+
+impl Passes {
+    /// Builds every pass of `module`; on `radiance` the apply pass writes half floats.
+    fn new(
+        device: &wgpu::Device,
+        module: &wgpu::ShaderModule,
+        fullscreen: &Fullscreen,
+        radiance: bool,
+    ) -> Self {
+        use Binding::*;
+        let constants = [("RADIANCE", f64::from(u8::from(radiance)))];
+        let compute_pass = |entry_point: &str, bindings: &'static [Binding]| {
+            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(&format!("cmaa2 {entry_point}")),
+                layout: None,
+                module,
+                entry_point: Some(entry_point),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    ..Default::default()
+                },
+                cache: None,
+            });
+            Pass {
+                layout: pipeline.get_bind_group_layout(0),
+                pipeline,
+                bindings,
+            }
+        };
+        let fullscreen_pass = |entry_point: &str, format, bindings: &'static [Binding]| {
+            let desc = FragmentDesc {
+                label: &format!("cmaa2 {entry_point}"),
+                module,
+                entry_point,
+                targets: &[format],
+                constants: &constants,
+                layout: None,
+            };
+            let pipeline = fullscreen.pipeline(device, &desc);
+            Pass {
+                layout: pipeline.get_bind_group_layout(0),
+                pipeline,
+                bindings,
+            }
+        };
+        let apply_format = if radiance {
+            HDR_FORMAT
+        } else {
+            COLOR_FORMAT_ENCODED_VIEW
+        };
+        Self {
+            edges: compute_pass("cs_edges", &[Encoded, Params, Edges, Candidates, Control]),
+            candidate_args: compute_pass("cs_candidate_args", &[Params, Control, Indirect]),
+            process: compute_pass(
+                "cs_process",
+                &[Linear, Params, Edges, Candidates, Control, Sums],
+            ),
+            apply: fullscreen_pass("fs_apply", apply_format, &[Encoded, Linear, Params, Sums]),
+            debug_edges: fullscreen_pass(
+                "fs_debug_edges",
+                COLOR_FORMAT_ENCODED_VIEW,
+                &[Encoded, Params, Edges],
+            ),
+            debug_blends: fullscreen_pass(
+                "fs_debug_blends",
+                COLOR_FORMAT_ENCODED_VIEW,
+                &[Encoded, Linear, Params, Sums],
+            ),
+        }
+    }
+}
+
+/// The CMAA 2 technique.
+pub struct Cmaa2 {
+    settings: Cmaa2Settings,
+    device: wgpu::Device,
+    module: wgpu::ShaderModule,
+    fullscreen: Fullscreen,
+    uniform: wgpu::Buffer,
+    /// The passes on display values.
+    passes: Passes,
+    /// The passes on radiance, built on the first HDR frame before the tonemapper.
+    radiance_passes: Option<Passes>,
+    perceptual: PerceptualCopy,
     buffers: Option<Buffers>,
     debug_enabled: bool,
     debug: Option<DebugTargets>,
-}
-
-/// The compute pass of `cmaa2.wgsl`'s `entry_point`.
-fn compute_pass(
-    device: &wgpu::Device,
-    module: &wgpu::ShaderModule,
-    entry_point: &str,
-    bindings: &'static [Binding],
-) -> Pass<wgpu::ComputePipeline> {
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(&format!("cmaa2 {entry_point}")),
-        layout: None,
-        module,
-        entry_point: Some(entry_point),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    Pass {
-        layout: pipeline.get_bind_group_layout(0),
-        pipeline,
-        bindings,
-    }
 }
 
 impl Cmaa2 {
@@ -196,50 +267,17 @@ impl Cmaa2 {
 
     /// CMAA 2 with the given settings.
     pub fn with_settings(gpu: &Gpu, settings: Cmaa2Settings) -> Self {
-        use Binding::*;
         let device = &gpu.device;
         let module = WGSL.module(device);
-        let fullscreen = crate::gpu::fullscreen::Fullscreen::new(device);
-        let fullscreen_pass = |entry_point: &str, bindings: &'static [Binding]| {
-            let desc = crate::gpu::fullscreen::FragmentDesc {
-                label: &format!("cmaa2 {entry_point}"),
-                module: &module,
-                entry_point,
-                targets: &[COLOR_FORMAT_ENCODED_VIEW],
-                constants: &[],
-                layout: None,
-            };
-            let pipeline = fullscreen.pipeline(device, &desc);
-            Pass {
-                layout: pipeline.get_bind_group_layout(0),
-                pipeline,
-                bindings,
-            }
-        };
+        let fullscreen = Fullscreen::new(device);
         Self {
             settings,
             uniform: pass::uniform_buffer::<settings::Cmaa2Uniform>(device, "cmaa2 params"),
-            edges: compute_pass(
-                device,
-                &module,
-                "cs_edges",
-                &[Encoded, Params, Edges, Candidates, Control],
-            ),
-            candidate_args: compute_pass(
-                device,
-                &module,
-                "cs_candidate_args",
-                &[Params, Control, Indirect],
-            ),
-            process: compute_pass(
-                device,
-                &module,
-                "cs_process",
-                &[Linear, Params, Edges, Candidates, Control, Sums],
-            ),
-            apply: fullscreen_pass("fs_apply", &[Encoded, Params, Sums]),
-            debug_edges: fullscreen_pass("fs_debug_edges", &[Encoded, Params, Edges]),
-            debug_blends: fullscreen_pass("fs_debug_blends", &[Encoded, Linear, Params, Sums]),
+            passes: Passes::new(device, &module, &fullscreen, false),
+            radiance_passes: None,
+            perceptual: PerceptualCopy::default(),
+            module,
+            fullscreen,
             device: device.clone(),
             buffers: None,
             debug_enabled: false,
@@ -309,46 +347,60 @@ impl Technique for Cmaa2 {
                 blends: debug_texture(&self.device, "cmaa2 blends view", size),
             });
         }
-        let Some(buffers) = self.buffers.as_ref() else {
-            return;
-        };
         ctx.gpu.queue.write_buffer(
             &self.uniform,
             0,
             bytemuck::bytes_of(&self.settings.uniform(size)),
         );
-        let encoded = encoded_view(input.color_1x());
-        let linear = input.color_1x().create_view(&Default::default());
+        let color = input.color_1x();
+        let radiance = holds_radiance(color);
+        if radiance && self.radiance_passes.is_none() {
+            let passes = Passes::new(&self.device, &self.module, &self.fullscreen, true);
+            self.radiance_passes = Some(passes);
+        }
+        let encoded = encoded_view(self.perceptual.edge_source(ctx, color, ""));
+        let linear = color.create_view(&Default::default());
         let views = (&encoded, &linear);
-        let group = self.bind_group(&self.edges, views, buffers);
+        let (Some(buffers), Some(passes)) = (
+            self.buffers.as_ref(),
+            if radiance {
+                self.radiance_passes.as_ref()
+            } else {
+                Some(&self.passes)
+            },
+        ) else {
+            return;
+        };
+        let group = self.bind_group(&passes.edges, views, buffers);
         ctx.compute_pass("edges", |pass| {
-            pass.set_pipeline(&self.edges.pipeline);
+            pass.set_pipeline(&passes.edges.pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(size.0.div_ceil(EDGE_GROUP), size.1.div_ceil(EDGE_GROUP), 1);
         });
-        let group = self.bind_group(&self.candidate_args, views, buffers);
+        let group = self.bind_group(&passes.candidate_args, views, buffers);
         ctx.compute_pass("candidate args", |pass| {
-            pass.set_pipeline(&self.candidate_args.pipeline);
+            pass.set_pipeline(&passes.candidate_args.pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(1, 1, 1);
         });
-        let group = self.bind_group(&self.process, views, buffers);
+        let group = self.bind_group(&passes.process, views, buffers);
         ctx.compute_pass("process candidates", |pass| {
-            pass.set_pipeline(&self.process.pipeline);
+            pass.set_pipeline(&passes.process.pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups_indirect(&buffers.indirect, 0);
         });
         if let (true, Some(debug)) = (self.debug_enabled, &self.debug) {
             for (name, pass, target) in [
-                ("debug edges", &self.debug_edges, &debug.edges),
-                ("debug blends", &self.debug_blends, &debug.blends),
+                ("debug edges", &passes.debug_edges, &debug.edges),
+                ("debug blends", &passes.debug_blends, &debug.blends),
             ] {
                 let group = self.bind_group(pass, views, buffers);
                 ctx.fullscreen_pass(name, &encoded_view(target), &pass.pipeline, &group);
             }
         }
-        let group = self.bind_group(&self.apply, views, buffers);
-        ctx.fullscreen_pass("apply", &encoded_view(output), &self.apply.pipeline, &group);
+        let group = self.bind_group(&passes.apply, views, buffers);
+        let target = encoded_or_radiance_view(output);
+        ctx.fullscreen_pass("apply", &target, &passes.apply.pipeline, &group);
     }
 
     fn memory(&self) -> Vec<MemoryItem> {
@@ -364,7 +416,12 @@ impl Technique for Cmaa2 {
             items.push(MemoryItem::texture("cmaa2 edges view", &debug.edges));
             items.push(MemoryItem::texture("cmaa2 blends view", &debug.blends));
         }
+        items.extend(self.perceptual.memory(ID));
         items
+    }
+
+    fn tonemap_order(&self) -> TonemapOrder {
+        self.settings.tonemap_order
     }
 
     crate::aa::common::tunable_settings!(settings);

@@ -6,6 +6,7 @@
 //! value used in arithmetic or `select`, so changing one costs no pipeline build.
 
 use crate::aa::params::{Param, ParamValue, Tunable, as_bool, as_named};
+use crate::graph::hdr::TonemapOrder;
 
 crate::named_enum! {
     /// Intel's quality presets, which differ only in the edge threshold.
@@ -55,6 +56,8 @@ pub struct Cmaa2Settings {
     pub extra_sharpness: bool,
     /// What edge detection compares.
     pub edge_detection: EdgeDetection,
+    /// In HDR frames, before or after the tonemapper (after, as engines run it).
+    pub tonemap_order: TonemapOrder,
 }
 
 impl Default for Cmaa2Settings {
@@ -64,6 +67,7 @@ impl Default for Cmaa2Settings {
             quality: Quality::High,
             extra_sharpness: false,
             edge_detection: EdgeDetection::Luma,
+            tonemap_order: TonemapOrder::After,
         }
     }
 }
@@ -166,6 +170,7 @@ impl Tunable for Cmaa2Settings {
                  brightness.",
                 self.edge_detection,
             ),
+            self.tonemap_order.param(),
         ]
     }
 
@@ -178,12 +183,16 @@ impl Tunable for Cmaa2Settings {
             "edge_detection" => {
                 self.edge_detection = as_named(value).unwrap_or(self.edge_detection);
             }
+            "tonemap_order" => {
+                self.tonemap_order = as_named(value).unwrap_or(self.tonemap_order);
+            }
             _ => return false,
         }
         true
     }
 
-    /// Sets the quality (the edge threshold), keeping the sharpness and the edge input.
+    /// Sets the quality (the edge threshold), keeping the sharpness, the edge input and the
+    /// tonemap order.
     fn apply_preset(&mut self, quality: Quality) {
         self.quality = quality;
     }

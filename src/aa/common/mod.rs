@@ -3,7 +3,9 @@
 //! share (jitter sequence, camera continuity, ping-pong history: [`temporal`]), and the GPU
 //! pieces of post-process passes: the bilinear sampler, encoded (`Rgba8Unorm`) views of the
 //! sRGB colour targets, debug-view textures and a cache of full-screen pipelines keyed by what they are
-//! specialised on ([`PipelineCache`]). The full-screen vertex stage and pipeline builder itself
+//! specialised on ([`PipelineCache`]); for techniques before the tonemapper of an HDR frame,
+//! Karis' reversible tonemap ([`RADIANCE_WGSL`]) and the perceptual copy of radiance that
+//! morphological edge detection reads ([`perceptual`]). The full-screen vertex stage and pipeline builder itself
 //! is `crate::gpu::fullscreen` (the frame graph hands it to every pass). And
 //! two macros that write `Technique` methods once: `shared_1x_post_process!`, the ones every
 //! post-process of the shared one-sample render spells the same way, and `tunable_settings!`,
@@ -12,6 +14,7 @@
 pub mod color;
 pub mod morphology;
 pub mod pass;
+pub mod perceptual;
 pub mod sampling;
 pub mod temporal;
 
@@ -117,8 +120,9 @@ pub fn encoded_view(texture: &wgpu::Texture) -> wgpu::TextureView {
     view_as(texture, COLOR_FORMAT_ENCODED_VIEW)
 }
 
-/// Karis' reversible tonemap (`compressed`, `to_output`) for the temporal techniques before
-/// the tonemapper: the prelude of `taa.wgsl` and `taau.wgsl`.
+/// Karis' reversible tonemap (`compressed`, `to_output`) for the techniques before the
+/// tonemapper: the prelude of `taa.wgsl` and `taau.wgsl`, of SMAA's resolves
+/// (`smaa_modes.wgsl`) and of the perceptual copy ([`perceptual`]).
 pub const RADIANCE_WGSL: crate::gpu::shader::Shader = crate::wgsl!("src/aa/common/radiance.wgsl");
 
 /// Whether a colour texture holds radiance: the input or output of a technique running before

@@ -111,6 +111,9 @@ pub struct MorphologicalDesc<'a> {
     pub layouts: [&'a wgpu::BindGroupLayout; 3],
     /// WGSL override constants.
     pub constants: &'a [(&'a str, f64)],
+    /// The blend pass's target format: display values, or radiance before the tonemapper
+    /// (`super::output_format`).
+    pub blend_format: wgpu::TextureFormat,
 }
 
 /// The pipelines of the three morphological passes.
@@ -164,7 +167,7 @@ impl Vertex {
                 "blend",
                 "fs_blend",
                 blend_layout,
-                crate::gpu::COLOR_FORMAT,
+                desc.blend_format,
                 Stencil::None,
             ),
         }

@@ -1,5 +1,6 @@
-// Karis' reversible tonemap for the temporal techniques before the tonemapper of an HDR frame
-// (graph/hdr.rs), compiled in front of taa.wgsl and taau.wgsl: with RADIANCE every sample read
+// Karis' reversible tonemap for the techniques before the tonemapper of an HDR frame
+// (graph/hdr.rs), compiled in front of taa.wgsl and taau.wgsl (and of SMAA's resolves and the
+// morphological techniques' perceptual copy, aa/common/perceptual.rs): with RADIANCE every sample read
 // is compressed to c / (1 + luma), so the neighbourhood, the rectification and the blend work
 // on values below 1 that no bright sample dominates; the history keeps them, and the output is
 // expanded back to radiance with c / (1 - luma). Without RADIANCE both are the identity.

@@ -19,6 +19,11 @@
 //! neighbours at once. Settings and presets: [`settings`]. Debug views: the edges and the
 //! blending weights.
 //!
+//! Before the tonemapper of an HDR frame (`tonemap_order`), the edges are found on the
+//! perceptual copy of the radiance (`aa::common::perceptual`: Karis-compressed, sRGB-encoded,
+//! so the thresholds keep their meaning) and the blend mixes radiance into a half-float output
+//! (an area-weighted mix of neighbours, as the camera reference averages radiance).
+//!
 //! Figures: `docs/techniques/mlaa.md`.
 
 pub mod area;
@@ -32,12 +37,14 @@ use crate::aa::common::morphology::{
     EdgeDebugViews, EdgeTargets, MorphologicalDesc, MorphologicalPipelines, edge_and_weight_passes,
 };
 use crate::aa::common::pass::{self, Binding, Vertex, bind_group};
-use crate::aa::common::{bilinear_clamp_sampler, view_as};
+use crate::aa::common::perceptual::{PERCEPTUAL_WGSL, PerceptualCopy};
+use crate::aa::common::{bilinear_clamp_sampler, holds_radiance, output_format, view_as};
 use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, Technique};
 use crate::gpu::shader::Shader;
 use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu};
+use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
 
@@ -60,7 +67,7 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
          cannot recover sub-pixel geometry.",
     availability: needs_encoded_views,
     create: |gpu| Box::new(Mlaa::new(gpu)),
-    shaders: &[WGSL],
+    shaders: &[WGSL, PERCEPTUAL_WGSL],
 };
 
 /// The uniform block of `mlaa.wgsl` (`Params`).
@@ -73,7 +80,8 @@ struct Params {
 }
 
 struct Pipelines {
-    key: PipelineKey,
+    /// The settings' key and whether the blend writes radiance.
+    key: (PipelineKey, bool),
     passes: MorphologicalPipelines,
 }
 
@@ -91,6 +99,7 @@ pub struct Mlaa {
     area: wgpu::Texture,
     uniform: wgpu::Buffer,
     pipelines: Option<Pipelines>,
+    perceptual: PerceptualCopy,
     targets: Option<EdgeTargets>,
     debug: Option<EdgeDebugViews>,
     debug_enabled: bool,
@@ -151,6 +160,7 @@ impl Mlaa {
             vertex,
             module,
             pipelines: None,
+            perceptual: PerceptualCopy::default(),
             targets: None,
             debug: None,
             debug_enabled: false,
@@ -163,8 +173,14 @@ impl Mlaa {
         &self.settings
     }
 
-    fn ensure_pipelines(&mut self, key: PipelineKey) {
-        if self.pipelines.as_ref().is_some_and(|p| p.key == key) {
+    /// Builds the pipelines of `key` whose blend writes radiance when `radiance` (before the
+    /// tonemapper), unless they are the current ones.
+    fn ensure_pipelines(&mut self, key: PipelineKey, radiance: bool) {
+        if self
+            .pipelines
+            .as_ref()
+            .is_some_and(|p| p.key == (key, radiance))
+        {
             return;
         }
         let constants = [
@@ -182,9 +198,13 @@ impl Mlaa {
                 edge_entry: "fs_edges",
                 layouts: [&self.edge_layout, &self.weight_layout, &self.blend_layout],
                 constants: &constants,
+                blend_format: output_format(radiance),
             },
         );
-        self.pipelines = Some(Pipelines { key, passes });
+        self.pipelines = Some(Pipelines {
+            key: (key, radiance),
+            passes,
+        });
     }
 
     fn ensure_targets(&mut self, size: (u32, u32)) {
@@ -215,7 +235,8 @@ impl Technique for Mlaa {
     ) {
         let Some(input) = input else { return };
         let size = (input.color.width(), input.color.height());
-        self.ensure_pipelines(self.settings.pipeline_key());
+        let radiance = holds_radiance(&input.color);
+        self.ensure_pipelines(self.settings.pipeline_key(), radiance);
         self.ensure_targets(size);
         let params = Params {
             size: [size.0 as f32, size.1 as f32],
@@ -225,12 +246,13 @@ impl Technique for Mlaa {
         ctx.gpu
             .queue
             .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&params));
+        let edge_source = self.perceptual.edge_source(ctx, &input.color, "");
+        let color_encoded = view_as(edge_source, COLOR_FORMAT_ENCODED_VIEW);
         let (Some(pipelines), Some(targets)) = (&self.pipelines, &self.targets) else {
             return;
         };
         let device = &self.device;
         let uniform = self.uniform.as_entire_binding();
-        let color_encoded = view_as(&input.color, COLOR_FORMAT_ENCODED_VIEW);
         let color_linear = input.color.create_view(&Default::default());
         let views = targets.views();
         let area = self.area.create_view(&Default::default());
@@ -290,7 +312,12 @@ impl Technique for Mlaa {
         if let Some(d) = &self.debug {
             items.extend(d.memory(ID));
         }
+        items.extend(self.perceptual.memory(ID));
         items
+    }
+
+    fn tonemap_order(&self) -> TonemapOrder {
+        self.settings.tonemap_order
     }
 
     crate::aa::common::tunable_settings!(settings);

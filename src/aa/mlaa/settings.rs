@@ -5,6 +5,7 @@
 use crate::aa::params::{Named, Param, ParamValue, Tunable, as_f32, as_i64, as_named};
 
 use super::area::MAX_DISTANCE;
+use crate::graph::hdr::TonemapOrder;
 
 crate::named_enum! {
     /// Quality presets (threshold / search steps): Low .15/4, Medium .10/8 (the GPU Pro 2
@@ -41,6 +42,8 @@ pub struct MlaaSettings {
     pub max_search_steps: u32,
     /// What the edge detection compares.
     pub edge_mode: EdgeMode,
+    /// In HDR frames, before or after the tonemapper (after, as engines run it).
+    pub tonemap_order: TonemapOrder,
 }
 
 impl MlaaSettings {
@@ -55,6 +58,7 @@ impl MlaaSettings {
             threshold,
             max_search_steps,
             edge_mode: EdgeMode::Luma,
+            tonemap_order: TonemapOrder::After,
         }
     }
 
@@ -109,6 +113,7 @@ impl Tunable for MlaaSettings {
                  (largest channel step; also finds edges between colours of equal brightness).",
                 self.edge_mode,
             ),
+            self.tonemap_order.param(),
         ]
     }
 
@@ -119,15 +124,17 @@ impl Tunable for MlaaSettings {
                 self.max_search_steps = as_i64(value).clamp(1, i64::from(MAX_SEARCH_STEPS)) as u32;
             }
             "edge_detection" => self.edge_mode = as_named(value).unwrap_or(self.edge_mode),
+            "tonemap_order" => self.tonemap_order = as_named(value).unwrap_or(self.tonemap_order),
             _ => return false,
         }
         true
     }
 
-    /// Keeps the edge mode.
+    /// Keeps the edge mode and the tonemap order.
     fn apply_preset(&mut self, preset: Preset) {
         *self = Self {
             edge_mode: self.edge_mode,
+            tonemap_order: self.tonemap_order,
             ..Self::preset(preset)
         };
     }

@@ -20,6 +20,13 @@
 //! pixels run the blending-weight pass: the edge pass marks them in a stencil buffer that the
 //! weight pass tests. Debug views: the edges and the blending weights.
 //!
+//! Every mode runs before or after the tonemapper of an HDR frame (`tonemap_order`, after by
+//! default, as engines run it). Before, the edges are found on a perceptual copy of the
+//! radiance (Karis-compressed and sRGB-encoded, `aa::common::perceptual`), the blends mix
+//! radiance into half-float targets, and where a mode averages (S2x's two samples, T2x's and
+//! 4x's temporal resolve) it averages Karis-weighted, through the reversible tonemap
+//! `aa::common::RADIANCE_WGSL` compiled in front of `smaa_modes.wgsl`, as TAA does.
+//!
 //! Figures on lavapipe and a GPU, and the lookup tables in full: `docs/techniques/smaa.md`.
 
 pub mod lut;
@@ -31,11 +38,14 @@ pub mod x4;
 
 pub use settings::{EdgeMode, Preset, SmaaSettings};
 
+use crate::aa::common::RADIANCE_WGSL;
+use crate::aa::common::perceptual::PERCEPTUAL_WGSL;
 use crate::aa::info::{FULL_SET_HINT, TechniqueInfo, needs_encoded_views};
 use crate::aa::params::{Named, Param, ParamError, ParamValue, Tunable};
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
 use crate::gpu::{Capabilities, Gpu};
+use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
 use multisample::Multisample;
@@ -51,8 +61,8 @@ pub const ID_S2X: &str = "smaa-s2x";
 
 /// The edge, blending-weight and neighbourhood-blending passes and the debug views.
 const WGSL: Shader = crate::wgsl!("src/aa/smaa/smaa.wgsl");
-/// The T2x temporal resolve and the S2x sample passes.
-const MODES_WGSL: Shader = crate::wgsl!("src/aa/smaa/smaa_modes.wgsl");
+/// The T2x temporal resolve and the S2x sample passes, after Karis' reversible tonemap.
+const MODES_WGSL: Shader = crate::wgsl!("src/aa/smaa/smaa_modes.wgsl", prelude = RADIANCE_WGSL);
 
 /// The registry entries of the three modes.
 pub const INFOS: [TechniqueInfo; 3] = [
@@ -67,7 +77,7 @@ pub const INFOS: [TechniqueInfo; 3] = [
              flickers) and it may soften text and fine texture.",
         availability: needs_encoded_views,
         create: |gpu| Box::new(Smaa::new(gpu, Mode::X1)),
-        shaders: &[WGSL, MODES_WGSL],
+        shaders: &[WGSL, MODES_WGSL, PERCEPTUAL_WGSL, RADIANCE_WGSL],
     },
     TechniqueInfo {
         id: ID_T2X,
@@ -79,7 +89,7 @@ pub const INFOS: [TechniqueInfo; 3] = [
              fall back to SMAA 1x and the jitter can shimmer where the history is rejected.",
         availability: needs_encoded_views,
         create: |gpu| Box::new(Smaa::new(gpu, Mode::T2x)),
-        shaders: &[WGSL, MODES_WGSL],
+        shaders: &[WGSL, MODES_WGSL, PERCEPTUAL_WGSL, RADIANCE_WGSL],
     },
     TechniqueInfo {
         id: ID_S2X,
@@ -90,7 +100,7 @@ pub const INFOS: [TechniqueInfo; 3] = [
              twice at the two positions instead.",
         availability: s2x_availability,
         create: |gpu| Box::new(Smaa::new(gpu, Mode::S2x)),
-        shaders: &[WGSL, MODES_WGSL],
+        shaders: &[WGSL, MODES_WGSL, PERCEPTUAL_WGSL, RADIANCE_WGSL],
     },
 ];
 
@@ -261,6 +271,10 @@ impl Technique for Smaa {
                 );
             }
         }
+    }
+
+    fn tonemap_order(&self) -> TonemapOrder {
+        self.settings.tonemap_order
     }
 
     fn memory(&self) -> Vec<MemoryItem> {

@@ -11,16 +11,20 @@
 //!   the MSAA render (MSAA shades once per pixel, so inside triangles it can differ slightly).
 //!
 //! Each sample's SMAA uses the area sub-tables of its position.
+//!
+//! Before the tonemapper of an HDR frame the samples hold radiance, each sample's SMAA runs on
+//! it (see `passes`) and the average is Karis-weighted (`RADIANCE` in `smaa_modes.wgsl`); the
+//! pipelines of either kind are built on first use.
 
 use glam::Vec2;
 
 use super::passes::{Input, SmaaPasses};
 use super::settings::SmaaSettings;
 use crate::aa::SceneInput;
-use crate::aa::common::pass::{self, Binding, PassDesc, Stencil, bind_group, cleared};
+use crate::aa::common::pass::{self, Binding, PassDesc, Stencil, Vertex, bind_group, cleared};
 use crate::aa::common::sampling::standard_msaa_positions;
-use crate::aa::common::view_as;
-use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Capabilities};
+use crate::aa::common::{PipelineCache, encoded_or_radiance_view, holds_radiance, output_format};
+use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Capabilities, HDR_FORMAT};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::{RasterOptions, SceneTargets, TargetDesc};
 
@@ -68,18 +72,30 @@ struct Targets {
     results: [wgpu::Texture; 2],
 }
 
+/// A pass of `smaa_modes.wgsl` that S2x runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum ModePass {
+    /// The copy of one sample (its index).
+    Extract(usize),
+    /// The average of the two results.
+    Average,
+}
+
 /// The S2x state.
 pub struct Multisample {
     path: S2xPath,
+    vertex: Vertex,
+    module: wgpu::ShaderModule,
     extract_layout: wgpu::BindGroupLayout,
-    extract: [wgpu::RenderPipeline; 2],
     average_layout: wgpu::BindGroupLayout,
-    average: wgpu::RenderPipeline,
+    /// The passes' pipelines, by pass and whether they work on radiance.
+    pipelines: PipelineCache<(ModePass, bool)>,
     targets: Option<Targets>,
 }
 
 impl Multisample {
-    /// Builds the extraction and averaging pipelines for the adapter's path.
+    /// The extraction and averaging passes for the adapter's path over `passes`' module; their
+    /// pipelines are built on first use.
     pub fn new(device: &wgpu::Device, caps: &Capabilities, passes: &SmaaPasses) -> Self {
         let extract_layout = pass::layout(
             device,
@@ -94,46 +110,63 @@ impl Multisample {
             "smaa s2x average",
             &[(7, Binding::Texture), (8, Binding::Texture)],
         );
-        let build =
-            |label: &str, entry_point: &str, layout, format, constants: &[(&str, f64)], stencil| {
-                passes.vertex.pipeline(
-                    device,
-                    &PassDesc {
-                        label,
-                        module: &passes.modes_module,
-                        entry_point,
-                        layout,
-                        format,
-                        constants,
-                        stencil,
-                    },
-                )
-            };
-        let extract = |sample: u32| {
-            build(
-                &format!("smaa s2x extract sample {sample}"),
-                "fs_extract_sample",
-                &extract_layout,
-                COLOR_FORMAT_ENCODED_VIEW,
-                &[("SAMPLE_INDEX", f64::from(sample))],
-                Stencil::WriteDepth,
-            )
-        };
         Self {
             path: S2xPath::for_adapter(caps),
-            extract: [extract(0), extract(1)],
-            average: build(
-                "smaa s2x average",
-                "fs_average",
-                &average_layout,
-                COLOR_FORMAT,
-                &[],
-                Stencil::None,
-            ),
+            vertex: Vertex::new(device),
+            module: passes.modes_module.clone(),
             extract_layout,
             average_layout,
+            pipelines: PipelineCache::default(),
             targets: None,
         }
+    }
+
+    /// The pipeline of `pass` on radiance or display values, built on first use.
+    fn pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        pass: ModePass,
+        radiance: bool,
+    ) -> wgpu::RenderPipeline {
+        let (vertex, module) = (&self.vertex, &self.module);
+        let (extract_layout, average_layout) = (&self.extract_layout, &self.average_layout);
+        self.pipelines.get_or_build((pass, radiance), |_| {
+            let radiance_constant = ("RADIANCE", f64::from(u8::from(radiance)));
+            let (label, entry_point, layout, format, stencil, constants) = match pass {
+                ModePass::Extract(sample) => (
+                    format!("smaa s2x extract sample {sample}"),
+                    "fs_extract_sample",
+                    extract_layout,
+                    if radiance {
+                        HDR_FORMAT
+                    } else {
+                        COLOR_FORMAT_ENCODED_VIEW
+                    },
+                    Stencil::WriteDepth,
+                    vec![radiance_constant, ("SAMPLE_INDEX", sample as f64)],
+                ),
+                ModePass::Average => (
+                    "smaa s2x average".to_owned(),
+                    "fs_average",
+                    average_layout,
+                    output_format(radiance),
+                    Stencil::None,
+                    vec![radiance_constant],
+                ),
+            };
+            vertex.pipeline(
+                device,
+                &PassDesc {
+                    label: &label,
+                    module,
+                    entry_point,
+                    layout,
+                    format,
+                    constants: &constants,
+                    stencil,
+                },
+            )
+        })
     }
 
     /// The path this adapter runs.
@@ -153,15 +186,18 @@ impl Multisample {
     }
 
     /// Records the copy of one sample's colour and depth from the two-sample `input` into the
-    /// single-sample `destination` (SMAA 4x copies from its own jittered 2x render).
+    /// single-sample `destination` (SMAA 4x copies from its own jittered 2x render); both hold
+    /// radiance or both display values.
     pub(crate) fn copy_sample(
-        &self,
+        &mut self,
         ctx: &mut PassContext<'_>,
         input: &SceneTargets,
         destination: &SceneTargets,
         sample: usize,
     ) {
-        let color = view_as(&input.color, COLOR_FORMAT_ENCODED_VIEW);
+        let radiance = holds_radiance(&input.color);
+        let pipeline = self.pipeline(&ctx.gpu.device, ModePass::Extract(sample), radiance);
+        let color = encoded_or_radiance_view(&input.color);
         let depth = input.depth.create_view(&Default::default());
         let group = bind_group(
             &ctx.gpu.device,
@@ -172,9 +208,8 @@ impl Multisample {
                 (6, wgpu::BindingResource::TextureView(&depth)),
             ],
         );
-        let color_target = view_as(&destination.color, COLOR_FORMAT_ENCODED_VIEW);
+        let color_target = encoded_or_radiance_view(&destination.color);
         let depth_target = destination.depth.create_view(&Default::default());
-        let pipeline = &self.extract[sample];
         ctx.render_pass(
             &format!("sample {sample} extract"),
             &[Some(cleared(&color_target))],
@@ -187,7 +222,7 @@ impl Multisample {
                 stencil_ops: None,
             }),
             |pass| {
-                pass.set_pipeline(pipeline);
+                pass.set_pipeline(&pipeline);
                 pass.set_bind_group(0, &group, &[]);
                 pass.draw(0..3, 0..1);
             },
@@ -206,14 +241,15 @@ impl Multisample {
         debug: bool,
     ) {
         let size = ctx.frame.size();
-        if self.targets.as_ref().is_none_or(|t| t.size != size) {
+        let radiance = holds_radiance(output);
+        if (self.targets.as_ref()).is_none_or(|t| t.size != size || t.sample.desc.hdr != radiance) {
             let device = &ctx.gpu.device;
             let result = |i: usize| {
                 pass::target(
                     device,
                     &format!("smaa s2x sample {i}"),
                     size,
-                    COLOR_FORMAT,
+                    output_format(radiance),
                     &[],
                 )
             };
@@ -226,20 +262,26 @@ impl Multisample {
                         size,
                         sample_count: 1,
                         motion: false,
-                        hdr: false,
+                        hdr: radiance,
                         reactive_mask: false,
                     },
                 ),
                 results: [result(0), result(1)],
             });
         }
-        let Some(targets) = &self.targets else { return };
+        // Out of `self` while the passes borrow it; put back below.
+        let Some(targets) = self.targets.take() else {
+            return;
+        };
         for (sample, offset) in sample_offsets().into_iter().enumerate() {
             match (self.path, input) {
                 (S2xPath::Msaa, Some(input)) => {
                     self.copy_sample(ctx, input, &targets.sample, sample);
                 }
-                (S2xPath::Msaa, None) => return,
+                (S2xPath::Msaa, None) => {
+                    self.targets = Some(targets);
+                    return;
+                }
                 (S2xPath::Renders, _) => {
                     // The sample at `offset` from the centre: the image moves by -offset.
                     let view = ctx.frame.camera.params(-offset, 0.0);
@@ -272,16 +314,20 @@ impl Multisample {
         }
         let target = output.create_view(&Default::default());
         self.average(ctx, &targets.results, &target);
+        self.targets = Some(targets);
     }
 
     /// Records the average of the two per-sample results into `target`, in linear light
-    /// (alpha too, so that SMAA 4x keeps the speed its resolve reads there).
+    /// (alpha too, so that SMAA 4x keeps the speed its resolve reads there); Karis-weighted
+    /// when they hold radiance.
     pub(crate) fn average(
-        &self,
+        &mut self,
         ctx: &mut PassContext<'_>,
         results: &[wgpu::Texture; 2],
         target: &wgpu::TextureView,
     ) {
+        let radiance = holds_radiance(&results[0]);
+        let pipeline = self.pipeline(&ctx.gpu.device, ModePass::Average, radiance);
         let views = results
             .each_ref()
             .map(|t| t.create_view(&Default::default()));
@@ -294,7 +340,7 @@ impl Multisample {
                 (8, wgpu::BindingResource::TextureView(&views[1])),
             ],
         );
-        ctx.fullscreen_pass("average", target, &self.average, &group);
+        ctx.fullscreen_pass("average", target, &pipeline, &group);
     }
 
     /// Memory of the per-sample targets.

@@ -8,6 +8,12 @@
 //! constants) and are rebuilt when it changes; thresholds, the sub-sample indices and the
 //! corner rounding are uniforms, written per run into the run's own uniform slot so that
 //! several runs can share one command encoder (SMAA S2x).
+//!
+//! On radiance (before the tonemapper of an HDR frame) the edge pass reads the perceptual copy
+//! of the input (`aa::common::perceptual`: Karis-compressed and sRGB-encoded, so the thresholds
+//! keep their meaning) and the blend pass reads the radiance and writes it to a half-float
+//! target: the blend is an area-weighted mix of a pixel and its neighbour, as a camera
+//! averages radiance over the pixel.
 
 use glam::Vec2;
 
@@ -17,8 +23,9 @@ use crate::aa::common::morphology::{
     EdgeDebugViews, EdgeTargets, MorphologicalDesc, MorphologicalPipelines, edge_and_weight_passes,
 };
 use crate::aa::common::pass::{self, Binding, PassDesc, Stencil, Vertex, bind_group};
-use crate::aa::common::{bilinear_clamp_sampler, view_as};
-use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, Gpu, MOTION_FORMAT};
+use crate::aa::common::perceptual::PerceptualCopy;
+use crate::aa::common::{bilinear_clamp_sampler, holds_radiance, output_format, view_as};
+use crate::gpu::{COLOR_FORMAT_ENCODED_VIEW, Gpu, MOTION_FORMAT};
 use crate::graph::{MemoryItem, PassContext};
 
 /// The uniform block of `smaa.wgsl` (`Params`).
@@ -55,7 +62,8 @@ impl Params {
 }
 
 struct Pipelines {
-    key: PipelineKey,
+    /// The settings' key and whether the blends write radiance.
+    key: (PipelineKey, bool),
     passes: MorphologicalPipelines,
     blend_velocity: wgpu::RenderPipeline,
 }
@@ -67,7 +75,8 @@ struct DebugViews {
 
 /// The images one SMAA 1x run reads.
 pub struct Input<'a> {
-    /// Colour, single sample, [`COLOR_FORMAT`] with an encoded view.
+    /// Colour, single sample: display values ([`crate::gpu::COLOR_FORMAT`] with an encoded
+    /// view) or radiance ([`crate::gpu::HDR_FORMAT`]).
     pub color: &'a wgpu::Texture,
     /// Depth of the same render (depth edges and predication).
     pub depth: &'a wgpu::Texture,
@@ -92,6 +101,7 @@ pub struct SmaaPasses {
     no_motion: wgpu::Texture,
     uniforms: Vec<wgpu::Buffer>,
     pipelines: Option<Pipelines>,
+    perceptual: PerceptualCopy,
     targets: Option<EdgeTargets>,
     debug: Option<DebugViews>,
 }
@@ -141,14 +151,21 @@ impl SmaaPasses {
             no_motion,
             uniforms: Vec::new(),
             pipelines: None,
+            perceptual: PerceptualCopy::default(),
             targets: None,
             debug: None,
             device: device.clone(),
         }
     }
 
-    fn ensure_pipelines(&mut self, key: PipelineKey) {
-        if self.pipelines.as_ref().is_some_and(|p| p.key == key) {
+    /// Builds the pipelines of `key` whose blends write radiance when `radiance` (before the
+    /// tonemapper), unless they are the current ones.
+    fn ensure_pipelines(&mut self, key: PipelineKey, radiance: bool) {
+        if self
+            .pipelines
+            .as_ref()
+            .is_some_and(|p| p.key == (key, radiance))
+        {
             return;
         }
         let constants = [
@@ -177,6 +194,7 @@ impl SmaaPasses {
                 edge_entry,
                 layouts: [&self.edge_layout, &self.weight_layout, &self.blend_layout],
                 constants: &constants,
+                blend_format: output_format(radiance),
             },
         );
         let blend_velocity = self.vertex.pipeline(
@@ -186,13 +204,13 @@ impl SmaaPasses {
                 module: &self.module,
                 entry_point: "fs_blend_velocity",
                 layout: &self.blend_layout,
-                format: COLOR_FORMAT,
+                format: output_format(radiance),
                 constants: &constants,
                 stencil: Stencil::None,
             },
         );
         self.pipelines = Some(Pipelines {
-            key,
+            key: (key, radiance),
             passes,
             blend_velocity,
         });
@@ -214,8 +232,8 @@ impl SmaaPasses {
         &self.uniforms[slot]
     }
 
-    /// Records SMAA 1x of `input` into `target` (a view of a [`COLOR_FORMAT`] texture of the
-    /// same size). `slot` picks the uniform block (distinct for runs in one frame), `position`
+    /// Records SMAA 1x of `input` into `target` (a view of a texture of the same size, in the
+    /// input's kind: display values or radiance). `slot` picks the uniform block (distinct for runs in one frame), `position`
     /// is the sample position relative to the pixel centre (chooses the area sub-tables) and
     /// `prefix` starts the pass names in the timings.
     #[allow(clippy::too_many_arguments)]
@@ -230,18 +248,19 @@ impl SmaaPasses {
         prefix: &str,
     ) {
         let size = (input.color.width(), input.color.height());
-        self.ensure_pipelines(settings.pipeline_key());
+        self.ensure_pipelines(settings.pipeline_key(), holds_radiance(input.color));
         self.ensure_targets(size);
         let params = Params::new(settings, size, super::lut::subsample_indices(position));
         ctx.gpu
             .queue
             .write_buffer(self.uniform_slot(slot), 0, bytemuck::bytes_of(&params));
+        let edge_source = self.perceptual.edge_source(ctx, input.color, prefix);
+        let color_encoded = view_as(edge_source, COLOR_FORMAT_ENCODED_VIEW);
         let (Some(pipelines), Some(targets)) = (&self.pipelines, &self.targets) else {
             return;
         };
         let device = &self.device;
         let uniform = self.uniforms[slot].as_entire_binding();
-        let color_encoded = view_as(input.color, COLOR_FORMAT_ENCODED_VIEW);
         let color_linear = input.color.create_view(&Default::default());
         let depth = input.depth.create_view(&Default::default());
         let views = targets.views();
@@ -354,6 +373,7 @@ impl SmaaPasses {
         if let Some(d) = &self.debug {
             items.extend(d.views.memory(id));
         }
+        items.extend(self.perceptual.memory(id));
         items.extend(
             self.uniforms
                 .iter()

@@ -6,6 +6,7 @@
 use crate::aa::params::{Named, Param, ParamField, ParamValue, Tunable, as_i64};
 
 use super::lut::MAX_DIAG_DISTANCE;
+use crate::graph::hdr::TonemapOrder;
 
 crate::named_enum! {
     /// Quality presets (threshold / search steps / diagonal steps / corner rounding):
@@ -71,6 +72,8 @@ pub struct SmaaSettings {
     /// T2x: texture mip bias of the jittered render (its two samples per pixel average away
     /// the extra texture aliasing of a sharper mip level).
     pub mip_bias: f32,
+    /// In HDR frames, before or after the tonemapper (after, as engines run it).
+    pub tonemap_order: TonemapOrder,
 }
 
 /// The settings only SMAA T2x has.
@@ -100,6 +103,7 @@ impl SmaaSettings {
             predication_strength: 0.4,
             reprojection_weight_scale: 30.0,
             mip_bias: -0.5,
+            tonemap_order: TonemapOrder::After,
         }
     }
 
@@ -243,6 +247,7 @@ impl SmaaSettings {
                 1.0,
                 self.predication_strength,
             ),
+            self.tonemap_order.param(),
         ];
         if temporal {
             params.push(Param::float(
@@ -302,6 +307,7 @@ impl Tunable for SmaaSettings {
                         predication_strength,
                         reprojection_weight_scale,
                         mip_bias,
+                        tonemap_order,
                     ]
                 );
             }
@@ -309,7 +315,7 @@ impl Tunable for SmaaSettings {
         true
     }
 
-    /// Keeps the edge mode, predication and reprojection choices.
+    /// Keeps the edge mode, predication, reprojection and tonemap order choices.
     fn apply_preset(&mut self, preset: Preset) {
         let p = Self::preset(preset);
         self.threshold = p.threshold;

@@ -7,6 +7,10 @@
 // - fs_average: the average of S2x's two per-sample results, in linear light; alpha is
 //   averaged too (1 for S2x; SMAA 4x keeps the pixel's speed there for its resolve).
 // - fs_debug_edges / fs_debug_weights: the edges and blending weights as viewable images.
+// Compiled after radiance.wgsl (aa/common): with RADIANCE (SMAA before the tonemapper of an HDR
+// frame) the resolve and the average mix Karis-compressed colours and expand the result back
+// to radiance, so one very bright sample does not dominate them; without it `compressed` and
+// `to_output` are the identity.
 
 struct ResolveParams {
     // 1 when the history is valid, 0 after a reset.
@@ -44,7 +48,7 @@ fn fs_resolve(@builtin(position) position: vec4<f32>, @location(0) uv: vec2<f32>
     // Both alphas hold sqrt(5 |v|): the difference of the squares is 5 times the change of speed.
     let speed_change = abs(current.a * current.a - previous.a * previous.a) / 5.0;
     let weight = 0.5 * saturate(1.0 - sqrt(speed_change) * resolve_params.weight_scale);
-    return vec4<f32>(mix(current.rgb, previous.rgb, weight), 1.0);
+    return vec4<f32>(to_output(mix(compressed(current.rgb), compressed(previous.rgb), weight)), 1.0);
 }
 
 struct Extracted {
@@ -61,7 +65,9 @@ fn fs_extract_sample(@builtin(position) position: vec4<f32>) -> Extracted {
 @fragment
 fn fs_average(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(position.xy);
-    return 0.5 * (textureLoad(first_tex, p, 0) + textureLoad(second_tex, p, 0));
+    let first = textureLoad(first_tex, p, 0);
+    let second = textureLoad(second_tex, p, 0);
+    return vec4<f32>(to_output(0.5 * (compressed(first.rgb) + compressed(second.rgb))), 0.5 * (first.a + second.a));
 }
 
 // Red: edge on the left side, green: on the top side (yellow: both), black: none.

@@ -8,13 +8,18 @@
 //! 1/2, lowered where the pixel's speed changed between the frames (velocity weighting; the
 //! speed travels in the results' alpha). The history is dropped on `reset_history`, on a
 //! resize and whenever a setting changes, so frame N depends only on frames 0..=N.
+//!
+//! Before the tonemapper of an HDR frame the two frames hold radiance and the resolve mixes
+//! them Karis-weighted (`RADIANCE` in `smaa_modes.wgsl`); its pipeline for that is built on the
+//! first such frame, and the history is dropped when the frames switch between radiance and
+//! display values.
 
 use glam::Vec2;
 
 use super::passes::{Input, SmaaPasses};
 use super::settings::SmaaSettings;
-use crate::aa::common::pass::{self, Binding, PassDesc, Stencil, bind_group};
-use crate::gpu::COLOR_FORMAT;
+use crate::aa::common::pass::{self, Binding, PassDesc, Stencil, Vertex, bind_group};
+use crate::aa::common::{PipelineCache, holds_radiance, output_format};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
 
@@ -54,16 +59,19 @@ pub(crate) struct ResolveFrame<'a> {
     pub sampler: &'a wgpu::Sampler,
 }
 
-/// The T2x state: resolve pipeline and the two frames.
+/// The T2x state: resolve pipelines and the two frames.
 pub struct Temporal {
+    vertex: Vertex,
+    module: wgpu::ShaderModule,
     layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
+    /// The resolve, by whether it works on radiance.
+    pipelines: PipelineCache<bool>,
     params: wgpu::Buffer,
     history: Option<History>,
 }
 
 impl Temporal {
-    /// Builds the resolve pipeline.
+    /// The resolve over `passes`' module; its pipelines are built on first use.
     pub fn new(device: &wgpu::Device, passes: &SmaaPasses) -> Self {
         let layout = pass::layout(
             device,
@@ -76,21 +84,11 @@ impl Temporal {
                 (4, Binding::Sampler),
             ],
         );
-        let pipeline = passes.vertex.pipeline(
-            device,
-            &PassDesc {
-                label: "smaa t2x resolve",
-                module: &passes.modes_module,
-                entry_point: "fs_resolve",
-                layout: &layout,
-                format: COLOR_FORMAT,
-                constants: &[],
-                stencil: Stencil::None,
-            },
-        );
         Self {
+            vertex: Vertex::new(device),
+            module: passes.modes_module.clone(),
             layout,
-            pipeline,
+            pipelines: PipelineCache::default(),
             params: pass::uniform_buffer::<ResolveParams>(device, "smaa t2x resolve params"),
             history: None,
         }
@@ -140,9 +138,11 @@ impl Temporal {
         current_frame: impl FnOnce(&mut PassContext<'_>, &wgpu::TextureView),
     ) {
         let size = frame.size;
+        let radiance = holds_radiance(output);
+        let format = output_format(radiance);
         let device = ctx.gpu.device.clone();
         let history = match self.history.take() {
-            Some(h) if h.size == size => History {
+            Some(h) if h.size == size && h.current.format() == format => History {
                 valid: h.valid && h.settings == *settings && !ctx.frame.reset_history,
                 settings: *settings,
                 ..h
@@ -150,8 +150,8 @@ impl Temporal {
             _ => History {
                 size,
                 settings: *settings,
-                current: pass::target(&device, "smaa t2x current", size, COLOR_FORMAT, &[]),
-                previous: pass::target(&device, "smaa t2x previous", size, COLOR_FORMAT, &[]),
+                current: pass::target(&device, "smaa t2x current", size, format, &[]),
+                previous: pass::target(&device, "smaa t2x previous", size, format, &[]),
                 valid: false,
             },
         };
@@ -180,8 +180,22 @@ impl Temporal {
                 (4, Sampler(frame.sampler)),
             ],
         );
+        let pipeline = self.pipelines.get_or_build(radiance, |&radiance| {
+            self.vertex.pipeline(
+                &device,
+                &PassDesc {
+                    label: "smaa t2x resolve",
+                    module: &self.module,
+                    entry_point: "fs_resolve",
+                    layout: &self.layout,
+                    format,
+                    constants: &[("RADIANCE", f64::from(u8::from(radiance)))],
+                    stencil: Stencil::None,
+                },
+            )
+        });
         let target = output.create_view(&Default::default());
-        ctx.fullscreen_pass("resolve", &target, &self.pipeline, &group);
+        ctx.fullscreen_pass("resolve", &target, &pipeline, &group);
         // This frame's result is the next frame's history.
         self.history = Some(History {
             current: history.previous,

@@ -18,6 +18,10 @@
 //! resolve, settings and presets (`low` .. `ultra`, with T2x's velocity weighting and mip
 //! bias). Debug views: edges and blending weights of the first sample.
 //!
+//! Before the tonemapper of an HDR frame (`tonemap_order`) the renders are radiance, each
+//! sample's SMAA runs on it, and both the average and the resolve are Karis-weighted (see the
+//! SMAA module docs).
+//!
 //! Figures: `docs/techniques/smaa.md`.
 
 use glam::Vec2;
@@ -27,10 +31,12 @@ use super::passes::{Input, SmaaPasses};
 use super::temporal::{ResolveFrame, Temporal};
 use super::{SmaaSettings, s2x_availability};
 use crate::aa::common::pass::{self, Binding, PassDesc, Stencil, bind_group, cleared};
+use crate::aa::common::{holds_radiance, output_format};
 use crate::aa::info::TechniqueInfo;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
 use crate::gpu::{Gpu, MOTION_FORMAT};
+use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::{RasterOptions, SceneTargets, TargetDesc};
 
@@ -79,7 +85,8 @@ struct Targets {
 }
 
 impl Targets {
-    fn new(gpu: &Gpu, path: S2xPath, size: (u32, u32)) -> Self {
+    /// The targets of `path` at `size`, of radiance or display values.
+    fn new(gpu: &Gpu, path: S2xPath, size: (u32, u32), radiance: bool) -> Self {
         let msaa = path == S2xPath::Msaa;
         let scene = |label, sample_count, motion| {
             SceneTargets::new(
@@ -89,7 +96,7 @@ impl Targets {
                     size,
                     sample_count,
                     motion,
-                    hdr: false,
+                    hdr: radiance,
                     reactive_mask: false,
                 },
             )
@@ -101,7 +108,7 @@ impl Targets {
             sample: scene("smaa 4x sample", 1, !msaa),
             motion: msaa.then(|| target("smaa 4x motion", MOTION_FORMAT)),
             results: [0, 1]
-                .map(|i| target(&format!("smaa 4x sample {i}"), crate::gpu::COLOR_FORMAT)),
+                .map(|i| target(&format!("smaa 4x sample {i}"), output_format(radiance))),
         }
     }
 
@@ -219,8 +226,9 @@ impl Technique for Smaa4x {
     ) {
         let size = ctx.frame.size();
         let path = self.multisample.path();
-        if self.targets.as_ref().is_none_or(|t| t.size != size) {
-            self.targets = Some(Targets::new(ctx.gpu, path, size));
+        let radiance = holds_radiance(output);
+        if (self.targets.as_ref()).is_none_or(|t| t.size != size || t.sample.desc.hdr != radiance) {
+            self.targets = Some(Targets::new(ctx.gpu, path, size, radiance));
         }
         let Self {
             settings,
@@ -281,6 +289,10 @@ impl Technique for Smaa4x {
             sampler: &sampler,
         };
         temporal.resolve(ctx, settings, &resolve, output, current_frame);
+    }
+
+    fn tonemap_order(&self) -> TonemapOrder {
+        self.settings.tonemap_order
     }
 
     fn memory(&self) -> Vec<MemoryItem> {

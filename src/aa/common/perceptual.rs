@@ -1,0 +1,94 @@
+//! What the edge detection of the morphological techniques (SMAA, MLAA, CMAA 2) reads when
+//! they run before the tonemapper of an HDR frame (`graph::hdr`).
+//!
+//! Their edge thresholds are tuned for perceptual, sRGB-encoded display values (SMAA's 0.1
+//! is a tenth of the encoded range); on raw radiance, which runs to 40 on `neon`, a threshold
+//! means nothing. [`PerceptualCopy`] therefore hands the edge passes an 8-bit sRGB copy of the
+//! radiance compressed with Karis' reversible tonemap c / (1 + luma) (Brian Karis, "Tone
+//! mapping", 2013; the prelude TAA compiles, `radiance.wgsl`), read through its encoded view
+//! exactly as a displayed image is: black to white keeps most of its encoded range, and a
+//! tube at 8 reads as the near-white it is shown as. The blend passes read the radiance
+//! itself and write radiance, which the graph tonemaps. One copy per run costs one full-screen
+//! pass, cheaper than compressing and encoding every tap of the edge passes (nine a pixel).
+//! Display-value inputs are handed through untouched: LDR frames and techniques after the
+//! tonemapper run exactly as before.
+
+use super::{RADIANCE_WGSL, holds_radiance, pass};
+use crate::gpu::fullscreen::FragmentDesc;
+use crate::gpu::shader::Shader;
+use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW};
+use crate::graph::{MemoryItem, PassContext};
+
+/// The compression pass, after Karis' tonemap.
+pub const PERCEPTUAL_WGSL: Shader =
+    crate::wgsl!("src/aa/common/perceptual.wgsl", prelude = RADIANCE_WGSL);
+
+/// The perceptual copy of a radiance input, its pipeline built on the first HDR run.
+#[derive(Default)]
+pub struct PerceptualCopy {
+    pipeline: Option<wgpu::RenderPipeline>,
+    copy: Option<wgpu::Texture>,
+}
+
+impl PerceptualCopy {
+    /// The texture the edge passes read, through its encoded view, for `color`: `color`
+    /// itself when it holds display values, or else its perceptual copy, recorded now as the
+    /// pass `{prefix}perceptual`.
+    pub fn edge_source<'a>(
+        &'a mut self,
+        ctx: &mut PassContext<'_>,
+        color: &'a wgpu::Texture,
+        prefix: &str,
+    ) -> &'a wgpu::Texture {
+        if !holds_radiance(color) {
+            // An earlier HDR frame's copy is released (and leaves the memory report).
+            self.copy = None;
+            return color;
+        }
+        let (gpu, fullscreen) = (ctx.gpu, ctx.fullscreen);
+        let device = &gpu.device;
+        let size = (color.width(), color.height());
+        if self
+            .copy
+            .as_ref()
+            .is_none_or(|c| (c.width(), c.height()) != size)
+        {
+            self.copy = Some(pass::target(
+                device,
+                "perceptual copy",
+                size,
+                COLOR_FORMAT,
+                &[COLOR_FORMAT_ENCODED_VIEW],
+            ));
+        }
+        let pipeline = self.pipeline.get_or_insert_with(|| {
+            fullscreen.pipeline(
+                device,
+                &FragmentDesc {
+                    label: "perceptual copy",
+                    module: &PERCEPTUAL_WGSL.module(device),
+                    entry_point: "fs_perceptual",
+                    targets: &[COLOR_FORMAT],
+                    constants: &[("RADIANCE", 1.0)],
+                    layout: None,
+                },
+            )
+        });
+        let source = color.create_view(&Default::default());
+        let group = pass::bind_group(
+            device,
+            "perceptual copy",
+            &pipeline.get_bind_group_layout(0),
+            &[(0, wgpu::BindingResource::TextureView(&source))],
+        );
+        let Some(copy) = &self.copy else { return color };
+        let target = copy.create_view(&Default::default());
+        ctx.fullscreen_pass(&format!("{prefix}perceptual"), &target, pipeline, &group);
+        copy
+    }
+
+    /// The copy's memory, labelled with the technique id, while HDR frames keep it.
+    pub fn memory(&self, id: &str) -> Option<MemoryItem> {
+        (self.copy.as_ref()).map(|c| MemoryItem::texture(format!("{id} perceptual copy"), c))
+    }
+}

@@ -1,0 +1,13 @@
+// The edge input of SMAA, MLAA and CMAA 2 before the tonemapper of an HDR frame
+// (aa::common::perceptual), compiled after radiance.wgsl with RADIANCE set: every pixel of the
+// radiance is compressed with Karis' reversible tonemap c / (1 + luma) and written through an
+// sRGB view, so the edge passes read the same kind of perceptual, encoded values as on the
+// displayed image and their thresholds keep their meaning.
+
+@group(0) @binding(0) var radiance_image: texture_2d<f32>;
+
+@fragment
+fn fs_perceptual(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
+    let c = textureLoad(radiance_image, vec2<i32>(position.xy), 0);
+    return vec4<f32>(compressed(max(c.rgb, vec3<f32>(0.0))), c.a);
+}
