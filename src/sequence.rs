@@ -26,9 +26,10 @@
 //! The metrics work on 8-bit sRGB-encoded RGBA, so every frame is delivered that way
 //! ([`srgb::display_rgba8`]): PNG and JPEG frames as they are (8- or 16-bit, the latter
 //! scaled), OpenEXR frames as linear light, clamped to 0..1 and sRGB-encoded: what an SDR
-//! display shows of the frame without tonemapping. Highlights above 1 all become white, so an
-//! engine's HDR capture should be tonemapped (by the engine, before the dump) when highlight
-//! detail is what is compared.
+//! display shows of the frame without tonemapping, where highlights above 1 all become white.
+//! An HDR capture whose highlights are compared goes through a tonemapper instead
+//! ([`Sequence::with_tonemap`]: exposure and operator as the renders' own, `graph::hdr`), so
+//! captured frames and rendered ones are displayed by the same curve.
 
 use std::collections::VecDeque;
 use std::io::Cursor;
@@ -39,6 +40,7 @@ use std::sync::{Arc, Mutex, PoisonError};
 use image::{ImageFormat, ImageReader, RgbaImage};
 
 use crate::files::{self, FileError};
+use crate::scene::renderer::Tonemap;
 use crate::srgb;
 
 /// Most frames a sequence may have.
@@ -291,6 +293,8 @@ pub struct Sequence {
     size: (u32, u32),
     cache: Mutex<FrameCache>,
     decoded: AtomicU64,
+    /// How linear (OpenEXR) frames reach display values; `None` clamps them.
+    tonemap: Option<Tonemap>,
 }
 
 impl Sequence {
@@ -325,7 +329,23 @@ impl Sequence {
                 cap: DEFAULT_CACHE_BYTES,
             }),
             decoded: AtomicU64::new(0),
+            tonemap: None,
         })
+    }
+
+    /// The same sequence with its linear (OpenEXR) frames shown through `tonemap` (exposure
+    /// and operator) instead of clamped; display-referred frames (PNG, JPEG) are unchanged.
+    #[must_use]
+    pub fn with_tonemap(mut self, tonemap: Option<Tonemap>) -> Self {
+        if tonemap != self.tonemap {
+            self.tonemap = tonemap;
+            // Frames decoded so far were shown the other way.
+            if let Ok(mut cache) = self.cache.lock() {
+                cache.frames.clear();
+                cache.bytes = 0;
+            }
+        }
+        self
     }
 
     /// The same sequence keeping at most `bytes` of decoded frames.
@@ -415,7 +435,12 @@ impl Sequence {
         let mut reader = reader();
         reader.limits(limits);
         let image = reader.decode().map_err(|e| decode_error(path, e))?;
-        Ok(srgb::display_rgba8(image))
+        Ok(match &self.tonemap {
+            Some(tonemap) => srgb::display_rgba8_mapped(image, |linear| {
+                tonemap.apply(glam::Vec3::from(linear)).to_array()
+            }),
+            None => srgb::display_rgba8(image),
+        })
     }
 }
 

@@ -58,11 +58,22 @@ transfer!(
 /// clamped to 0..1 and sRGB-encoded ([`encode_byte`]), alpha clamped and scaled. Clamping,
 /// not tonemapping: values above 1 show as an SDR display would show them, white.
 pub fn display_rgba8(image: image::DynamicImage) -> image::RgbaImage {
+    display_rgba8_mapped(image, |linear| linear)
+}
+
+/// [`display_rgba8`] with floating-point (linear) images first passed through `to_display`
+/// pixel by pixel (linear RGB in, linear display RGB out, clamped afterwards): a tonemapper,
+/// for HDR captures. Integer images are display values already and are not mapped.
+pub fn display_rgba8_mapped(
+    image: image::DynamicImage,
+    to_display: impl Fn([f32; 3]) -> [f32; 3],
+) -> image::RgbaImage {
     match image {
         image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_) => {
             let linear = image.into_rgba32f();
             image::RgbaImage::from_fn(linear.width(), linear.height(), |x, y| {
                 let [r, g, b, a] = linear.get_pixel(x, y).0;
+                let [r, g, b] = to_display([r, g, b]);
                 let alpha = (a.clamp(0.0, 1.0) * 255.0).round() as u8;
                 image::Rgba([encode_byte(r), encode_byte(g), encode_byte(b), alpha])
             })

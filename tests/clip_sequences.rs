@@ -189,6 +189,56 @@ fn a_clip_of_two_captures_and_their_reference_reports_what_compare_does() {
     );
 }
 
+/// Writes two frames of a grey ramp in linear light whose right half is `highlight` (above
+/// the display's white).
+fn highlight_sequence(root: &Path, folder: &str, highlight: f32) -> PathBuf {
+    let dir = root.join(folder);
+    std::fs::create_dir_all(&dir).expect("folder");
+    for i in 0..2 {
+        let image = image::Rgba32FImage::from_fn(WIDTH, HEIGHT, |x, _| {
+            let v = if x >= WIDTH / 2 {
+                highlight
+            } else {
+                x as f32 / WIDTH as f32
+            };
+            image::Rgba([v, v, v, 1.0])
+        });
+        image::DynamicImage::ImageRgba32F(image)
+            .save(dir.join(format!("hdr.{i:03}.exr")))
+            .expect("EXR written");
+    }
+    dir
+}
+
+#[test]
+fn compare_sees_highlights_of_openexr_captures_through_a_named_tonemapper() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let dim = highlight_sequence(dir.path(), "dim", 2.0);
+    let bright = highlight_sequence(dir.path(), "bright", 8.0);
+    let mae = |extra: &[&str]| {
+        let mut args = vec!["compare", text(&dim), text(&bright), "--json"];
+        args.extend_from_slice(extra);
+        let out = common::aa_lab(&args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let json: serde_json::Value = serde_json::from_str(&common::stdout(&out)).expect("JSON");
+        number(&json["summary"], "mae")
+    };
+    // Clamped, both highlights are white: the captures look the same.
+    let clamped = mae(&[]);
+    let tonemapped = mae(&["--tonemap", "aces"]);
+    assert!(
+        clamped == 0.0 && tonemapped > 0.001,
+        "mean absolute error clamped {clamped}, through ACES {tonemapped}"
+    );
+    // Two OpenEXR images are scored by HDR-FLIP, which has its own exposures.
+    let single = dir.path().join("one.exr");
+    std::fs::copy(dim.join("hdr.000.exr"), &single).expect("copied");
+    fails_with(
+        &["compare", text(&single), text(&single), "--tonemap", "aces"],
+        &["--tonemap applies to sequences of OpenEXR frames"],
+    );
+}
+
 #[test]
 fn sizes_and_lengths_that_do_not_fit_are_clear_errors() {
     let dir = tempfile::tempdir().expect("temp dir");

@@ -6,6 +6,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
+use aa_lab::scene::renderer::{Tonemap, Tonemapper};
 use aa_lab::sequence::{Sequence, SequenceError};
 use common::fails_with;
 
@@ -124,6 +125,57 @@ fn openexr_frames_are_linear_clamped_and_srgb_encoded() {
         .save(dir.path().join("hdr.004.png"))
         .expect("frame");
     open_fails(dir.path(), &["do not belong to one sequence"]);
+}
+
+#[test]
+fn openexr_frames_go_through_a_tonemapper_when_one_is_given() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let values = [0.5f32, 4.0, 1.0, 0.0];
+    for number in 1..=2 {
+        let image = image::Rgba32FImage::from_fn(WIDTH, HEIGHT, |x, _| {
+            let v = values[(x % 4) as usize];
+            image::Rgba([v, v, v, 1.0])
+        });
+        image::DynamicImage::ImageRgba32F(image)
+            .save(dir.path().join(format!("hdr.{number:03}.exr")))
+            .expect("EXR written");
+    }
+    let clamped = Sequence::open(dir.path()).expect("opens");
+    assert_eq!(clamped.frame(0).expect("decodes").get_pixel(1, 0).0[0], 255);
+    let reinhard = Tonemap {
+        operator: Tonemapper::Reinhard,
+        exposure: 0.0,
+    };
+    let sequence = clamped.with_tonemap(Some(reinhard));
+    let frame = sequence.frame(0).expect("decodes");
+    let shown = |x| frame.get_pixel(x, 0).0[0];
+    // Reinhard: 0.5 -> 1/3, 4 -> 0.8, 1 -> 0.5 (linear), then sRGB-encoded.
+    let encoded = |linear: f32| aa_lab::srgb::encode_byte(linear);
+    assert_eq!(
+        [shown(0), shown(1), shown(2), shown(3)],
+        [encoded(1.0 / 3.0), encoded(0.8), encoded(0.5), 0]
+    );
+    // One stop more exposure doubles the radiance before the curve.
+    let brighter = Sequence::open(dir.path())
+        .expect("opens")
+        .with_tonemap(Some(Tonemap {
+            exposure: 1.0,
+            ..reinhard
+        }));
+    assert_eq!(
+        brighter.frame(0).expect("decodes").get_pixel(0, 0).0[0],
+        encoded(0.5)
+    );
+    // Display-referred frames are not tonemapped.
+    let png = write_sequence(dir.path(), "png", 0..2, 0);
+    let plain = Sequence::open(&png).expect("opens");
+    let mapped = Sequence::open(&png)
+        .expect("opens")
+        .with_tonemap(Some(reinhard));
+    assert_eq!(
+        *plain.frame(1).expect("decodes"),
+        *mapped.frame(1).expect("decodes")
+    );
 }
 
 #[test]

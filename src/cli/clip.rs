@@ -129,7 +129,9 @@ pub struct ClipArgs {
     pub threads: Option<u32>,
     /// A captured image sequence as a pane, LABEL=PATH (a folder or a quoted glob of
     /// numbered PNG, JPEG or OpenEXR frames; repeatable). With sequences, techniques are
-    /// rendered only when --technique names them.
+    /// rendered only when --technique names them. OpenEXR frames (linear light) are clamped
+    /// to the display's white, or shown through the tonemapper --tonemap names, with
+    /// --exposure.
     #[arg(long, value_name = "LABEL=PATH")]
     pub sequence: Vec<String>,
     /// A captured sequence every pane is scored against instead of the 64-sample render
@@ -337,10 +339,14 @@ fn pane_names(graph: Option<&FrameGraph>, sequences: &ClipSequences) -> (Vec<Str
 
 /// Runs `aa-lab clip`.
 pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
+    // Captures are not known to be HDR: a named tonemapper shows OpenEXR frames through it,
+    // `auto` and `none` clamp them.
+    let capture_tonemap = (args.scene.tonemap).resolve(false, args.scene.exposure);
     let sequences = ClipSequences::open(
         &args.sequence,
         args.reference_sequence.as_deref(),
         &args.offset,
+        capture_tonemap,
     )?;
     let renders_techniques = args.techniques_given || sequences.panes.is_empty();
     let size = clip_size(args, &sequences, renders_techniques)?;

@@ -20,6 +20,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, bail};
 
 use crate::files::Overwrite;
+use crate::scene::renderer::Tonemap;
 use crate::sequence::Sequence;
 
 /// The name `--offset` gives the reference sequence, and its folder in `--frames-dir`.
@@ -124,11 +125,12 @@ fn split_label<'a>(flag: &str, text: &'a str) -> anyhow::Result<(&'a str, &'a st
 }
 
 /// Opens one sequence with the clip's cache, by its absolute path (the record then
-/// reproduces from any folder).
-fn open(label: &str, path: &Path) -> anyhow::Result<CapturedPane> {
+/// reproduces from any folder), its OpenEXR frames shown through `tonemap`.
+fn open(label: &str, path: &Path, tonemap: Option<Tonemap>) -> anyhow::Result<CapturedPane> {
     let path = std::path::absolute(path).unwrap_or_else(|_| path.to_owned());
-    let sequence =
-        Sequence::open(&path).with_context(|| format!("cannot open the sequence {label}"))?;
+    let sequence = Sequence::open(&path)
+        .with_context(|| format!("cannot open the sequence {label}"))?
+        .with_tonemap(tonemap);
     let (width, height) = sequence.size();
     let frame_bytes = width as usize * height as usize * 4;
     Ok(CapturedPane {
@@ -141,11 +143,13 @@ fn open(label: &str, path: &Path) -> anyhow::Result<CapturedPane> {
 impl ClipSequences {
     /// Opens `--sequence` (`LABEL=PATH` each), `--reference-sequence` and applies `--offset`
     /// (`LABEL=N` each): labels must be unique and not `reference`, and every offset must name
-    /// a sequence and leave it a frame.
+    /// a sequence and leave it a frame. OpenEXR frames are shown through `tonemap` (clamped
+    /// without one).
     pub fn open(
         sequences: &[String],
         reference: Option<&Path>,
         offsets: &[String],
+        tonemap: Option<Tonemap>,
     ) -> anyhow::Result<Self> {
         let mut panes: Vec<CapturedPane> = Vec::new();
         for text in sequences {
@@ -158,12 +162,12 @@ impl ClipSequences {
             if panes.iter().any(|p| p.label == label) {
                 bail!("--sequence {text}: two sequences are labelled {label}");
             }
-            panes.push(open(label, Path::new(path))?);
+            panes.push(open(label, Path::new(path), tonemap)?);
         }
         let mut clip = Self {
             panes,
             reference: reference
-                .map(|path| open(REFERENCE_LABEL, path))
+                .map(|path| open(REFERENCE_LABEL, path, tonemap))
                 .transpose()?,
         };
         for text in offsets {

@@ -55,6 +55,14 @@ pub struct CompareArgs {
     /// over the frames) as a heatmap with legend to this PNG.
     #[arg(long, value_name = "OUT.png", requires = "jod")]
     pub jod_heatmap: Option<PathBuf>,
+    /// Sequences of OpenEXR frames only: show their linear light through this tonemapper
+    /// (reinhard, aces, agx or neutral) before scoring, instead of clamping it to the
+    /// display's white (auto, none).
+    #[arg(long, value_name = "NAME", default_value = "auto", value_parser = super::parse::parse_tonemap)]
+    pub tonemap: crate::graph::hdr::TonemapChoice,
+    /// Exposure in stops (EV) before --tonemap.
+    #[arg(long, value_name = "EV", default_value_t = 0.0, allow_hyphen_values = true, value_parser = super::parse::parse_exposure)]
+    pub exposure: f32,
 }
 
 /// Most pixels an image compared may have: 8K UHD (7680x4320) fits. The error maps take

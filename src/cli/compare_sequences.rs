@@ -22,6 +22,7 @@ use crate::metrics::jod::{self, JodSetting};
 use crate::metrics::series::{FrameSeries, SeriesSummary};
 use crate::metrics::stability::{ClipMetrics, TemporalScores};
 use crate::metrics::{Comparison, Plane};
+use crate::scene::renderer::Tonemap;
 use crate::sequence::{Sequence, check_same_shape};
 
 /// One frame pair's figures.
@@ -113,8 +114,8 @@ struct SequenceOutput<'a> {
 /// Decoded frames each sequence keeps while compared: the pair being scored.
 const CACHE_FRAMES: usize = 2;
 
-fn open(path: &Path) -> anyhow::Result<Sequence> {
-    let sequence = Sequence::open(path)?;
+fn open(path: &Path, tonemap: Option<Tonemap>) -> anyhow::Result<Sequence> {
+    let sequence = Sequence::open(path)?.with_tonemap(tonemap);
     let (width, height) = sequence.size();
     anyhow::ensure!(
         u64::from(width) * u64::from(height) <= MAX_COMPARE_PIXELS,
@@ -131,8 +132,10 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         !args.gpu,
         "--gpu scores two images; sequences are scored on the CPU (leave out --gpu)"
     );
-    let reference = open(&args.reference)?;
-    let test = open(&args.test)?;
+    // Captures are not known to be HDR: only a named tonemapper applies (see `--tonemap`).
+    let tonemap = args.tonemap.resolve(false, args.exposure);
+    let reference = open(&args.reference, tonemap)?;
+    let test = open(&args.test, tonemap)?;
     check_same_shape(&reference, &test)?;
     // Every frame is an input: the heatmap is never written over one, even with --force.
     let policy = heatmap_policy(args, reference.paths().chain(test.paths()))?;

@@ -237,6 +237,10 @@ fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
         is_sequence_path(&args.test),
     ) {
         (true, true) => compare_sequences::run(args),
+        (false, false) if args.tonemap != crate::graph::hdr::TonemapChoice::Auto => anyhow::bail!(
+            "--tonemap applies to sequences of OpenEXR frames; two OpenEXR images are scored \
+             with HDR-FLIP over a range of exposures, other images as they are"
+        ),
         (false, false) if args.jod => anyhow::bail!(
             "--jod scores two sequences (ColorVideoVDP is a video metric); record a clip with \
              `aa-lab clip --jod` or compare two folders of frames"
