@@ -665,6 +665,8 @@ mod tests {
         let err = decode(&[missing], 4096).err().unwrap();
         assert!(err.contains("missing.png"), "{err}");
 
+        let five = decode(&vec![a.clone(); 5], 4096).unwrap();
+        assert_eq!(five.images.len(), 5, "four to compare and a reference");
         let six = vec![a.clone(); 6];
         let err = decode(&six, 4096).err().unwrap();
         assert!(
