@@ -76,22 +76,70 @@ fn shown(app: &AaLabApp, id: &str) -> Arc<image::RgbaImage> {
 }
 
 /// The temporal figures the viewer shows after playing `played` in a row are the metrics
-/// library's over those frames.
-fn check_temporal_figures(app: &AaLabApp, played: std::ops::Range<u32>) {
-    let mut library = aa_lab::metrics::stability::ClipMetrics::new(1);
+/// library's over those frames, for test sequences of `tints` against the reference.
+fn check_temporal_figures(app: &AaLabApp, played: std::ops::Range<u32>, tints: &[[u8; 3]]) {
+    let mut library = aa_lab::metrics::stability::ClipMetrics::new(tints.len());
     for moment in played.clone() {
+        let tests: Vec<_> = tints
+            .iter()
+            .map(|tint| frame(moment, *tint, SIZE))
+            .collect();
+        let tests: Vec<&image::RgbaImage> = tests.iter().collect();
         library
-            .push(
-                &frame(moment, REFERENCE_TINT, SIZE),
-                &[&frame(moment, TAA_TINT, SIZE)],
-            )
+            .push(&frame(moment, REFERENCE_TINT, SIZE), &tests)
             .expect("comparable");
     }
     let (frames, scores) = app.sequence_temporal().expect("temporal figures");
     assert_eq!(frames, played.len());
     assert_eq!(scores, library.scores());
-    let instability = scores[0].temporal_instability.expect("the reference moved");
-    assert!(instability.is_finite() && instability > 0.0, "{scores:?}");
+    for score in &scores {
+        let instability = score.temporal_instability.expect("the reference moved");
+        assert!(instability.is_finite() && instability > 0.0, "{scores:?}");
+    }
+}
+
+/// Plays the open set of `frames` instants from instant `first` until it has shown `frames`
+/// of them (wrapping round to the first after the last): every pane `(id, tint)` shows its
+/// frame of the same instant, none is skipped, and `at_last` checks the viewer on the last
+/// instant; then pauses.
+fn play_in_lockstep(
+    harness: &mut egui_kittest::Harness<'_, AaLabApp>,
+    panes: &[(&str, [u8; 3])],
+    first: usize,
+    frames: usize,
+    at_last: impl Fn(&AaLabApp),
+) {
+    harness.get_by_label("Play clip").click();
+    let mut seen = vec![first];
+    while seen.len() < frames {
+        harness.step();
+        std::thread::sleep(std::time::Duration::from_millis(5));
+        let app = harness.state();
+        let Some((instant, _)) = app.sequence_position() else {
+            continue;
+        };
+        assert_eq!(
+            app.sequence_frame_numbers(),
+            vec![Some(instant as u64); panes.len()],
+            "the panes play in lockstep"
+        );
+        for (id, tint) in panes {
+            assert_eq!(*shown(app, id), frame(instant as u32, *tint, SIZE), "{id}");
+        }
+        if seen.last() != Some(&instant) {
+            assert_eq!(
+                instant,
+                (seen.last().expect("a frame") + 1) % frames,
+                "no frame is skipped"
+            );
+            seen.push(instant);
+            if instant == frames - 1 {
+                at_last(app);
+            }
+        }
+    }
+    harness.get_by_label("Pause clip").click();
+    harness.step();
 }
 
 /// Two sequences opened as File > Open sequences opens them show their first frames in two
@@ -155,39 +203,13 @@ fn two_sequences_play_in_lockstep() {
     assert!((figures.flip.expect("FLIP").0 - library.flip).abs() < 1e-9);
 
     // Playing: every frame of both, together, in order.
-    harness.get_by_label("Play clip").click();
-    let mut seen = vec![1];
-    while seen.len() < FRAMES as usize {
-        harness.step();
-        std::thread::sleep(std::time::Duration::from_millis(5));
-        let app = harness.state();
-        let Some((instant, _)) = app.sequence_position() else {
-            continue;
-        };
-        let numbers = app.sequence_frame_numbers();
-        assert_eq!(numbers[0], numbers[1], "the panes play in lockstep");
-        assert_eq!(
-            *shown(app, "image-1"),
-            frame(instant as u32, TAA_TINT, SIZE)
-        );
-        assert_eq!(
-            *shown(app, "image-2"),
-            frame(instant as u32, REFERENCE_TINT, SIZE)
-        );
-        if seen.last() != Some(&instant) {
-            assert_eq!(
-                instant,
-                (seen.last().expect("a frame") + 1) % FRAMES as usize,
-                "no frame is skipped"
-            );
-            seen.push(instant);
-            if instant == FRAMES as usize - 1 {
-                check_temporal_figures(app, 1..FRAMES);
-            }
-        }
-    }
-    harness.get_by_label("Pause clip").click();
-    harness.step();
+    play_in_lockstep(
+        &mut harness,
+        &[("image-1", TAA_TINT), ("image-2", REFERENCE_TINT)],
+        1,
+        FRAMES as usize,
+        |app| check_temporal_figures(app, 1..FRAMES, &[TAA_TINT]),
+    );
 
     // Folders dropped on the window open as sequences.
     harness.state_mut().close_images();
@@ -376,47 +398,15 @@ fn four_sequences_and_a_reference_play_as_four_panes() {
     harness.state_mut().settings_mut().magnifier.difference = false;
 
     // Playing: all five together, every frame in order; the temporal figures of the four.
-    harness.get_by_label("Play clip").click();
-    let mut seen = vec![0];
-    while seen.len() < FRAMES as usize {
-        harness.step();
-        std::thread::sleep(std::time::Duration::from_millis(5));
-        let app = harness.state();
-        let Some((instant, _)) = app.sequence_position() else {
-            continue;
-        };
-        assert_eq!(
-            app.sequence_frame_numbers(),
-            [Some(instant as u64); 5],
-            "the five play in lockstep"
-        );
-        for (id, (_, tint)) in ids.iter().zip(&tints) {
-            assert_eq!(*shown(app, id), frame(instant as u32, *tint, SIZE));
-        }
-        if seen.last() != Some(&instant) {
-            assert_eq!(
-                instant,
-                seen.last().expect("a frame") + 1,
-                "no frame skipped"
-            );
-            seen.push(instant);
-        }
-    }
-    harness.get_by_label("Pause clip").click();
-    harness.step();
-    let mut library = aa_lab::metrics::stability::ClipMetrics::new(4);
-    for moment in 1..FRAMES {
-        let tests: Vec<image::RgbaImage> = [0, 1, 3, 4]
-            .map(|index| frame(moment, tints[index].1, SIZE))
-            .into();
-        let tests: Vec<&image::RgbaImage> = tests.iter().collect();
-        library
-            .push(&frame(moment, REFERENCE_TINT, SIZE), &tests)
-            .expect("comparable");
-    }
-    let (played, scores) = harness.state().sequence_temporal().expect("temporal");
-    assert_eq!(played, FRAMES as usize - 1);
-    assert_eq!(scores, library.scores());
+    let all: Vec<(&str, [u8; 3])> = ids
+        .iter()
+        .copied()
+        .zip(tints.map(|(_, tint)| tint))
+        .collect();
+    let tests = [0, 1, 3, 4].map(|index| tints[index].1);
+    play_in_lockstep(&mut harness, &all, 0, FRAMES as usize, |app| {
+        check_temporal_figures(app, 1..FRAMES, &tests);
+    });
 
     // Swap A/B swaps the first two panes; another reference makes the ref folder a pane.
     harness.get_by_label("swap A/B").click();
