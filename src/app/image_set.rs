@@ -53,6 +53,7 @@ use crate::aa::ssaa::Progress;
 pub const IMAGE_IDS: [&str; 5] = ["image-1", "image-2", "image-3", "image-4", "image-5"];
 /// Most images a set holds: one per compared slot and a separate reference.
 pub const MAX_IMAGES: usize = IMAGE_IDS.len();
+// Four compared slots (A to D) and the reference apart: every id has a place.
 const _: () = assert!(MAX_IMAGES == MAX_COMPARE + 1);
 /// File extensions taken for images when files are dropped (lower case).
 pub const IMAGE_EXTENSIONS: &[&str] = &["png", "jpg", "jpeg"];
