@@ -890,7 +890,7 @@ fn last_notice(app: &AaLabApp) -> String {
 /// File > Open images (through the method the menu uses): generated PNGs become the panes,
 /// the window shows their very pixels, the figures compare against the chosen reference
 /// (an identical image scores SSIM 1 and PSNR ∞), and sets that cannot be shown are refused
-/// with a message while the open images stay.
+/// with a message while the open images stay; five images are four panes and the reference.
 #[test]
 fn images_open_as_panes_and_are_measured_against_the_chosen_reference() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -1013,7 +1013,7 @@ fn images_open_as_panes_and_are_measured_against_the_chosen_reference() {
     for (paths, message) in [
         (vec![a.clone(), small], "differ in size"),
         (vec![a.clone(), text], "not a PNG or JPEG"),
-        (vec![a.clone(); 5], "at most 4"),
+        (vec![a.clone(); 6], "at most 4 images and a reference"),
     ] {
         harness.state_mut().open_images(&ctx, paths);
         wait(&mut harness, message, |app| !app.images_loading());
@@ -1023,6 +1023,18 @@ fn images_open_as_panes_and_are_measured_against_the_chosen_reference() {
         assert_eq!(names.len(), 3);
         assert_eq!(reference, 2);
     }
+
+    // Five images: four panes and the reference apart.
+    let five = vec![a.clone(), c.clone(), b.clone(), a.clone(), c.clone()];
+    harness.state_mut().open_images(&ctx, five);
+    wait(&mut harness, "five images", |app| {
+        app.image_names().is_some_and(|(names, _)| names.len() == 5)
+    });
+    assert_eq!(harness.state().image_names().expect("a set").1, 2);
+    assert_eq!(
+        harness.state().compared(),
+        ["image-1", "image-2", "image-4", "image-5"]
+    );
 
     // Back to the scene; then images dropped on the window open too, and a dropped model
     // replaces them once it has loaded.

@@ -76,22 +76,70 @@ fn shown(app: &AaLabApp, id: &str) -> Arc<image::RgbaImage> {
 }
 
 /// The temporal figures the viewer shows after playing `played` in a row are the metrics
-/// library's over those frames.
-fn check_temporal_figures(app: &AaLabApp, played: std::ops::Range<u32>) {
-    let mut library = aa_lab::metrics::stability::ClipMetrics::new(1);
+/// library's over those frames, for test sequences of `tints` against the reference.
+fn check_temporal_figures(app: &AaLabApp, played: std::ops::Range<u32>, tints: &[[u8; 3]]) {
+    let mut library = aa_lab::metrics::stability::ClipMetrics::new(tints.len());
     for moment in played.clone() {
+        let tests: Vec<_> = tints
+            .iter()
+            .map(|tint| frame(moment, *tint, SIZE))
+            .collect();
+        let tests: Vec<&image::RgbaImage> = tests.iter().collect();
         library
-            .push(
-                &frame(moment, REFERENCE_TINT, SIZE),
-                &[&frame(moment, TAA_TINT, SIZE)],
-            )
+            .push(&frame(moment, REFERENCE_TINT, SIZE), &tests)
             .expect("comparable");
     }
     let (frames, scores) = app.sequence_temporal().expect("temporal figures");
     assert_eq!(frames, played.len());
     assert_eq!(scores, library.scores());
-    let instability = scores[0].temporal_instability.expect("the reference moved");
-    assert!(instability.is_finite() && instability > 0.0, "{scores:?}");
+    for score in &scores {
+        let instability = score.temporal_instability.expect("the reference moved");
+        assert!(instability.is_finite() && instability > 0.0, "{scores:?}");
+    }
+}
+
+/// Plays the open set of `frames` instants from instant `first` until it has shown `frames`
+/// of them (wrapping round to the first after the last): every pane `(id, tint)` shows its
+/// frame of the same instant, none is skipped, and `at_last` checks the viewer on the last
+/// instant; then pauses.
+fn play_in_lockstep(
+    harness: &mut egui_kittest::Harness<'_, AaLabApp>,
+    panes: &[(&str, [u8; 3])],
+    first: usize,
+    frames: usize,
+    at_last: impl Fn(&AaLabApp),
+) {
+    harness.get_by_label("Play clip").click();
+    let mut seen = vec![first];
+    while seen.len() < frames {
+        harness.step();
+        std::thread::sleep(std::time::Duration::from_millis(5));
+        let app = harness.state();
+        let Some((instant, _)) = app.sequence_position() else {
+            continue;
+        };
+        assert_eq!(
+            app.sequence_frame_numbers(),
+            vec![Some(instant as u64); panes.len()],
+            "the panes play in lockstep"
+        );
+        for (id, tint) in panes {
+            assert_eq!(*shown(app, id), frame(instant as u32, *tint, SIZE), "{id}");
+        }
+        if seen.last() != Some(&instant) {
+            assert_eq!(
+                instant,
+                (seen.last().expect("a frame") + 1) % frames,
+                "no frame is skipped"
+            );
+            seen.push(instant);
+            if instant == frames - 1 {
+                at_last(app);
+            }
+        }
+    }
+    harness.get_by_label("Pause clip").click();
+    harness.step();
 }
 
 /// Two sequences opened as File > Open sequences opens them show their first frames in two
@@ -155,39 +203,13 @@ fn two_sequences_play_in_lockstep() {
     assert!((figures.flip.expect("FLIP").0 - library.flip).abs() < 1e-9);
 
     // Playing: every frame of both, together, in order.
-    harness.get_by_label("Play clip").click();
-    let mut seen = vec![1];
-    while seen.len() < FRAMES as usize {
-        harness.step();
-        std::thread::sleep(std::time::Duration::from_millis(5));
-        let app = harness.state();
-        let Some((instant, _)) = app.sequence_position() else {
-            continue;
-        };
-        let numbers = app.sequence_frame_numbers();
-        assert_eq!(numbers[0], numbers[1], "the panes play in lockstep");
-        assert_eq!(
-            *shown(app, "image-1"),
-            frame(instant as u32, TAA_TINT, SIZE)
-        );
-        assert_eq!(
-            *shown(app, "image-2"),
-            frame(instant as u32, REFERENCE_TINT, SIZE)
-        );
-        if seen.last() != Some(&instant) {
-            assert_eq!(
-                instant,
-                (seen.last().expect("a frame") + 1) % FRAMES as usize,
-                "no frame is skipped"
-            );
-            seen.push(instant);
-            if instant == FRAMES as usize - 1 {
-                check_temporal_figures(app, 1..FRAMES);
-            }
-        }
-    }
-    harness.get_by_label("Pause clip").click();
-    harness.step();
+    play_in_lockstep(
+        &mut harness,
+        &[("image-1", TAA_TINT), ("image-2", REFERENCE_TINT)],
+        1,
+        FRAMES as usize,
+        |app| check_temporal_figures(app, 1..FRAMES, &[TAA_TINT]),
+    );
 
     // Folders dropped on the window open as sequences.
     harness.state_mut().close_images();
@@ -292,4 +314,194 @@ fn offsets_align_captures_and_mismatched_sizes_are_refused() {
     assert_eq!(app.sequence_position(), Some((1, 4)));
     assert_eq!(*shown(app, "image-1"), frame(1, TAA_TINT, SIZE));
     assert!(harness.query_by_label("Play clip").is_some(), "paused");
+}
+
+/// Four captures and a separate reference: the fifth folder is the reference (the one named
+/// ref, here in the middle), not a pane; the four others are panes A to D, each measured
+/// against the reference's frame of the same instant, with heatmaps, temporal figures and ColorVideoVDP's JOD; all five play in lockstep;
+/// swapping A and B, choosing another reference and a blind session work on the four panes,
+/// and six folders are refused with a message, leaving the set open.
+#[test]
+fn four_sequences_and_a_reference_play_as_four_panes() {
+    const FRAMES: u32 = 5;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let tints = [
+        ("taa", TAA_TINT),
+        ("fxaa", [200, 60, 60]),
+        ("ref", REFERENCE_TINT),
+        ("smaa", [60, 200, 90]),
+        ("msaa", [90, 110, 230]),
+    ];
+    let paths: Vec<PathBuf> = tints
+        .iter()
+        .map(|(name, tint)| write_sequence(dir.path(), name, FRAMES, 0, *tint))
+        .collect();
+    let ids = ["image-1", "image-2", "image-3", "image-4", "image-5"];
+    let panes = ["image-1", "image-2", "image-4", "image-5"];
+    let mut harness = viewer("chart");
+    let ctx = harness.ctx.clone();
+    harness.state_mut().open_sequences(&ctx, paths.clone());
+    wait(&mut harness, "the five sequences", |app| {
+        app.sequence_position().is_some()
+    });
+    let app = harness.state();
+    let (names, reference) = app.image_names().expect("a set");
+    assert_eq!(names, ["taa", "fxaa", "ref", "smaa", "msaa"]);
+    assert_eq!(reference, 2, "the sequence named ref is the reference");
+    assert_eq!(app.compared(), panes, "four panes, the reference is none");
+    assert!(
+        harness
+            .query_by_label("ref · frame 0 · reference")
+            .is_some(),
+        "the images panel lists the reference"
+    );
+
+    // Every pane's figures, against the reference's frame; the magnifier's heatmaps of the
+    // four panes and of the reference (R, all black against itself).
+    let settings = harness.state_mut().settings_mut();
+    settings.layout = aa_lab::app::Layout::Grid;
+    settings.show_magnifier = true;
+    settings.magnifier.difference = true;
+    // The lens on the square, where the captures differ from the reference.
+    settings.magnifier.center = Some([7.0, 18.0]);
+    harness.step();
+    wait(&mut harness, "the figures of the four panes", |app| {
+        panes
+            .iter()
+            .all(|id| app.quality_figures(id).is_some_and(|f| f.flip.is_some()))
+    });
+    for (index, (_, tint)) in tints.iter().enumerate().filter(|(i, _)| *i != 2) {
+        let figures = harness
+            .state()
+            .quality_figures(ids[index])
+            .expect("figures");
+        let library =
+            aa_lab::metrics::compare(&frame(0, REFERENCE_TINT, SIZE), &frame(0, *tint, SIZE))
+                .expect("comparable");
+        assert!(
+            (figures.pixels.ssim - library.ssim).abs() < 1e-3,
+            "{}: {figures:?} vs {library:?}",
+            tints[index].0
+        );
+        assert!((figures.flip.expect("FLIP").0 - library.flip).abs() < 1e-9);
+    }
+    assert!(harness.state().quality_figures("image-3").is_none());
+    wait(&mut harness, "the heatmaps", |app| {
+        app.difference_means().is_some()
+    });
+    let means = harness.state().difference_means().expect("heatmaps");
+    assert_eq!(means.len(), 4, "a heatmap per pane: {means:?}");
+    assert!(
+        means.iter().all(|m| *m > 0.0 && m.is_finite()),
+        "each capture differs from the reference on the square: {means:?}"
+    );
+    harness.state_mut().settings_mut().magnifier.difference = false;
+
+    // Playing: all five together, every frame in order; the temporal figures of the four.
+    let all: Vec<(&str, [u8; 3])> = ids
+        .iter()
+        .copied()
+        .zip(tints.map(|(_, tint)| tint))
+        .collect();
+    let tests = [0, 1, 3, 4].map(|index| tints[index].1);
+    play_in_lockstep(&mut harness, &all, 0, FRAMES as usize, |app| {
+        check_temporal_figures(app, 1..FRAMES, &tests);
+    });
+
+    // Swap A/B swaps the first two panes; another reference makes the ref folder a pane.
+    harness.get_by_label("swap A/B").click();
+    harness.step();
+    let (names, reference) = harness.state().image_names().expect("a set");
+    assert_eq!(
+        (names, reference),
+        (
+            ["fxaa", "taa", "ref", "smaa", "msaa"]
+                .map(str::to_owned)
+                .to_vec(),
+            2
+        )
+    );
+    harness.state_mut().set_image_reference(0);
+    harness.step();
+    assert_eq!(
+        harness.state().compared(),
+        ["image-2", "image-3", "image-4", "image-5"]
+    );
+    harness.state_mut().set_image_reference(2);
+    harness.step();
+    assert_eq!(harness.state().compared(), panes);
+
+    // Six folders: refused, the set stays.
+    let mut six = paths.clone();
+    six.push(write_sequence(dir.path(), "sixth", FRAMES, 0, TAA_TINT));
+    harness.state_mut().open_sequences(&ctx, six);
+    harness.step();
+    let notice = last_notice(harness.state());
+    assert!(
+        notice.contains("6 sequences")
+            && notice.contains("at most 4 sequences and a reference")
+            && notice.contains("nothing was opened"),
+        "{notice}"
+    );
+    assert!(!harness.state().images_loading());
+    assert_eq!(
+        harness
+            .state()
+            .image_names()
+            .expect("the set stays")
+            .0
+            .len(),
+        5
+    );
+
+    // ColorVideoVDP scores the four against the reference.
+    harness.get_by_label("Score with ColorVideoVDP").click();
+    harness.step();
+    wait(&mut harness, "the JOD of the four", |app| {
+        [0, 1, 3, 4].iter().all(|slot| app.jod(*slot).is_some())
+    });
+    let reference_frames: Vec<_> = (0..FRAMES)
+        .map(|m| frame(m, REFERENCE_TINT, SIZE))
+        .collect();
+    let scorer = aa_lab::metrics::jod::JodScorer::for_display(
+        &aa_lab::metrics::jod::JodDisplay::named(aa_lab::metrics::jod::DEFAULT_DISPLAY),
+        false,
+    )
+    .expect("a display");
+    // After the swap, image 1 is fxaa and image 2 taa.
+    for (slot, tint) in [
+        (0, tints[1].1),
+        (1, TAA_TINT),
+        (3, tints[3].1),
+        (4, tints[4].1),
+    ] {
+        let test: Vec<_> = (0..FRAMES).map(|m| frame(m, tint, SIZE)).collect();
+        let expected = scorer
+            .score(&test, &reference_frames, 30.0)
+            .expect("scored");
+        let jod = harness.state().jod(slot).expect("scored").expect("a JOD");
+        assert!(
+            (jod - expected).abs() < 1e-3,
+            "pane {slot}: {jod} vs {expected}"
+        );
+    }
+    assert!(
+        harness.state().jod(2).is_none(),
+        "the reference is not scored"
+    );
+
+    // A blind session numbers and shuffles the four panes, never the reference.
+    harness.state_mut().set_export_dir(dir.path().to_path_buf());
+    harness.get_by_label("View").click();
+    harness.step();
+    harness.step();
+    harness.get_by_label("Blind comparison").click();
+    harness.step();
+    let mut blind = harness.state().compared();
+    blind.sort_unstable();
+    assert_eq!(blind, panes);
+    harness.key_press(egui::Key::Num1);
+    harness.step();
+    let answers = viewer::blind_answers(&mut harness, 1);
+    assert_eq!(answers["techniques"].as_array().map(Vec::len), Some(4));
 }

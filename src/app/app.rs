@@ -301,12 +301,13 @@ impl AaLabApp {
         self.ws.cx.remove_user_technique(id);
     }
 
-    /// Opens up to four images of one size as panes (see `Context::open_images`).
+    /// Opens up to five images of one size as panes and reference (see
+    /// `Context::open_images`).
     pub fn open_images(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
         self.ws.cx.open_images(ctx, paths);
     }
 
-    /// Opens up to four image sequences of one frame size as panes (see
+    /// Opens up to five image sequences of one frame size as panes and reference (see
     /// `Context::open_sequences`).
     pub fn open_sequences(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
         self.ws.cx.open_sequences(ctx, paths);
@@ -414,8 +415,8 @@ impl AaLabApp {
         self.ws.cx.clip_scores()
     }
 
-    /// The ColorVideoVDP JOD of the technique (of the shown clip) or sequence (of the open
-    /// set) in pane `slot`, once scored (or why it has none).
+    /// The ColorVideoVDP JOD of the technique (of the shown clip) in pane `slot`, or of
+    /// sequence `slot` (in file order) of the open set, once scored (or why it has none).
     pub fn jod(&self, slot: usize) -> Option<Result<f64, String>> {
         self.ws.jod.figure(&self.ws.cx, slot).cloned()
     }

@@ -1,8 +1,10 @@
 //! The panels of an open image set (image_set.rs): the left panel that replaces the
-//! techniques while images are shown (the files or sequences in pane order, each sequence's
-//! frame offset, the reference, the way back to the scene), the reference choice in the toolbar, and the quality table of the metrics
-//! panel (every image against the chosen reference): stateless functions of the context
-//! ([`ui`], [`strip`]) and of the workspace ([`quality_section`], which reads the figures).
+//! techniques while images are shown (the files or sequences in file order, each sequence's
+//! frame offset, the reference, the way back to the scene), the reference choice in the
+//! toolbar, and the quality table of the metrics panel (every image against the chosen
+//! reference): stateless functions of the context ([`ui`], [`strip`]) and of the workspace
+//! ([`quality_section`], which reads the figures). Every row is marked with its pane's letter,
+//! or R for a reference that is no pane (a set of five: `Context::image_mark`).
 
 use egui::RichText;
 
@@ -10,7 +12,7 @@ use super::context::Context;
 use super::image_set::IMAGE_IDS;
 use super::jod_panel;
 use super::quality;
-use super::style::{self, SLOT_COLORS, SLOT_LETTERS, number, number_weak};
+use super::style::{self, number, number_weak};
 use super::workspace::Workspace;
 
 /// What the reference of an image set is, for tooltips.
@@ -75,8 +77,9 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
             })
             .collect();
         for (slot, (name, path)) in rows.iter().enumerate() {
+            let (letter, color) = cx.image_mark(slot);
             ui.horizontal(|ui| {
-                ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
+                ui.label(style::badge(letter, color));
                 ui.label(
                     cx.image_label(IMAGE_IDS[slot])
                         .unwrap_or_else(|| name.clone()),
@@ -173,8 +176,9 @@ pub(super) fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
         ],
         |ui| {
             for (slot, name) in names.iter().enumerate() {
+                let (letter, color) = ws.cx.image_mark(slot);
                 ui.horizontal(|ui| {
-                    ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
+                    ui.label(style::badge(letter, color));
                     ui.label(name);
                 });
                 if slot == reference {
@@ -279,8 +283,9 @@ fn played_section(ui: &mut egui::Ui, cx: &Context, names: &[String], reference: 
         |ui| {
             let others = (0..names.len()).filter(|pane| *pane != reference);
             for (pane, scores) in others.zip(&run.scores) {
+                let (letter, color) = cx.image_mark(pane);
                 ui.horizontal(|ui| {
-                    ui.label(style::badge(SLOT_LETTERS[pane], SLOT_COLORS[pane]));
+                    ui.label(style::badge(letter, color));
                     ui.label(&names[pane]);
                 });
                 let figure = |value: Option<f64>| {

@@ -1,16 +1,26 @@
 //! Images as panes: File > Open images (or PNG/JPEG files dropped on the window) shows up to
-//! four images of one size, such as captures from another renderer or aa-lab's own exports,
+//! five images of one size, such as captures from another renderer or aa-lab's own exports,
 //! in place of the technique outputs, one of them being the reference. Layouts, the
 //! magnifier, the difference heatmaps and the quality figures work on them as on technique
 //! outputs; the engine renders nothing meanwhile. Closing the set, or opening a scene, goes
 //! back to the scene.
 //!
+//! **Panes and the reference.** A set of up to four images shows every image as a pane, the
+//! reference among them (so two captures and their reference show three panes). A fifth
+//! image makes room for four compared images and a separate reference: the reference then
+//! leaves the panes (the compared slots A to D are the four others, in file order) and shows
+//! where a technique view's reference shows, as R: the magnifier's reference pane, the flip
+//! layout's R key, the heatmaps' and figures' ground truth. The compared slots are never more
+//! than the four the layouts, letters and colours have ([`MAX_COMPARE`]), and every table
+//! that lists the set's images marks each with its pane's letter or the reference's R
+//! ([`ImageSet::pane_of`]).
+//!
 //! What this module owns:
 //! - [`ImageSet`]: the open images as [`Published`] images under the fixed ids
-//!   [`IMAGE_IDS`] (`image-1` to `image-4`, in file order, which the compared slots A to D
-//!   follow), which one is the reference, and the "view" their figures are stamped with (it
+//!   [`IMAGE_IDS`] (`image-1` to `image-5`, in file order), which one is the reference, which
+//!   are panes, and the "view" their figures are stamped with (it
 //!   changes whenever what is compared changes: another reference, another order).
-//! - [`decode`] and the loader thread: files are decoded, checked (at most four, all PNG or
+//! - [`decode`] and the loader thread: files are decoded, checked (at most five, all PNG or
 //!   JPEG, one size, within the texture limit) and uploaded to eframe's device off the UI
 //!   thread; a set that fails any check is refused whole with a message, and whatever was
 //!   shown stays.
@@ -36,15 +46,18 @@ use super::blit::Uploader;
 use super::engine::{ImageStamp, Published};
 use super::render_thread::RenderedImage;
 use super::sequence_set::{self, FrameNews, SequenceSet};
+use super::settings::MAX_COMPARE;
 use crate::aa::ssaa::Progress;
 
 /// The ids of the images of a set, in file order.
-pub const IMAGE_IDS: [&str; 4] = ["image-1", "image-2", "image-3", "image-4"];
-/// Most images a set holds (one per compared slot).
+pub const IMAGE_IDS: [&str; 5] = ["image-1", "image-2", "image-3", "image-4", "image-5"];
+/// Most images a set holds: one per compared slot and a separate reference.
 pub const MAX_IMAGES: usize = IMAGE_IDS.len();
+// Four compared slots (A to D) and the reference apart: every id has a place.
+const _: () = assert!(MAX_IMAGES == MAX_COMPARE + 1);
 /// File extensions taken for images when files are dropped (lower case).
 pub const IMAGE_EXTENSIONS: &[&str] = &["png", "jpg", "jpeg"];
-/// Most pixels of one image (8192 x 8192; four of them take 1 GiB).
+/// Most pixels of one image (8192 x 8192; five of them take 1.25 GiB).
 const MAX_PIXELS: u64 = 1 << 26;
 /// The reference of a set "accumulates" nothing: it is complete with its one sample.
 pub(in crate::app) const COMPLETE: Progress = Progress {
@@ -101,6 +114,15 @@ impl SetKind {
     }
 }
 
+/// Why `count` files of `kind` are too many for a set.
+pub fn too_many(count: usize, kind: SetKind) -> String {
+    let noun = kind.noun();
+    format!(
+        "{count} {noun} were given; aa-lab compares at most {MAX_COMPARE} {noun} and a \
+         reference ({MAX_IMAGES} in all) at a time"
+    )
+}
+
 /// One decoded file.
 pub struct DecodedImage {
     /// Where it came from.
@@ -134,10 +156,7 @@ pub fn decode(paths: &[PathBuf], max_side: u32) -> Result<Decoded, String> {
         return Err("no image files were given".to_owned());
     }
     if paths.len() > MAX_IMAGES {
-        return Err(format!(
-            "{} images were given; aa-lab compares at most {MAX_IMAGES} at a time",
-            paths.len()
-        ));
+        return Err(too_many(paths.len(), SetKind::Images));
     }
     let mut images = Vec::new();
     let mut notes = Vec::new();
@@ -218,9 +237,27 @@ pub struct ImageSet {
 }
 
 impl ImageSet {
-    /// The ids of its images, in order.
+    /// The ids of the images shown as panes (compared as A, B, C, D), in order.
     pub fn ids(&self) -> Vec<&'static str> {
-        IMAGE_IDS[..self.images.len()].to_vec()
+        self.panes()
+            .into_iter()
+            .map(|index| IMAGE_IDS[index])
+            .collect()
+    }
+
+    /// The indices of the images shown as panes, in file order: every image of a set of up
+    /// to [`MAX_COMPARE`], else every image but the reference.
+    pub fn panes(&self) -> Vec<usize> {
+        let all = self.images.len() <= MAX_COMPARE;
+        (0..self.images.len())
+            .filter(|index| all || *index != self.reference)
+            .collect()
+    }
+
+    /// The compared slot (0 for A, ...) of image `index`: `None` for the reference when it
+    /// is not a pane (and for an index past the set).
+    pub fn pane_of(&self, index: usize) -> Option<usize> {
+        self.panes().iter().position(|pane| *pane == index)
     }
 
     pub(in crate::app) fn index(id: &str) -> Option<usize> {
@@ -435,23 +472,25 @@ impl ImageSetState {
         }
     }
 
-    /// Swaps the first two images (A and B), the reference with them.
+    /// Swaps the images of panes A and B, the reference with them when it is one.
     pub fn swap_first_two(&mut self) {
         let view = self.next_serial();
-        if let Some(set) = &mut self.open
-            && set.images.len() >= 2
-        {
-            set.images.swap(0, 1);
-            if let Some(sequences) = &mut set.sequences {
-                sequences.swap_first_two();
-            }
-            set.reference = match set.reference {
-                0 => 1,
-                1 => 0,
-                other => other,
-            };
-            set.restamp(view);
+        let Some(set) = &mut self.open else {
+            return;
+        };
+        let &[a, b, ..] = set.panes().as_slice() else {
+            return;
+        };
+        set.images.swap(a, b);
+        if let Some(sequences) = &mut set.sequences {
+            sequences.swap(a, b);
         }
+        set.reference = match set.reference {
+            r if r == a => b,
+            r if r == b => a,
+            other => other,
+        };
+        set.restamp(view);
     }
 
     /// The sequences of the open set, to play and align.
@@ -545,10 +584,7 @@ fn load_sequences(
     wake: &egui::Context,
 ) -> Result<Uploaded, String> {
     if paths.len() > MAX_IMAGES {
-        return Err(format!(
-            "{} sequences were given; aa-lab compares at most {MAX_IMAGES} at a time",
-            paths.len()
-        ));
+        return Err(too_many(paths.len(), SetKind::Sequences));
     }
     let sequences = sequence_set::open_all(paths)?;
     let (width, height) = sequences[0].size();
@@ -630,8 +666,14 @@ mod tests {
         let err = decode(&[missing], 4096).err().unwrap();
         assert!(err.contains("missing.png"), "{err}");
 
-        let five = vec![a.clone(); 5];
-        assert!(decode(&five, 4096).err().unwrap().contains("at most 4"));
+        let five = decode(&vec![a.clone(); 5], 4096).unwrap();
+        assert_eq!(five.images.len(), 5, "four to compare and a reference");
+        let six = vec![a.clone(); 6];
+        let err = decode(&six, 4096).err().unwrap();
+        assert!(
+            err.contains("6 images") && err.contains("at most 4 images and a reference"),
+            "{err}"
+        );
         let err = decode(&[a], 4).err().unwrap();
         assert!(err.contains("up to 4 pixels"), "{err}");
         assert!(is_image_file(Path::new("x/Y.JPG")) && !is_image_file(Path::new("y.obj")));

@@ -6,9 +6,8 @@
 
 use egui::RichText;
 
-use super::image_set::IMAGE_IDS;
 use super::jod::JodScores;
-use super::style::{self, SLOT_COLORS, SLOT_LETTERS, number};
+use super::style::{self, number};
 use super::workspace::Workspace;
 use crate::metrics::jod::{self, JodScorer};
 
@@ -49,9 +48,10 @@ pub(super) fn sequences_section(ui: &mut egui::Ui, ws: &mut Workspace) {
         "sequence jod table",
         &[("sequence", None), ("JOD", Some(JOD_HELP))],
         |ui| {
-            for (slot, name) in names.iter().enumerate().take(IMAGE_IDS.len()) {
+            for (slot, name) in names.iter().enumerate() {
+                let (letter, color) = ws.cx.image_mark(slot);
                 ui.horizontal(|ui| {
-                    ui.label(style::badge(SLOT_LETTERS[slot], SLOT_COLORS[slot]));
+                    ui.label(style::badge(letter, color));
                     ui.label(name);
                 });
                 if slot == reference {

@@ -59,14 +59,14 @@ fn file_menu(ui: &mut egui::Ui, ws: &mut Workspace, ctx: &egui::Context) {
     }
     if ui
         .button("Open images…")
-        .on_hover_text("Compare up to four PNG or JPEG images of one size (captures from another renderer, aa-lab's own exports) instead of the scene, one of them as the reference; dropping image files on the window does the same")
+        .on_hover_text("Compare up to four PNG or JPEG images of one size (captures from another renderer, aa-lab's own exports) instead of the scene, one of them as the reference, or four and a fifth as the reference; dropping image files on the window does the same")
         .clicked()
     {
         ws.cx.open_images_dialog(ctx);
     }
     if ui
         .button("Open sequences…")
-        .on_hover_text("Play up to four image sequences of one size in lockstep (folders of numbered PNG, JPEG or OpenEXR frames captured from an engine) instead of the scene, one of them as the reference; dropping folders on the window does the same")
+        .on_hover_text("Play up to four image sequences of one size in lockstep (folders of numbered PNG, JPEG or OpenEXR frames captured from an engine) instead of the scene, one of them as the reference, or four and a fifth as the reference (the one named \"ref\" or \"reference\", else the first; the toolbar's R changes it); dropping folders on the window does the same")
         .clicked()
     {
         ws.cx.open_sequences_dialog(ctx);

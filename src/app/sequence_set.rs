@@ -1,7 +1,9 @@
 //! Image sequences as panes: File > Open sequences (or folders dropped on the window) opens up
-//! to four sequences of one frame size ([`crate::sequence::Sequence`]: a folder or a glob of
+//! to five sequences of one frame size ([`crate::sequence::Sequence`]: a folder or a glob of
 //! numbered PNG, JPEG or OpenEXR frames), one of them the reference, and plays them in
-//! lockstep as a recorded clip plays.
+//! lockstep as a recorded clip plays. With five, the four others are the panes and the
+//! reference is shown as a technique view's reference is (`image_set.rs`); it is read, played
+//! and measured against like the rest.
 //!
 //! **Why it is an image set.** A sequence set is shown exactly as an open image set is: the
 //! frames of the playhead are the set's images, so the panes, layouts, magnifier, wipe and
@@ -287,12 +289,12 @@ impl SequenceSet {
         }
     }
 
-    /// Swaps the first two sequences (with their offsets), as the image set swaps its first
-    /// two images.
-    pub fn swap_first_two(&mut self) {
-        if self.sequences.len() >= 2 {
-            self.sequences.swap(0, 1);
-            self.offsets.swap(0, 1);
+    /// Swaps sequences `a` and `b` (with their offsets), as the image set swaps their
+    /// images.
+    pub fn swap(&mut self, a: usize, b: usize) {
+        if a != b && a.max(b) < self.sequences.len() {
+            self.sequences.swap(a, b);
+            self.offsets.swap(a, b);
             self.rearranged();
         }
     }

@@ -16,6 +16,8 @@ pub const SLOT_COLORS: [Color32; 4] = [
 ];
 /// Colour of the reference.
 pub const REFERENCE_COLOR: Color32 = Color32::from_rgb(0xe8, 0xe8, 0xe8);
+/// Letter of the reference.
+pub const REFERENCE_LETTER: &str = "R";
 /// Letters of compared techniques.
 pub const SLOT_LETTERS: [&str; 4] = ["A", "B", "C", "D"];
 /// Background of the panels: painted once for the whole window by the viewer's fill
@@ -116,6 +118,13 @@ pub fn outline(painter: &egui::Painter, rect: egui::Rect) {
     }
 }
 
+/// The letter and colour of compared slot `slot` (A to D), or the reference's (R, neutral)
+/// for what is no compared slot: `None`, such as the reference of an image set of five.
+pub fn slot_mark(slot: Option<usize>) -> (&'static str, Color32) {
+    slot.and_then(|s| Some((*SLOT_LETTERS.get(s)?, *SLOT_COLORS.get(s)?)))
+        .unwrap_or((REFERENCE_LETTER, REFERENCE_COLOR))
+}
+
 /// A coloured letter badge (A, B, C, D, R) as text.
 pub fn badge(letter: &str, color: Color32) -> RichText {
     RichText::new(format!(" {letter} "))
@@ -205,5 +214,14 @@ mod tests {
         assert_eq!(ms(12.34), "12.3 ms");
         assert_eq!(ms(1234.0), "1234 ms");
         assert_eq!(mib(3 * 1024 * 1024 / 2), "1.5 MiB");
+    }
+
+    #[test]
+    fn slots_have_their_letters_and_anything_else_is_the_reference() {
+        assert_eq!(slot_mark(Some(0)), ("A", SLOT_COLORS[0]));
+        assert_eq!(slot_mark(Some(3)), ("D", SLOT_COLORS[3]));
+        for other in [None, Some(4), Some(usize::MAX)] {
+            assert_eq!(slot_mark(other), (REFERENCE_LETTER, REFERENCE_COLOR));
+        }
     }
 }

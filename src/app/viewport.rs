@@ -620,7 +620,7 @@ fn hovered_files_overlay(ui: &egui::Ui, rect: Rect) {
         painter.text(
             rect.center(),
             egui::Align2::CENTER_CENTER,
-            "Drop an OBJ, glTF or GLB file, or up to four PNG/JPEG images",
+            "Drop an OBJ, glTF or GLB file, or up to five PNG/JPEG images",
             egui::FontId::proportional(22.0),
             Color32::WHITE,
         );

@@ -61,14 +61,15 @@ pub struct Cli {
     /// Viewer: start from the default settings instead of the saved ones.
     #[arg(long)]
     pub default_settings: bool,
-    /// Viewer: compare these images (up to four PNG/JPEG files of one size, e.g. captures
+    /// Viewer: compare these images (up to five PNG/JPEG files of one size, e.g. captures
     /// from another renderer) instead of the scene; the first whose name has the word
-    /// `reference` or `ref`, else the first, is the reference.
+    /// `reference` or `ref`, else the first, is the reference (with five, it is no pane).
     #[arg(long, num_args = 1.., value_name = "IMAGE")]
     pub images: Vec<std::path::PathBuf>,
-    /// Viewer: play these image sequences in lockstep (up to four folders or globs of
+    /// Viewer: play these image sequences in lockstep (up to five folders or globs of
     /// numbered PNG/JPEG/OpenEXR frames of one size) instead of the scene; the first whose
-    /// name has the word `reference` or `ref`, else the first, is the reference.
+    /// name has the word `reference` or `ref`, else the first, is the reference (with five,
+    /// four panes and the reference apart).
     #[arg(long, num_args = 1.., value_name = "SEQUENCE", conflicts_with = "images")]
     pub sequences: Vec<std::path::PathBuf>,
 }

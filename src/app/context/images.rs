@@ -1,24 +1,24 @@
 //! The context's image-set commands (File > Open images, File > Open sequences, files and
 //! folders dropped on the window): opening a set of images or sequences on the loader thread
 //! and showing it in place of the techniques once it has loaded, playing a sequence set,
-//! closing it.
+//! closing it. A set holds up to five: four compared and a reference (`image_set.rs`).
 
 use std::path::PathBuf;
 
 use super::{Command, Context, DialogPurpose, Level};
-use crate::app::image_set::{MAX_IMAGES, SetKind, is_image_file};
+use crate::app::image_set::{MAX_IMAGES, SetKind, is_image_file, too_many};
 use crate::sequence::is_sequence_path;
 
 impl Context {
-    /// Opens up to four images of one size as panes (File > Open images, dropped images, and
-    /// tests): they are decoded on a worker thread and replace what is shown when they all
+    /// Opens up to five images of one size as panes and reference (File > Open images,
+    /// dropped images, and tests): they are decoded on a worker thread and replace what is shown when they all
     /// load; otherwise a notice says why, and what was shown stays.
     pub(in crate::app) fn open_images(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
         self.open_set(ctx, SetKind::Images, paths);
     }
 
-    /// Opens up to four image sequences of one frame size as panes (File > Open sequences,
-    /// dropped folders, and tests): their first frames are read on a worker thread and
+    /// Opens up to five image sequences of one frame size as panes and reference (File > Open
+    /// sequences, dropped folders, and tests): their first frames are read on a worker thread and
     /// replace what is shown when they have; otherwise a notice says why (naming the sequence
     /// at fault), and what was shown stays.
     pub(in crate::app) fn open_sequences(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
@@ -29,13 +29,8 @@ impl Context {
     fn open_set(&mut self, ctx: &egui::Context, kind: SetKind, paths: Vec<PathBuf>) {
         let noun = kind.noun();
         if paths.len() > MAX_IMAGES {
-            self.notify(
-                Level::Error,
-                format!(
-                    "{} {noun} chosen; aa-lab compares at most {MAX_IMAGES}: nothing was opened",
-                    paths.len()
-                ),
-            );
+            let why = too_many(paths.len(), kind);
+            self.notify(Level::Error, format!("{why}: nothing was opened"));
             return;
         }
         if paths.is_empty() {
@@ -50,11 +45,14 @@ impl Context {
         }
     }
 
-    /// Asks the OS for up to four folders of numbered frames to open as sequences.
+    /// Asks the OS for up to five folders of numbered frames to open as sequences.
     pub(in crate::app) fn open_sequences_dialog(&mut self, ctx: &egui::Context) {
         self.ask_for_paths(ctx, DialogPurpose::OpenSequences, || {
             rfd::FileDialog::new()
-                .set_title("Open up to four folders of numbered frames (PNG, JPEG, OpenEXR)")
+                .set_title(
+                    "Open up to five folders of numbered frames (PNG, JPEG, OpenEXR): up to four \
+                     to compare and their reference",
+                )
                 .pick_folders()
         });
     }
@@ -110,7 +108,7 @@ impl Context {
         if folders > 0 {
             self.notify(
                 Level::Error,
-                "Dropped folders and files together: drop up to four folders of frames (sequences), up to four images, or one model",
+                "Dropped folders and files together: drop up to five folders of frames (sequences), up to five images, or one model",
             );
             return;
         }
@@ -122,7 +120,7 @@ impl Context {
         match (any_image, scenes.last()) {
             (true, Some(_)) => self.notify(
                 Level::Error,
-                "Dropped images and a model together: drop up to four images, or one model",
+                "Dropped images and a model together: drop up to five images, or one model",
             ),
             (true, None) => self.open_images(ctx, paths),
             (false, _) => {

@@ -199,11 +199,13 @@ impl Context {
         });
     }
 
-    /// Asks the OS for up to four images (PNG, JPEG) to open as panes.
+    /// Asks the OS for up to five images (PNG, JPEG) to open as panes and reference.
     pub(super) fn open_images_dialog(&mut self, ctx: &egui::Context) {
         self.ask_for_paths(ctx, DialogPurpose::OpenImages, || {
             rfd::FileDialog::new()
-                .set_title("Open up to four images of one size")
+                .set_title(
+                    "Open up to five images of one size: up to four to compare and their reference",
+                )
                 .add_filter(
                     "Images (PNG, JPEG)",
                     &["png", "PNG", "jpg", "JPG", "jpeg", "JPEG"],

@@ -14,7 +14,7 @@ use crate::aa::ssaa::Progress;
 use crate::app::engine::{ImageStamp, Published, ReferenceState};
 use crate::app::image_set::{COMPLETE, IMAGE_IDS, ImageSet};
 use crate::app::lens::{Source, lens_region};
-use crate::app::style::{REFERENCE_COLOR, SLOT_COLORS};
+use crate::app::style::{self, REFERENCE_COLOR, SLOT_COLORS};
 use crate::gpu::readback::Region;
 use crate::spec::RenderSpec;
 
@@ -82,6 +82,12 @@ impl Context {
             label.push_str(" · reference");
         }
         Some(label)
+    }
+
+    /// The letter and colour of image `index` of the open set in its tables: its pane's
+    /// (A to D), or the reference's R when it is no pane (a set of five).
+    pub(in crate::app) fn image_mark(&self, index: usize) -> (&'static str, Color32) {
+        style::slot_mark(self.images.open().and_then(|set| set.pane_of(index)))
     }
 
     /// Whether `id` is the reference image of the open set.
