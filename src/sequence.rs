@@ -256,6 +256,9 @@ struct FrameCache {
     frames: VecDeque<(usize, Arc<RgbaImage>)>,
     bytes: usize,
     cap: usize,
+    /// How linear (OpenEXR) frames reach display values; `None` clamps them. Kept with the
+    /// frames it made, so a change and the frames it drops are one step.
+    tonemap: Option<Tonemap>,
 }
 
 impl FrameCache {
@@ -293,8 +296,6 @@ pub struct Sequence {
     size: (u32, u32),
     cache: Mutex<FrameCache>,
     decoded: AtomicU64,
-    /// How linear (OpenEXR) frames reach display values; `None` clamps them.
-    tonemap: Option<Tonemap>,
 }
 
 impl Sequence {
@@ -327,25 +328,33 @@ impl Sequence {
                 frames: VecDeque::new(),
                 bytes: 0,
                 cap: DEFAULT_CACHE_BYTES,
+                tonemap: None,
             }),
             decoded: AtomicU64::new(0),
-            tonemap: None,
         })
     }
 
-    /// The same sequence with its linear (OpenEXR) frames shown through `tonemap` (exposure
-    /// and operator) instead of clamped; display-referred frames (PNG, JPEG) are unchanged.
+    /// The same sequence with its linear (OpenEXR) frames shown through `tonemap` (see
+    /// [`Sequence::set_tonemap`]).
     #[must_use]
-    pub fn with_tonemap(mut self, tonemap: Option<Tonemap>) -> Self {
-        if tonemap != self.tonemap {
-            self.tonemap = tonemap;
-            // Frames decoded so far were shown the other way.
-            if let Ok(mut cache) = self.cache.lock() {
-                cache.frames.clear();
-                cache.bytes = 0;
-            }
-        }
+    pub fn with_tonemap(self, tonemap: Option<Tonemap>) -> Self {
+        self.set_tonemap(tonemap);
         self
+    }
+
+    /// Shows linear (OpenEXR) frames through `tonemap` (exposure and operator) from now on
+    /// instead of clamping them; display-referred frames (PNG, JPEG) are unchanged. True when
+    /// the sequence holds linear frames and the tonemap changed: frames read earlier look
+    /// different now (the cache forgets them).
+    pub fn set_tonemap(&self, tonemap: Option<Tonemap>) -> bool {
+        let mut cache = self.cache.lock().unwrap_or_else(PoisonError::into_inner);
+        if cache.tonemap == tonemap {
+            return false;
+        }
+        cache.tonemap = tonemap;
+        cache.frames.clear();
+        cache.bytes = 0;
+        self.format == ImageFormat::OpenExr
     }
 
     /// The same sequence keeping at most `bytes` of decoded frames.
@@ -406,17 +415,25 @@ impl Sequence {
             frames: self.frames.len(),
         })?;
         let lock = || self.cache.lock().unwrap_or_else(PoisonError::into_inner);
-        if let Some(frame) = lock().get(index) {
-            return Ok(frame);
-        }
-        let frame = Arc::new(self.decode(&file.path)?);
+        let tonemap = {
+            let mut cache = lock();
+            if let Some(frame) = cache.get(index) {
+                return Ok(frame);
+            }
+            cache.tonemap
+        };
+        let frame = Arc::new(self.decode(&file.path, tonemap.as_ref())?);
         self.decoded.fetch_add(1, Ordering::Relaxed);
-        lock().insert(index, &frame);
+        let mut cache = lock();
+        // (A frame decoded while the tonemap changed is returned but not kept.)
+        if cache.tonemap == tonemap {
+            cache.insert(index, &frame);
+        }
         Ok(frame)
     }
 
     /// Reads and decodes one frame file, checking its size before decoding.
-    fn decode(&self, path: &Path) -> Result<RgbaImage, SequenceError> {
+    fn decode(&self, path: &Path, tonemap: Option<&Tonemap>) -> Result<RgbaImage, SequenceError> {
         let bytes = files::read_bounded(path, files::MAX_IMAGE_FILE_BYTES, FRAME_PURPOSE)?;
         let reader = || ImageReader::with_format(Cursor::new(bytes.as_slice()), self.format);
         let size = reader()
@@ -435,7 +452,7 @@ impl Sequence {
         let mut reader = reader();
         reader.limits(limits);
         let image = reader.decode().map_err(|e| decode_error(path, e))?;
-        Ok(match &self.tonemap {
+        Ok(match tonemap {
             Some(tonemap) => srgb::display_rgba8_mapped(image, |linear| {
                 tonemap.apply(glam::Vec3::from(linear)).to_array()
             }),

@@ -13,6 +13,8 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use aa_lab::app::AaLabApp;
+use aa_lab::graph::hdr::TonemapChoice;
+use aa_lab::scene::renderer::{Tonemap, Tonemapper};
 use egui_kittest::kittest::Queryable;
 use viewer::{drop_on_window, viewer, wait};
 
@@ -229,6 +231,59 @@ fn two_sequences_play_in_lockstep() {
 /// (then every pixel matches and the figures are perfect); sequences of different sizes are
 /// refused with a message naming the one that differs, and a frame of another size inside a
 /// sequence stops playback with a message naming its file, while what was shown stays.
+/// Writes two OpenEXR frames (linear light): `highlight` on the left half, 0.25 on the right.
+fn write_exr_sequence(root: &Path, name: &str, highlight: f32) -> PathBuf {
+    let dir = root.join(name);
+    std::fs::create_dir_all(&dir).expect("folder");
+    for number in 0..2 {
+        let image = image::Rgba32FImage::from_fn(SIZE.0, SIZE.1, |x, _| {
+            let v = if x < SIZE.0 / 2 { highlight } else { 0.25 };
+            image::Rgba([v, v, v, 1.0])
+        });
+        image::DynamicImage::ImageRgba32F(image)
+            .save(dir.join(format!("{name}.{number:03}.exr")))
+            .expect("EXR written");
+    }
+    dir
+}
+
+#[test]
+fn openexr_sequences_are_shown_through_the_tonemapper_of_the_view_menu() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let bright = write_exr_sequence(dir.path(), "bright", 4.0);
+    let reference = write_exr_sequence(dir.path(), "ref", 8.0);
+    let mut harness = viewer("chart");
+    let ctx = harness.ctx.clone();
+    harness
+        .state_mut()
+        .open_sequences(&ctx, vec![bright, reference]);
+    wait(&mut harness, "the sequences", AaLabApp::image_set_open);
+    let highlight = |app: &AaLabApp| shown(app, "image-1").get_pixel(0, 0).0[0];
+    // auto: captures are clamped to the display's white.
+    harness.step();
+    assert_eq!(highlight(harness.state()), 255);
+    harness.state_mut().settings_mut().tonemap = TonemapChoice::Aces;
+    let aces = Tonemap {
+        operator: Tonemapper::Aces,
+        exposure: 0.0,
+    };
+    let expected = aa_lab::srgb::encode_byte(aces.apply(glam::Vec3::splat(4.0)).x);
+    assert!(expected < 255);
+    wait(&mut harness, "the frames through ACES", |app| {
+        highlight(app) == expected
+    });
+    let right = shown(harness.state(), "image-1").get_pixel(SIZE.0 - 1, 0).0[0];
+    assert_eq!(
+        right,
+        aa_lab::srgb::encode_byte(aces.apply(glam::Vec3::splat(0.25)).x)
+    );
+    // Back to auto: clamped again.
+    harness.state_mut().settings_mut().tonemap = TonemapChoice::Auto;
+    wait(&mut harness, "the clamped frames", |app| {
+        highlight(app) == 255
+    });
+}
+
 #[test]
 fn offsets_align_captures_and_mismatched_sizes_are_refused() {
     let dir = tempfile::tempdir().expect("temp dir");

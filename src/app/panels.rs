@@ -220,8 +220,9 @@ fn tonemap_choices(ui: &mut egui::Ui, ws: &mut Workspace) {
             .text("Exposure (EV)"),
     )
     .on_hover_text(
-        "Radiance is scaled by 2^EV before the tonemapper (HDR renders only). Each technique runs \
-         before or after the tonemapper by its tonemap_order setting.",
+        "Radiance is scaled by 2^EV before the tonemapper (HDR renders, and OpenEXR sequences \
+         when a tonemapper is named: auto clamps captures). Each technique runs before or after \
+         the tonemapper by its tonemap_order setting.",
     );
 }
 

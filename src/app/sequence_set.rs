@@ -50,6 +50,7 @@ use super::engine::ClipPlayer;
 use super::render_thread::RenderedImage;
 use super::worker::{Reporter, Worker};
 use crate::metrics::stability::{ClipMetrics, TemporalScores};
+use crate::scene::renderer::Tonemap;
 use crate::sequence::Sequence;
 
 /// Decoded frames each sequence of the viewer keeps (the shown one and the ones read ahead).
@@ -295,6 +296,18 @@ impl SequenceSet {
         if a != b && a.max(b) < self.sequences.len() {
             self.sequences.swap(a, b);
             self.offsets.swap(a, b);
+            self.rearranged();
+        }
+    }
+
+    /// Shows the sequences' linear (OpenEXR) frames through `tonemap` (clamped without one);
+    /// what is shown is read again when that changes how it looks.
+    pub fn set_tonemap(&mut self, tonemap: Option<Tonemap>) {
+        let mut changed = false;
+        for sequence in &self.sequences {
+            changed |= sequence.set_tonemap(tonemap);
+        }
+        if changed {
             self.rearranged();
         }
     }

@@ -60,6 +60,13 @@ impl Workspace {
             engine.set_overlay(self.cx.settings.ui_overlay);
             engine.set_tonemap(self.cx.settings.tonemap, self.cx.settings.exposure);
         }
+        // Captured OpenEXR frames through a named tonemapper (captures are not known to be HDR:
+        // `auto` clamps them, as `clip --sequence` does).
+        let settings = &self.cx.settings;
+        let capture_tonemap = settings.tonemap.resolve(false, settings.exposure);
+        if let Some(sequences) = self.cx.images.sequences_mut() {
+            sequences.set_tonemap(capture_tonemap);
+        }
         self.cx.tick_clip(ctx);
         self.cx.tick_sequences(ctx);
         self.jod.update(&mut self.cx, ctx);
