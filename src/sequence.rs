@@ -627,6 +627,7 @@ mod tests {
             frames: VecDeque::new(),
             bytes: 0,
             cap: 2 * 64,
+            tonemap: None,
         };
         cache.insert(0, &frame());
         cache.insert(1, &frame());
