@@ -113,7 +113,9 @@ fn sequences_score_against_their_reference_with_maps_and_a_viewing_distance() {
     // The button scores both against the reference, as the metrics library does.
     // By the button's id, not its position: figures arriving on the worker can move it
     // between the frame that placed it and the click.
-    harness.get_by_label("Score with ColorVideoVDP").click_accesskit();
+    harness
+        .get_by_label("Score with ColorVideoVDP")
+        .click_accesskit();
     harness.step();
     let [slight_jod, strong_jod] = wait_for_figures(&mut harness, "the JOD of both");
     let standard = JodDisplay::named(DEFAULT_DISPLAY);

@@ -512,7 +512,9 @@ fn four_sequences_and_a_reference_play_as_four_panes() {
     // ColorVideoVDP scores the four against the reference.
     // By the button's id, not its position: figures arriving on the worker can move it
     // between the frame that placed it and the click.
-    harness.get_by_label("Score with ColorVideoVDP").click_accesskit();
+    harness
+        .get_by_label("Score with ColorVideoVDP")
+        .click_accesskit();
     harness.step();
     wait(&mut harness, "the JOD of the four", |app| {
         [0, 1, 3, 4].iter().all(|slot| app.jod(*slot).is_some())
