@@ -212,12 +212,25 @@ fn modifier_count(m: Modifiers) -> u8 {
         + u8::from(m.command)
 }
 
+/// A key combination as people write it: egui's wording of the modifiers, and the key's own
+/// character where it has a plain one (`]` rather than egui's `CloseBracket`, `?` rather than
+/// `Questionmark`).
+fn shortcut_text(ctx: &egui::Context, shortcut: &KeyboardShortcut) -> String {
+    let text = ctx.format_shortcut(shortcut);
+    let key = shortcut.logical_key;
+    let symbol = key.symbol_or_name();
+    match text.strip_suffix(key.name()) {
+        Some(modifiers) if symbol.len() == 1 && symbol.is_ascii() => format!("{modifiers}{symbol}"),
+        _ => text,
+    }
+}
+
 /// How a shortcut is written in menus and the help.
 pub fn label(ctx: &egui::Context, action: Action) -> Option<String> {
     SHORTCUTS
         .iter()
         .find(|s| s.action == action)
-        .map(|s| ctx.format_shortcut(&s.shortcut))
+        .map(|s| shortcut_text(ctx, &s.shortcut))
 }
 
 /// A tooltip with the action's shortcut appended.
@@ -290,7 +303,7 @@ fn help_contents(ui: &mut egui::Ui) -> bool {
                 let keys: Vec<String> = SHORTCUTS
                     .iter()
                     .filter(|o| o.action == s.action)
-                    .map(|o| ctx.format_shortcut(&o.shortcut))
+                    .map(|o| shortcut_text(&ctx, &o.shortcut))
                     .collect();
                 ui.monospace(keys.join("  or  "));
                 ui.label(s.help);
@@ -316,6 +329,25 @@ fn help_contents(ui: &mut egui::Ui) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn keys_are_written_as_their_characters() {
+        let ctx = egui::Context::default();
+        let text = |modifiers, key| shortcut_text(&ctx, &KeyboardShortcut::new(modifiers, key));
+        assert_eq!(text(Modifiers::NONE, Key::CloseBracket), "]");
+        assert_eq!(text(Modifiers::NONE, Key::Questionmark), "?");
+        assert_eq!(text(Modifiers::NONE, Key::F1), "F1");
+        let ctrl_d = KeyboardShortcut::new(Modifiers::COMMAND, Key::D);
+        assert_eq!(
+            text(Modifiers::COMMAND, Key::D),
+            ctx.format_shortcut(&ctrl_d)
+        );
+        let ctrl_bracket = text(Modifiers::COMMAND, Key::OpenBracket);
+        assert!(
+            ctrl_bracket.ends_with('[') && ctrl_bracket.len() > 1,
+            "{ctrl_bracket}"
+        );
+    }
 
     #[test]
     fn no_two_shortcuts_share_a_key_combination() {
