@@ -262,6 +262,12 @@ struct FrameCache {
 }
 
 impl FrameCache {
+    /// Drops every frame kept.
+    fn forget(&mut self) {
+        self.frames.clear();
+        self.bytes = 0;
+    }
+
     fn get(&mut self, index: usize) -> Option<Arc<RgbaImage>> {
         let position = self.frames.iter().position(|(i, _)| *i == index)?;
         let entry = self.frames.remove(position)?;
@@ -352,8 +358,7 @@ impl Sequence {
             return false;
         }
         cache.tonemap = tonemap;
-        cache.frames.clear();
-        cache.bytes = 0;
+        cache.forget();
         self.format == ImageFormat::OpenExr
     }
 
@@ -362,8 +367,7 @@ impl Sequence {
     pub fn with_cache_bytes(self, bytes: usize) -> Self {
         if let Ok(mut cache) = self.cache.lock() {
             cache.cap = bytes;
-            cache.frames.clear();
-            cache.bytes = 0;
+            cache.forget();
         }
         self
     }

@@ -77,15 +77,10 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
             })
             .collect();
         for (slot, (name, path)) in rows.iter().enumerate() {
-            let (letter, color) = cx.image_mark(slot);
-            ui.horizontal(|ui| {
-                ui.label(style::badge(letter, color));
-                ui.label(
-                    cx.image_label(IMAGE_IDS[slot])
-                        .unwrap_or_else(|| name.clone()),
-                )
-                .on_hover_text(path);
-            });
+            let label = cx
+                .image_label(IMAGE_IDS[slot])
+                .unwrap_or_else(|| name.clone());
+            style::marked_name(ui, cx.image_mark(slot), label).on_hover_text(path);
             offset_field(ui, cx, slot);
         }
         ui.add_space(6.0);
@@ -176,11 +171,7 @@ pub(super) fn quality_section(ui: &mut egui::Ui, ws: &mut Workspace) {
         ],
         |ui| {
             for (slot, name) in names.iter().enumerate() {
-                let (letter, color) = ws.cx.image_mark(slot);
-                ui.horizontal(|ui| {
-                    ui.label(style::badge(letter, color));
-                    ui.label(name);
-                });
+                style::marked_name(ui, ws.cx.image_mark(slot), name);
                 if slot == reference {
                     ui.weak("reference").on_hover_text(REFERENCE_HELP);
                     ui.end_row();
@@ -283,11 +274,7 @@ fn played_section(ui: &mut egui::Ui, cx: &Context, names: &[String], reference: 
         |ui| {
             let others = (0..names.len()).filter(|pane| *pane != reference);
             for (pane, scores) in others.zip(&run.scores) {
-                let (letter, color) = cx.image_mark(pane);
-                ui.horizontal(|ui| {
-                    ui.label(style::badge(letter, color));
-                    ui.label(&names[pane]);
-                });
+                style::marked_name(ui, cx.image_mark(pane), &names[pane]);
                 let figure = |value: Option<f64>| {
                     value.map_or_else(|| "–".to_owned(), |v| format!("{v:.3}"))
                 };

@@ -49,11 +49,7 @@ pub(super) fn sequences_section(ui: &mut egui::Ui, ws: &mut Workspace) {
         &[("sequence", None), ("JOD", Some(JOD_HELP))],
         |ui| {
             for (slot, name) in names.iter().enumerate() {
-                let (letter, color) = ws.cx.image_mark(slot);
-                ui.horizontal(|ui| {
-                    ui.label(style::badge(letter, color));
-                    ui.label(name);
-                });
+                style::marked_name(ui, ws.cx.image_mark(slot), name);
                 if slot == reference {
                     ui.weak("reference");
                 } else {

@@ -134,6 +134,20 @@ pub fn badge(letter: &str, color: Color32) -> RichText {
         .background_color(color)
 }
 
+/// A table row's first cell: a pane's badge (`mark`: letter and colour, [`badge`]) and the
+/// name beside it; the name's response, for a tooltip.
+pub fn marked_name(
+    ui: &mut egui::Ui,
+    (letter, color): (&str, Color32),
+    name: impl Into<egui::WidgetText>,
+) -> egui::Response {
+    ui.horizontal(|ui| {
+        ui.label(badge(letter, color));
+        ui.label(name)
+    })
+    .inner
+}
+
 /// Paints a label chip (coloured letter, then text) with its top-left corner at `at`, over a
 /// dark translucent backing so it reads on any image; returns its rectangle.
 pub fn chip(
