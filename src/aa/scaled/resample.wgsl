@@ -142,14 +142,21 @@ fn luma(c: vec4<f32>) -> f32 {
     return dot(c.rgb, vec3<f32>(0.299, 0.587, 0.114));
 }
 
-// The 12 taps of the edge-adaptive upscaler, as offsets from tap 0: the 4x4 block -1..2
-// without its corners.
-const EASU_TAPS = array<vec2<i32>, 12>(
-    vec2<i32>(0, -1), vec2<i32>(1, -1),
-    vec2<i32>(-1, 0), vec2<i32>(0, 0), vec2<i32>(1, 0), vec2<i32>(2, 0),
-    vec2<i32>(-1, 1), vec2<i32>(0, 1), vec2<i32>(1, 1), vec2<i32>(2, 1),
-    vec2<i32>(0, 2), vec2<i32>(1, 2),
-);
+// The squared gradient terms of one inner pixel of the edge-adaptive upscaler, from its luma
+// `c` and its four direct neighbours: (gx^2, gx gy, gy^2) and how much the pixel sits on a
+// step rather than a peak or a dip (a thin line): the central difference over the larger
+// one-sided difference, per axis (1 on a step or ramp, 0 on a line's centre).
+struct Gradient {
+    tensor: vec3<f32>,
+    step: f32,
+}
+
+fn gradient(c: f32, left: f32, right: f32, up: f32, down: f32) -> Gradient {
+    let g = vec2<f32>(right - left, down - up);
+    let one_sided = max(max(abs(right - c), abs(c - left)), max(abs(down - c), abs(c - up)));
+    let ratio = saturate(length(g) / max(one_sided, 1e-5) * 0.5);
+    return Gradient(vec3<f32>(g.x * g.x, g.x * g.y, g.y * g.y), ratio);
+}
 
 // The windowed kernel over the squared (stretched) distance d2: the window
 // (1 - d2 / reach2)^2, which ends at distance sqrt(reach2), times (1 - d2), which has
@@ -161,43 +168,63 @@ fn easu_weight(d2: f32, reach2: f32) -> f32 {
     return window * window * (1.0 - d2);
 }
 
+// The kernel's frame at one output pixel: the fraction past tap 0, the unit vectors across
+// and along the edge, how much along-edge distances shrink, and the window's reach.
+struct EasuKernel {
+    fraction: vec2<f32>,
+    across: vec2<f32>,
+    along: vec2<f32>,
+    shrink_along: f32,
+    reach2: f32,
+}
+
+// The running weighted sum of the taps' colours and the sum of their weights.
+struct Accumulated {
+    sum: vec4<f32>,
+    weight: f32,
+}
+
+// `acc` with the tap at `offset` from tap 0, of colour `colour`, added.
+fn easu_tap(acc: Accumulated, k: EasuKernel, offset: vec2<f32>, colour: vec4<f32>) -> Accumulated {
+    let d = offset - k.fraction;
+    let u = dot(d, k.across);
+    let s = dot(d, k.along) * k.shrink_along;
+    let w = easu_weight(u * u + s * s, k.reach2);
+    return Accumulated(acc.sum + w * colour, acc.weight + w);
+}
+
+// The 12 taps are the 4x4 block -1..2 around tap 0 without its corners, named by row (a: -1,
+// b: 0, c: 1, d: 2) and column (-1, 0, 1, 2 as m, 0, 1, 2). They are held in named values,
+// not arrays: a GPU compiler may keep a function's arrays in memory rather than registers
+// (TAA's resolve cost twice as much that way).
 @fragment
 fn fs_easu(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let t = taps(position);
     let f = t.fraction;
-    var colors: array<vec4<f32>, 12>;
-    var lumas: array<f32, 12>;
-    for (var n = 0; n < 12; n++) {
-        colors[n] = texel(t.base + EASU_TAPS[n]);
-        lumas[n] = luma(colors[n]);
-    }
-    // Central-difference gradients of the inner 2x2 pixels (indices 3, 4, 7, 8), each from its
+    let a0 = texel(t.base + vec2<i32>(0, -1));
+    let a1 = texel(t.base + vec2<i32>(1, -1));
+    let bm = texel(t.base + vec2<i32>(-1, 0));
+    let b0 = texel(t.base);
+    let b1 = texel(t.base + vec2<i32>(1, 0));
+    let b2 = texel(t.base + vec2<i32>(2, 0));
+    let cm = texel(t.base + vec2<i32>(-1, 1));
+    let c0 = texel(t.base + vec2<i32>(0, 1));
+    let c1 = texel(t.base + vec2<i32>(1, 1));
+    let c2 = texel(t.base + vec2<i32>(2, 1));
+    let d0 = texel(t.base + vec2<i32>(0, 2));
+    let d1 = texel(t.base + vec2<i32>(1, 2));
+    // Central-difference gradients of the inner 2x2 pixels (b0, b1, c0, c1), each from its
     // four direct neighbours among the 12 taps, accumulated as a structure tensor with
-    // bilinear weights.
-    let inner = array<vec4<i32>, 4>(
-        // left, right, up, down neighbour indices of taps 3, 4, 7, 8
-        vec4<i32>(2, 4, 0, 7), vec4<i32>(3, 5, 1, 8),
-        vec4<i32>(6, 8, 3, 10), vec4<i32>(7, 9, 4, 11),
-    );
+    // bilinear weights; the step measure (see `gradient`) is accumulated squared.
     let bilinear_weights = vec4<f32>((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
-    let centres = array<i32, 4>(3, 4, 7, 8);
-    var tensor = vec3<f32>(0.0);
-    // How much each inner pixel sits on a step rather than a peak or a dip (a thin line):
-    // the central difference over the larger one-sided difference, per axis (1 on a step or
-    // ramp, 0 on a line's centre), squared.
-    var step = 0.0;
-    for (var k = 0; k < 4; k++) {
-        let n = inner[k];
-        let c = lumas[centres[k]];
-        let g = vec2<f32>(lumas[n.y] - lumas[n.x], lumas[n.w] - lumas[n.z]);
-        tensor += bilinear_weights[k] * vec3<f32>(g.x * g.x, g.x * g.y, g.y * g.y);
-        let one_sided = max(
-            max(abs(lumas[n.y] - c), abs(c - lumas[n.x])),
-            max(abs(lumas[n.w] - c), abs(c - lumas[n.z])),
-        );
-        let ratio = saturate(length(g) / max(one_sided, 1e-5) * 0.5);
-        step += bilinear_weights[k] * ratio * ratio;
-    }
+    let gb0 = gradient(luma(b0), luma(bm), luma(b1), luma(a0), luma(c0));
+    let gb1 = gradient(luma(b1), luma(b0), luma(b2), luma(a1), luma(c1));
+    let gc0 = gradient(luma(c0), luma(cm), luma(c1), luma(b0), luma(d0));
+    let gc1 = gradient(luma(c1), luma(c0), luma(c2), luma(b1), luma(d1));
+    let tensor = bilinear_weights.x * gb0.tensor + bilinear_weights.y * gb1.tensor
+        + bilinear_weights.z * gc0.tensor + bilinear_weights.w * gc1.tensor;
+    let step = bilinear_weights.x * gb0.step * gb0.step + bilinear_weights.y * gb1.step * gb1.step
+        + bilinear_weights.z * gc0.step * gc0.step + bilinear_weights.w * gc1.step * gc1.step;
     // Eigen-decomposition of the 2x2 tensor [[a, b], [b, c]].
     let trace = tensor.x + tensor.z;
     let spread = sqrt(max(0.0, 0.25 * (tensor.x - tensor.z) * (tensor.x - tensor.z) + tensor.y * tensor.y));
@@ -215,22 +242,23 @@ fn fs_easu(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     }
     // How much the neighbourhood is one edge: anisotropic and of some contrast.
     let edge = anisotropy * step * saturate(sqrt(trace) * 8.0);
-    let along = vec2<f32>(-across.y, across.x);
-    let shrink_along = 1.0 - 0.5 * edge;
-    let reach2 = mix(2.0, 4.0, edge);
-    var sum = vec4<f32>(0.0);
-    var weight_sum = 0.0;
-    for (var n = 0; n < 12; n++) {
-        let offset = vec2<f32>(EASU_TAPS[n]) - f;
-        let u = dot(offset, across);
-        let s = dot(offset, along) * shrink_along;
-        let w = easu_weight(u * u + s * s, reach2);
-        sum += w * colors[n];
-        weight_sum += w;
-    }
-    let result = sum / weight_sum;
-    let low = min(min(colors[3], colors[4]), min(colors[7], colors[8]));
-    let high = max(max(colors[3], colors[4]), max(colors[7], colors[8]));
+    let k = EasuKernel(f, across, vec2<f32>(-across.y, across.x), 1.0 - 0.5 * edge, mix(2.0, 4.0, edge));
+    var acc = Accumulated(vec4<f32>(0.0), 0.0);
+    acc = easu_tap(acc, k, vec2<f32>(0.0, -1.0), a0);
+    acc = easu_tap(acc, k, vec2<f32>(1.0, -1.0), a1);
+    acc = easu_tap(acc, k, vec2<f32>(-1.0, 0.0), bm);
+    acc = easu_tap(acc, k, vec2<f32>(0.0, 0.0), b0);
+    acc = easu_tap(acc, k, vec2<f32>(1.0, 0.0), b1);
+    acc = easu_tap(acc, k, vec2<f32>(2.0, 0.0), b2);
+    acc = easu_tap(acc, k, vec2<f32>(-1.0, 1.0), cm);
+    acc = easu_tap(acc, k, vec2<f32>(0.0, 1.0), c0);
+    acc = easu_tap(acc, k, vec2<f32>(1.0, 1.0), c1);
+    acc = easu_tap(acc, k, vec2<f32>(2.0, 1.0), c2);
+    acc = easu_tap(acc, k, vec2<f32>(0.0, 2.0), d0);
+    acc = easu_tap(acc, k, vec2<f32>(1.0, 2.0), d1);
+    let result = acc.sum / acc.weight;
+    let low = min(min(b0, b1), min(c0, c1));
+    let high = max(max(b0, b1), max(c0, c1));
     return clamp(result, low, high);
 }
 

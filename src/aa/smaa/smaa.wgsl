@@ -157,12 +157,10 @@ fn fs_edges_depth(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f
 // ---------------------------------------------------------------------------------------
 // 2. Blending weights
 
-// Edges of a pixel; none outside the image.
+// Edges of a pixel; none outside the image (a select, not a branch, so that a GPU issues the
+// loads of a function together).
 fn edge_at(p: vec2<i32>) -> vec2<f32> {
-    if !inside(p) {
-        return vec2<f32>(0.0);
-    }
-    return textureLoad(edges_tex, p, 0).rg;
+    return select(vec2<f32>(0.0), textureLoad(edges_tex, clamp_pixel(p), 0).rg, inside(p));
 }
 
 fn has(e: f32) -> i32 {
@@ -181,14 +179,6 @@ fn channel(e: vec2<f32>, c: u32) -> f32 {
     return select(e.x, e.y, c == 1u);
 }
 
-// One bilinear fetch covering the near pixel `q` and the far pixel `q + step` in this row
-// and the row across: (followed edges, crossing edges), weights 21/7/3/1 out of 32.
-fn fetch_pair(q: vec2<i32>, dir: vec2<i32>, axis: Axis) -> vec2<f32> {
-    let at = vec2<f32>(q) + 0.5 + 0.25 * vec2<f32>(dir) + 0.125 * vec2<f32>(axis.across);
-    let e = textureSampleLevel(edges_tex, linear_sampler, at / params.size, 0.0).rg;
-    return vec2<f32>(channel(e, axis.edge), channel(e, 1u - axis.edge));
-}
-
 // How many pixels of the last fetch still belong to the run (search table).
 fn search_length(e: vec2<f32>, forward: bool) -> i32 {
     let edge = i32(round(e.x * 32.0));
@@ -200,34 +190,46 @@ fn search_length(e: vec2<f32>, forward: bool) -> i32 {
     return i32(round(textureLoad(search_tex, texel, 0).r * 255.0 / SEARCH_UNIT));
 }
 
-// The last pixel of the run through `p` in direction `dir` (two pixels per step).
+// The last pixel of the run through `p` in direction `dir`. Each step is one bilinear fetch
+// covering the near pixel and the far one (two pixels per step) in this row and the row
+// across: (followed edges, crossing edges), weights 21/7/3/1 out of 32. The step count is
+// bounded by the image border up front and the fetch position advances by a fixed stride, so
+// the loop does the fetch and one test per step.
 fn search(p: vec2<i32>, dir: vec2<i32>, axis: Axis, forward: bool) -> vec2<i32> {
-    var q = select(p, p + dir, forward);
+    let q = select(p, p + dir, forward);
     if !inside(q) {
         return p;
     }
+    let room = max(dir, vec2<i32>(0)) * (image_size() - 1 - q) + max(-dir, vec2<i32>(0)) * q;
+    let steps = min(MAX_SEARCH_STEPS, (room.x + room.y) / 2 + 1);
+    let texel = 1.0 / params.size;
+    let first = (vec2<f32>(q) + 0.5 + 0.25 * vec2<f32>(dir) + 0.125 * vec2<f32>(axis.across)) * texel;
+    let stride = 2.0 * vec2<f32>(dir) * texel;
     var e = vec2<f32>(1.0, 0.0);
-    var fetched = q;
-    for (var i = 0; i < MAX_SEARCH_STEPS; i++) {
-        if !inside(q) {
-            break;
-        }
-        e = fetch_pair(q, dir, axis);
-        fetched = q;
-        q += 2 * dir;
+    var i = 0;
+    loop {
+        let pair = textureSampleLevel(edges_tex, linear_sampler, first + f32(i) * stride, 0.0).rg;
+        e = vec2<f32>(channel(pair, axis.edge), channel(pair, 1u - axis.edge));
+        i++;
         // Stop unless both pixels carry the edge (21 + 7 out of 32) and nothing crosses it.
-        if e.x < 0.8281 || e.y > 0.0 {
+        if i >= steps || e.x < 0.8281 || e.y > 0.0 {
             break;
         }
     }
-    return clamp_pixel(fetched + (search_length(e, forward) - 1) * dir);
+    return clamp_pixel(q + (2 * (i - 1) + search_length(e, forward) - 1) * dir);
 }
 
 // Cell of the crossing edges at the boundary before pixel `b` (along the run): 3 * crossing
-// in this row + crossing in the row across.
+// in this row + crossing in the row across, read by one bilinear fetch a quarter pixel
+// towards the row across (3/4 of this row's edge + 1/4 of the other's: 4 x the cell). Outside
+// the image nothing crosses; where the row across is outside, the clamped fetch read this
+// row twice.
 fn crossing_cell(b: vec2<i32>, axis: Axis) -> i32 {
-    let c = 1u - axis.edge;
-    return 3 * has(channel(edge_at(b), c)) + has(channel(edge_at(b + axis.across), c));
+    let at = vec2<f32>(b) + 0.5 + 0.25 * vec2<f32>(axis.across);
+    let e = textureSampleLevel(edges_tex, linear_sampler, at / params.size, 0.0).rg;
+    let code = i32(round(4.0 * channel(e, 1u - axis.edge)));
+    let across_outside = select(code - code / 4, code, inside(b + axis.across));
+    return select(0, across_outside, inside(b));
 }
 
 fn area_ortho(distance: vec2<f32>, cells: vec2<i32>, subtable: u32) -> vec2<f32> {
