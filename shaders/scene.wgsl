@@ -1,5 +1,5 @@
 // Forward Blinn-Phong scene shader: one directional light, ambient + diffuse + specular,
-// base-colour texture with mip bias, alpha-mask materials (alpha test, or sharpened
+// base-colour texture with mip bias and a bounded anisotropic filter, alpha-mask materials (alpha test, or sharpened
 // alpha-to-coverage), procedural normal detail (ripples and flakes in world space), optional
 // geometric specular antialiasing, and screen-space motion vectors in a second target;
 // alpha-blended materials output premultiplied colour and their alpha as a reactive mask
@@ -31,7 +31,8 @@ struct View {
 struct Material {
     base_color: vec4<f32>,
     specular: vec4<f32>,    // rgb: specular colour, a: shininess
-    // x: alpha cutoff, y: 1 when unlit, z: 1 when the material is alpha-masked
+    // x: alpha cutoff, y: 1 when unlit, z: 1 when the material is alpha-masked, w: 1 when its
+    // texture is filtered anisotropically (linear filters and mipmaps), 0 for plain sampling
     params: vec4<f32>,
     // Normal detail: x periods per world unit, y ripple slope, z flake slope (0 without)
     detail: vec4<f32>,
@@ -187,6 +188,81 @@ fn filtered_lobe(n_dx: vec3<f32>, n_dy: vec3<f32>, exponent: f32, extra_roughnes
     return vec2<f32>(filtered, (filtered + 2.0) / (exponent + 2.0));
 }
 
+// Anisotropic filtering by trilinear probes along the footprint's major axis, the same on
+// every adapter (the samplers' hardware anisotropy is off everywhere; scene/renderer/mod.rs
+// says why). The pixel's footprint in texel space is the parallelogram spanned by the texture
+// coordinates' screen derivatives; the singular values of that 2x2 Jacobian are the axes of
+// its ellipse (Heckbert's EWA footprint), the eigenvector of the larger one its major
+// direction. Up to MAX_ANISOTROPY probes are spread evenly over the major axis, each a
+// trilinear lookup whose level is the minor axis' (widened to major / MAX_ANISOTROPY where
+// the footprint is more elongated than that, as hardware clamps do), and averaged: the
+// classic multi-probe approximation of an elliptical filter (the "Texram" and
+// Feline-style probe schemes; Mavridis and Papaioannou, "High quality elliptical texture
+// filtering on GPU", I3D 2011, who place probes the same way). The mip bias scales the
+// derivatives by 2^bias. Derivatives are clamped to a finite range so that the helper lanes
+// of sliver triangles, whose extrapolated coordinates can be huge, still get a finite
+// footprint: the probe count, not the footprint, bounds the work.
+const MAX_ANISOTROPY: f32 = 8.0;
+const MAX_FOOTPRINT_TEXELS: f32 = 1e6;
+
+struct Footprint {
+    // Offset in texture coordinates from the first probe to the last
+    major: vec2<f32>,
+    // Gradients (both axis-aligned, in texture coordinates) that give each probe its level
+    grad_x: vec2<f32>,
+    grad_y: vec2<f32>,
+    probes: u32,
+}
+
+fn anisotropic_footprint(duv_dx: vec2<f32>, duv_dy: vec2<f32>, texels: vec2<f32>) -> Footprint {
+    let jx = clamp(duv_dx * texels, vec2<f32>(-MAX_FOOTPRINT_TEXELS), vec2<f32>(MAX_FOOTPRINT_TEXELS));
+    let jy = clamp(duv_dy * texels, vec2<f32>(-MAX_FOOTPRINT_TEXELS), vec2<f32>(MAX_FOOTPRINT_TEXELS));
+    // J J^T = [[a, b], [b, c]]: its eigenvalues are the squared axes of the ellipse.
+    let a = jx.x * jx.x + jy.x * jy.x;
+    let b = jx.x * jx.y + jy.x * jy.y;
+    let c = jx.y * jx.y + jy.y * jy.y;
+    let mean = 0.5 * (a + c);
+    let spread = sqrt(0.25 * (a - c) * (a - c) + b * b);
+    let major_length = sqrt(mean + spread);
+    let minor_length = sqrt(max(mean - spread, 0.0));
+    // Eigenvector of the larger eigenvalue, from whichever row of (J J^T - lambda I) is better
+    // conditioned; any direction where the footprint is round (one probe then).
+    let from_row_a = vec2<f32>(b, mean + spread - a);
+    let from_row_c = vec2<f32>(mean + spread - c, b);
+    let direction = select(from_row_c, from_row_a, dot(from_row_a, from_row_a) > dot(from_row_c, from_row_c));
+    let direction_length = length(direction);
+    let unit = select(vec2<f32>(1.0, 0.0), direction / direction_length, direction_length > 0.0);
+    let probe_width = max(minor_length, major_length / MAX_ANISOTROPY);
+    let probes = clamp(ceil(major_length / max(probe_width, 1e-20)), 1.0, MAX_ANISOTROPY);
+    var out: Footprint;
+    out.probes = u32(probes);
+    // Each probe covers 1 / probes of the major axis; the first and last sit half a probe in.
+    out.major = unit * (major_length * (probes - 1.0) / probes) / texels;
+    out.grad_x = vec2<f32>(probe_width / texels.x, 0.0);
+    out.grad_y = vec2<f32>(0.0, probe_width / texels.y);
+    return out;
+}
+
+// The material's base-colour texel at `uv`: anisotropically filtered where the material's
+// sampler is linear and mipmapped, else one lookup with the pixel's own (biased) derivatives.
+fn sample_base_color(uv: vec2<f32>) -> vec4<f32> {
+    let bias_scale = exp2(view.params.x);
+    let duv_dx = dpdx(uv) * bias_scale;
+    let duv_dy = dpdy(uv) * bias_scale;
+    let filtered = material.params.w > 0.5;
+    let footprint = anisotropic_footprint(duv_dx, duv_dy, vec2<f32>(textureDimensions(base_texture)));
+    let probes = select(1u, footprint.probes, filtered);
+    let grad_x = select(duv_dx, footprint.grad_x, filtered);
+    let grad_y = select(duv_dy, footprint.grad_y, filtered);
+    let step = footprint.major / max(f32(probes) - 1.0, 1.0);
+    let first = uv - 0.5 * select(vec2<f32>(0.0), footprint.major, filtered);
+    var sum = vec4<f32>(0.0);
+    for (var i = 0u; i < probes; i++) {
+        sum += textureSampleGrad(base_texture, base_sampler, first + step * f32(i), grad_x, grad_y);
+    }
+    return sum / f32(probes);
+}
+
 fn shade_fragment(
     world_position: vec3<f32>,
     normal_in: vec3<f32>,
@@ -213,7 +289,7 @@ fn shade_fragment(
         lobe = filtered_lobe(dpdx(n), dpdy(n), material.specular.a, extra);
     }
 
-    let texel = textureSampleBias(base_texture, base_sampler, uv, view.params.x);
+    let texel = sample_base_color(uv);
     let albedo = material.base_color.rgb * texel.rgb;
     var alpha = texel.a * material.base_color.a;
     // Material switches choose results with select, never code paths: lavapipe recompiles a

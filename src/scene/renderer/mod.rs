@@ -8,14 +8,22 @@
 //! renders (supersampling tiles, accumulation passes) can be recorded into one encoder.
 //!
 //! Materials are sampled as their [`TextureSampler`] says (trilinearly, repeating, unless a
-//! glTF sampler asks otherwise), with 8x anisotropic filtering on GPUs when every filter is
-//! linear, and without anisotropy on software rasterisers (see [`anisotropy_clamp`]): Mesa's llvmpipe
-//! (lavapipe) filters anisotropically by scanning every texel of the footprint ellipse's
-//! bounding box, with no bound from the anisotropy clamp or the texture size. Where a quad's
-//! texture-coordinate derivatives are extreme (sliver triangles seen edge-on, whose helper
-//! lanes extrapolate the coordinates far out, as in the hairball's sub-pixel tubes) that box
-//! spans millions of texels per axis and one fragment never finishes: the queue stalls and
-//! every later submission waits behind it.
+//! glTF sampler asks otherwise). Where every filter is linear and mipmapped
+//! ([`filtered_anisotropically`]) the scene shader filters anisotropically itself, with up to
+//! eight trilinear probes along the major axis of the pixel's footprint (`sample_base_color`
+//! in `shaders/scene.wgsl`; after the multi-probe schemes of Schilling et al.'s Texram, 1996,
+//! McCormack et al.'s Feline, 1999, and Mavridis and Papaioannou, "High quality elliptical
+//! texture filtering on GPU", 2011), and the samplers' hardware anisotropy is off on every
+//! adapter. Two reasons. Quality figures must not depend on the adapter: a GPU's hardware
+//! filter (8x) and a software rasteriser's differ, and Mesa's llvmpipe (lavapipe) cannot be
+//! given one at all: it filters anisotropically by scanning every texel of the footprint
+//! ellipse's bounding box, with no bound from the anisotropy clamp or the texture size, and
+//! where a quad's texture-coordinate derivatives are extreme (sliver triangles seen edge-on,
+//! whose helper lanes extrapolate the coordinates far out, as in the hairball's sub-pixel
+//! tubes) that box spans millions of texels per axis and one fragment never finishes. The
+//! shader's filter is bounded by its probe count, so every adapter runs the same one and a
+//! software render predicts a GPU's, up to filtering precision. The price on a GPU is up to
+//! eight texture lookups where its hardware filter took one instruction (docs/gpu-figures.md).
 //!
 //! Alpha-blended materials are drawn last, back to front, by a second set of pipelines
 //! (premultiplied alpha, depth test without depth or motion writes; see [`blend`] for the
@@ -43,8 +51,8 @@ mod textures;
 pub use output::{SceneOutput, Tonemap, Tonemapper};
 pub use pipeline::PipelineKey;
 
-pub use textures::{anisotropy_clamp, downsample_srgb, mip_level_count};
 use textures::{create_sampler, upload_texture};
+pub use textures::{downsample_srgb, filtered_anisotropically, mip_level_count};
 
 /// Where varyings are evaluated inside a multisampled pixel.
 #[derive(
@@ -426,7 +434,14 @@ fn upload_materials(
             let uniform = MaterialUniform {
                 base_color: m.base_color.extend(m.opacity).to_array(),
                 specular: m.specular.extend(m.shininess.max(1.0)).to_array(),
-                params: [cutoff, f32::from(u8::from(m.unlit)), masked, 0.0],
+                params: [
+                    cutoff,
+                    f32::from(u8::from(m.unlit)),
+                    masked,
+                    f32::from(u8::from(
+                        m.base_color_texture.is_some() && filtered_anisotropically(&m.sampler),
+                    )),
+                ],
                 detail: m.normal_detail.map_or([0.0; 4], |d| {
                     [d.frequency, d.ripple.max(0.0), d.flakes.max(0.0), 0.0]
                 }),

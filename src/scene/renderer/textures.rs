@@ -1,7 +1,9 @@
 //! The scene's textures on the GPU: full mip chains made on the CPU with sRGB-correct
 //! averaging (what a game's texture pipeline bakes), textures larger than the adapter allows
-//! reduced to fit, and samplers with the material's filters, wrapping and the adapter's
-//! anisotropy.
+//! reduced to fit, and samplers with the material's filters and wrapping. The samplers never
+//! filter anisotropically: the scene shader does (`anisotropic_footprint` in
+//! `shaders/scene.wgsl`), the same way on every adapter, for the materials that
+//! [`filtered_anisotropically`] picks.
 
 use super::*;
 
@@ -102,14 +104,16 @@ pub(super) fn upload_texture(gpu: &Gpu, texture: &TextureImage) -> wgpu::Texture
     gpu_texture
 }
 
-/// Anisotropy of the material sampler: 8 on GPUs, none (1) on software rasterisers, where
-/// lavapipe's unbounded footprint scan can hang a frame (see the module docs).
-pub fn anisotropy_clamp(gpu: &Gpu) -> u16 {
-    if gpu.caps.software { 1 } else { 8 }
+/// Whether the scene shader filters a material's texture anisotropically: only where every
+/// filter is linear and mipmapped (trilinear probes need both); nearest-filtered and
+/// unmipmapped samplers are sampled once, as they say.
+pub fn filtered_anisotropically(sampler: &TextureSampler) -> bool {
+    sampler.mag_filter == Filter::Linear
+        && sampler.min_filter == Filter::Linear
+        && sampler.mipmap_filter == Some(Filter::Linear)
 }
 
-/// The wgpu sampler of a material's [`TextureSampler`]; anisotropic filtering (where the
-/// adapter gets it) only when every filter is linear, as wgpu requires.
+/// The wgpu sampler of a material's [`TextureSampler`], without hardware anisotropy.
 pub(super) fn create_sampler(gpu: &Gpu, sampler: &TextureSampler) -> wgpu::Sampler {
     let filter = |f: Filter| match f {
         Filter::Nearest => wgpu::FilterMode::Nearest,
@@ -120,9 +124,6 @@ pub(super) fn create_sampler(gpu: &Gpu, sampler: &TextureSampler) -> wgpu::Sampl
         Wrap::MirroredRepeat => wgpu::AddressMode::MirrorRepeat,
         Wrap::ClampToEdge => wgpu::AddressMode::ClampToEdge,
     };
-    let all_linear = sampler.mag_filter == Filter::Linear
-        && sampler.min_filter == Filter::Linear
-        && sampler.mipmap_filter == Some(Filter::Linear);
     let defaults = wgpu::SamplerDescriptor::default();
     gpu.device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("scene material sampler"),
@@ -140,7 +141,6 @@ pub(super) fn create_sampler(gpu: &Gpu, sampler: &TextureSampler) -> wgpu::Sampl
         } else {
             0.0
         },
-        anisotropy_clamp: if all_linear { anisotropy_clamp(gpu) } else { 1 },
         ..defaults
     })
 }
