@@ -62,6 +62,35 @@ fn compare_prints_json_writes_heatmaps_and_explains_errors() {
     assert!(String::from_utf8_lossy(&missing.stderr).contains("/nonexistent/a.png"));
 }
 
+#[test]
+fn compare_edge_gain_is_zero_for_no_aa_one_for_the_reference_and_checks_sizes() {
+    let (reference, no_aa) = (fixture("hairball_ssaa.png"), fixture("hairball_none.png"));
+    let gain = |test: &str| {
+        let out = common::aa_lab(&["compare", &reference, test, "--edge-gain", &no_aa, "--json"]);
+        assert!(out.status.success(), "{}", common::stderr(&out));
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        json["edge_gain"].as_f64().expect("edge_gain in the JSON")
+    };
+    assert_eq!(gain(&no_aa), 0.0);
+    assert_eq!(gain(&reference), 1.0);
+    let text = common::aa_lab(&["compare", &reference, &no_aa, "--edge-gain", &no_aa]);
+    assert!(
+        common::stdout(&text).contains("edge gain 0.0000"),
+        "{}",
+        common::stdout(&text)
+    );
+    common::fails_with(
+        &[
+            "compare",
+            &reference,
+            &no_aa,
+            "--edge-gain",
+            &fixture("noise_clean.png"),
+        ],
+        &["--edge-gain", "61x37", "noise_clean.png"],
+    );
+}
+
 /// The `report.json` a bench wrote into `out`.
 fn read_report(out: &Path) -> serde_json::Value {
     let text = std::fs::read_to_string(out.join("report.json")).expect("report.json");

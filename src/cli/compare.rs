@@ -1,7 +1,8 @@
 //! `aa-lab compare REFERENCE TEST`: scores a test image against a reference with SSIM, PSNR,
 //! MAE and FLIP (see `metrics`), as text or JSON, and optionally writes a heatmap of one
 //! metric's per-pixel map (two OpenEXR images go to [`super::compare_hdr`] instead, for
-//! HDR-FLIP). `--gpu` also runs the compute-shader path and prints its numbers
+//! HDR-FLIP). `--edge-gain NOAA.png` adds the edge gain over No AA's image (`metrics::edges`).
+//! `--gpu` also runs the compute-shader path and prints its numbers
 //! next to the CPU reference's. Two sequences (folders or globs of numbered frames) are scored
 //! frame by frame and over time by [`super::compare_sequences`].
 
@@ -13,6 +14,7 @@ use super::heatmap_files::write_metric_heatmap;
 use crate::export::png::{read_image_limited, read_record};
 use crate::files::Overwrite;
 use crate::gpu::Gpu;
+use crate::metrics::edges::edge_gain;
 use crate::metrics::gpu::{GpuMetrics, upload_image};
 use crate::metrics::{Comparison, Metric, MetricsError, compare_with_maps};
 
@@ -33,6 +35,11 @@ pub struct CompareArgs {
     /// The metric the heatmap shows: ssim (as 1 - SSIM), flip or mae.
     #[arg(long, default_value = "flip", value_parser = parse_metric)]
     pub metric: Metric,
+    /// Also the edge gain of the test image over this No AA image of the same frame: the
+    /// share of No AA's error on the reference's edges (its strong luma gradients) that the
+    /// test image removes; 1 all of it, 0 none, negative when it adds error.
+    #[arg(long, value_name = "NOAA.png")]
+    pub edge_gain: Option<PathBuf>,
     /// Also compute SSIM, MAE and PSNR with the GPU compute path.
     #[arg(long)]
     pub gpu: bool,
@@ -98,6 +105,9 @@ struct CompareOutput<'a> {
     scores: Comparison,
     #[serde(skip_serializing_if = "Option::is_none")]
     gpu: Option<GpuScores>,
+    /// Edge gain over `--edge-gain`'s No AA image (`null` when No AA has no edge error).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    edge_gain: Option<Option<f64>>,
 }
 
 fn gpu_scores(reference: &image::RgbaImage, test: &image::RgbaImage) -> anyhow::Result<GpuScores> {
@@ -130,7 +140,8 @@ pub(super) fn heatmap_policy<'p>(
 
 /// Runs `aa-lab compare` on two images (the caller checked that neither is a sequence).
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    let policy = heatmap_policy(args, [args.reference.as_path(), args.test.as_path()])?;
+    let inputs = [args.reference.as_path(), args.test.as_path()];
+    let policy = heatmap_policy(args, inputs.into_iter().chain(args.edge_gain.as_deref()))?;
     let read = |path: &Path| read_image_limited(path, MAX_COMPARE_PIXELS, "compare");
     let reference = read(&args.reference)?;
     let test = read(&args.test)?;
@@ -162,6 +173,24 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         .gpu
         .then(|| gpu_scores(&reference, &test))
         .transpose()?;
+    let edge_gain = args
+        .edge_gain
+        .as_deref()
+        .map(|path| {
+            let no_aa = read(path)?;
+            edge_gain(&reference, &no_aa, &test).map_err(|err| match err {
+                MetricsError::SizeMismatch { test: t, .. } => anyhow::anyhow!(
+                    "--edge-gain: {} is {}x{} but the reference is {}x{}",
+                    path.display(),
+                    t.0,
+                    t.1,
+                    reference.width(),
+                    reference.height()
+                ),
+                err => err.into(),
+            })
+        })
+        .transpose()?;
     if let Some(path) = &args.heatmap {
         let map = maps.error_map(args.metric);
         let record = |p: &Path| {
@@ -187,6 +216,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         height: reference.height(),
         scores: comparison,
         gpu,
+        edge_gain,
     };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&output)?);
@@ -226,6 +256,13 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         )
     );
     println!("FLIP  {:.5}  mean, 0 = indistinguishable", comparison.flip);
+    match output.edge_gain {
+        Some(Some(gain)) => {
+            println!("edge gain {gain:.4}  share of No AA's error on the reference's edges removed")
+        }
+        Some(None) => println!("edge gain undefined: No AA has no error on the reference's edges"),
+        None => {}
+    }
     if let Some(g) = gpu {
         println!("GPU path on {}", g.adapter);
     }

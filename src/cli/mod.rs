@@ -237,6 +237,10 @@ fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
         is_sequence_path(&args.reference),
         is_sequence_path(&args.test),
     ) {
+        (true, true) if args.edge_gain.is_some() => anyhow::bail!(
+            "--edge-gain scores one image against No AA's image of the same frame, not \
+             sequences"
+        ),
         (true, true) => compare_sequences::run(args),
         (false, false) if args.tonemap != crate::graph::hdr::TonemapChoice::Auto => anyhow::bail!(
             "--tonemap applies to sequences of OpenEXR frames; two OpenEXR images are scored \
@@ -248,7 +252,8 @@ fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
         ),
         (false, false)
             if crate::export::radiance::is_exr(&args.reference)
-                && crate::export::radiance::is_exr(&args.test) =>
+                && crate::export::radiance::is_exr(&args.test)
+                && args.edge_gain.is_none() =>
         {
             compare_hdr::run(args)
         }

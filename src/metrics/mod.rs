@@ -10,6 +10,8 @@
 //! - [`temporal`]: frame-to-frame change and the flicker ratio against a reference;
 //! - [`stability`]: a clip's temporal instability, per-pixel change map and ghosting;
 //! - [`series`]: the image metrics of a series of frames against its reference, and their summary;
+//! - [`edges`]: edge gain, the share of No AA's error on the reference's edges a technique
+//!   removes;
 //! - [`coverage`]: exact analytic ground truth for the `chart` scene;
 //! - [`stats`]: median and 95th percentile of repeated timings;
 //! - [`map`]: the per-pixel planes and masks all of these share.
@@ -19,6 +21,7 @@
 //! recomputing anything.
 
 pub mod coverage;
+pub mod edges;
 pub mod flip;
 pub mod gpu;
 pub mod hdr_flip;

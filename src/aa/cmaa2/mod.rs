@@ -27,7 +27,8 @@
 //!    wherever most pixels get a blend.
 //!
 //! Settings ([`settings`]): Intel's quality presets `low`/`medium`/`high`/`ultra` (edge
-//! threshold 0.15/0.10/0.07/0.05), extra sharpness, luma or colour edges. Debug views: `edges`
+//! threshold 0.15/0.10/0.07/0.05) and `texture-safe` (high with extra sharpness), extra
+//! sharpness, luma or colour edges. Debug views: `edges`
 //! and `blends` (which pixels changed, by which kind of blend, and how much).
 //!
 //! Before the tonemapper of an HDR frame (`tonemap_order`, after by default, as engines run
@@ -40,7 +41,7 @@
 
 pub mod settings;
 
-pub use settings::{Cmaa2Settings, EdgeDetection, Quality};
+pub use settings::{Cmaa2Settings, EdgeDetection, Preset, Quality};
 
 use crate::aa::common::pass;
 use crate::aa::common::perceptual::{PERCEPTUAL_WGSL, PerceptualCopy};

@@ -1,4 +1,5 @@
-//! CMAA 2 settings: Intel's four quality presets (they set the edge threshold), the extra
+//! CMAA 2 settings: Intel's four quality presets (they set the edge threshold) and a
+//! texture-safe one (high with extra sharpness, docs/hard-cases.md measures it), the extra
 //! sharpness switch (a second set of Intel's constants that keeps more text and shape detail),
 //! the edge-detection input, every parameter as data for the CLI, viewer and sidecars (its
 //! [`Tunable`] implementation), and the
@@ -19,6 +20,35 @@ crate::named_enum! {
         High => "high",
         /// Threshold 0.05: faint edges too.
         Ultra => "ultra",
+    }
+}
+
+crate::named_enum! {
+    /// The presets: Intel's four qualities, and texture-safe.
+    pub enum Preset {
+        /// Quality low.
+        Low => "low",
+        /// Quality medium.
+        Medium => "medium",
+        /// Quality high (Intel's default).
+        High => "high",
+        /// Quality ultra.
+        Ultra => "ultra",
+        /// Quality high with Intel's extra sharpness, which leaves texture detail alone and
+        /// still smooths geometric edges.
+        TextureSafe => "texture-safe",
+    }
+}
+
+impl Preset {
+    /// The quality (edge threshold) the preset sets.
+    pub fn quality(self) -> Quality {
+        match self {
+            Self::Low => Quality::Low,
+            Self::Medium => Quality::Medium,
+            Self::High | Self::TextureSafe => Quality::High,
+            Self::Ultra => Quality::Ultra,
+        }
     }
 }
 
@@ -142,7 +172,7 @@ impl Cmaa2Settings {
 }
 
 impl Tunable for Cmaa2Settings {
-    type Preset = Quality;
+    type Preset = Preset;
 
     fn params(&self) -> Vec<Param> {
         vec![
@@ -191,10 +221,13 @@ impl Tunable for Cmaa2Settings {
         true
     }
 
-    /// Sets the quality (the edge threshold), keeping the sharpness, the edge input and the
-    /// tonemap order.
-    fn apply_preset(&mut self, quality: Quality) {
-        self.quality = quality;
+    /// Sets the quality (the edge threshold), keeping the edge input and the tonemap order;
+    /// Intel's four keep the sharpness too, texture-safe turns extra sharpness on.
+    fn apply_preset(&mut self, preset: Preset) {
+        self.quality = preset.quality();
+        if preset == Preset::TextureSafe {
+            self.extra_sharpness = true;
+        }
     }
 }
 
@@ -208,6 +241,7 @@ mod tests {
         let thresholds: Vec<f32> = Quality::ALL.iter().map(|q| q.edge_threshold()).collect();
         assert_eq!(thresholds, [0.15, 0.10, 0.07, 0.05]);
         for name in Quality::NAMES {
+            assert!(Preset::NAMES.contains(name));
             let mut settings = Cmaa2Settings {
                 extra_sharpness: true,
                 edge_detection: EdgeDetection::Color,
@@ -225,6 +259,10 @@ mod tests {
                 .apply_preset_named("cmaa2", "extreme")
                 .is_err()
         );
+        let mut safe = Cmaa2Settings::default();
+        safe.apply_preset_named("cmaa2", "texture-safe")
+            .expect("listed preset");
+        assert_eq!((safe.quality, safe.extra_sharpness), (Quality::High, true));
         assert_eq!(Cmaa2Settings::default().quality, Quality::High);
     }
 

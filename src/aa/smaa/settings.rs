@@ -1,4 +1,5 @@
-//! SMAA settings: the quality presets of the paper, every parameter as data for the CLI,
+//! SMAA settings: the quality presets of the paper and a texture-safe one (High with depth
+//! predication tuned so that texture detail is left alone), every parameter as data for the CLI,
 //! viewer and sidecars (its [`Tunable`] implementation; [`SmaaSettings::params_for`] those of
 //! one mode), and the split between settings that change pipelines ([`PipelineKey`], WGSL
 //! override constants) and those that only change a uniform.
@@ -10,7 +11,8 @@ use crate::graph::hdr::TonemapOrder;
 
 crate::named_enum! {
     /// Quality presets (threshold / search steps / diagonal steps / corner rounding):
-    /// Low .15/4/off/off, Medium .10/8/off/off, High .10/16/8/25, Ultra .05/32/16/25.
+    /// Low .15/4/off/off, Medium .10/8/off/off, High .10/16/8/25, Ultra .05/32/16/25;
+    /// TextureSafe is High with predication (docs/hard-cases.md measures it).
     pub enum Preset {
         /// Fastest: short searches, no diagonal or corner handling.
         Low => "low",
@@ -20,6 +22,10 @@ crate::named_enum! {
         High => "high",
         /// Lowest threshold and longest searches.
         Ultra => "ultra",
+        /// High with depth predication: edges inside textures need three times the threshold,
+        /// edges where depth steps (by 0.001 of reverse-Z) 0.3 of it, so texture detail is left
+        /// sharp and silhouettes are still smoothed.
+        TextureSafe => "texture-safe",
     }
 }
 
@@ -85,9 +91,10 @@ impl SmaaSettings {
         let (threshold, max_search_steps, diagonal, corner) = match preset {
             Preset::Low => (0.15, 4, None, None),
             Preset::Medium => (0.10, 8, None, None),
-            Preset::High => (0.10, 16, Some(8), Some(25)),
+            Preset::High | Preset::TextureSafe => (0.10, 16, Some(8), Some(25)),
             Preset::Ultra => (0.05, 32, Some(16), Some(25)),
         };
+        let texture_safe = preset == Preset::TextureSafe;
         Self {
             threshold,
             max_search_steps,
@@ -97,19 +104,20 @@ impl SmaaSettings {
             corner_rounding: corner.unwrap_or(25),
             edge_mode: EdgeMode::Luma,
             local_contrast_factor: 2.0,
-            predication: false,
-            predication_threshold: 0.01,
-            predication_scale: 2.0,
-            predication_strength: 0.4,
+            predication: texture_safe,
+            predication_threshold: if texture_safe { 0.001 } else { 0.01 },
+            predication_scale: if texture_safe { 3.0 } else { 2.0 },
+            predication_strength: if texture_safe { 0.7 } else { 0.4 },
             reprojection_weight_scale: 30.0,
             mip_bias: -0.5,
             tonemap_order: TonemapOrder::After,
         }
     }
 
-    /// The preset these settings equal, if any (otherwise they are custom).
+    /// The preset these settings equal, if any (otherwise they are custom); texture-safe
+    /// before High, which it extends.
     pub fn matching_preset(&self) -> Option<Preset> {
-        Preset::ALL.iter().copied().find(|&p| {
+        Preset::ALL.iter().rev().copied().find(|&p| {
             let mut probe = *self;
             probe.apply_preset(p);
             probe == *self
@@ -315,9 +323,16 @@ impl Tunable for SmaaSettings {
         true
     }
 
-    /// Keeps the edge mode, predication, reprojection and tonemap order choices.
+    /// Keeps the edge mode, reprojection and tonemap order choices, and the predication
+    /// choices except in the texture-safe preset, which sets them.
     fn apply_preset(&mut self, preset: Preset) {
         let p = Self::preset(preset);
+        if preset == Preset::TextureSafe {
+            self.predication = p.predication;
+            self.predication_threshold = p.predication_threshold;
+            self.predication_scale = p.predication_scale;
+            self.predication_strength = p.predication_strength;
+        }
         self.threshold = p.threshold;
         self.max_search_steps = p.max_search_steps;
         self.diagonal_detection = p.diagonal_detection;
@@ -380,6 +395,13 @@ mod tests {
         assert_eq!(custom.matching_preset(), None);
         custom.apply_preset(Preset::Medium);
         assert_eq!(custom.matching_preset(), Some(Preset::Medium));
+        custom.apply_preset(Preset::TextureSafe);
+        assert_eq!(custom.matching_preset(), Some(Preset::TextureSafe));
+        assert!(custom.predication && custom.predication_threshold == 0.001);
+        // A quality preset keeps the predication choices: High with other predication values
+        // is High, not texture-safe.
+        custom.predication_scale = 4.0;
+        assert_eq!(custom.matching_preset(), Some(Preset::High));
     }
 
     #[test]
