@@ -88,20 +88,20 @@ fn lanczos2(x: f32) -> f32 {
     return sinc(x) * sinc(0.5 * x);
 }
 
-// A separable 4x4 filter: `weights` holds the x weights of taps -1..2 around the source
-// pixel `base`, `weights_y` the y weights; both normalised here.
+// One row of a separable 4x4 filter: taps -1..2 around `base` weighted by `w`.
+fn filtered_row(base: vec2<i32>, w: vec4<f32>) -> vec4<f32> {
+    return w.x * texel(base + vec2<i32>(-1, 0)) + w.y * texel(base) + w.z * texel(base + vec2<i32>(1, 0))
+        + w.w * texel(base + vec2<i32>(2, 0));
+}
+
+// A separable 4x4 filter: `weights_x` holds the x weights of taps -1..2 around the source
+// pixel `base`, `weights_y` the y weights; both normalised here. Rows and taps are written out
+// rather than looped over with indexed weights, which a GPU compiler may keep in memory.
 fn separable_4x4(base: vec2<i32>, weights_x: vec4<f32>, weights_y: vec4<f32>) -> vec4<f32> {
     let wx = weights_x / dot(weights_x, vec4<f32>(1.0));
     let wy = weights_y / dot(weights_y, vec4<f32>(1.0));
-    var sum = vec4<f32>(0.0);
-    for (var j = 0; j < 4; j++) {
-        var row = vec4<f32>(0.0);
-        for (var i = 0; i < 4; i++) {
-            row += wx[i] * texel(base + vec2<i32>(i - 1, j - 1));
-        }
-        sum += wy[j] * row;
-    }
-    return sum;
+    return wy.x * filtered_row(base + vec2<i32>(0, -1), wx) + wy.y * filtered_row(base, wx)
+        + wy.z * filtered_row(base + vec2<i32>(0, 1), wx) + wy.w * filtered_row(base + vec2<i32>(0, 2), wx);
 }
 
 // Distances from the source position to taps -1..2 of each axis, and the pixel of tap 0.

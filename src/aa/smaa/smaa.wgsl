@@ -281,8 +281,21 @@ fn diag_top(p: vec2<i32>, o: vec2<i32>, mirrored: bool) -> i32 {
     return has(edge_at(q).y);
 }
 
+// Whether the pixel at offset `o` is on the staircase: one fetch. Unmirrored, both edges of
+// one pixel; mirrored, the top edge of pixel t and the left edge of t + (1, 0), read by one
+// bilinear fetch a quarter pixel right of t's centre (3/4 of t + 1/4 of its neighbour per
+// channel: the neighbour's left edge is there when 4 x red is 1 or 4, t's top edge when 4 x
+// green is 3 or more).
 fn on_staircase(p: vec2<i32>, o: vec2<i32>, mirrored: bool) -> bool {
-    return diag_left(p, o, mirrored) + diag_top(p, o, mirrored) == 2;
+    if !mirrored {
+        let e = edge_at(p + o);
+        return e.x > 0.5 && e.y > 0.5;
+    }
+    let t = p + vec2<i32>(-o.x, o.y);
+    let at = (vec2<f32>(t) + vec2<f32>(0.75, 0.5)) / params.size;
+    let e = round(4.0 * textureSampleLevel(edges_tex, linear_sampler, at, 0.0).rg);
+    let right_left = e.x == 1.0 || e.x == 4.0;
+    return right_left && e.y >= 3.0 && inside(t) && inside(t + vec2<i32>(1, 0));
 }
 
 // Staircase pixels beyond `p` in direction `dir`: (count, 1 when the end was found).
