@@ -31,8 +31,7 @@ struct View {
 struct Material {
     base_color: vec4<f32>,
     specular: vec4<f32>,    // rgb: specular colour, a: shininess
-    // x: alpha cutoff, y: 1 when unlit, z: 1 when the material is alpha-masked, w: 1 when its
-    // texture is filtered anisotropically (linear filters and mipmaps), 0 for plain sampling
+    // x: alpha cutoff, y: 1 when unlit, z: 1 when the material is alpha-masked, w: unused
     params: vec4<f32>,
     // Normal detail: x periods per world unit, y ripple slope, z flake slope (0 without)
     detail: vec4<f32>,
@@ -60,6 +59,10 @@ override SPECULAR_AA: bool = false;
 // path), 1 linear radiance (a floating-point HDR target), 2 radiance after exposure and the
 // tonemapping operator `OPERATOR` (an HDR scene rendered for a technique after tonemapping).
 override OUTPUT: u32 = 0u;
+// True in the pipelines of materials whose texture is filtered anisotropically (linear
+// filters and mipmaps): the shader's own filter, `sample_base_color`. Other materials, and
+// every material of an untextured scene, take one plain lookup and pay nothing for it.
+override ANISOTROPIC: bool = false;
 // True in the pipelines of alpha-blended materials: colour is premultiplied by alpha (the
 // blend composites it over the target), and the alpha is the reactive mask's coverage.
 override BLENDED: bool = false;
@@ -243,24 +246,26 @@ fn anisotropic_footprint(duv_dx: vec2<f32>, duv_dy: vec2<f32>, texels: vec2<f32>
     return out;
 }
 
-// The material's base-colour texel at `uv`: anisotropically filtered where the material's
-// sampler is linear and mipmapped, else one lookup with the pixel's own (biased) derivatives.
+// The material's base-colour texel at `uv`: anisotropically filtered in the pipelines of
+// materials whose sampler is linear and mipmapped (ANISOTROPIC), else one lookup with the mip
+// bias.
 fn sample_base_color(uv: vec2<f32>) -> vec4<f32> {
-    let bias_scale = exp2(view.params.x);
-    let duv_dx = dpdx(uv) * bias_scale;
-    let duv_dy = dpdy(uv) * bias_scale;
-    let filtered = material.params.w > 0.5;
-    let footprint = anisotropic_footprint(duv_dx, duv_dy, vec2<f32>(textureDimensions(base_texture)));
-    let probes = select(1u, footprint.probes, filtered);
-    let grad_x = select(duv_dx, footprint.grad_x, filtered);
-    let grad_y = select(duv_dy, footprint.grad_y, filtered);
-    let step = footprint.major / max(f32(probes) - 1.0, 1.0);
-    let first = uv - 0.5 * select(vec2<f32>(0.0), footprint.major, filtered);
-    var sum = vec4<f32>(0.0);
-    for (var i = 0u; i < probes; i++) {
-        sum += textureSampleGrad(base_texture, base_sampler, first + step * f32(i), grad_x, grad_y);
+    if !ANISOTROPIC {
+        return textureSampleBias(base_texture, base_sampler, uv, view.params.x);
     }
-    return sum / f32(probes);
+    let bias_scale = exp2(view.params.x);
+    let footprint = anisotropic_footprint(
+        dpdx(uv) * bias_scale,
+        dpdy(uv) * bias_scale,
+        vec2<f32>(textureDimensions(base_texture)),
+    );
+    let step = footprint.major / max(f32(footprint.probes) - 1.0, 1.0);
+    let first = uv - 0.5 * footprint.major;
+    var sum = vec4<f32>(0.0);
+    for (var i = 0u; i < footprint.probes; i++) {
+        sum += textureSampleGrad(base_texture, base_sampler, first + step * f32(i), footprint.grad_x, footprint.grad_y);
+    }
+    return sum / f32(footprint.probes);
 }
 
 fn shade_fragment(

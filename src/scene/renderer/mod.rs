@@ -247,6 +247,8 @@ struct Draw {
 struct GpuMaterial {
     bind_group: wgpu::BindGroup,
     cull_back: bool,
+    /// Its texture is filtered by the shader's anisotropic filter (a pipeline of its own).
+    anisotropic: bool,
 }
 
 /// A scene uploaded to the GPU, with its pipelines.
@@ -434,14 +436,7 @@ fn upload_materials(
             let uniform = MaterialUniform {
                 base_color: m.base_color.extend(m.opacity).to_array(),
                 specular: m.specular.extend(m.shininess.max(1.0)).to_array(),
-                params: [
-                    cutoff,
-                    f32::from(u8::from(m.unlit)),
-                    masked,
-                    f32::from(u8::from(
-                        m.base_color_texture.is_some() && filtered_anisotropically(&m.sampler),
-                    )),
-                ],
+                params: [cutoff, f32::from(u8::from(m.unlit)), masked, 0.0],
                 detail: m.normal_detail.map_or([0.0; 4], |d| {
                     [d.frequency, d.ripple.max(0.0), d.flakes.max(0.0), 0.0]
                 }),
@@ -480,6 +475,7 @@ fn upload_materials(
             GpuMaterial {
                 bind_group,
                 cull_back: !m.double_sided,
+                anisotropic: m.base_color_texture.is_some() && filtered_anisotropically(&m.sampler),
             }
         })
         .collect();
@@ -741,6 +737,7 @@ impl SceneRenderer {
                 motion: targets.desc.motion,
                 raster,
                 cull_back: self.materials[self.draws[i].material].cull_back,
+                anisotropic: self.materials[self.draws[i].material].anisotropic,
                 specular_aa: self.specular_aa,
                 output: SceneOutput::of(targets.color.format(), self.tonemap.as_ref()),
                 blend: self.blended.contains(i),
