@@ -23,31 +23,17 @@ crate::named_enum! {
     }
 }
 
-crate::named_enum! {
-    /// The presets: Intel's four qualities, and texture-safe.
-    pub enum Preset {
-        /// Quality low.
-        Low => "low",
-        /// Quality medium.
-        Medium => "medium",
-        /// Quality high (Intel's default).
-        High => "high",
-        /// Quality ultra.
-        Ultra => "ultra",
-        /// Quality high with Intel's extra sharpness, which leaves texture detail alone and
-        /// still smooths geometric edges.
-        TextureSafe => "texture-safe",
-    }
-}
+/// CMAA 2's presets: Intel's four qualities (the edge threshold), and texture-safe, quality
+/// high with Intel's extra sharpness.
+pub use crate::aa::common::morphology::QualityPreset as Preset;
 
-impl Preset {
-    /// The quality (edge threshold) the preset sets.
-    pub fn quality(self) -> Quality {
-        match self {
-            Self::Low => Quality::Low,
-            Self::Medium => Quality::Medium,
-            Self::High | Self::TextureSafe => Quality::High,
-            Self::Ultra => Quality::Ultra,
+impl From<Preset> for Quality {
+    fn from(preset: Preset) -> Self {
+        match preset {
+            Preset::Low => Self::Low,
+            Preset::Medium => Self::Medium,
+            Preset::High | Preset::TextureSafe => Self::High,
+            Preset::Ultra => Self::Ultra,
         }
     }
 }
@@ -224,7 +210,7 @@ impl Tunable for Cmaa2Settings {
     /// Sets the quality (the edge threshold), keeping the edge input and the tonemap order;
     /// Intel's four keep the sharpness too, texture-safe turns extra sharpness on.
     fn apply_preset(&mut self, preset: Preset) {
-        self.quality = preset.quality();
+        self.quality = preset.into();
         if preset == Preset::TextureSafe {
             self.extra_sharpness = true;
         }

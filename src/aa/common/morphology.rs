@@ -3,11 +3,29 @@
 //! both precompute their area tables ([`Crossing`], [`polyline_area`]), and the three passes
 //! both run on the GPU (edge detection marking edge pixels in a stencil, blending weights on
 //! the marked pixels, neighbourhood blending): their pipelines, working targets and debug
-//! views.
+//! views. And the preset names the SMAA family and CMAA 2 share ([`QualityPreset`]).
 
 use super::pass::{PassDesc, STENCIL_FORMAT, Stencil, Vertex, bind_group, stencil_pass, target};
 use super::{debug_texture, view_as};
 use crate::graph::{MemoryItem, PassContext};
+
+crate::named_enum! {
+    /// The presets of the SMAA family and CMAA 2: four quality steps, each the technique's own
+    /// (its settings say what each sets), and texture-safe, which leaves edges inside textures
+    /// unblended (docs/hard-cases.md measures it).
+    pub enum QualityPreset {
+        /// Strong edges only, or the shortest searches: the fastest.
+        Low => "low",
+        /// Fainter edges or longer searches than low.
+        Medium => "medium",
+        /// The authors' default.
+        High => "high",
+        /// The faintest edges and the longest searches.
+        Ultra => "ultra",
+        /// High, set to leave texture detail sharp while geometric edges are still smoothed.
+        TextureSafe => "texture-safe",
+    }
+}
 
 /// Crossing edges at one end of an orthogonal edge run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -7,27 +7,13 @@
 use crate::aa::params::{Named, Param, ParamField, ParamValue, Tunable, as_i64};
 
 use super::lut::MAX_DIAG_DISTANCE;
+/// SMAA's presets (threshold / search steps / diagonal steps / corner rounding): Low
+/// .15/4/off/off, Medium .10/8/off/off, High .10/16/8/25 (diagonals and sharp corners, the
+/// reference implementation's default), Ultra .05/32/16/25; TextureSafe is High with depth
+/// predication (depth step 0.001, scale 3, strength 0.7): edges inside textures need three
+/// times the threshold, edges where depth steps 0.3 of that.
+pub use crate::aa::common::morphology::QualityPreset as Preset;
 use crate::graph::hdr::TonemapOrder;
-
-crate::named_enum! {
-    /// Quality presets (threshold / search steps / diagonal steps / corner rounding):
-    /// Low .15/4/off/off, Medium .10/8/off/off, High .10/16/8/25, Ultra .05/32/16/25;
-    /// TextureSafe is High with predication (docs/hard-cases.md measures it).
-    pub enum Preset {
-        /// Fastest: short searches, no diagonal or corner handling.
-        Low => "low",
-        /// Longer searches.
-        Medium => "medium",
-        /// Diagonals and sharp corners (the reference implementation's default).
-        High => "high",
-        /// Lowest threshold and longest searches.
-        Ultra => "ultra",
-        /// High with depth predication: edges inside textures need three times the threshold,
-        /// edges where depth steps (by 0.001 of reverse-Z) 0.3 of it, so texture detail is left
-        /// sharp and silhouettes are still smoothed.
-        TextureSafe => "texture-safe",
-    }
-}
 
 crate::named_enum! {
     /// What the edge-detection pass compares between neighbours.
