@@ -617,19 +617,24 @@ fn taa_keeps_thin_lines_on_a_moving_camera() {
 }
 
 #[test]
-fn taa_matches_msaa_4x_on_hairball_and_beats_it_on_atrium_under_the_orbit() {
+fn taa_keeps_up_with_msaa_4x_on_hairball_and_atrium_under_the_orbit() {
     // Hairball's strands are thinner than a pixel, so each jittered point sample is noise, and
     // under the orbit the resampled history never converges to the pixel's average: the
     // current frame's Gaussian estimate (`current_filter`) is what brings TAA level with MSAA
     // 4x there at 640x360. At larger sizes MSAA 4x resolves more of the strands while TAA's
     // loss to the orbit's motion stays, and TAA falls behind (docs/techniques/taa.md, "At other
     // sizes"): the odd 853x481 pins today's smaller lead there, so that tuning TAA to one size
-    // fails here. The margins are how far below MSAA 4x's SSIM TAA may be.
+    // fails here. The margins are how far below MSAA 4x's SSIM TAA may be. On atrium TAA
+    // was ahead at both sizes only while lavapipe filtered textures without anisotropy
+    // (blurring every 1x render, which TAA's negative mip bias won back); with the scene
+    // shader's anisotropic filter, as on a GPU, it is .0019 behind at 640x360 (.9410 vs
+    // .9429) and ahead at 853x481 (.9464 vs .9444), as on the H100 (.0011 behind at 1280x720,
+    // issue 31 item 2, open).
     let gpu = common::gpu();
     for (name, size, margin) in [
         ("hairball", (640, 360), 0.005),
         ("hairball", (853, 481), 0.02),
-        ("atrium", (640, 360), 0.0),
+        ("atrium", (640, 360), 0.003),
         ("atrium", (853, 481), 0.0),
     ] {
         let scene = load(name, &SceneOptions::default()).unwrap_or_else(|e| panic!("{e}"));
