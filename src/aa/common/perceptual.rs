@@ -12,11 +12,16 @@
 //! pass, cheaper than compressing and encoding every tap of the edge passes (nine a pixel).
 //! Display-value inputs are handed through untouched: LDR frames and techniques after the
 //! tonemapper run exactly as before.
+//!
+//! User techniques (`aa::user`) read a half-float copy instead ([`PerceptualCopy::half_float`]):
+//! the same compressed values, but their output is expanded back to radiance with the inverse
+//! c / (1 - luma), which would blow an 8-bit copy's quantisation near white (one step of 255
+//! at a compressed 0.98) up into radiance errors of a third of the value.
 
 use super::{RADIANCE_WGSL, holds_radiance, pass};
 use crate::gpu::fullscreen::FragmentDesc;
 use crate::gpu::shader::Shader;
-use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW};
+use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, HDR_FORMAT};
 use crate::graph::{MemoryItem, PassContext};
 
 /// The compression pass, after Karis' tonemap.
@@ -24,17 +29,37 @@ pub const PERCEPTUAL_WGSL: Shader =
     crate::wgsl!("src/aa/common/perceptual.wgsl", prelude = RADIANCE_WGSL);
 
 /// The perceptual copy of a radiance input, its pipeline built on the first HDR run.
-#[derive(Default)]
 pub struct PerceptualCopy {
+    format: wgpu::TextureFormat,
     pipeline: Option<wgpu::RenderPipeline>,
     copy: Option<wgpu::Texture>,
 }
 
+/// The 8-bit sRGB copy the edge passes read through its encoded view.
+impl Default for PerceptualCopy {
+    fn default() -> Self {
+        Self {
+            format: COLOR_FORMAT,
+            pipeline: None,
+            copy: None,
+        }
+    }
+}
+
 impl PerceptualCopy {
-    /// The texture the edge passes read, through its encoded view, for `color`: `color`
-    /// itself when it holds display values, or else its perceptual copy, recorded now as the
-    /// pass `{prefix}perceptual`.
-    pub fn edge_source<'a>(
+    /// A copy in half floats ([`HDR_FORMAT`]): the compressed values without quantisation,
+    /// for a pass whose output is expanded back to radiance.
+    pub fn half_float() -> Self {
+        Self {
+            format: HDR_FORMAT,
+            ..Self::default()
+        }
+    }
+
+    /// The texture the edge passes (through its encoded view) or a user technique read for
+    /// `color`: `color` itself when it holds display values, or else its perceptual copy,
+    /// recorded now as the pass `{prefix}perceptual`.
+    pub fn source<'a>(
         &'a mut self,
         ctx: &mut PassContext<'_>,
         color: &'a wgpu::Texture,
@@ -53,14 +78,20 @@ impl PerceptualCopy {
             .as_ref()
             .is_none_or(|c| (c.width(), c.height()) != size)
         {
+            let view_formats: &[wgpu::TextureFormat] = if self.format == COLOR_FORMAT {
+                &[COLOR_FORMAT_ENCODED_VIEW]
+            } else {
+                &[]
+            };
             self.copy = Some(pass::target(
                 device,
                 "perceptual copy",
                 size,
-                COLOR_FORMAT,
-                &[COLOR_FORMAT_ENCODED_VIEW],
+                self.format,
+                view_formats,
             ));
         }
+        let format = self.format;
         let pipeline = self.pipeline.get_or_insert_with(|| {
             fullscreen.pipeline(
                 device,
@@ -68,7 +99,7 @@ impl PerceptualCopy {
                     label: "perceptual copy",
                     module: &PERCEPTUAL_WGSL.module(device),
                     entry_point: "fs_perceptual",
-                    targets: &[COLOR_FORMAT],
+                    targets: &[format],
                     constants: &[("RADIANCE", 1.0)],
                     layout: None,
                 },
