@@ -193,6 +193,56 @@ fn fxaa_before_the_tonemapper_finds_the_edges_of_the_displayed_image() {
     );
 }
 
+/// The pixels of SMAA's edge debug view (before the tonemapper on `neon`, at `exposure` stops)
+/// that hold an edge.
+fn smaa_edge_pixels(dir: &std::path::Path, exposure: &str) -> Vec<bool> {
+    let out = dir.join(format!("ev{exposure}"));
+    let output = common::aa_lab(&[
+        "render",
+        "--scene",
+        "neon",
+        "--size",
+        &format!("{}x{}", SIZE.0, SIZE.1),
+        "--frame",
+        &FRAME.to_string(),
+        "-t",
+        "smaa",
+        "--set",
+        "smaa.tonemap_order=before",
+        "--exposure",
+        exposure,
+        "--debug-views",
+        "--out",
+        out.to_str().expect("utf-8 path"),
+    ]);
+    assert!(output.status.success(), "{}", common::stderr(&output));
+    let edges = image::open(out.join("neon-smaa-edges.png")).expect("the edges view");
+    (edges.to_rgb8().pixels())
+        .map(|p| p[0] > 0 || p[1] > 0)
+        .collect()
+}
+
+/// The perceptual copy applies the frame's exposure before compressing, as the tonemapper
+/// does, so two stops more bring dim edges up to SMAA's threshold as on the displayed image
+/// (ignoring the exposure, the copy gave the same edges at every exposure).
+#[test]
+fn the_exposure_changes_the_edges_found_before_the_tonemapper() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (plain, brighter) = (
+        smaa_edge_pixels(dir.path(), "0"),
+        smaa_edge_pixels(dir.path(), "2"),
+    );
+    let count = |edges: &[bool]| edges.iter().filter(|&&e| e).count();
+    let changed = plain.iter().zip(&brighter).filter(|(a, b)| a != b).count();
+    println!(
+        "SMAA edge pixels at 0 EV {}, at +2 EV {}, changed {changed}",
+        count(&plain),
+        count(&brighter)
+    );
+    assert!(count(&brighter) > count(&plain), "no more edges at +2 EV");
+    assert!(changed > 20, "only {changed} edge pixels changed");
+}
+
 /// The morphological techniques, each in both orders, after the tonemapper's references.
 const MORPHOLOGICAL: [&str; 6] = ["smaa", "cmaa2", "mlaa", "smaa-t2x", "smaa-s2x", "smaa-4x"];
 

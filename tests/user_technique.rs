@@ -204,6 +204,15 @@ fn the_tonemap_order_runs_a_file_on_radiance_before_the_tonemapper() {
     let shown = image_of(&through_before, "neon", "user-passthrough-");
     let difference = aa_lab::metrics::compare(&none, &shown).expect("same size");
     assert!(difference.flip < 0.002, "{difference:?}");
+    // With two stops of exposure the file reads the exposed radiance, and the expansion takes
+    // the exposure off again before the tonemapper applies it (not twice).
+    let exposed = dir.path().join("exposed");
+    let extra = ["--set", "user.tonemap_order=before", "--exposure", "2"];
+    render(&exposed, "neon", &list(&through), &extra);
+    let exposed_none = image_of(&exposed, "neon", "none");
+    let exposed_shown = image_of(&exposed, "neon", "user-passthrough-");
+    let difference = aa_lab::metrics::compare(&exposed_none, &exposed_shown).expect("size");
+    assert!(difference.flip < 0.01, "at +2 EV: {difference:?}");
     // The blur runs in either order, and the orders differ (edges judged and blended on the
     // compressed radiance), but it is the same frame.
     let before = neon("before", &list(&blur), "before");

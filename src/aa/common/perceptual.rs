@@ -10,6 +10,10 @@
 //! tube at 8 reads as the near-white it is shown as. The blend passes read the radiance
 //! itself and write radiance, which the graph tonemaps. One copy per run costs one full-screen
 //! pass, cheaper than compressing and encoding every tap of the edge passes (nine a pixel).
+//! The frame's exposure scales the radiance before the compression, as the tonemapper scales
+//! it, so that `--exposure` changes the edges found as it changes the image shown (a dim edge
+//! brought up by +2 EV is found, as on the displayed image); the blends read the radiance
+//! itself, and the tonemap pass applies the exposure to their output.
 //! Display-value inputs are handed through untouched: LDR frames and techniques after the
 //! tonemapper run exactly as before.
 //!
@@ -32,6 +36,8 @@ pub const PERCEPTUAL_WGSL: Shader =
 pub struct PerceptualCopy {
     format: wgpu::TextureFormat,
     pipeline: Option<wgpu::RenderPipeline>,
+    /// The exposure factor, made with the pipeline.
+    exposure: Option<wgpu::Buffer>,
     copy: Option<wgpu::Texture>,
 }
 
@@ -41,6 +47,7 @@ impl Default for PerceptualCopy {
         Self {
             format: COLOR_FORMAT,
             pipeline: None,
+            exposure: None,
             copy: None,
         }
     }
@@ -105,12 +112,21 @@ impl PerceptualCopy {
                 },
             )
         });
+        let exposure = self
+            .exposure
+            .get_or_insert_with(|| pass::uniform_buffer::<[f32; 4]>(device, "perceptual exposure"));
+        let scale = [ctx.exposure_scale(), 0.0, 0.0, 0.0];
+        gpu.queue
+            .write_buffer(exposure, 0, bytemuck::cast_slice(&scale));
         let source = color.create_view(&Default::default());
         let group = pass::bind_group(
             device,
             "perceptual copy",
             &pipeline.get_bind_group_layout(0),
-            &[(0, wgpu::BindingResource::TextureView(&source))],
+            &[
+                (0, wgpu::BindingResource::TextureView(&source)),
+                (1, exposure.as_entire_binding()),
+            ],
         );
         let Some(copy) = &self.copy else { return color };
         let target = copy.create_view(&Default::default());

@@ -20,8 +20,9 @@
 //! Tonemap order (`tonemap_order`, `after` by default, as engines run post passes): after the
 //! tonemapper, and in every LDR frame, the file reads display values as above. Before the
 //! tonemapper of an HDR frame it reads the radiance compressed with Karis' c / (1 + luma)
-//! (`aa::common::perceptual`, in half floats), and what `aa_main` returns is expanded back
-//! with c / (1 - luma) into a half-float output that the graph tonemaps (the second entry
+//! (`aa::common::perceptual`, in half floats, after the frame's exposure), and what `aa_main`
+//! returns is expanded back with c / (1 - luma), the exposure taken off again, into a
+//! half-float output that the graph tonemaps (the second entry
 //! point of `epilogue.wgsl`). This is the contract the morphological techniques' edge tests
 //! keep, and for the same reason: a user's thresholds and blends are written for values in
 //! 0..1 that look like the displayed image, and raw radiance (up to 40 on `neon`) would make
@@ -189,6 +190,7 @@ impl Setting {
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct FrameUniform {
     frame: [u32; 4],
+    exposure: [f32; 4],
 }
 
 /// A user technique (see the module docs).
@@ -403,6 +405,7 @@ impl Technique for UserTechnique {
         let Some(pipeline) = pipeline else { return };
         let frame = FrameUniform {
             frame: [ctx.frame.camera.frame as u32, 0, 0, 0],
+            exposure: [ctx.exposure_scale(), 0.0, 0.0, 0.0],
         };
         ctx.gpu
             .queue
