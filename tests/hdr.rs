@@ -16,7 +16,7 @@ use aa_lab::metrics::compare;
 use aa_lab::scene::Scene;
 use aa_lab::scene::renderer::{Tonemap, Tonemapper};
 use aa_lab::scene::source::load;
-use image::RgbaImage;
+use image::{RgbImage, RgbaImage};
 
 /// Small, and an odd size, so tubes fall anywhere in the pixel grid.
 const SIZE: (u32, u32) = (401, 227);
@@ -145,32 +145,36 @@ fn each_tonemap_order_wins_against_its_own_reference() {
     }
 }
 
-/// The pixels FXAA's edge-mask debug view marks as edges (coloured, where the rest is grey),
-/// from `render --debug-views` of `neon` with FXAA in `order`.
-fn fxaa_edge_pixels(dir: &std::path::Path, order: &str) -> Vec<bool> {
-    let out = dir.join(order);
-    let set = format!("fxaa.tonemap_order={order}");
-    let output = common::aa_lab(&[
-        "render",
-        "--scene",
-        "neon",
-        "--size",
-        &format!("{}x{}", SIZE.0, SIZE.1),
-        "--frame",
-        &FRAME.to_string(),
-        "-t",
-        "fxaa",
-        "--set",
-        &set,
-        "--debug-views",
-        "--out",
-        out.to_str().expect("utf-8 path"),
-    ]);
+/// The debug view `view` (a file name) of a `render --debug-views` of `neon` with `args`
+/// added, into the folder `name` of `dir`.
+fn neon_debug_view(dir: &std::path::Path, name: &str, args: &[&str], view: &str) -> RgbImage {
+    let out = dir.join(name);
+    let size = format!("{}x{}", SIZE.0, SIZE.1);
+    let frame = FRAME.to_string();
+    let mut command = vec![
+        "render", "--scene", "neon", "--size", &size, "--frame", &frame,
+    ];
+    command.extend_from_slice(args);
+    let out_arg = out.to_str().expect("utf-8 path");
+    command.extend_from_slice(&["--debug-views", "--out", out_arg]);
+    let output = common::aa_lab(&command);
     assert!(output.status.success(), "{}", common::stderr(&output));
-    let mask = image::open(out.join("neon-fxaa-edges.png")).expect("the edge mask");
-    (mask.to_rgb8().pixels())
-        .map(|p| p[0].abs_diff(p[2]) > 20)
-        .collect()
+    image::open(out.join(view))
+        .unwrap_or_else(|e| panic!("{view}: {e}"))
+        .to_rgb8()
+}
+
+/// The pixels FXAA's edge-mask debug view marks as edges (coloured, where the rest is grey)
+/// with FXAA in `order`.
+fn fxaa_edge_pixels(dir: &std::path::Path, order: &str) -> Vec<bool> {
+    let set = format!("fxaa.tonemap_order={order}");
+    let mask = neon_debug_view(
+        dir,
+        order,
+        &["-t", "fxaa", "--set", &set],
+        "neon-fxaa-edges.png",
+    );
+    mask.pixels().map(|p| p[0].abs_diff(p[2]) > 20).collect()
 }
 
 /// Before the tonemapper FXAA's luma tests read the perceptual copy (compressed, encoded), so
@@ -193,33 +197,19 @@ fn fxaa_before_the_tonemapper_finds_the_edges_of_the_displayed_image() {
     );
 }
 
-/// The pixels of SMAA's edge debug view (before the tonemapper on `neon`, at `exposure` stops)
-/// that hold an edge.
+/// The pixels of SMAA's edge debug view (before the tonemapper, at `exposure` stops) that hold
+/// an edge.
 fn smaa_edge_pixels(dir: &std::path::Path, exposure: &str) -> Vec<bool> {
-    let out = dir.join(format!("ev{exposure}"));
-    let output = common::aa_lab(&[
-        "render",
-        "--scene",
-        "neon",
-        "--size",
-        &format!("{}x{}", SIZE.0, SIZE.1),
-        "--frame",
-        &FRAME.to_string(),
+    let args = [
         "-t",
         "smaa",
         "--set",
         "smaa.tonemap_order=before",
         "--exposure",
         exposure,
-        "--debug-views",
-        "--out",
-        out.to_str().expect("utf-8 path"),
-    ]);
-    assert!(output.status.success(), "{}", common::stderr(&output));
-    let edges = image::open(out.join("neon-smaa-edges.png")).expect("the edges view");
-    (edges.to_rgb8().pixels())
-        .map(|p| p[0] > 0 || p[1] > 0)
-        .collect()
+    ];
+    let edges = neon_debug_view(dir, exposure, &args, "neon-smaa-edges.png");
+    edges.pixels().map(|p| p[0] > 0 || p[1] > 0).collect()
 }
 
 /// The perceptual copy applies the frame's exposure before compressing, as the tonemapper
