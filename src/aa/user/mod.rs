@@ -22,11 +22,11 @@
 //! tonemapper of an HDR frame it reads the radiance compressed with Karis' c / (1 + luma)
 //! (`aa::common::perceptual`, in half floats, after the frame's exposure), and what `aa_main`
 //! returns is expanded back with c / (1 - luma), the exposure taken off again, into a
-//! half-float output that the graph tonemaps (the second entry
-//! point of `epilogue.wgsl`). This is the contract the morphological techniques' edge tests
-//! keep, and for the same reason: a user's thresholds and blends are written for values in
-//! 0..1 that look like the displayed image, and raw radiance (up to 40 on `neon`) would make
-//! every one of them meaningless; the file needs no change to run in either order. Blends of
+//! half-float output that the graph tonemaps (the second entry point of `epilogue.wgsl`).
+//! This is the contract the morphological techniques' edge tests keep, and for the same
+//! reason: a user's thresholds and blends are written for values in 0..1 that look like the
+//! displayed image, and raw radiance (up to 40 on `neon`) would make every one of them
+//! meaningless; the file needs no change to run in either order. Blends of
 //! compressed values are Karis-weighted averages of radiance (as TAA's), not plain ones. The
 //! copy is in half floats, not SMAA's 8-bit sRGB, because the expansion would magnify 8-bit
 //! steps near white into large radiance errors (`docs/user-techniques.md`).
@@ -306,9 +306,7 @@ impl UserTechnique {
             device: device.clone(),
         })
     }
-}
 
-impl UserTechnique {
     /// Builds the pipelines the current settings and order need, inside an error scope; on
     /// an error the old ones stay.
     fn rebuild_pipelines(&mut self) -> Result<(), wgpu::Error> {
