@@ -1,7 +1,9 @@
 //! User techniques in WGSL (`--technique user:PATH`, `aa::user`): a pass-through file
 //! reproduces No AA bit for bit, errors name the file, line and column with a non-zero exit,
 //! `override` constants are parameters (`--set user.NAME=VALUE`), and records keep the file's
-//! path and content hash so that `render --from` refuses a changed file.
+//! path and content hash so that `render --from` refuses a changed file; on the HDR `neon`
+//! scene the tonemap order (`user.tonemap_order`) runs a file on display values (after, the
+//! default, unchanged) or on compressed radiance expanded back and tonemapped (before).
 
 mod common;
 
@@ -143,6 +145,109 @@ fn a_broken_file_is_reported_with_its_line_and_column() {
         &["binary.wgsl:1:11: ", "not UTF-8"],
     );
     fails("missing.wgsl", None, &["missing.wgsl", "cannot read"]);
+}
+
+/// The largest channel value of a radiance (OpenEXR) output, which must be finite throughout.
+fn largest_finite_radiance(path: &Path) -> f32 {
+    let image = image::open(path).expect("exr").to_rgba32f();
+    image.pixels().flat_map(|p| p.0).fold(0.0, |largest, x| {
+        assert!(x.is_finite(), "{}: a non-finite value", path.display());
+        largest.max(x)
+    })
+}
+
+#[test]
+fn the_tonemap_order_runs_a_file_on_radiance_before_the_tonemapper() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (blur, through) = (
+        user_arg(&example("edge_blur.wgsl")),
+        user_arg(&example("passthrough.wgsl")),
+    );
+    let neon = |folder: &str, techniques: &str, order: &str| {
+        let out = dir.path().join(folder);
+        let set = format!("user.tonemap_order={order}");
+        let extra: &[&str] = &["--set", &set, "--exr"];
+        render(&out, "neon", techniques, extra);
+        out
+    };
+    let list = |user: &str| format!("none,{user}");
+    // After (the default): the file reads the displayed image, so a pass-through is No AA
+    // bit for bit on an HDR scene too, and nothing is written as radiance.
+    let after = neon("after", &list(&blur), "after");
+    let none = image_of(&after, "neon", "none");
+    let blurred_after = image_of(&after, "neon", "user-edge_blur-");
+    let through_after = neon("through-after", &list(&through), "after");
+    assert!(image_of(&through_after, "neon", "user-passthrough-") == none);
+    assert!(!std::fs::read_dir(&after).expect("dir").any(|e| {
+        e.expect("entry")
+            .path()
+            .extension()
+            .is_some_and(|x| x == "exr")
+    }));
+    // Before: compressed, then expanded back to radiance (far above white, finite) and
+    // tonemapped by the graph: a pass-through then shows No AA's frame within half-float
+    // rounding, where radiance shown without the tonemap would be a different image.
+    let through_before = neon("through-before", &list(&through), "before");
+    let exr = |folder: &Path, stem: &str| {
+        std::fs::read_dir(folder)
+            .expect("dir")
+            .map(|e| e.expect("entry").path())
+            .find(|p| {
+                p.extension().is_some_and(|x| x == "exr")
+                    && p.file_name()
+                        .is_some_and(|n| n.to_string_lossy().contains(stem))
+            })
+            .unwrap_or_else(|| panic!("no {stem} radiance in {}", folder.display()))
+    };
+    let brightest = largest_finite_radiance(&exr(&through_before, "passthrough"));
+    assert!(brightest > 4.0, "the radiance peaks at {brightest}");
+    let shown = image_of(&through_before, "neon", "user-passthrough-");
+    let difference = aa_lab::metrics::compare(&none, &shown).expect("same size");
+    assert!(difference.flip < 0.002, "{difference:?}");
+    // With two stops of exposure the file reads the exposed radiance, and the expansion takes
+    // the exposure off again before the tonemapper applies it (not twice).
+    let exposed = dir.path().join("exposed");
+    let extra = ["--set", "user.tonemap_order=before", "--exposure", "2"];
+    render(&exposed, "neon", &list(&through), &extra);
+    let exposed_none = image_of(&exposed, "neon", "none");
+    let exposed_shown = image_of(&exposed, "neon", "user-passthrough-");
+    let difference = aa_lab::metrics::compare(&exposed_none, &exposed_shown).expect("size");
+    assert!(difference.flip < 0.01, "at +2 EV: {difference:?}");
+    // The blur runs in either order, and the orders differ (edges judged and blended on the
+    // compressed radiance), but it is the same frame.
+    let before = neon("before", &list(&blur), "before");
+    largest_finite_radiance(&exr(&before, "edge_blur"));
+    let blurred_before = image_of(&before, "neon", "user-edge_blur-");
+    assert!(blurred_before != blurred_after, "the order changed nothing");
+    assert!(
+        blurred_before != none,
+        "the blur did nothing before the tonemapper"
+    );
+    let between = aa_lab::metrics::compare(&blurred_after, &blurred_before).expect("size");
+    assert!(between.flip < 0.05, "{between:?}");
+    // The record keeps the order, and `render --from` reproduces it.
+    let recorded_dir = dir.path().join("recorded");
+    render(
+        &recorded_dir,
+        "neon",
+        &blur,
+        &["--set", "user.tonemap_order=before"],
+    );
+    let recorded = std::fs::read_dir(&recorded_dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").path())
+        .next()
+        .expect("the blur's image");
+    let record = aa_lab::export::png::read_record(&recorded)
+        .expect("readable")
+        .expect("has a record");
+    let spec: aa_lab::spec::RenderSpec = serde_json::from_str(&record).expect("json");
+    let entry = spec.techniques.iter().find(|t| t.id.starts_with("user:"));
+    assert_eq!(
+        entry.and_then(|t| t.settings.get("tonemap_order")),
+        Some(&aa_lab::aa::ParamValue::Choice("before".to_owned()))
+    );
+    common::assert_from_reproduces(&recorded);
 }
 
 #[test]

@@ -51,6 +51,12 @@ impl PassContext<'_> {
         })
     }
 
+    /// The factor the frame's exposure multiplies radiance by before the tonemapper (1 on the
+    /// LDR path): what a pass that judges radiance as the viewer will see it applies first.
+    pub fn exposure_scale(&self) -> f32 {
+        self.scene.tonemap().map_or(1.0, |t| t.scale())
+    }
+
     /// Records a timed render pass named `pass` (shown as `technique/pass` in timings).
     pub fn render_pass(
         &mut self,

@@ -90,11 +90,14 @@ impl TonemapChoice {
     }
 }
 
+/// The parameter key of a technique's [`TonemapOrder`].
+pub const TONEMAP_ORDER_KEY: &str = "tonemap_order";
+
 impl TonemapOrder {
     /// The `tonemap_order` parameter of the techniques that can run on either side.
     pub fn param(self) -> Param {
         Param::named(
-            "tonemap_order",
+            TONEMAP_ORDER_KEY,
             "Tonemap order",
             "In HDR scenes (ignored in LDR ones): before runs the technique on linear radiance \
              and tonemaps its result, as engines do with MSAA resolves and TAA (a very bright \

@@ -359,7 +359,7 @@ impl Technique for Cmaa2 {
             let passes = Passes::new(&self.device, &self.module, &self.fullscreen, true);
             self.radiance_passes = Some(passes);
         }
-        let encoded = encoded_view(self.perceptual.edge_source(ctx, color, ""));
+        let encoded = encoded_view(self.perceptual.source(ctx, color, ""));
         let linear = color.create_view(&Default::default());
         let views = (&encoded, &linear);
         let (Some(buffers), Some(passes)) = (

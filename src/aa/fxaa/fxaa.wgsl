@@ -29,9 +29,11 @@
 // fs_fxaa writes the antialiased image; fs_mask writes the debug mask of the same analysis
 // (through an Rgba8Unorm view: the mask colours are display values).
 //
-// With RADIANCE (an HDR frame with FXAA before the tonemapper, graph/hdr.rs) both `image` and
-// `image_linear` are the same half-float radiance: the luma tests see linear radiance and the
-// blend writes radiance, unencoded, as an engine's FXAA before its tonemapper does.
+// With RADIANCE (an HDR frame with FXAA before the tonemapper, graph/hdr.rs) `image` is the
+// encoded view of the radiance's perceptual copy (aa/common/perceptual.rs: compressed with
+// Karis' c / (1 + luma), then sRGB-encoded), so the luma tests and thresholds see the same
+// kind of values as on a displayed image; `image_linear` is the half-float radiance itself,
+// and the blend writes radiance, unencoded, as an engine's FXAA before its tonemapper does.
 
 override RADIANCE: bool = false;
 
@@ -101,9 +103,6 @@ fn encode_srgb(linear: vec3<f32>) -> vec3<f32> {
 // 0..1; three multiply-adds where the exact curve costs a pow, which on a software rasteriser
 // is a tenth of this pass).
 fn decode_srgb(encoded: f32) -> f32 {
-    if RADIANCE {
-        return encoded;
-    }
     let c = saturate(encoded);
     return c * (c * (c * 0.305306011 + 0.682171111) + 0.012522878);
 }
@@ -137,7 +136,12 @@ fn analyse(position: vec2<f32>) -> Analysis {
     let centre = textureLoad(image, pixel, 0);
 
     var result: Analysis;
+    // An unchanged pixel is written back as it was read: encoded, or as radiance (`image`
+    // then holds its perceptual copy).
     result.colour = vec4<f32>(centre.rgb, 1.0);
+    if RADIANCE {
+        result.colour = vec4<f32>(textureLoad(image_linear, pixel, 0).rgb, 1.0);
+    }
     result.luma = luma_of(centre.rgb);
     result.edge = false;
     result.horizontal = false;

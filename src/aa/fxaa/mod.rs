@@ -25,6 +25,11 @@
 //! and Bevy's sensitivity levels `low` .. `extreme`, which set the two thresholds.
 //! Debug view `edges`: the luma, with the pixels FXAA treats as edges coloured by orientation.
 //!
+//! Before the tonemapper of an HDR frame (`tonemap_order`), the luma tests read the perceptual
+//! copy of the radiance (`aa::common::perceptual`: Karis-compressed, sRGB-encoded, as SMAA,
+//! CMAA 2 and MLAA's edge detection does), so the thresholds keep their meaning, and the final
+//! read blends radiance into a half-float output.
+//!
 //! Folder: `mod.rs` (the technique, its registry entry, passes and debug view), `settings.rs`
 //! (quality presets, thresholds, named presets) and `fxaa.wgsl`. Measurements behind the linear
 //! blend and the sub-pixel amount, and what was tried: `docs/techniques/fxaa.md`.
@@ -35,6 +40,7 @@ pub use settings::{FxaaSettings, MAX_STEPS, Preset, Quality};
 
 use crate::aa::common::color::LumaSource;
 use crate::aa::common::pass;
+use crate::aa::common::perceptual::{PERCEPTUAL_WGSL, PerceptualCopy};
 use crate::aa::common::{
     PipelineCache, bilinear_clamp_sampler, debug_texture, encoded_or_radiance_view, encoded_view,
     holds_radiance,
@@ -67,7 +73,7 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
          crawl in motion.",
     availability: needs_encoded_views,
     create: |gpu| Box::new(Fxaa::new(gpu)),
-    shaders: &[WGSL],
+    shaders: &[WGSL, PERCEPTUAL_WGSL],
 };
 
 /// Which fragment entry point a pipeline runs.
@@ -97,6 +103,8 @@ pub struct Fxaa {
     pipelines: PipelineCache<PipelineKey>,
     debug_enabled: bool,
     mask: Option<wgpu::Texture>,
+    /// What the luma tests read before the tonemapper of an HDR frame.
+    perceptual: PerceptualCopy,
 }
 
 impl Fxaa {
@@ -117,6 +125,7 @@ impl Fxaa {
             pipelines: PipelineCache::default(),
             debug_enabled: false,
             mask: None,
+            perceptual: PerceptualCopy::default(),
         }
     }
 
@@ -218,9 +227,9 @@ impl Technique for Fxaa {
         ctx.gpu
             .queue
             .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniform));
-        // Before the tonemapper both reads see radiance (it has no encoding).
+        // Before the tonemapper the luma tests read the perceptual copy and the blend radiance.
         let radiance = holds_radiance(input.color_1x());
-        let source = encoded_or_radiance_view(input.color_1x());
+        let source = encoded_view(self.perceptual.source(ctx, input.color_1x(), ""));
         let linear = input.color_1x().create_view(&Default::default());
         let pipeline = self.pipeline(ctx, Pass::Antialias, radiance);
         let bind_group = self.bind_group(&pipeline, &source, &linear);
@@ -252,6 +261,7 @@ impl Technique for Fxaa {
         if let Some(mask) = &self.mask {
             items.push(MemoryItem::texture("fxaa edges view", mask));
         }
+        items.extend(self.perceptual.memory(ID));
         items
     }
 

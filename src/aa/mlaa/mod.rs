@@ -246,7 +246,7 @@ impl Technique for Mlaa {
         ctx.gpu
             .queue
             .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&params));
-        let edge_source = self.perceptual.edge_source(ctx, &input.color, "");
+        let edge_source = self.perceptual.source(ctx, &input.color, "");
         let color_encoded = view_as(edge_source, COLOR_FORMAT_ENCODED_VIEW);
         let (Some(pipelines), Some(targets)) = (&self.pipelines, &self.targets) else {
             return;

@@ -254,7 +254,7 @@ impl SmaaPasses {
         ctx.gpu
             .queue
             .write_buffer(self.uniform_slot(slot), 0, bytemuck::bytes_of(&params));
-        let edge_source = self.perceptual.edge_source(ctx, input.color, prefix);
+        let edge_source = self.perceptual.source(ctx, input.color, prefix);
         let color_encoded = view_as(edge_source, COLOR_FORMAT_ENCODED_VIEW);
         let (Some(pipelines), Some(targets)) = (&self.pipelines, &self.targets) else {
             return;

@@ -17,6 +17,20 @@
 //! motion; one more scene render per frame). A file that calls neither `aa_depth` nor
 //! `aa_motion` reads colour only and so also runs on a finished image.
 //!
+//! Tonemap order (`tonemap_order`, `after` by default, as engines run post passes): after the
+//! tonemapper, and in every LDR frame, the file reads display values as above. Before the
+//! tonemapper of an HDR frame it reads the radiance compressed with Karis' c / (1 + luma)
+//! (`aa::common::perceptual`, in half floats, after the frame's exposure), and what `aa_main`
+//! returns is expanded back with c / (1 - luma), the exposure taken off again, into a
+//! half-float output that the graph tonemaps (the second entry point of `epilogue.wgsl`).
+//! This is the contract the morphological techniques' edge tests keep, and for the same
+//! reason: a user's thresholds and blends are written for values in 0..1 that look like the
+//! displayed image, and raw radiance (up to 40 on `neon`) would make every one of them
+//! meaningless; the file needs no change to run in either order. Blends of
+//! compressed values are Karis-weighted averages of radiance (as TAA's), not plain ones. The
+//! copy is in half floats, not SMAA's 8-bit sRGB, because the expansion would magnify 8-bit
+//! steps near white into large radiance errors (`docs/user-techniques.md`).
+//!
 //! Identity: the id is `user:` followed by the file's canonical path, so that a record made
 //! anywhere reproduces from any directory; records also keep the content hash
 //! ([`Technique::source_hash`]), and replaying one refuses a file that has changed. Ids,
@@ -32,11 +46,14 @@ use std::path::Path;
 
 use glam::Vec2;
 
-use super::params::{Param, ParamError, ParamKind, ParamValue, as_bool, as_f32, as_i64};
+use super::params::{Param, ParamError, ParamKind, ParamValue, as_bool, as_f32, as_i64, as_named};
 use super::{FrameInfo, SceneInput, Technique};
+use crate::aa::common::holds_radiance;
 use crate::aa::common::pass::{self, Binding};
+use crate::aa::common::perceptual::PerceptualCopy;
 use crate::gpu::fullscreen::{FragmentDesc, Fullscreen};
-use crate::gpu::{COLOR_FORMAT, Gpu};
+use crate::gpu::{COLOR_FORMAT, Gpu, HDR_FORMAT};
+use crate::graph::hdr::{TONEMAP_ORDER_KEY, TonemapOrder};
 use crate::graph::{MemoryItem, PassContext};
 use crate::scene::renderer::SceneTargets;
 pub use build::{BuildWait, PendingBuild};
@@ -173,6 +190,7 @@ impl Setting {
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct FrameUniform {
     frame: [u32; 4],
+    exposure: [f32; 4],
 }
 
 /// A user technique (see the module docs).
@@ -188,7 +206,13 @@ pub struct UserTechnique {
     module: wgpu::ShaderModule,
     bind_group_layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
+    /// Writes display values (after the tonemapper, LDR frames).
     pipeline: wgpu::RenderPipeline,
+    /// Writes radiance; built while the order is before the tonemapper.
+    radiance_pipeline: Option<wgpu::RenderPipeline>,
+    tonemap_order: TonemapOrder,
+    /// What the file reads before the tonemapper of an HDR frame.
+    perceptual: PerceptualCopy,
     sampler: wgpu::Sampler,
     uniform: wgpu::Buffer,
     /// Bound as the motion vectors when the input has none (the code never reads them).
@@ -242,7 +266,14 @@ impl UserTechnique {
             .collect();
         let fullscreen = Fullscreen::new(device);
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let pipeline = build_pipeline(device, &fullscreen, &module, &pipeline_layout, &settings);
+        let pipeline = build_pipeline(
+            device,
+            &fullscreen,
+            &module,
+            &pipeline_layout,
+            &settings,
+            false,
+        );
         if let Some(error) = pollster::block_on(scope.pop()) {
             return Err(gpu_error("pipeline", error));
         }
@@ -258,6 +289,9 @@ impl UserTechnique {
             bind_group_layout,
             pipeline_layout,
             pipeline,
+            radiance_pipeline: None,
+            tonemap_order: TonemapOrder::After,
+            perceptual: PerceptualCopy::half_float(),
             sampler: crate::aa::common::bilinear_clamp_sampler(device, "user technique bilinear"),
             uniform: pass::uniform_buffer::<FrameUniform>(device, "user technique frame"),
             no_motion: crate::gpu::texture_2d(
@@ -272,16 +306,49 @@ impl UserTechnique {
             device: device.clone(),
         })
     }
+
+    /// Builds the pipelines the current settings and order need, inside an error scope; on
+    /// an error the old ones stay.
+    fn rebuild_pipelines(&mut self) -> Result<(), wgpu::Error> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let build = |radiance| {
+            build_pipeline(
+                &self.device,
+                &self.fullscreen,
+                &self.module,
+                &self.pipeline_layout,
+                &self.settings,
+                radiance,
+            )
+        };
+        let pipeline = build(false);
+        let radiance_pipeline = (self.tonemap_order == TonemapOrder::Before).then(|| build(true));
+        match pollster::block_on(scope.pop()) {
+            Some(error) => Err(error),
+            None => {
+                self.pipeline = pipeline;
+                self.radiance_pipeline = radiance_pipeline;
+                Ok(())
+            }
+        }
+    }
 }
 
-/// The pipeline with the settings' current values as pipeline constants.
+/// The pipeline with the settings' current values as pipeline constants, writing radiance
+/// (the entry point that expands the compressed colour) or display values.
 fn build_pipeline(
     device: &wgpu::Device,
     fullscreen: &Fullscreen,
     module: &wgpu::ShaderModule,
     layout: &wgpu::PipelineLayout,
     settings: &[Setting],
+    radiance: bool,
 ) -> wgpu::RenderPipeline {
+    let (entry_point, target) = if radiance {
+        (program::RADIANCE_ENTRY_POINT, HDR_FORMAT)
+    } else {
+        (program::ENTRY_POINT, COLOR_FORMAT)
+    };
     let constants: Vec<(&str, f64)> = settings
         .iter()
         .map(|s| (s.constant_key.as_str(), s.constant()))
@@ -291,8 +358,8 @@ fn build_pipeline(
         &FragmentDesc {
             label: "user technique",
             module,
-            entry_point: program::ENTRY_POINT,
-            targets: &[COLOR_FORMAT],
+            entry_point,
+            targets: &[target],
             constants: &constants,
             layout: Some(layout),
         },
@@ -327,13 +394,22 @@ impl Technique for UserTechnique {
         output: &wgpu::Texture,
     ) {
         let Some(input) = input else { return };
+        // The graph hands a radiance output only to a technique ordered before the
+        // tonemapper, whose radiance pipeline then exists.
+        let pipeline = match holds_radiance(output) {
+            true => self.radiance_pipeline.as_ref(),
+            false => Some(&self.pipeline),
+        };
+        let Some(pipeline) = pipeline else { return };
         let frame = FrameUniform {
             frame: [ctx.frame.camera.frame as u32, 0, 0, 0],
+            exposure: [ctx.exposure_scale(), 0.0, 0.0, 0.0],
         };
         ctx.gpu
             .queue
             .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&frame));
-        let color = input.color_1x().create_view(&Default::default());
+        let color =
+            (self.perceptual.source(ctx, input.color_1x(), "")).create_view(&Default::default());
         let depth = input.depth.create_view(&wgpu::TextureViewDescriptor {
             aspect: wgpu::TextureAspect::DepthOnly,
             ..Default::default()
@@ -370,11 +446,17 @@ impl Technique for UserTechnique {
             ],
         });
         let target = output.create_view(&Default::default());
-        ctx.fullscreen_pass("user", &target, &self.pipeline, &bind_group);
+        ctx.fullscreen_pass("user", &target, pipeline, &bind_group);
     }
 
     fn memory(&self) -> Vec<MemoryItem> {
-        vec![MemoryItem::buffer("user technique frame", &self.uniform)]
+        let mut items = vec![MemoryItem::buffer("user technique frame", &self.uniform)];
+        items.extend(self.perceptual.memory(self.id));
+        items
+    }
+
+    fn tonemap_order(&self) -> TonemapOrder {
+        self.tonemap_order
     }
 
     fn params(&self) -> Vec<Param> {
@@ -387,36 +469,34 @@ impl Technique for UserTechnique {
                 kind: s.kind.clone(),
                 value: s.value.clone(),
             })
+            .chain([self.tonemap_order.param()])
             .collect()
     }
 
     fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
-        let Some(index) = self.settings.iter().position(|s| s.key == key) else {
-            return Err(ParamError::unknown_key(self.id, key, &self.params()));
+        let previous_order = self.tonemap_order;
+        let previous_setting = if key == TONEMAP_ORDER_KEY {
+            self.tonemap_order = as_named(value).unwrap_or(self.tonemap_order);
+            None
+        } else {
+            let Some(index) = self.settings.iter().position(|s| s.key == key) else {
+                return Err(ParamError::unknown_key(self.id, key, &self.params()));
+            };
+            let previous = std::mem::replace(&mut self.settings[index].value, value.clone());
+            Some((index, previous))
         };
-        let previous = std::mem::replace(&mut self.settings[index].value, value.clone());
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let pipeline = build_pipeline(
-            &self.device,
-            &self.fullscreen,
-            &self.module,
-            &self.pipeline_layout,
-            &self.settings,
-        );
-        match pollster::block_on(scope.pop()) {
-            None => {
-                self.pipeline = pipeline;
-                Ok(())
-            }
-            Some(error) => {
-                self.settings[index].value = previous;
-                Err(ParamError::BadValue {
-                    technique: self.id.to_owned(),
-                    key: key.to_owned(),
-                    reason: format!("the GPU refused the pipeline with {value}: {error}"),
-                })
-            }
+        let Err(error) = self.rebuild_pipelines() else {
+            return Ok(());
+        };
+        self.tonemap_order = previous_order;
+        if let Some((index, previous)) = previous_setting {
+            self.settings[index].value = previous;
         }
+        Err(ParamError::BadValue {
+            technique: self.id.to_owned(),
+            key: key.to_owned(),
+            reason: format!("the GPU refused the pipeline with {value}: {error}"),
+        })
     }
 
     fn source_hash(&self) -> Option<String> {

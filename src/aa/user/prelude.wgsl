@@ -6,6 +6,8 @@
 struct AaFrameInfo {
     // x: frame number of the deterministic camera; yzw: unused.
     frame: vec4<u32>,
+    // x: the factor 2^EV of the frame's exposure (1 on the LDR path); yzw: unused.
+    exposure: vec4<f32>,
 }
 
 // The 1x scene render through its sRGB view: reads decode to linear light.

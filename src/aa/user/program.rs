@@ -8,14 +8,18 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::gpu::shader::Shader;
+use crate::graph::hdr::TONEMAP_ORDER_KEY;
 use crate::graph::params::{ParamKind, ParamValue};
 
 /// aa-lab's code before the user's file: bindings and the `aa_*` functions.
 pub const PRELUDE: Shader = crate::wgsl!("src/aa/user/prelude.wgsl");
 /// aa-lab's code after the user's file: the fragment entry point that calls `aa_main`.
 pub const EPILOGUE: Shader = crate::wgsl!("src/aa/user/epilogue.wgsl");
-/// The fragment entry point defined by [`EPILOGUE`].
+/// The fragment entry point defined by [`EPILOGUE`] for display values.
 pub const ENTRY_POINT: &str = "aa_fragment";
+/// The one for radiance, before the tonemapper of an HDR frame: it expands `aa_main`'s
+/// Karis-compressed colour back to radiance.
+pub const RADIANCE_ENTRY_POINT: &str = "aa_fragment_radiance";
 /// The function the contract asks the user's file to define, as `docs/user-techniques.md`
 /// states it.
 pub const CONTRACT: &str = "fn aa_main(pixel: vec2<u32>, uv: vec2<f32>) -> vec4<f32>";
@@ -301,6 +305,19 @@ fn overrides(module: &naga::Module, layout: &Layout<'_>) -> Result<Vec<OverrideP
     let mut params = Vec::new();
     for (handle, o) in module.overrides.iter() {
         let Some(name) = o.name.clone() else { continue };
+        let span = module.overrides.get_span(handle);
+        let offset = span.to_range().map_or(layout.user_start, |r| r.start);
+        let (line, column) = layout.location(offset);
+        if name == TONEMAP_ORDER_KEY {
+            return Err(layout.at(
+                line,
+                column,
+                format!(
+                    "override `{name}`: the name is aa-lab's (every user technique's tonemap \
+                     order, `--set user.{name}=before`); rename the constant"
+                ),
+            ));
+        }
         let naga::TypeInner::Scalar(scalar) = module.types[o.ty].inner else {
             continue;
         };
@@ -324,9 +341,6 @@ fn overrides(module: &naga::Module, layout: &Layout<'_>) -> Result<Vec<OverrideP
             },
             Some(_) => continue,
         };
-        let span = module.overrides.get_span(handle);
-        let offset = span.to_range().map_or(layout.user_start, |r| r.start);
-        let (line, column) = layout.location(offset);
         let text = layout
             .source
             .lines()
@@ -501,5 +515,15 @@ mod tests {
         let bad = compile_text(&format!("override k: f32 = 9.0; // [0, 1]\n{PASS_THROUGH}"))
             .expect_err("default outside range");
         assert_eq!(bad.location.map(|l| l.0), Some(1), "{bad}");
+    }
+
+    #[test]
+    fn the_tonemap_order_is_not_a_constant_the_file_may_declare() {
+        let err = compile_text(&format!(
+            "\noverride tonemap_order: bool = true;\n{PASS_THROUGH}"
+        ))
+        .expect_err("the tonemap order is aa-lab's parameter");
+        assert_eq!(err.location.map(|l| l.0), Some(2), "{err}");
+        assert!(err.message.contains("is aa-lab's"), "{err}");
     }
 }

@@ -574,6 +574,11 @@ impl SceneRenderer {
         self.tonemap = tonemap;
     }
 
+    /// The tonemap of the renders recorded now (`None`: the LDR path).
+    pub fn tonemap(&self) -> Option<Tonemap> {
+        self.tonemap
+    }
+
     fn write_objects(&self, gpu: &Gpu, frame: f32, prev_frame: f32) {
         let mut data = vec![0u8; self.object_transforms.len().max(1) * UNIFORM_SLOT as usize];
         for (i, spin) in self.object_transforms.iter().enumerate() {
