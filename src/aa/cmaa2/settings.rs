@@ -6,7 +6,7 @@
 //! uniform block the passes read. Nothing here selects a pipeline: every setting is a uniform
 //! value used in arithmetic or `select`, so changing one costs no pipeline build.
 
-use crate::aa::params::{Param, ParamValue, Tunable, as_bool, as_named};
+use crate::aa::params::{Param, ParamValue, Tunable};
 use crate::graph::hdr::TonemapOrder;
 
 crate::named_enum! {
@@ -191,20 +191,12 @@ impl Tunable for Cmaa2Settings {
     }
 
     fn set(&mut self, key: &str, value: &ParamValue) -> bool {
-        match key {
-            "quality" => {
-                self.quality = as_named(value).unwrap_or(self.quality);
-            }
-            "extra_sharpness" => self.extra_sharpness = as_bool(value),
-            "edge_detection" => {
-                self.edge_detection = as_named(value).unwrap_or(self.edge_detection);
-            }
-            "tonemap_order" => {
-                self.tonemap_order = as_named(value).unwrap_or(self.tonemap_order);
-            }
-            _ => return false,
-        }
-        true
+        crate::set_fields!(
+            self,
+            key,
+            value,
+            [quality, extra_sharpness, edge_detection, tonemap_order]
+        )
     }
 
     /// Sets the quality (the edge threshold), keeping the edge input and the tonemap order;

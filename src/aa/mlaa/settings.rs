@@ -2,7 +2,7 @@
 //! (its [`Tunable`] implementation), and the part compiled into pipelines
 //! ([`PipelineKey`]).
 
-use crate::aa::params::{Named, Param, ParamValue, Tunable, as_f32, as_i64, as_named};
+use crate::aa::params::{Named, Param, ParamField, ParamValue, Tunable, as_i64};
 
 use super::area::MAX_DISTANCE;
 use crate::graph::hdr::TonemapOrder;
@@ -119,13 +119,11 @@ impl Tunable for MlaaSettings {
 
     fn set(&mut self, key: &str, value: &ParamValue) -> bool {
         match key {
-            "threshold" => self.threshold = as_f32(value),
             "max_search_steps" => {
                 self.max_search_steps = as_i64(value).clamp(1, i64::from(MAX_SEARCH_STEPS)) as u32;
             }
-            "edge_detection" => self.edge_mode = as_named(value).unwrap_or(self.edge_mode),
-            "tonemap_order" => self.tonemap_order = as_named(value).unwrap_or(self.tonemap_order),
-            _ => return false,
+            "edge_detection" => self.edge_mode.assign(value),
+            _ => return crate::set_fields!(self, key, value, [threshold, tonemap_order]),
         }
         true
     }

@@ -4,7 +4,8 @@
 // aa_fragment_radiance (before the tonemapper of an HDR frame, where aa_main read the
 // exposed radiance compressed to c / (1 + luma)) expands it back to radiance with
 // c / (1 - luma) and takes the exposure off again, into the half-float output that the graph
-// then tonemaps (with the exposure).
+// then tonemaps (with the exposure). The expansion is `to_output` of aa/common/radiance.wgsl,
+// written out here because that file's names would enter the user's namespace.
 @fragment
 fn aa_fragment(@builtin(position) position: vec4<f32>, @location(0) uv: vec2<f32>) -> @location(0) vec4<f32> {
     return aa_main(vec2<u32>(position.xy), uv);

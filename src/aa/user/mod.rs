@@ -46,7 +46,9 @@ use std::path::Path;
 
 use glam::Vec2;
 
-use super::params::{Param, ParamError, ParamKind, ParamValue, as_bool, as_f32, as_i64, as_named};
+use super::params::{
+    Param, ParamError, ParamField, ParamKind, ParamValue, as_bool, as_f32, as_i64,
+};
 use super::{FrameInfo, SceneInput, Technique};
 use crate::aa::common::holds_radiance;
 use crate::aa::common::pass::{self, Binding};
@@ -396,9 +398,10 @@ impl Technique for UserTechnique {
         let Some(input) = input else { return };
         // The graph hands a radiance output only to a technique ordered before the
         // tonemapper, whose radiance pipeline then exists.
-        let pipeline = match holds_radiance(output) {
-            true => self.radiance_pipeline.as_ref(),
-            false => Some(&self.pipeline),
+        let pipeline = if holds_radiance(output) {
+            self.radiance_pipeline.as_ref()
+        } else {
+            Some(&self.pipeline)
         };
         let Some(pipeline) = pipeline else { return };
         let frame = FrameUniform {
@@ -476,7 +479,7 @@ impl Technique for UserTechnique {
     fn set_param(&mut self, key: &str, value: &ParamValue) -> Result<(), ParamError> {
         let previous_order = self.tonemap_order;
         let previous_setting = if key == TONEMAP_ORDER_KEY {
-            self.tonemap_order = as_named(value).unwrap_or(self.tonemap_order);
+            self.tonemap_order.assign(value);
             None
         } else {
             let Some(index) = self.settings.iter().position(|s| s.key == key) else {
