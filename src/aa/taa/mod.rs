@@ -156,8 +156,6 @@ struct TaaUniform {
     blend: [f32; 4],
     trust: [f32; 4],
     current_filter: [[f32; 4]; 3],
-    thin: [f32; 4],
-    clip: [f32; 4],
 }
 
 /// The TAA technique.
@@ -329,18 +327,6 @@ impl Technique for Taa {
                 &self.settings,
                 jitter_offset(camera.frame, self.settings.samples.count()),
             ),
-            thin: [
-                self.settings.lock_strength,
-                self.settings.lock_contrast,
-                self.settings.history_cubic,
-                self.settings.spread_pixels,
-            ],
-            clip: [
-                self.settings.clip_target,
-                self.settings.weighted_box,
-                self.settings.spread_weight,
-                self.settings.spread_start,
-            ],
         };
         self.resolve.write_uniform(ctx, &uniform);
         let resolve = &self.resolve;

@@ -121,23 +121,6 @@ pub struct TaaSettings {
     /// Least share of the current frame where blended surfaces cover the pixel fully (the
     /// reactive mask's strength); 0 reads no mask.
     pub reactive_mask: f32,
-    /// Most trust a thin ridge in the history or the current frame gives the history (0: no
-    /// locks).
-    pub lock_strength: f32,
-    /// Relative luma contrast at which a ridge locks in full.
-    pub lock_contrast: f32,
-    /// The history cubic's parameter a (-0.5: Catmull-Rom; more negative is sharper).
-    pub history_cubic: f32,
-    /// How far the variance clip aims at the current filtered estimate instead of the box centre.
-    pub clip_target: f32,
-    /// How far the variance box's statistics are weighed by where this frame's samples lie.
-    pub weighted_box: f32,
-    /// Motion spread (pixels per frame) at which the current share reaches `spread_weight`.
-    pub spread_pixels: f32,
-    /// Current share at full motion spread.
-    pub spread_weight: f32,
-    /// Motion spread below which the current share is not raised.
-    pub spread_start: f32,
 }
 
 impl Default for TaaSettings {
@@ -160,14 +143,6 @@ impl Default for TaaSettings {
             mip_bias: -1.5,
             tonemap_order: TonemapOrder::Before,
             reactive_mask: 0.0,
-            lock_strength: 0.0,
-            lock_contrast: 0.2,
-            history_cubic: -0.5,
-            clip_target: 0.0,
-            weighted_box: 0.0,
-            spread_pixels: 0.0,
-            spread_weight: 0.5,
-            spread_start: 0.0,
         }
     }
 }
@@ -367,70 +342,6 @@ impl Tunable for TaaSettings {
                 1.0,
                 s.reactive_mask,
             ),
-            Param::float(
-                "lock_strength",
-                "Lock strength",
-                "Locks (FSR 2).",
-                0.0,
-                1.0,
-                s.lock_strength,
-            ),
-            Param::float(
-                "lock_contrast",
-                "Lock contrast",
-                "Ridge contrast.",
-                0.01,
-                1.0,
-                s.lock_contrast,
-            ),
-            Param::float(
-                "history_cubic",
-                "History cubic",
-                "Keys a.",
-                -1.5,
-                0.0,
-                s.history_cubic,
-            ),
-            Param::float(
-                "clip_target",
-                "Clip target",
-                "Clip target.",
-                0.0,
-                1.0,
-                s.clip_target,
-            ),
-            Param::float(
-                "weighted_box",
-                "Weighted box",
-                "Weighted box.",
-                0.0,
-                1.0,
-                s.weighted_box,
-            ),
-            Param::float(
-                "spread_pixels",
-                "Spread px",
-                "Spread.",
-                0.0,
-                8.0,
-                s.spread_pixels,
-            ),
-            Param::float(
-                "spread_weight",
-                "Spread weight",
-                "Spread w.",
-                0.0,
-                1.0,
-                s.spread_weight,
-            ),
-            Param::float(
-                "spread_start",
-                "Spread start",
-                "Spread s.",
-                0.0,
-                8.0,
-                s.spread_start,
-            ),
         ]
     }
 
@@ -457,14 +368,6 @@ impl Tunable for TaaSettings {
                 mip_bias,
                 tonemap_order,
                 reactive_mask,
-                lock_strength,
-                lock_contrast,
-                history_cubic,
-                clip_target,
-                weighted_box,
-                spread_pixels,
-                spread_weight,
-                spread_start,
             ]
         )
     }

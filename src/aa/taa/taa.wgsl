@@ -52,14 +52,6 @@ struct TaaParams {
     // sample's distance d from the pixel centre (they depend only on this frame's jitter, so
     // they are computed once per frame), or 1 for the centre tap alone (no filter).
     current_filter: array<vec4<f32>, 3>,
-    // Thin features: x the lock's strength (the most trust a ridge in the history or the
-    // current frame gives), y the relative luma contrast at which a ridge locks in full, z the
-    // history cubic's a (-0.5 Catmull-Rom; more negative is sharper).
-    thin: vec4<f32>,
-    // x: how far the clip aims at the current filtered estimate instead of the box centre;
-    // y: how far the variance box's statistics are weighed by the current filter's weights
-    // (where this frame's samples lie) instead of equally.
-    clip: vec4<f32>,
 }
 
 @group(0) @binding(0) var current: texture_2d<f32>;
@@ -116,70 +108,36 @@ fn to_box_space(c: vec3<f32>) -> vec3<f32> {
     return c;
 }
 
-// Clips `colour` to the box [low, high] along the line towards `aim` (inside the box).
-fn clip_towards(colour: vec3<f32>, aim: vec3<f32>, low: vec3<f32>, high: vec3<f32>) -> vec3<f32> {
-    let offset = colour - aim;
-    let room = select(aim - low, high - aim, offset > vec3<f32>(0.0));
-    let units = abs(offset) / max(room, vec3<f32>(1e-6));
+fn clip_towards_center(colour: vec3<f32>, center: vec3<f32>, extent: vec3<f32>) -> vec3<f32> {
+    let offset = colour - center;
+    let units = abs(offset / max(extent, vec3<f32>(1e-6)));
     let largest = max(units.x, max(units.y, units.z));
     if largest > 1.0 {
-        return aim + offset / largest;
+        return center + offset / largest;
     }
     return colour;
 }
 
-// Keys' cubic convolution kernel with parameter a (-0.5: Catmull-Rom) at distance x in 0..2.
-fn keys_cubic(x: vec2<f32>, a: f32) -> vec2<f32> {
-    let near = ((a + 2.0) * x - (a + 3.0)) * x * x + 1.0;
-    let far = ((a * x - 5.0 * a) * x + 8.0 * a) * x - 4.0 * a;
-    return select(far, near, x <= vec2<f32>(1.0));
-}
-
-fn cubic_weights(t: vec2<f32>) -> array<vec2<f32>, 4> {
-    let a = params.thin.z;
+fn catmull_rom_weights(t: vec2<f32>) -> array<vec2<f32>, 4> {
+    let t2 = t * t;
+    let t3 = t2 * t;
     return array<vec2<f32>, 4>(
-        keys_cubic(1.0 + t, a),
-        keys_cubic(t, a),
-        keys_cubic(1.0 - t, a),
-        keys_cubic(2.0 - t, a),
+        -0.5 * t3 + t2 - 0.5 * t,
+        1.5 * t3 - 2.5 * t2 + 1.0,
+        -1.5 * t3 + 2.0 * t2 + 0.5 * t,
+        0.5 * t3 - 0.5 * t2,
     );
 }
 
-// The reprojected history: colour, the speed it was written with, and how strongly its taps
-// show a thin ridge at the pixel (0 with the bilinear filter, which reads one tap).
-struct HistorySample {
-    colour: vec3<f32>,
-    speed: f32,
-    ridge: f32,
-}
-
-// How strongly the centre's luma stands out of both neighbours on one axis, in the same
-// direction (a line one or two pixels wide across that axis), relative to the brightest.
-fn ridge_between(before: f32, centre: f32, after: f32) -> f32 {
-    let raised = min(centre - before, centre - after);
-    let sunk = min(before - centre, after - centre);
-    return max(max(raised, sunk), 0.0) / max(max(centre, max(before, after)), 1e-3);
-}
-
-// The ridge strength of a cross of colours.
-fn cross_ridge(centre: vec3<f32>, left: vec3<f32>, right: vec3<f32>, up: vec3<f32>, down: vec3<f32>) -> f32 {
-    let c = luminance(centre);
-    return max(
-        ridge_between(luminance(left), c, luminance(right)),
-        ridge_between(luminance(up), c, luminance(down)),
-    );
-}
-
-// The history at `uv`.
-fn history_at(uv: vec2<f32>) -> HistorySample {
+// The history's colour at `uv` (alpha: the speed it was written with).
+fn history_at(uv: vec2<f32>) -> vec4<f32> {
     if HISTORY_FILTER == 0u {
-        let tap = textureSampleLevel(history, bilinear, uv, 0.0);
-        return HistorySample(tap.rgb, tap.a, 0.0);
+        return textureSampleLevel(history, bilinear, uv, 0.0);
     }
     // Texel whose centre is at or left/above the sample point, and the fraction past it.
     let position = uv * params.size.xy - 0.5;
     let base = floor(position);
-    let w = cubic_weights(position - base);
+    let w = catmull_rom_weights(position - base);
     let middle = w[1] + w[2];
     let texel = params.size.zw;
     let before = (base - 0.5) * texel;
@@ -199,8 +157,7 @@ fn history_at(uv: vec2<f32>) -> HistorySample {
     let sum = w_up * up + w_left * left + w_centre * centre.rgb + w_right * right + w_down * down;
     let total = w_up + w_left + w_centre + w_right + w_down;
     // The speed is the centre tap's.
-    let ridge = cross_ridge(centre.rgb, left, right, up, down);
-    return HistorySample(max(sum / total, vec3<f32>(0.0)), centre.a, ridge);
+    return vec4<f32>(max(sum / total, vec3<f32>(0.0)), centre.a);
 }
 
 // The current frame's colour at a pixel, clamped to the image.
@@ -298,18 +255,12 @@ struct ColourBox {
     sum_squares: vec3<f32>,
     count: f32,
     filtered: vec3<f32>,
-    // The box-space sums weighed by the current filter's weights (which sum to 1).
-    weighted_sum: vec3<f32>,
-    weighted_squares: vec3<f32>,
 }
 
 // Adds the neighbour at 3x3 index `tap` (3 (dy + 1) + dx + 1) to the box.
 fn add_tap(colour_box: ptr<function, ColourBox>, rgb: vec3<f32>, tap: u32) {
-    let weight = params.current_filter[tap / 4u][tap % 4u];
-    (*colour_box).filtered += weight * rgb;
+    (*colour_box).filtered += params.current_filter[tap / 4u][tap % 4u] * rgb;
     let c = to_box_space(rgb);
-    (*colour_box).weighted_sum += weight * c;
-    (*colour_box).weighted_squares += weight * c * c;
     (*colour_box).low = min((*colour_box).low, c);
     (*colour_box).high = max((*colour_box).high, c);
     (*colour_box).sum += c;
@@ -357,8 +308,6 @@ struct Resolved {
     rectified: f32,
     // The history was not used at all (reset, or reprojected off screen).
     rejected: bool,
-    // The lock's trust (0 none .. 1 rectification off).
-    locked: f32,
 }
 
 fn resolve(position: vec2<f32>) -> Resolved {
@@ -369,7 +318,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
     let n = neighbours(pixel, last);
     var centre = n.centre;
     let zero = vec3<f32>(0.0);
-    var colour_box = ColourBox(vec3<f32>(1e9), vec3<f32>(-1e9), zero, zero, 0.0, zero, zero, zero);
+    var colour_box = ColourBox(vec3<f32>(1e9), vec3<f32>(-1e9), zero, zero, 0.0, zero);
     add_tap(&colour_box, n.up, 1u);
     add_tap(&colour_box, n.left, 3u);
     add_tap(&colour_box, n.centre, 4u);
@@ -411,10 +360,10 @@ fn resolve(position: vec2<f32>) -> Resolved {
     let previous = uv - velocity;
     let off_screen = any(previous < vec2<f32>(0.0)) || any(previous > vec2<f32>(1.0));
     if (params.blend.z > 0.5) | off_screen {
-        return Resolved(centre, own_speed, 1.0, true, 0.0);
+        return Resolved(centre, own_speed, 1.0, true);
     }
     let sampled = history_at(previous);
-    let reprojected = sampled.colour;
+    let reprojected = sampled.rgb;
     // How much reading between texels blurs the history: 4 f (1 - f) of the fraction f past a
     // texel centre, 0 on a texel, 1 half-way.
     let f = fract(previous * params.size.xy - 0.5);
@@ -429,24 +378,17 @@ fn resolve(position: vec2<f32>) -> Resolved {
         var box_low = low;
         var box_high = high;
         if RECTIFY == 3u {
-            let weighing = params.clip.y;
-            let mean = mix(colour_box.sum / colour_box.count, colour_box.weighted_sum, weighing);
-            let squares = mix(
-                colour_box.sum_squares / colour_box.count,
-                colour_box.weighted_squares,
-                weighing,
-            );
-            let variance = squares - mean * mean;
+            let mean = colour_box.sum / colour_box.count;
+            let variance = colour_box.sum_squares / colour_box.count - mean * mean;
             let sigma = sqrt(max(variance, vec3<f32>(0.0)));
             box_low = max(mean - params.blend.y * sigma, low);
             box_high = min(mean + params.blend.y * sigma, high);
         }
-        let aim = clamp(
-            mix(0.5 * (box_low + box_high), rgb_to_ycocg(colour_box.filtered), params.clip.x),
-            box_low,
-            box_high,
+        let clipped = clip_towards_center(
+            rgb_to_ycocg(reprojected),
+            0.5 * (box_low + box_high),
+            0.5 * (box_high - box_low),
         );
-        let clipped = clip_towards(rgb_to_ycocg(reprojected), aim, box_low, box_high);
         kept = ycocg_to_rgb(clipped);
     }
     // Velocity-weighted trust: where the content moves as it did when the history was written,
@@ -458,17 +400,12 @@ fn resolve(position: vec2<f32>) -> Resolved {
     let tolerance = params.trust.x;
     var trust = select(
         0.0,
-        saturate(1.0 - abs(own_speed - sampled.speed) / max(tolerance, 1e-6)),
+        saturate(1.0 - abs(own_speed - sampled.a) / max(tolerance, 1e-6)),
         tolerance > 0.0,
     );
     // A blurred history spreads a little into its neighbours every frame; trusted, that
     // spread is never rectified away.
     trust *= select(1.0, 1.0 - blur, params.trust.z > 0.5);
-    // Locks: a ridge in the reprojected history or in the current cross marks a thin feature,
-    // whose history the rectification would take for noise.
-    let ridge = max(sampled.ridge, cross_ridge(n.centre, n.left, n.right, n.up, n.down));
-    let lock = params.thin.x * saturate(ridge / max(params.thin.y, 1e-3));
-    trust = max(trust, lock);
     var reactive_share = 0.0;
     if REACTIVE_MASK {
         reactive_share = params.trust.w * textureLoad(reactive, pixel, 0).r;
@@ -481,18 +418,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // still camera and whole-pixel motion keep the history sharp; half-pixel motion softens it
     // most).
     let adapt = select(saturate(speed), blur, params.trust.y > 0.5);
-    var alpha = max(mix(params.blend.x, max(params.blend.x, params.blend.w), adapt), reactive_share);
-    // Mixed motion: where the pixel's own surface moves unlike the nearest one it reprojects
-    // with, the history mixes surfaces that moved apart; the current frame's share rises
-    // towards clip.z with that difference in pixels (full at thin.w pixels per frame).
-    let own_velocity = textureLoad(motion, pixel, 0).xy;
-    let spread = length((own_velocity - velocity) * params.size.xy);
-    let mixed = select(
-        0.0,
-        saturate((spread - params.clip.w) / max(params.thin.w, 1e-3)),
-        params.thin.w > 0.0,
-    );
-    alpha = max(alpha, mix(alpha, params.clip.z, mixed));
+    let alpha = max(mix(params.blend.x, max(params.blend.x, params.blend.w), adapt), reactive_share);
     // The current frame's estimate of the pixel: where the history stays sharp (still camera,
     // whole-pixel motion) the accumulated point samples converge to the pixel's box average and
     // the pixel's own sample is exact; where resampling blurs the history every frame it never
@@ -508,7 +434,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
         colour = mix(kept, centre, alpha);
     }
     let moved = length(kept - reprojected);
-    return Resolved(colour, own_speed, saturate(moved * 4.0), false, lock);
+    return Resolved(colour, own_speed, saturate(moved * 4.0), false);
 }
 
 struct Varying {
@@ -540,7 +466,6 @@ fn fs_resolve_debug(in: Varying) -> ResolveDebugOutput {
     let r = resolve(in.position.xy);
     let base = vec3<f32>(0.3 * sqrt(luminance(r.colour)));
     var mask = mix(base, vec3<f32>(1.0, 0.85, 0.1), r.rectified);
-    mask = mix(mask, vec3<f32>(0.2, 0.5, 1.0), r.locked);
     if r.rejected {
         mask = vec3<f32>(0.9, 0.1, 0.1);
     }
