@@ -56,7 +56,7 @@ fn main() -> anyhow::Result<()> {
         for frame in &frames {
             writer.push(frame.clone())?;
         }
-        writer.finish(None, None, BACKGROUND_RGBA)?;
+        writer.finish(&frames[0], None, BACKGROUND_RGBA)?;
         let seconds = start.elapsed().as_secs_f64();
         let bytes = std::fs::metadata(out)?.len();
         println!(

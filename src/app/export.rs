@@ -302,6 +302,9 @@ fn write_clip(plan: &ClipPlan, progress: &ExportProgress) -> Result<Vec<PathBuf>
     progress.set_total(frames.len());
     let mut stream = None;
     let mut page = None;
+    // The stream does not keep the first frame it was given; this clip holds all of its
+    // frames anyway, so one more composed frame costs little.
+    let mut first = None;
     for (n, panes) in frames.iter().enumerate() {
         if progress.cancelled() {
             return Err(CANCELLED.to_owned());
@@ -334,17 +337,20 @@ fn write_clip(plan: &ClipPlan, progress: &ExportProgress) -> Result<Vec<PathBuf>
         let composed = layout
             .compose(n, frames.len(), &refs)
             .map_err(|e| format!("clip export: {e}"))?;
+        if n == 0 {
+            first = Some(composed.clone());
+        }
         let apng = ClipFormat::Animation(AnimationFormat::Apng);
         ClipWriter::push_or_start(&mut stream, &animation, &policy, apng, options, composed)
             .map_err(|e| e.to_string())?;
         progress.advance();
     }
-    let (Some(stream), Some(page)) = (stream, page) else {
+    let (Some(stream), Some(page), Some(first)) = (stream, page, first) else {
         return Err("clip export: the clip has no frame".to_owned());
     };
     // An animation has no odd sides to pad: the background is a video's alone.
     stream
-        .finish(None, Some(record), [0; 4])
+        .finish(&first, Some(record), [0; 4])
         .map_err(|e| e.to_string())?;
     let sidecar = dir.join(format!("{stem}.json"));
     files::write_bytes(&sidecar, &policy, record.as_bytes()).map_err(|e| e.to_string())?;

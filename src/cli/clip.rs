@@ -561,7 +561,7 @@ fn finish(
     }
     let replaced = recorded
         .writer
-        .finish(Some(&first), Some(&text), sheet::BACKGROUND_RGBA)?;
+        .finish(&first, Some(&text), sheet::BACKGROUND_RGBA)?;
     let warmup = if rec.scene.is_some() { args.warmup } else { 0 };
     eprintln!(
         "made {} frames ({} of warm-up), compressing the clip's as they came, in {:.1} s; then {:.1} s to finish the file",

@@ -2,14 +2,17 @@
 //! frames as they are rendered, works out each frame's change from the one before (the
 //! bounding box of the pixels that differ; unchanged pixels transparent) and has it compressed
 //! on a pool of worker threads while the next frames render, then writes the compressed frames
-//! in order to an anonymous scratch file. Memory holds a few frames whatever the clip's length,
-//! and the compression runs on every core.
+//! in order to an anonymous scratch file. Memory holds a few frames whatever the clip's length
+//! (the frame before the newest, and those being compressed), and the compression runs on
+//! every core.
 //!
 //! Two containers: animated PNG (lossless, [`super::apng`]) and GIF (256 colours per frame,
-//! [`super::gif`]); both loop forever. The first frame is compressed last, by
-//! [`AnimationStream::finish`], which may replace it with a final version: a clip's captions
-//! hold figures over the whole clip, known only after its last frame, and they lie in pixels
-//! no later frame changes, so later frames, stored as changes, show them from the first.
+//! [`super::gif`]); both loop forever. The first frame is compressed last, from the version
+//! the caller hands to [`AnimationStream::finish`]: a clip's captions hold figures over the
+//! whole clip, known only after its last frame, and they lie in pixels no later frame changes,
+//! so later frames, stored as changes, show them from the first. The stream does not keep the
+//! first frame it was given: held to the end, it would be one more whole frame in memory for
+//! the clip's length, and the caller has what it needs to make the final one.
 //!
 //! The output is written atomically under the caller's overwrite policy
 //! ([`crate::files::PendingFile`]): an error, a cancel or an interruption leaves no file
@@ -105,7 +108,6 @@ pub struct AnimationStream {
     pool: rayon::ThreadPool,
     sender: mpsc::Sender<Outcome>,
     results: mpsc::Receiver<Outcome>,
-    first: Option<Arc<image::RgbaImage>>,
     previous: Option<Arc<image::RgbaImage>>,
     /// Compressed frames waiting for their predecessors.
     ready: BTreeMap<usize, EncodedFrame>,
@@ -176,7 +178,6 @@ impl AnimationStream {
             pool,
             sender,
             results,
-            first: None,
             previous: None,
             ready: BTreeMap::new(),
             pushed: 0,
@@ -204,10 +205,7 @@ impl AnimationStream {
         let frame = Arc::new(frame);
         let index = self.pushed;
         match self.previous.replace(Arc::clone(&frame)) {
-            None => {
-                self.first = Some(frame);
-                self.written = 1;
-            }
+            None => self.written = 1,
             Some(previous) => {
                 let sender = self.sender.clone();
                 let options = self.options;
@@ -266,16 +264,16 @@ impl AnimationStream {
     }
 
     /// Waits for every frame, writes the file (an APNG with `record` in its text chunk) and
-    /// moves it into place; returns whether an existing file was replaced. `final_first`
-    /// replaces the first frame; it may differ from the frame pushed first only in pixels that
-    /// no later frame changes (a clip's captions), as later frames are stored as changes.
+    /// moves it into place; returns whether an existing file was replaced. `first` is the first
+    /// frame as stored: the one pushed first, or a final version of it that differs only in
+    /// pixels no later frame changes (a clip's captions), as later frames are stored as changes.
     pub fn finish(
         mut self,
-        final_first: Option<&image::RgbaImage>,
+        first: &image::RgbaImage,
         record: Option<&str>,
     ) -> Result<bool, AnimationError> {
         let mut output = self.output.take().ok_or(AnimationError::Frames)?;
-        self.assemble(output.writer(), final_first, record)?;
+        self.assemble(output.writer(), first, record)?;
         Ok(output.commit()?)
     }
 
@@ -283,10 +281,10 @@ impl AnimationStream {
     /// in an anonymous scratch file, rewound.
     pub fn finish_intermediate(
         mut self,
-        final_first: Option<&image::RgbaImage>,
+        first: &image::RgbaImage,
     ) -> Result<File, AnimationError> {
         let mut out = BufWriter::new(files::anonymous_scratch(&self.path)?);
-        self.assemble(&mut out, final_first, None)?;
+        self.assemble(&mut out, first, None)?;
         let mut file = out
             .into_inner()
             .map_err(|e| write_error(&self.path, e.into_error()))?;
@@ -298,18 +296,15 @@ impl AnimationStream {
     fn assemble(
         &mut self,
         out: &mut BufWriter<File>,
-        final_first: Option<&image::RgbaImage>,
+        first: &image::RgbaImage,
         record: Option<&str>,
     ) -> Result<(), AnimationError> {
         while self.written < self.pushed {
             self.collect(true)?;
         }
-        let pushed_first = self.first.take().ok_or(AnimationError::Frames)?;
-        let first = match final_first {
-            Some(frame) if frame.dimensions() != self.size => return Err(AnimationError::Frames),
-            Some(frame) => frame,
-            None => pushed_first.as_ref(),
-        };
+        if self.pushed == 0 || first.dimensions() != self.size {
+            return Err(AnimationError::Frames);
+        }
         let frames = u32::try_from(self.pushed).map_err(|_| AnimationError::Frames)?;
         let options = self.options;
         let assembled = (|| {
@@ -351,13 +346,14 @@ pub fn write_animation(
     record: Option<&str>,
     policy: &Overwrite,
 ) -> Result<bool, AnimationError> {
-    let mut frames = frames.into_iter().peekable();
-    let size = frames.peek().ok_or(AnimationError::Frames)?.dimensions();
-    let mut stream = AnimationStream::create(path, policy, size, options)?;
+    let mut frames = frames.into_iter();
+    let first = frames.next().ok_or(AnimationError::Frames)?;
+    let mut stream = AnimationStream::create(path, policy, first.dimensions(), options)?;
+    stream.push(first.clone())?;
     for frame in frames {
         stream.push(frame)?;
     }
-    stream.finish(None, record)
+    stream.finish(&first, record)
 }
 
 #[cfg(test)]
@@ -479,7 +475,7 @@ mod tests {
             }
             assert_eq!(stream.pushed(), 5);
             let final_frames = captioned(5, 200);
-            stream.finish(Some(&final_frames[0]), None).unwrap();
+            stream.finish(&final_frames[0], None).unwrap();
             let bytes = std::fs::read(&path).unwrap();
             let decoded = match format {
                 AnimationFormat::Apng => decoded_apng(&bytes),

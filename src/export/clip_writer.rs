@@ -177,17 +177,17 @@ impl ClipWriter {
         self.stream().written()
     }
 
-    /// Finishes the clip (see [`AnimationStream::finish`] for `final_first`; `record` goes
+    /// Finishes the clip (see [`AnimationStream::finish`] for `first`; `record` goes
     /// into an APNG's text chunk) and moves it into place; returns whether an existing file was
     /// replaced. `background` pads a video's odd sides.
     pub fn finish(
         self,
-        final_first: Option<&image::RgbaImage>,
+        first: &image::RgbaImage,
         record: Option<&str>,
         background: [u8; 4],
     ) -> Result<bool, ClipWriteError> {
         let (intermediate, path, policy, format, fps) = match self {
-            Self::Animation(stream) => return Ok(stream.finish(final_first, record)?),
+            Self::Animation(stream) => return Ok(stream.finish(first, record)?),
             Self::Video {
                 intermediate,
                 path,
@@ -200,7 +200,7 @@ impl ClipWriter {
             path: path.clone(),
             reason,
         };
-        let file = intermediate.finish_intermediate(final_first)?;
+        let file = intermediate.finish_intermediate(first)?;
         let decoder = image::codecs::png::PngDecoder::new(BufReader::new(file))
             .and_then(|decoder| decoder.apng())
             .map_err(|e| unreadable(e.to_string()))?;

@@ -145,13 +145,20 @@ pub fn wanted_features() -> wgpu::Features {
         | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
 }
 
-/// The device descriptor the engine wants from `adapter`: every wanted feature it has, and its
-/// full limits (large supersampled targets need the real maximum texture size).
+/// The device descriptor the engine wants from `adapter`: every wanted feature it has, its
+/// full limits (large supersampled targets need the real maximum texture size), and on a
+/// software adapter, whose video memory is the process's own, wgpu's small memory blocks
+/// rather than its 128 MB ones.
 pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
     wgpu::DeviceDescriptor {
         label: Some("aa-lab device"),
         required_features: adapter.features() & wanted_features(),
         required_limits: adapter.limits(),
+        memory_hints: if adapter.get_info().device_type == wgpu::DeviceType::Cpu {
+            wgpu::MemoryHints::MemoryUsage
+        } else {
+            wgpu::MemoryHints::Performance
+        },
         ..Default::default()
     }
 }

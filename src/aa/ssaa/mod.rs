@@ -25,7 +25,7 @@ use wgpu::util::DeviceExt;
 mod plan;
 pub mod settings;
 
-pub use plan::{MAX_TILE_SIDE, TilePlan, progressive_order};
+pub use plan::{MAX_TILE_SIDE, SOFTWARE_MAX_TILE_SIDE, TilePlan, progressive_order};
 pub use settings::{MAX_FACTOR, MAX_SAMPLES, Mode, SsaaSettings};
 
 use crate::aa::common::pass::{self, Binding};
@@ -132,7 +132,11 @@ impl Ssaa {
         Self {
             settings,
             device: gpu.device.clone(),
-            max_tile_side: gpu.caps.max_texture_dimension_2d.min(MAX_TILE_SIDE),
+            max_tile_side: gpu.caps.max_texture_dimension_2d.min(if gpu.caps.software {
+                SOFTWARE_MAX_TILE_SIDE
+            } else {
+                MAX_TILE_SIDE
+            }),
             module: WGSL.module(&gpu.device),
             ordered: None,
             jittered: None,
