@@ -279,10 +279,7 @@ impl AnimationStream {
 
     /// [`AnimationStream::finish`] of an [`AnimationStream::intermediate`]: the animated PNG,
     /// in an anonymous scratch file, rewound.
-    pub fn finish_intermediate(
-        mut self,
-        first: &image::RgbaImage,
-    ) -> Result<File, AnimationError> {
+    pub fn finish_intermediate(mut self, first: &image::RgbaImage) -> Result<File, AnimationError> {
         let mut out = BufWriter::new(files::anonymous_scratch(&self.path)?);
         self.assemble(&mut out, first, None)?;
         let mut file = out

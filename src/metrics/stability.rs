@@ -94,11 +94,10 @@ impl ChangeAccumulator {
     /// Mean absolute luma change per pixel and frame pair, `C` of the module docs; `None`
     /// before two frames.
     pub fn mean_change(&self) -> Option<f64> {
-        (self.steps > 0 && !self.sum.is_empty())
-            .then(|| {
-                let total: f64 = self.sum.iter().map(|&s| f64::from(s)).sum();
-                total / (f64::from(self.steps) * self.sum.len() as f64)
-            })
+        (self.steps > 0 && !self.sum.is_empty()).then(|| {
+            let total: f64 = self.sum.iter().map(|&s| f64::from(s)).sum();
+            total / (f64::from(self.steps) * self.sum.len() as f64)
+        })
     }
 
     /// Per-pixel mean absolute luma change over the frame pairs, `c(p)` of the module docs;
