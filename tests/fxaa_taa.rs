@@ -94,6 +94,15 @@ fn with_reference(
     with_reference_on(gpu, scene, techniques, frames, &|f| still(scene, f, size))
 }
 
+/// The 64-sample reference, No AA and FXAA (its defaults) of the scene's first frame.
+fn no_aa_and_fxaa(gpu: &Gpu, scene: &Scene, size: (u32, u32)) -> (RgbaImage, Vec<RgbaImage>) {
+    let techniques = vec![
+        common::technique(gpu, "none", &[]),
+        common::technique(gpu, "fxaa", &[]),
+    ];
+    with_reference(gpu, scene, techniques, 1, size)
+}
+
 /// The 64-sample ordered-grid SSAA reference and the given techniques after `frames` frames of
 /// a camera path (the last frame is the one compared).
 fn with_reference_on(
@@ -190,16 +199,7 @@ fn fxaa_lowers_the_error_against_the_reference() {
     {
         let scene = common::flat_chart(slant);
         let window = slanted_edge(size);
-        let (reference, images) = with_reference(
-            &gpu,
-            &scene,
-            vec![
-                common::technique(&gpu, "none", &[]),
-                common::technique(&gpu, "fxaa", &[]),
-            ],
-            1,
-            size,
-        );
+        let (reference, images) = no_aa_and_fxaa(&gpu, &scene, size);
         let none = common::window_error(&images[0], &reference, window);
         let fxaa = common::window_error(&images[1], &reference, window);
         // Blending in linear light keeps the light of the edge window; blending the encoded
@@ -273,16 +273,7 @@ fn fxaa_edge_gain_and_flip_on_the_chart_and_hairball() {
         ("hairball", (427, 241), 0.275, 0.0757),
     ] {
         let scene = load(name, &SceneOptions::default()).unwrap_or_else(|e| panic!("{e}"));
-        let (reference, images) = with_reference(
-            &gpu,
-            &scene,
-            vec![
-                common::technique(&gpu, "none", &[]),
-                common::technique(&gpu, "fxaa", &[]),
-            ],
-            1,
-            size,
-        );
+        let (reference, images) = no_aa_and_fxaa(&gpu, &scene, size);
         let gain = edges::edge_gain(&reference, &images[0], &images[1])
             .expect("same sizes")
             .expect("No AA has edge error");

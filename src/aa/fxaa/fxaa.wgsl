@@ -100,6 +100,31 @@ fn encode_srgb(linear: vec3<f32>) -> vec3<f32> {
     return select(high, low, c <= vec3<f32>(0.0031308));
 }
 
+// The sRGB transfer function's inverse for one value, as a cubic (within 0.002 of it over
+// 0..1; three multiply-adds where the exact curve costs a pow).
+fn decode_srgb(encoded: f32) -> f32 {
+    let c = saturate(encoded);
+    return c * (c * (c * 0.305306011 + 0.682171111) + 0.012522878);
+}
+
+// The sub-pixel move on radiance (before the tonemapper), where the read mixes radiance: a
+// fraction of radiance is no fraction of the light as displayed, since a bright tube runs to 40
+// times white and 5% of it lights the pixel beside it past white. So the read moves by the
+// fraction of the compressed light (the perceptual copy, decoded) that moves its encoded luma
+// `amount` of the way up from the darker of the pixel and its neighbour across, the same for
+// both pixels of a pair (moving the compressed light itself by `amount` scored worse against
+// the display-referred reference: `docs/techniques/fxaa.md`).
+fn subpix_on_radiance(amount: f32, luma: f32, luma_across: f32) -> f32 {
+    let darker = min(luma, luma_across);
+    let brighter = max(luma, luma_across);
+    let decoded_darker = decode_srgb(darker);
+    let decoded_step = decode_srgb(brighter) - decoded_darker;
+    if decoded_step <= 1e-4 {
+        return amount;
+    }
+    return (decode_srgb(darker + amount * (brighter - darker)) - decoded_darker) / decoded_step;
+}
+
 fn luma_at(pixel: vec2<i32>) -> f32 {
     let last = vec2<i32>(textureDimensions(image)) - 1;
     return luma_of(textureLoad(image, clamp(pixel, vec2<i32>(0), last), 0).rgb);
@@ -178,7 +203,7 @@ fn analyse(position: vec2<f32>) -> Analysis {
     // strands of sub-pixel geometry, which a long move would nearly erase (their neighbours
     // across get a light share of their own), while a pixel beside a straight edge stands
     // out by a third of the range and moves by a few hundredths.
-    let subpix = min(eased * eased * params.rcp_frame_subpix.z, params.rcp_frame_subpix.w);
+    var subpix = min(eased * eased * params.rcp_frame_subpix.z, params.rcp_frame_subpix.w);
 
     // The two neighbours across the edge: north/south for a horizontal edge, else west/east.
     if !horizontal {
@@ -194,6 +219,10 @@ fn analyse(position: vec2<f32>) -> Analysis {
     if towards_n {
         across = -across;
         local_average = 0.5 * (luma_n + luma_m);
+    }
+
+    if RADIANCE {
+        subpix = min(subpix, subpix_on_radiance(subpix, luma_m, select(luma_s, luma_n, towards_n)));
     }
 
     // 3. Walk along the edge from the point half a pixel across it.

@@ -30,7 +30,9 @@
 //! Before the tonemapper of an HDR frame (`tonemap_order`), the luma tests read the perceptual
 //! copy of the radiance (`aa::common::perceptual`: Karis-compressed, sRGB-encoded, as SMAA,
 //! CMAA 2 and MLAA's edge detection does), so the thresholds keep their meaning, and the final
-//! read blends radiance into a half-float output.
+//! read blends radiance into a half-float output. There the sub-pixel move is the fraction of
+//! the compressed light that moves the encoded luma that far up from the darker side of the
+//! edge (the same fraction of radiance would light the pixels beside a bright tube past white).
 //!
 //! Folder: `mod.rs` (the technique, its registry entry, passes and debug view), `settings.rs`
 //! (quality presets, thresholds, named presets) and `fxaa.wgsl`. Measurements behind the linear
