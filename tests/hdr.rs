@@ -132,10 +132,14 @@ fn each_tonemap_order_wins_against_its_own_reference() {
         if name == "fxaa" {
             // FXAA before the tonemapper finds its edges on the perceptual copy, the same ones
             // as after it (`fxaa_before_the_tonemapper_finds_the_edges_of_the_displayed_image`),
-            // so against the display-referred reference the orders tie (on raw radiance's
-            // edges the before order scored 45% worse there).
+            // so against the display-referred reference the orders come close (on raw
+            // radiance's edges the before order scored 45% worse there). They tied while both
+            // read the sub-pixel amount from the darker side in encoded luma; after the
+            // tonemapper it is a linear fraction now, which that reference favours (measured
+            // .0301 before, .0262 after); before it, a fraction of radiance would light the
+            // pixels beside a tube past white (.0445), so it keeps the darker-side reading.
             let ratio = against_display.0 / against_display.1;
-            assert!((ratio - 1.0).abs() < 0.05, "{name}: {against_display:?}");
+            assert!((1.0..1.2).contains(&ratio), "{name}: {against_display:?}");
         } else {
             assert!(
                 against_display.1 < against_display.0 * 0.8,

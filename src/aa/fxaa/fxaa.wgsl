@@ -15,8 +15,8 @@
 //  4. The nearer end decides the blend: pixels near the end of a staircase step move up to half
 //     a pixel across the edge, provided the luma at that end falls on the other side of the
 //     local average. A sub-pixel term from the 3x3 low-pass (weighted by `subpix`) handles
-//     isolated features that have no edge span; it moves the read by the light-conserving
-//     reading of it for the pair across the edge (see there).
+//     isolated features that have no edge span; it moves the read at most `subpix_limit` of a
+//     pixel (see there).
 //  5. One bilinear read at the pixel centre moved across the edge by that offset.
 //
 // Colour spaces, as FXAA 3.11 prescribes for sRGB targets: every luma test (steps 1-4) reads
@@ -38,7 +38,8 @@
 override RADIANCE: bool = false;
 
 struct FxaaParams {
-    // xy: size of one pixel in UV, z: subpix (0 off .. 1 softest), w: unused.
+    // xy: size of one pixel in UV, z: subpix (0 off .. 1 softest), w: subpix_limit (the
+    // longest sub-pixel move, in pixels).
     rcp_frame_subpix: vec4<f32>,
     // x: edge_threshold, y: edge_threshold_min.
     thresholds: vec4<f32>,
@@ -100,11 +101,28 @@ fn encode_srgb(linear: vec3<f32>) -> vec3<f32> {
 }
 
 // The sRGB transfer function's inverse for one value, as a cubic (within 0.002 of it over
-// 0..1; three multiply-adds where the exact curve costs a pow, which on a software rasteriser
-// is a tenth of this pass).
+// 0..1; three multiply-adds where the exact curve costs a pow).
 fn decode_srgb(encoded: f32) -> f32 {
     let c = saturate(encoded);
     return c * (c * (c * 0.305306011 + 0.682171111) + 0.012522878);
+}
+
+// The sub-pixel move on radiance (before the tonemapper), where the read mixes radiance: a
+// fraction of radiance is no fraction of the light as displayed, since a bright tube runs to 40
+// times white and 5% of it lights the pixel beside it past white. So the read moves by the
+// fraction of the compressed light (the perceptual copy, decoded) that moves its encoded luma
+// `amount` of the way up from the darker of the pixel and its neighbour across, the same for
+// both pixels of a pair (moving the compressed light itself by `amount` scored worse against
+// the display-referred reference: `docs/techniques/fxaa.md`).
+fn subpix_on_radiance(amount: f32, luma: f32, luma_across: f32) -> f32 {
+    let darker = min(luma, luma_across);
+    let brighter = max(luma, luma_across);
+    let decoded_darker = decode_srgb(darker);
+    let decoded_step = decode_srgb(brighter) - decoded_darker;
+    if decoded_step <= 1e-4 {
+        return amount;
+    }
+    return (decode_srgb(darker + amount * (brighter - darker)) - decoded_darker) / decoded_step;
 }
 
 fn luma_at(pixel: vec2<i32>) -> f32 {
@@ -180,7 +198,12 @@ fn analyse(position: vec2<f32>) -> Analysis {
         + (luma_nw + luma_ne + luma_sw + luma_se)) / 12.0;
     let contrast = saturate(abs(low_pass - luma_m) / range);
     let eased = (3.0 - 2.0 * contrast) * contrast * contrast;
-    let subpix_offset = eased * eased * params.rcp_frame_subpix.z;
+    // The read moves by that fraction of the way to the neighbour across, in linear light, but
+    // never further than `subpix_limit`: the pixels that stand out most are the one-pixel
+    // strands of sub-pixel geometry, which a long move would nearly erase (their neighbours
+    // across get a light share of their own), while a pixel beside a straight edge stands
+    // out by a third of the range and moves by a few hundredths.
+    var subpix = min(eased * eased * params.rcp_frame_subpix.z, params.rcp_frame_subpix.w);
 
     // The two neighbours across the edge: north/south for a horizontal edge, else west/east.
     if !horizontal {
@@ -196,6 +219,10 @@ fn analyse(position: vec2<f32>) -> Analysis {
     if towards_n {
         across = -across;
         local_average = 0.5 * (luma_n + luma_m);
+    }
+
+    if RADIANCE {
+        subpix = min(subpix, subpix_on_radiance(subpix, luma_m, select(luma_s, luma_n, towards_n)));
     }
 
     // 3. Walk along the edge from the point half a pixel across it.
@@ -247,26 +274,6 @@ fn analyse(position: vec2<f32>) -> Analysis {
     let good_n = (end_n < 0.0) != centre_below;
     let good_p = (end_p < 0.0) != centre_below;
     let good = select(good_p, good_n, nearer_n);
-    // The sub-pixel amount is a softening Lottes tuned on encoded values, and the read mixes
-    // linear light: 5% of a white neighbour lifts a black pixel to 63/255 in linear light where
-    // the encoded blend gives 13/255, and every pixel beside a straight high-contrast edge gets
-    // that 5% (its 3x3 low-pass differs from it by a third of the range). So the read moves by
-    // the linear fraction that moves the encoded luma that far up from the darker of the pixel
-    // and its neighbour across (never more than the fraction itself). The pair then trades the
-    // same amount of light both ways: a dark pixel keeps its encoded-blend look, and the bright
-    // one gives up no more than the dark one gains (taking the gentler reading from each
-    // pixel's own side instead lost 11% of the light of sub-pixel geometry such as hairball's).
-    let luma_across = select(luma_s, luma_n, towards_n);
-    let darker = min(luma_m, luma_across);
-    let brighter = max(luma_m, luma_across);
-    let decoded_darker = decode_srgb(darker);
-    let decoded_step = decode_srgb(brighter) - decoded_darker;
-    let subpix_encoded = select(
-        subpix_offset,
-        (decode_srgb(darker + subpix_offset * (brighter - darker)) - decoded_darker) / decoded_step,
-        decoded_step > 1e-4,
-    );
-    let subpix = min(subpix_offset, subpix_encoded);
     let offset = max(select(0.0, span_offset, good), subpix);
     result.offset = offset;
 

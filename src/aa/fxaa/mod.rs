@@ -7,32 +7,36 @@
 //! for perceptual LDR values, but blends in linear light, as Lottes intended for sRGB targets: the
 //! final bilinear read goes through the sRGB view, whose texels the sampler decodes before
 //! filtering, and is encoded again on output (blending encoded values leaves half-covered pixels
-//! far too dark). The sub-pixel amount, a softening Lottes tuned on encoded values, moves the read
-//! by the linear fraction that moves the encoded luma that far up from the darker side of the edge,
-//! the same for both pixels of a pair, so the pair trades the same light both ways: read as a
-//! linear fraction alone it over-brightens dark pixels beside an edge, and read from each pixel's
-//! own side it loses the light of sub-pixel geometry.
+//! far too dark). The sub-pixel amount, Lottes' softening of pixels that stand out of their 3x3
+//! neighbourhood, moves the read that fraction of the way to the neighbour across, in linear
+//! light, but never further than `subpix_limit` (0.35 of a pixel by default): the pixels that
+//! stand out most are the one-pixel strands of sub-pixel geometry, which a longer move nearly
+//! erases, while the pixels beside a straight edge move by a few hundredths.
 //! Settings:
 //! - `quality`: Lottes' presets 10-15 (few steps, a long last step: medium dither), 20-29 (more,
 //!   shorter steps: less dither) and 39 (twelve short steps, no dither); the search step list
 //!   of the preset goes into the shader as override constants, so a pipeline is built per
 //!   preset and luma choice and cached;
-//! - `subpix`, `edge_threshold`, `edge_threshold_min` as in FXAA 3.11 (uniforms: changing them
-//!   costs nothing);
+//! - `subpix`, `edge_threshold`, `edge_threshold_min` as in FXAA 3.11, and `subpix_limit`
+//!   (uniforms: changing them costs nothing);
 //! - `luma`: BT.601 luma or green-as-luma.
 //!
-//! Presets: `default` (Lottes' defaults: quality 12, subpix 0.75, thresholds 0.166 / 0.0833)
-//! and Bevy's sensitivity levels `low` .. `extreme`, which set the two thresholds.
+//! Presets: `default` (aa-lab's: quality 39, subpix 0.85 up to 0.35 of a pixel, Lottes'
+//! thresholds 0.166 / 0.0833), `lottes` (quality 12, subpix 0.75 without a limit) and Bevy's
+//! sensitivity levels `low` .. `extreme`, which set the two thresholds. The defaults remove as
+//! much of No AA's edge error as Bevy's FXAA does, with a lower FLIP.
 //! Debug view `edges`: the luma, with the pixels FXAA treats as edges coloured by orientation.
 //!
 //! Before the tonemapper of an HDR frame (`tonemap_order`), the luma tests read the perceptual
 //! copy of the radiance (`aa::common::perceptual`: Karis-compressed, sRGB-encoded, as SMAA,
 //! CMAA 2 and MLAA's edge detection does), so the thresholds keep their meaning, and the final
-//! read blends radiance into a half-float output.
+//! read blends radiance into a half-float output. There the sub-pixel move is the fraction of
+//! the compressed light that moves the encoded luma that far up from the darker side of the
+//! edge (the same fraction of radiance would light the pixels beside a bright tube past white).
 //!
 //! Folder: `mod.rs` (the technique, its registry entry, passes and debug view), `settings.rs`
 //! (quality presets, thresholds, named presets) and `fxaa.wgsl`. Measurements behind the linear
-//! blend and the sub-pixel amount, and what was tried: `docs/techniques/fxaa.md`.
+//! blend, the sub-pixel amount and the defaults, and what was tried: `docs/techniques/fxaa.md`.
 
 pub mod settings;
 
@@ -221,7 +225,12 @@ impl Technique for Fxaa {
         let (width, height) = input.desc.size;
         let s = &self.settings;
         let uniform = FxaaUniform {
-            rcp_frame_subpix: [1.0 / width as f32, 1.0 / height as f32, s.subpix, 0.0],
+            rcp_frame_subpix: [
+                1.0 / width as f32,
+                1.0 / height as f32,
+                s.subpix,
+                s.subpix_limit,
+            ],
             thresholds: [s.edge_threshold, s.edge_threshold_min, 0.0, 0.0],
         };
         ctx.gpu

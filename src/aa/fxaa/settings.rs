@@ -1,6 +1,7 @@
 //! FXAA's settings: Lottes' quality presets (the edge-search step lists, which become override
-//! constants), the two contrast thresholds, the sub-pixel amount, the luma choice, the named
-//! presets (Lottes' defaults and Bevy's sensitivity levels), and every parameter as data for
+//! constants), the two contrast thresholds, the sub-pixel amount and its limit, the luma
+//! choice, the named presets (aa-lab's defaults, Lottes' and Bevy's sensitivity levels), and
+//! every parameter as data for
 //! the CLI, viewer and sidecars (its [`Tunable`] implementation).
 
 use crate::aa::common::color::LumaSource;
@@ -78,11 +79,15 @@ impl Quality {
 }
 
 crate::named_enum! {
-    /// The named presets: Lottes' defaults, then Bevy's sensitivity levels, which set the two
-    /// contrast thresholds.
+    /// The named presets: aa-lab's defaults, Lottes' FXAA 3.11 defaults, then Bevy's
+    /// sensitivity levels, which set the two contrast thresholds.
     pub enum Preset {
-        /// Lottes' FXAA 3.11 defaults: quality 12, subpix 0.75, thresholds 0.166 / 0.0833.
+        /// aa-lab's defaults: quality 39, subpix 0.85 up to 0.35 of a pixel, thresholds 0.166 /
+        /// 0.0833.
         Default => "default",
+        /// Lottes' FXAA 3.11 defaults: quality 12, subpix 0.75 without a limit, thresholds
+        /// 0.166 / 0.0833.
+        Lottes => "lottes",
         /// Thresholds 0.25 / 0.0833.
         Low => "low",
         /// Thresholds 0.166 / 0.0625.
@@ -97,10 +102,11 @@ crate::named_enum! {
 }
 
 impl Preset {
-    /// Bevy's sensitivity: (edge_threshold, edge_threshold_min); `None` for Lottes' defaults.
+    /// Bevy's sensitivity: (edge_threshold, edge_threshold_min); `None` for the presets that
+    /// set every setting.
     pub fn thresholds(self) -> Option<(f32, f32)> {
         match self {
-            Self::Default => None,
+            Self::Default | Self::Lottes => None,
             Self::Low => Some((0.250, 0.0833)),
             Self::Medium => Some((0.166, 0.0625)),
             Self::High => Some((0.125, 0.0312)),
@@ -115,8 +121,10 @@ impl Preset {
 pub struct FxaaSettings {
     /// Quality preset.
     pub quality: Quality,
-    /// Sub-pixel blending: 0 off, 0.75 default, 1 softest.
+    /// Sub-pixel blending: 0 off, 1 softest.
     pub subpix: f32,
+    /// The longest sub-pixel move of the read, in pixels (1: no limit, as Lottes').
+    pub subpix_limit: f32,
     /// Contrast needed to process a pixel, relative to the brightest luma of its cross.
     pub edge_threshold: f32,
     /// Contrast below which dark pixels are skipped regardless.
@@ -128,11 +136,25 @@ pub struct FxaaSettings {
 }
 
 impl Default for FxaaSettings {
-    /// Lottes' FXAA 3.11 defaults.
+    /// aa-lab's defaults: Lottes' thresholds with a longer edge search and a stronger but
+    /// limited sub-pixel blend (the measurements: `docs/techniques/fxaa.md`).
     fn default() -> Self {
+        Self {
+            quality: Quality::Q39,
+            subpix: 0.85,
+            subpix_limit: 0.35,
+            ..Self::lottes()
+        }
+    }
+}
+
+impl FxaaSettings {
+    /// Lottes' FXAA 3.11 defaults.
+    pub fn lottes() -> Self {
         Self {
             quality: Quality::Q12,
             subpix: 0.75,
+            subpix_limit: 1.0,
             edge_threshold: 0.166,
             edge_threshold_min: 0.0833,
             luma: LumaSource::Bt601,
@@ -153,17 +175,28 @@ impl Tunable for FxaaSettings {
                 "FXAA 3.11 quality preset: how far and in what steps the pass searches along an edge \
                  for its ends. 10-15: few steps ending in a long jump (fast, some dither on long \
                  edges); 20-29: more, shorter steps; 39: twelve short steps (no dither, slowest). \
-                 Lottes' default is 12.",
+                 Lottes' default is 12, aa-lab's 39.",
                 s.quality,
             ),
             Param::float(
                 "subpix",
                 "Sub-pixel blending",
                 "How much single pixels that stand out from their 3x3 neighbourhood are blended \
-                 (sub-pixel aliasing): 0 off and sharpest, 0.75 the default, 1 softest.",
+                 (sub-pixel aliasing): 0 off and sharpest, 0.85 the default (Lottes' 0.75), 1 \
+                 softest.",
                 0.0,
                 1.0,
                 s.subpix,
+            ),
+            Param::float(
+                "subpix_limit",
+                "Sub-pixel limit",
+                "The furthest sub-pixel blending moves a pixel's read towards its neighbour, in \
+                 pixels: 0.35 the default keeps one-pixel strands (hair, wires) visible, 1 no \
+                 limit (Lottes').",
+                0.0,
+                1.0,
+                s.subpix_limit,
             ),
             Param::float(
                 "edge_threshold",
@@ -204,6 +237,7 @@ impl Tunable for FxaaSettings {
             [
                 quality,
                 subpix,
+                subpix_limit,
                 edge_threshold,
                 edge_threshold_min,
                 luma,
@@ -212,13 +246,20 @@ impl Tunable for FxaaSettings {
         )
     }
 
-    /// Lottes' defaults, or a sensitivity level's two thresholds (the rest kept; the tonemap
-    /// order is no part of a preset).
+    /// aa-lab's or Lottes' defaults, or a sensitivity level's two thresholds (the rest kept;
+    /// the tonemap order is no part of a preset).
     fn apply_preset(&mut self, preset: Preset) {
+        let tonemap_order = self.tonemap_order;
         match preset.thresholds() {
+            None if preset == Preset::Lottes => {
+                *self = Self {
+                    tonemap_order,
+                    ..Self::lottes()
+                }
+            }
             None => {
                 *self = Self {
-                    tonemap_order: self.tonemap_order,
+                    tonemap_order,
                     ..Self::default()
                 }
             }
@@ -304,10 +345,30 @@ mod tests {
     }
 
     #[test]
+    fn lottes_preset_restores_fxaa_3_11_and_default_restores_aa_labs() {
+        let mut settings = FxaaSettings {
+            tonemap_order: TonemapOrder::Before,
+            ..FxaaSettings::default()
+        };
+        settings.apply_preset(Preset::Lottes);
+        assert_eq!(
+            (settings.quality, settings.subpix, settings.subpix_limit),
+            (Quality::Q12, 0.75, 1.0)
+        );
+        assert_eq!(settings.tonemap_order, TonemapOrder::Before);
+        settings.apply_preset(Preset::Default);
+        assert_eq!(
+            (settings.quality, settings.subpix, settings.subpix_limit),
+            (Quality::Q39, 0.85, 0.35)
+        );
+        assert_eq!(settings.tonemap_order, TonemapOrder::Before);
+    }
+
+    #[test]
     fn sensitivity_presets_tighten_in_order() {
         let sensitivities: Vec<(f32, f32)> =
             Preset::ALL.iter().filter_map(|p| p.thresholds()).collect();
-        assert_eq!(sensitivities.len(), Preset::ALL.len() - 1);
+        assert_eq!(sensitivities.len(), Preset::ALL.len() - 2);
         for pair in sensitivities.windows(2) {
             assert!(pair[1].0 < pair[0].0 && pair[1].1 < pair[0].1);
         }
