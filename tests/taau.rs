@@ -119,12 +119,13 @@ fn taau_leaves_no_ghost_trail_behind_camera_or_object_motion() {
 #[test]
 fn taau_keeps_its_detail_on_atrium_under_the_orbit() {
     // Under the orbit the history is read between texels every frame and each read blurs it a
-    // little; a pixel whose read lands near a texel once kept a long history that the
+    // little; a moving pixel whose read landed near a texel once kept a long history that the
     // following reads blurred again, generation after generation. The history now keeps only
-    // its motion samples wherever the pixel moves, which lifted taau from below TAA to above it
-    // at native and taau@quality by about .011 SSIM. Measured on frame 16 before and after
-    // (docs/upscaling.md): taau .9391 -> .9496 and .9453 -> .9545 (TAA .9410 and .9464),
-    // taau@quality .8798 -> .8909 and .8868 -> .8975 at 640x360 and 853x481.
+    // its motion samples wherever the pixel moves half an output pixel per frame or more,
+    // which lifted taau from below TAA to above it at native and taau@quality by about .009
+    // SSIM. Measured on frame 16 before and after (docs/upscaling.md): taau .9391 -> .9482 and
+    // .9453 -> .9534 (TAA .9410 and .9464), taau@quality .8798 -> .8883 and .8868 -> .8955 at
+    // 640x360 and 853x481.
     let gpu = common::gpu();
     let scene = aa_lab::scene::source::load("atrium", &Default::default())
         .unwrap_or_else(|e| panic!("{e}"));

@@ -69,8 +69,10 @@ override KERNEL: u32 = 0u;
 override REACTIVE_MASK: bool = false;
 
 // Speed (output pixels per frame) from which the history keeps only its motion samples,
-// however close to a texel this frame's read lands: below it the content has settled.
-const SETTLED_SPEED: f32 = 0.25;
+// however close to a texel this frame's read lands; slower, the cap eases towards the
+// fraction's, so a slow steady pan (whose read lands at the same fraction every frame) keeps
+// its calm.
+const SETTLED_SPEED: f32 = 0.5;
 
 // exp(-a d^2) with a = 6: the variance of a one-pixel box (1/12 per axis).
 const BOX_SHARPNESS: f32 = 6.0;
