@@ -13,7 +13,9 @@
 //! - **Accumulation at the output resolution**: every new render sample joins the history of
 //!   the output pixels near it with a weight from its distance to their centres (a Gaussian
 //!   with a one-pixel spread, or Lanczos-2); the history keeps how many samples it holds (its
-//!   confidence, capped), so a pixel that got no sample this frame keeps its history and one
+//!   confidence, capped: lower wherever the pixel moves, since every frame's read between
+//!   texels blurs the history a little more, and below native each frame adds fewer samples,
+//!   so a capped history outlives more reads), so a pixel that got no sample this frame keeps its history and one
 //!   that just lost its history takes the new samples at full weight. Where the two together
 //!   hold too little (first frame, disocclusion), a wide Gaussian of the render samples fills
 //!   in: a spatial upscale that the next samples replace.

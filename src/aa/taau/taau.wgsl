@@ -23,8 +23,9 @@
 //     history was written with (thin features the current samples missed are kept, as in
 //     this project's TAA).
 //  5. Accumulation: the history's confidence (samples accumulated, in kernel weight) is capped
-//     (fewer where reading the history between texels blurs it, fewer still on the reactive
-//     mask: surfaces moving on their own), and the new samples are added with their weights:
+//     (fewer where reading the history between texels blurs it or the pixel moves, so the
+//     history is read again next frame; fewer still on the reactive mask: surfaces moving on
+//     their own), and the new samples are added with their weights:
 //     colour = (history * n + sum(w c)) / (n + sum(w)).
 // Colour is linear (the sRGB input decodes on load, the sRGB output encodes on store).
 
@@ -66,6 +67,12 @@ override KERNEL: u32 = 0u;
 // The renderer's mask of blended surfaces (after FSR 2's reactive mask) joins the derived one:
 // the history keeps guard.w times their coverage fewer samples, and no velocity trust.
 override REACTIVE_MASK: bool = false;
+
+// Speed (output pixels per frame) from which the history keeps only its motion samples,
+// however close to a texel this frame's read lands; slower, the cap eases towards the
+// fraction's, so a slow steady pan (whose read lands at the same fraction every frame) keeps
+// its calm.
+const SETTLED_SPEED: f32 = 0.5;
 
 // exp(-a d^2) with a = 6: the variance of a one-pixel box (1/12 per axis).
 const BOX_SHARPNESS: f32 = 6.0;
@@ -330,7 +337,12 @@ fn resolve(position: vec2<f32>) -> Resolved {
             }
             kept = mix(clipped, reprojected, trust);
             // Reading between texels blurs the history: keep fewer samples the more it does.
-            let cap = mix(params.accumulate.x, min(params.accumulate.y, params.accumulate.x), blur);
+            // A moving pixel keeps the fewer samples whatever this frame's fraction: a read that
+            // lands near a texel now leaves a long history that the next frames' reads blur
+            // again, each generation a little more (at a render scale, where each frame adds
+            // fewer samples, the history outlives more reads).
+            let moving = max(blur, saturate(speed / SETTLED_SPEED));
+            let cap = mix(params.accumulate.x, min(params.accumulate.y, params.accumulate.x), moving);
             confidence = min(sampled.a, cap) * (1.0 - reactive);
         }
     }
