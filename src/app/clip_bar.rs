@@ -81,15 +81,15 @@ pub fn clip_bar(
             }
         } else {
             playback_controls(ui, &mut clip.player, count);
-            if ui.button("Live").on_hover_text("Back to the live view (the clip stays)").clicked() {
+            if action_button(ui, "Live").on_hover_text("Back to the live view (the clip stays)").clicked() {
                 action = Some(ClipAction::ShowLive);
             }
         }
         if !recording {
-            if ui.button("Export…").on_hover_text("Write the clip as a looping animated PNG and a self-contained HTML comparison page, with its record").clicked() {
+            if action_button(ui, "Export…").on_hover_text("Write the clip as a looping animated PNG and a self-contained HTML comparison page, with its record").clicked() {
                 action = Some(ClipAction::Export);
             }
-            if ui.button("Discard").clicked() {
+            if action_button(ui, "Discard").clicked() {
                 action = Some(ClipAction::Discard);
             }
         }
@@ -154,6 +154,13 @@ fn recipe_controls(ui: &mut egui::Ui, settings: &mut ClipSettings) -> bool {
             .on_hover_text("Samples per pixel of the clip's reference: 64 is the bench's, 16 records about four times faster");
     }
     record
+}
+
+/// A button of the bar after the playback controls, with an id of its own: the controls' frame
+/// rate warning comes and goes, and a button numbered after it would change id between the
+/// frame a click (accesskit's too) is aimed at it and the frame that takes the click.
+fn action_button(ui: &mut egui::Ui, text: &str) -> egui::Response {
+    ui.push_id(text, |ui| ui.button(text)).inner
 }
 
 /// Play and pause, single steps, the scrubber, the rate and ping-pong of a shown clip of
