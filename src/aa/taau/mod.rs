@@ -15,10 +15,10 @@
 //!   with a one-pixel spread, or Lanczos-2); the history keeps how many samples it holds (its
 //!   confidence, capped: lower wherever the pixel moves, since every frame's read between
 //!   texels blurs the history a little more, and below native each frame adds fewer samples,
-//!   so a capped history outlives more reads), so a pixel that got no sample this frame keeps its history and one
-//!   that just lost its history takes the new samples at full weight. Where the two together
-//!   hold too little (first frame, disocclusion), a wide Gaussian of the render samples fills
-//!   in: a spatial upscale that the next samples replace.
+//!   so a capped history outlives more reads), so a pixel that got no sample this frame keeps
+//!   its history and one that just lost its history takes the new samples at full weight.
+//!   Where the two together hold too little (first frame, disocclusion), a wide Gaussian of
+//!   the render samples fills in: a spatial upscale that the next samples replace.
 //! - **Motion of the nearest surface** (largest reverse-Z depth of the 3x3 render pixels).
 //! - **Disocclusion from depth**: the history keeps the nearest depth it was written with (a
 //!   second output-size target); where the reprojected place held a surface at another depth
