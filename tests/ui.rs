@@ -237,6 +237,38 @@ fn the_help_overlay_shows_in_full_on_the_first_frame_after_its_key() {
 }
 
 #[test]
+fn shortcuts_are_answered_in_the_raw_input_and_the_help_closes_on_a_click() {
+    let mut harness = viewer("chart");
+    harness.state_mut().camera_mut().playing = false;
+    wait(&mut harness, "the first frame", AaLabApp::frame_ready);
+    // What eframe's window does before each frame (egui_kittest runs no hook): the keys a
+    // shortcut answers leave no input behind, so egui asks for no settling frames.
+    let f1 = |pressed| egui::Event::Key {
+        key: egui::Key::F1,
+        physical_key: None,
+        pressed,
+        repeat: false,
+        modifiers: egui::Modifiers::NONE,
+    };
+    let mut raw = egui::RawInput {
+        events: vec![f1(true), f1(false)],
+        ..Default::default()
+    };
+    let ctx = harness.ctx.clone();
+    eframe::App::raw_input_hook(harness.state_mut(), &ctx, &mut raw);
+    assert!(raw.events.is_empty(), "{:?}", raw.events);
+    harness.step();
+    // A click anywhere closes the help, and reaches nothing under it.
+    let layout = harness.state().settings().layout;
+    harness.get_by_label("Keyboard and mouse").click();
+    // The frame that sees the click still shows the help; egui paints the next one after input.
+    harness.step();
+    harness.step();
+    assert!(harness.query_by_label("Keyboard and mouse").is_none());
+    assert_eq!(harness.state().settings().layout, layout);
+}
+
+#[test]
 fn the_lens_follows_ctrl_click_drag_and_arrows() {
     let mut harness = viewer("chart");
     let image = harness.state().image_rect().expect("drawn");

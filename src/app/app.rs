@@ -18,6 +18,7 @@ use super::camera::CameraController;
 use super::clip_bar;
 use super::context::{Command, Context, Level, NOTICE_SECONDS, Notice};
 use super::engine::DisplayPath;
+use super::key_events::KeyIntake;
 use super::magnifier::{MagnifierPanel, PanelInputs};
 use super::metrics_panel;
 use super::panels;
@@ -69,6 +70,10 @@ pub struct AaLabApp {
     help_open: bool,
     /// The side panels are hidden.
     panels_hidden: bool,
+    /// Shortcut keys answered from the raw input, before egui's pass.
+    keys: KeyIntake,
+    /// The actions of those keys, carried out in the frame's `ui`.
+    key_actions: Vec<Action>,
     /// Engine frames published so far.
     engine_frames: u64,
     #[cfg(feature = "profile")]
@@ -151,6 +156,8 @@ impl AaLabApp {
             bench: BenchFeature::default(),
             help_open: false,
             panels_hidden: false,
+            keys: KeyIntake::default(),
+            key_actions: Vec::new(),
             engine_frames: 0,
             #[cfg(feature = "profile")]
             profile: ProfileLog {
@@ -463,6 +470,18 @@ impl AaLabApp {
         (self.ws.cx.gpu.device.clone(), engine)
     }
 
+    /// The fly camera is on (its keys move it instead of acting as shortcuts).
+    fn flying(&self) -> bool {
+        self.ws.cx.camera.mode == super::camera::CameraMode::Fly && !self.ws.cx.images.is_open()
+    }
+
+    /// Takes the keys of a blind comparison (answered at once) and of the shortcuts (returned)
+    /// out of `events`; the caller checks that no text field has keyboard focus.
+    fn take_keys(&mut self, events: &mut Vec<egui::Event>) -> Vec<Action> {
+        self.ws.cx.blind_keys(events);
+        shortcuts::take_actions(events, self.flying())
+    }
+
     fn handle_action(&mut self, ctx: &egui::Context, action: Action) {
         match action {
             // The techniques are not shown while images are.
@@ -635,12 +654,15 @@ impl eframe::App for AaLabApp {
         if let Some((level, text)) = self.bench.poll() {
             self.ws.cx.notify(level, text);
         }
-        self.ws.cx.blind_keys(&ctx);
-        let flying = self.ws.cx.camera.mode == super::camera::CameraMode::Fly
-            && !self.ws.cx.images.is_open();
-        for action in shortcuts::pressed_actions(&ctx, flying) {
+        // Keys the raw-input hook did not see (egui_kittest runs no hook) are taken here.
+        let mut actions = std::mem::take(&mut self.key_actions);
+        if !ctx.egui_wants_keyboard_input() {
+            actions.extend(ctx.input_mut(|input| self.take_keys(&mut input.events)));
+        }
+        for action in actions {
             self.handle_action(&ctx, action);
         }
+        let flying = self.flying();
         if flying {
             let input = shortcuts::fly_input(&ctx);
             if input.moving() {
@@ -726,6 +748,18 @@ impl eframe::App for AaLabApp {
             let left = NOTICE_SECONDS - oldest.elapsed().as_secs_f64();
             ctx.request_repaint_after(Duration::from_secs_f64(left.max(0.0)));
         }
+    }
+
+    /// Answers the shortcut keys before egui's pass sees them (see [`KeyIntake`]): a key then
+    /// costs one painted frame instead of egui's settling frames after input.
+    fn raw_input_hook(&mut self, ctx: &egui::Context, raw_input: &mut egui::RawInput) {
+        if ctx.egui_wants_keyboard_input() {
+            return;
+        }
+        let mut keys = std::mem::take(&mut self.keys);
+        let actions = keys.take(&mut raw_input.events, |events| self.take_keys(events));
+        self.keys = keys;
+        self.key_actions.extend(actions);
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {

@@ -60,6 +60,7 @@ mod image_panel;
 mod image_set;
 mod jod;
 mod jod_panel;
+mod key_events;
 mod lens;
 mod magnifier;
 mod metrics_panel;

@@ -521,22 +521,29 @@ pub(super) fn status_bar(ui: &mut egui::Ui, ws: &Workspace, hover: Option<(u32, 
                 );
                 ui.label(RichText::new(frame).small().monospace())
                     .on_hover_text("The animation clock and temporal jitter index; it advances once per rendered frame while playing.");
-                if let Some((x, y)) = hover {
+                // What comes and goes every few frames (the pixel under the pointer, the FPS,
+                // "rendering…") keeps its place, hidden, so that the widgets after it keep their
+                // ids: a widget egui has not seen in the previous frame asks for two more frames
+                // (see `key_events.rs` for what a frame costs on a software rasteriser).
+                let pixel = egui::UiBuilder::new();
+                let pixel = if hover.is_some() { pixel } else { pixel.invisible() };
+                ui.scope_builder(pixel, |ui| {
+                    let (x, y) = hover.unwrap_or_default();
                     ui.separator();
                     ui.label(RichText::new(format!("pixel ({x}, {y})")).small().monospace());
-                }
-                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                });
+                let right = egui::UiBuilder::new()
+                    .scope_id(ui.scope_id().with("status bar, right"))
+                    .layout(egui::Layout::right_to_left(egui::Align::Center));
+                ui.scope_builder(right, |ui| {
                     let window = std::time::Duration::from_secs(2);
-                    if let Some((fps, ms)) = ws.cx.clock.fps(window) {
-                        ui.label(RichText::new(format!("{fps:.1} FPS · {}", style::ms(ms))).small().monospace())
-                            .on_hover_text("Rendered frames per second over the last 2 s (frames in which the techniques produced new images), and the median time between them.");
-                    }
-                    if ws.cx.rendering() {
-                        // Static, like the loading note (an animation would repaint
-                        // continuously).
-                        ui.label(RichText::new("rendering…").small().weak())
-                            .on_hover_text("A frame is being rendered; the interface keeps responding meanwhile.");
-                    }
+                    let fps = ws.cx.clock.fps(window);
+                    let (rate, ms) = fps.unwrap_or_default();
+                    ui.add_visible(fps.is_some(), egui::Label::new(RichText::new(format!("{rate:.1} FPS · {}", style::ms(ms))).small().monospace()))
+                        .on_hover_text("Rendered frames per second over the last 2 s (frames in which the techniques produced new images), and the median time between them.");
+                    // Static, like the loading note (an animation would repaint continuously).
+                    ui.add_visible(ws.cx.rendering(), egui::Label::new(RichText::new("rendering…").small().weak()))
+                        .on_hover_text("A frame is being rendered; the interface keeps responding meanwhile.");
                     ui.separator();
                     if let Some(notice) = ws.cx.notices.last() {
                         let color = match notice.level {

@@ -2,9 +2,12 @@
 //! overlay, so the overlay can never list a key that does nothing. Keys that act while held
 //! (flip to B or to the reference) and the lens nudges are listed in the same overlay.
 
+use std::sync::Arc;
+
 use egui::{Key, KeyboardShortcut, Modifiers};
 
 use super::blind::DIGIT_KEYS;
+use super::key_events::take_press;
 use super::settings::Layout;
 use super::{blit, style};
 
@@ -168,40 +171,36 @@ pub fn fly_input(ctx: &egui::Context) -> super::camera::FlyInput {
     })
 }
 
-/// The actions whose keys were pressed this frame (consumed, so egui widgets do not see them).
-/// Nothing is consumed while a text field has keyboard focus; with `flying`, the plain
-/// shortcuts on [`FLY_KEYS`] are left to the fly camera.
-pub fn pressed_actions(ctx: &egui::Context, flying: bool) -> Vec<Action> {
-    if ctx.egui_wants_keyboard_input() {
-        return Vec::new();
+/// Takes the presses of the single-press shortcuts out of `events` (so egui widgets do not see
+/// them) and returns their actions, in the table's order. With `flying`, the plain shortcuts on
+/// [`FLY_KEYS`] are left to the fly camera. The caller checks first that no text field has
+/// keyboard focus.
+pub fn take_actions(events: &mut Vec<egui::Event>, flying: bool) -> Vec<Action> {
+    let mut actions = Vec::new();
+    // Longer modifier combinations first, so Ctrl+Shift+C is not taken for Ctrl+C.
+    let mut table: Vec<&Shortcut> = SHORTCUTS.iter().collect();
+    table.sort_by_key(|s| std::cmp::Reverse(modifier_count(s.shortcut.modifiers)));
+    for entry in table {
+        let fly_key = FLY_KEYS.contains(&entry.shortcut.logical_key)
+            && entry.shortcut.modifiers == Modifiers::NONE;
+        if flying && fly_key {
+            continue;
+        }
+        if take_press(events, entry.shortcut.modifiers, entry.shortcut.logical_key) {
+            actions.push(entry.action);
+        }
     }
-    ctx.input_mut(|input| {
-        let mut actions = Vec::new();
-        // Longer modifier combinations first, so Ctrl+Shift+C is not taken for Ctrl+C.
-        let mut table: Vec<&Shortcut> = SHORTCUTS.iter().collect();
-        table.sort_by_key(|s| std::cmp::Reverse(modifier_count(s.shortcut.modifiers)));
-        for entry in table {
-            let fly_key = FLY_KEYS.contains(&entry.shortcut.logical_key)
-                && entry.shortcut.modifiers == Modifiers::NONE;
-            if flying && fly_key {
-                continue;
-            }
-            if input.consume_shortcut(&entry.shortcut) {
-                actions.push(entry.action);
-            }
+    for (n, key) in DIGIT_KEYS[1..].iter().enumerate() {
+        if take_press(events, Modifiers::NONE, *key) {
+            actions.push(Action::ToggleTechnique(n));
         }
-        for (n, key) in DIGIT_KEYS[1..].iter().enumerate() {
-            if input.consume_key(Modifiers::NONE, *key) {
-                actions.push(Action::ToggleTechnique(n));
-            }
+    }
+    for (n, key) in BOOKMARK_KEYS.iter().enumerate() {
+        if take_press(events, Modifiers::NONE, *key) {
+            actions.push(Action::GoToBookmark(n));
         }
-        for (n, key) in BOOKMARK_KEYS.iter().enumerate() {
-            if input.consume_key(Modifiers::NONE, *key) {
-                actions.push(Action::GoToBookmark(n));
-            }
-        }
-        actions
-    })
+    }
+    actions
 }
 
 fn modifier_count(m: Modifiers) -> u8 {
@@ -241,40 +240,35 @@ pub(super) fn shortcut_hint(ctx: &egui::Context, action: Action, text: &str) -> 
     }
 }
 
-/// The help overlay (a modal listing every key), while `open` is set.
+/// The help overlay listing every key, while `open` is set; a click anywhere, F1 or Esc
+/// closes it.
 ///
-/// It shows in full on the first frame after the key, and its large areas are painted by
-/// [`blit::fill`]: egui's modal fades in over several frames and paints its backdrop and
-/// frame through egui's textured shader, which on a software rasteriser made each frame of
-/// the overlay several times as slow as the window without it (figures: `docs/viewer.md`).
+/// It is painted, not built of widgets, into an area that is shown in every frame (empty while
+/// the help is closed): egui asks for two more frames when an area becomes visible and when a
+/// widget it has not seen before appears (a modal, a grid, a Close button), and on a software
+/// rasteriser each of those paints took as long as the one that shows the help. Its large areas
+/// are [`blit::fill`]s, which skip egui's per-pixel texture sampling (figures: `docs/viewer.md`).
+/// It shows in full on the first frame after the key.
 pub fn help_overlay(ctx: &egui::Context, open: &mut bool) {
-    if !*open {
-        return;
-    }
-    let id = egui::Id::unique("aa-lab help");
-    // Between the panels (background) and the modal (foreground).
-    let backdrop = ctx.layer_painter(egui::LayerId::new(egui::Order::Middle, id.with("backdrop")));
-    blit::fill(&backdrop, ctx.content_rect(), HELP_BACKDROP);
-    let modal = egui::Modal::new(id)
-        .area(egui::Modal::default_area(id).fade_in(false))
-        .backdrop_color(egui::Color32::TRANSPARENT)
-        .frame(egui::Frame::NONE)
+    let window = ctx.content_rect();
+    egui::Area::new(egui::Id::unique("aa-lab help"))
+        .order(egui::Order::Foreground)
+        .fixed_pos(window.min)
+        .interactable(*open)
         .show(ctx, |ui| {
-            let background = ui.painter().add(egui::Shape::Noop);
-            let panel = egui::Frame::NONE
-                .inner_margin(HELP_MARGIN)
-                .show(ui, help_contents);
-            let rect = panel.response.rect;
-            ui.painter()
-                .set(background, blit::fill_shape(ctx, rect, style::PANEL_FILL));
-            let border = egui::Stroke::new(1.0, ui.visuals().window_stroke.color);
-            ui.painter()
-                .rect_stroke(rect, 0.0, border, egui::StrokeKind::Inside);
-            panel.inner
+            if !*open {
+                return;
+            }
+            // Covers the window, so that no click reaches the widgets under the help.
+            let cover = ui.allocate_rect(window, egui::Sense::click());
+            cover.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Dialog, true, HELP_TITLE));
+            if cover.clicked() {
+                *open = false;
+            }
+            let painter = ui.painter();
+            blit::fill(painter, window, HELP_BACKDROP);
+            HelpText::lay_out(ui).paint(ui, painter, window.center());
         });
-    if modal.inner || modal.should_close() {
-        *open = false;
-    }
 }
 
 /// How much the help overlay darkens the window under it.
@@ -283,47 +277,155 @@ const HELP_BACKDROP: egui::Color32 = egui::Color32::from_black_alpha(100);
 /// The margin around the help overlay's text (points).
 const HELP_MARGIN: f32 = 14.0;
 
-/// The help overlay's text; true when its Close button was clicked.
-fn help_contents(ui: &mut egui::Ui) -> bool {
-    let ctx = ui.ctx().clone();
-    ui.set_width(560.0);
-    ui.heading("Keyboard and mouse");
-    ui.add_space(6.0);
-    egui::Grid::new("shortcut table")
-        .num_columns(2)
-        .spacing([24.0, 4.0])
-        .striped(true)
-        .show(ui, |ui| {
-            let mut seen = Vec::new();
-            for s in SHORTCUTS {
-                if seen.contains(&s.action) {
-                    continue;
-                }
-                seen.push(s.action);
-                let keys: Vec<String> = SHORTCUTS
-                    .iter()
-                    .filter(|o| o.action == s.action)
-                    .map(|o| shortcut_text(&ctx, &o.shortcut))
-                    .collect();
-                ui.monospace(keys.join("  or  "));
-                ui.label(s.help);
-                ui.end_row();
+/// The help overlay's heading.
+const HELP_TITLE: &str = "Keyboard and mouse";
+
+/// The help overlay's text, laid out: a heading, a two-column table of keys and what they do,
+/// and a footer.
+struct HelpText {
+    heading: Arc<egui::Galley>,
+    rows: Vec<(Arc<egui::Galley>, Arc<egui::Galley>)>,
+    footer: Arc<egui::Galley>,
+    closing: Arc<egui::Galley>,
+    /// Width of the key column (points).
+    keys_width: f32,
+}
+
+impl HelpText {
+    /// Space between the two columns, between rows and between the blocks (points).
+    const COLUMN_GAP: f32 = 24.0;
+    const ROW_GAP: f32 = 4.0;
+    const BLOCK_GAP: f32 = 8.0;
+    /// Width of the text (points).
+    const WIDTH: f32 = 560.0;
+
+    fn lay_out(ui: &egui::Ui) -> Self {
+        let visuals = ui.visuals();
+        let text = |text: &str, style: egui::TextStyle, color: egui::Color32| {
+            ui.painter()
+                .layout_no_wrap(text.to_owned(), style.resolve(ui.style()), color)
+        };
+        let ctx = ui.ctx();
+        let mut keys: Vec<(String, &str)> = Vec::new();
+        for s in SHORTCUTS {
+            if keys.iter().any(|(_, help)| *help == s.help) {
+                continue;
             }
-            for (keys, help) in OTHER_KEYS {
-                ui.monospace(*keys);
-                ui.label(*help);
-                ui.end_row();
+            let combos: Vec<String> = SHORTCUTS
+                .iter()
+                .filter(|o| o.action == s.action)
+                .map(|o| shortcut_text(ctx, &o.shortcut))
+                .collect();
+            keys.push((combos.join("  or  "), s.help));
+        }
+        keys.extend(OTHER_KEYS.iter().map(|(k, help)| ((*k).to_owned(), *help)));
+        let strong = visuals.strong_text_color();
+        let normal = visuals.text_color();
+        let rows: Vec<_> = keys
+            .iter()
+            .map(|(k, help)| {
+                (
+                    text(k, egui::TextStyle::Monospace, strong),
+                    text(help, egui::TextStyle::Body, normal),
+                )
+            })
+            .collect();
+        let keys_width = rows.iter().map(|(k, _)| k.size().x).fold(0.0, f32::max);
+        let weak = visuals.weak_text_color();
+        Self {
+            heading: text(HELP_TITLE, egui::TextStyle::Heading, strong),
+            rows,
+            footer: text(
+                "Every number in the metrics panel explains itself in a tooltip.",
+                egui::TextStyle::Body,
+                weak,
+            ),
+            closing: text(
+                "F1, Esc or a click closes this",
+                egui::TextStyle::Body,
+                weak,
+            ),
+            keys_width,
+        }
+    }
+
+    fn row_height(&self, row: &(Arc<egui::Galley>, Arc<egui::Galley>)) -> f32 {
+        row.0.size().y.max(row.1.size().y)
+    }
+
+    /// The panel's size (points), margins included.
+    fn size(&self) -> egui::Vec2 {
+        let table: f32 = self
+            .rows
+            .iter()
+            .map(|row| self.row_height(row) + Self::ROW_GAP)
+            .sum();
+        let height = self.heading.size().y
+            + Self::BLOCK_GAP
+            + table
+            + Self::BLOCK_GAP
+            + self.footer.size().y;
+        let width = Self::WIDTH.max(
+            self.keys_width
+                + Self::COLUMN_GAP
+                + self.rows.iter().map(|r| r.1.size().x).fold(0.0, f32::max),
+        );
+        egui::vec2(width, height) + egui::Vec2::splat(2.0 * HELP_MARGIN)
+    }
+
+    /// Paints the panel centred on `center`.
+    fn paint(&self, ui: &egui::Ui, painter: &egui::Painter, center: egui::Pos2) {
+        let panel = egui::emath::GuiRounding::round_to_pixels(
+            egui::Rect::from_center_size(center, self.size()),
+            ui.pixels_per_point(),
+        );
+        blit::fill(painter, panel, style::PANEL_FILL);
+        let border = egui::Stroke::new(1.0, ui.visuals().window_stroke.color);
+        painter.rect_stroke(panel, 0.0, border, egui::StrokeKind::Inside);
+        let inner = panel.shrink(HELP_MARGIN);
+        let mut y = inner.top();
+        painter.galley(
+            egui::pos2(inner.left(), y),
+            self.heading.clone(),
+            egui::Color32::PLACEHOLDER,
+        );
+        y += self.heading.size().y + Self::BLOCK_GAP;
+        let stripe = ui.visuals().faint_bg_color;
+        for (i, row) in self.rows.iter().enumerate() {
+            let height = self.row_height(row);
+            if i % 2 == 1 {
+                let band = egui::Rect::from_x_y_ranges(
+                    inner.x_range(),
+                    y - Self::ROW_GAP / 2.0..=y + height + Self::ROW_GAP / 2.0,
+                );
+                painter.rect_filled(band, 0.0, stripe);
             }
-        });
-    ui.add_space(8.0);
-    ui.horizontal(|ui| {
-        ui.weak("Every number in the metrics panel explains itself in a tooltip.");
-        ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-            ui.button("Close").clicked()
-        })
-        .inner
-    })
-    .inner
+            painter.galley(
+                egui::pos2(inner.left(), y),
+                row.0.clone(),
+                egui::Color32::PLACEHOLDER,
+            );
+            let help_x = inner.left() + self.keys_width + Self::COLUMN_GAP;
+            painter.galley(
+                egui::pos2(help_x, y),
+                row.1.clone(),
+                egui::Color32::PLACEHOLDER,
+            );
+            y += height + Self::ROW_GAP;
+        }
+        y += Self::BLOCK_GAP;
+        painter.galley(
+            egui::pos2(inner.left(), y),
+            self.footer.clone(),
+            egui::Color32::PLACEHOLDER,
+        );
+        let closing_x = inner.right() - self.closing.size().x;
+        painter.galley(
+            egui::pos2(closing_x, y),
+            self.closing.clone(),
+            egui::Color32::PLACEHOLDER,
+        );
+    }
 }
 
 #[cfg(test)]

@@ -4,29 +4,29 @@
 //! with what was on screen, moving to the next trial).
 
 use super::*;
+use crate::app::key_events::take_press;
 
 impl BlindState {
-    /// The keys of a session: digits answer (0: no preference), Enter goes on after a reveal.
-    /// They are consumed, so the number keys do not switch techniques meanwhile.
-    pub(in crate::app) fn keys(&self, ctx: &egui::Context) -> Option<BlindAction> {
-        if !self.active() || ctx.egui_wants_keyboard_input() {
+    /// The keys of a session, taken out of `events`: digits answer (0: no preference), Enter
+    /// goes on after a reveal. They are taken before the shortcuts, so the number keys do not
+    /// switch techniques meanwhile. The caller checks that no text field has keyboard focus.
+    pub(in crate::app) fn take_keys(&self, events: &mut Vec<egui::Event>) -> Option<BlindAction> {
+        if !self.active() {
             return None;
         }
-        ctx.input_mut(|input| {
-            let mut action = None;
-            for (digit, key) in DIGIT_KEYS.iter().enumerate() {
-                if input.consume_key(Modifiers::NONE, *key) {
-                    action = Some(BlindAction::Answer(match digit {
-                        0 => Choice::NoPreference,
-                        n => Choice::Pane(n - 1),
-                    }));
-                }
+        let mut action = None;
+        for (digit, key) in DIGIT_KEYS.iter().enumerate() {
+            if take_press(events, Modifiers::NONE, *key) {
+                action = Some(BlindAction::Answer(match digit {
+                    0 => Choice::NoPreference,
+                    n => Choice::Pane(n - 1),
+                }));
             }
-            if input.consume_key(Modifiers::NONE, Key::Enter) {
-                action = Some(BlindAction::Next);
-            }
-            action
-        })
+        }
+        if take_press(events, Modifiers::NONE, Key::Enter) {
+            action = Some(BlindAction::Next);
+        }
+        action
     }
 
     /// The session's panel: the question, the answers, the reveal, the summary and the file.

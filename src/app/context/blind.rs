@@ -44,9 +44,10 @@ impl Context {
         }
     }
 
-    /// The session's keys (before the shortcuts, which they take precedence over).
-    pub(in crate::app) fn blind_keys(&mut self, ctx: &egui::Context) {
-        if let Some(action) = self.blind.keys(ctx) {
+    /// The session's keys, taken out of `events` (before the shortcuts, which they take
+    /// precedence over).
+    pub(in crate::app) fn blind_keys(&mut self, events: &mut Vec<egui::Event>) {
+        if let Some(action) = self.blind.take_keys(events) {
             self.blind_act(action);
         }
     }
