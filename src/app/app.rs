@@ -47,6 +47,10 @@ pub struct LaunchOptions {
     pub images: Vec<PathBuf>,
     /// Sequences to play instead of the scene (File > Open sequences).
     pub sequences: Vec<PathBuf>,
+    /// The window clears itself to the panels' colour before each paint, as eframe's native
+    /// window does (with [`eframe::App::clear_color`]); otherwise (egui_kittest, whose renderer
+    /// clears to transparent) the app fills the background itself.
+    pub window_clears: bool,
 }
 
 /// Errors of creating the app.
@@ -79,6 +83,8 @@ pub struct AaLabApp {
     #[cfg(feature = "profile")]
     profile: ProfileLog,
     styled: bool,
+    /// The app fills the window's background (see [`LaunchOptions::window_clears`]).
+    fill_background: bool,
 }
 
 /// Logs the UI frame's CPU profile every few seconds (cargo feature `profile`).
@@ -165,6 +171,7 @@ impl AaLabApp {
                 last: Instant::now(),
             },
             styled: false,
+            fill_background: !options.window_clears,
         })
     }
 
@@ -677,12 +684,15 @@ impl eframe::App for AaLabApp {
         self.ws.update(&ctx);
 
         profiling::scope!("panels");
-        // The panels' background, under everything (the panels are transparent).
-        super::blit::fill(
-            &ctx.layer_painter(egui::LayerId::background()),
-            ctx.content_rect(),
-            style::PANEL_FILL,
-        );
+        // The panels' background, under everything (the panels are transparent), where the
+        // window does not clear to it.
+        if self.fill_background {
+            super::blit::fill(
+                &ctx.layer_painter(egui::LayerId::background()),
+                ctx.content_rect(),
+                style::PANEL_FILL,
+            );
+        }
         panels::menu_bar(
             ui,
             &mut self.ws,
@@ -748,6 +758,13 @@ impl eframe::App for AaLabApp {
             let left = NOTICE_SECONDS - oldest.elapsed().as_secs_f64();
             ctx.request_repaint_after(Duration::from_secs_f64(left.max(0.0)));
         }
+    }
+
+    /// The panels' background. A clear costs a software rasteriser next to nothing, where a
+    /// fill of the window (even the viewer's untextured one) costs every pixel's fragment work
+    /// in every paint: two thirds of the pixels a paint of the viewer draws.
+    fn clear_color(&self, _visuals: &egui::Visuals) -> [f32; 4] {
+        style::PANEL_FILL.to_normalized_gamma_f32()
     }
 
     /// Answers the shortcut keys before egui's pass sees them (see [`KeyIntake`]): a key then

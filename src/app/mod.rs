@@ -174,6 +174,10 @@ pub fn run(options: LaunchOptions) -> Result<(), ViewerError> {
         APP_ID,
         native_options(),
         Box::new(move |cc| {
+            let options = LaunchOptions {
+                window_clears: true,
+                ..options
+            };
             AaLabApp::new(cc, options)
                 .map(|app| Box::new(app) as Box<dyn eframe::App>)
                 .map_err(|e| e.into())
