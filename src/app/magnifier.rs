@@ -564,10 +564,17 @@ fn paint_pane(
     size: (u32, u32),
 ) {
     let painter = ui.painter().with_clip_rect(rect);
-    blit::fill(&painter, rect, Color32::from_gray(12));
     let ppp = ui.ctx().pixels_per_point();
     let zoom = cx.settings.magnifier.zoom.max(1);
     let difference = cx.settings.magnifier.difference && source != Source::Reference;
+    let image = cx
+        .source_image(source)
+        .filter(|i| !difference && i.size() == size);
+    // The pane's background, except under an image, which covers the pane and is drawn
+    // without blending (on a software rasteriser every painted pixel costs, in every paint).
+    if image.is_none() {
+        blit::fill(&painter, rect, Color32::from_gray(12));
+    }
     if difference {
         let heat = state.pane_heat(cx, source).map(|h| &h.result);
         match heat {
@@ -614,7 +621,7 @@ fn paint_pane(
                 );
             }
         }
-    } else if let Some(image) = cx.source_image(source).filter(|i| i.size() == size) {
+    } else if let Some(image) = image {
         let uv = Rect::from_min_max(
             pos2(lens.x as f32 / size.0 as f32, lens.y as f32 / size.1 as f32),
             pos2(
