@@ -4,7 +4,9 @@
 //! frame at the size the viewport had in the previous frame, then the panels around the
 //! viewport and the viewport itself. It asks for another frame only while something is in
 //! motion (time playing with something that changes, the reference accumulating, a job
-//! running), so an idle viewer costs nothing.
+//! running), so an idle viewer costs nothing. Shortcut keys are taken out of the raw input
+//! before egui's pass (`raw_input_hook`, `key_events.rs`), so a key costs no settling frames,
+//! and carried out with the frame's other shortcuts.
 //!
 //! Its public methods are the viewer's test API (tests/ui.rs, benches/viewer.rs): they read or
 //! drive the workspace and the panels.

@@ -307,10 +307,12 @@ impl HelpText {
         };
         let ctx = ui.ctx();
         let mut keys: Vec<(String, &str)> = Vec::new();
+        let mut seen = Vec::new();
         for s in SHORTCUTS {
-            if keys.iter().any(|(_, help)| *help == s.help) {
+            if seen.contains(&s.action) {
                 continue;
             }
+            seen.push(s.action);
             let combos: Vec<String> = SHORTCUTS
                 .iter()
                 .filter(|o| o.action == s.action)

@@ -20,8 +20,9 @@ pub const REFERENCE_COLOR: Color32 = Color32::from_rgb(0xe8, 0xe8, 0xe8);
 pub const REFERENCE_LETTER: &str = "R";
 /// Letters of compared techniques.
 pub const SLOT_LETTERS: [&str; 4] = ["A", "B", "C", "D"];
-/// Background of the panels: painted once for the whole window by the viewer's fill
-/// ([`super::blit::fill`]), so egui's panels themselves are transparent.
+/// Background of the panels: the colour the window is cleared to (filled once, by
+/// [`super::blit::fill`], where the renderer does not clear to it), so egui's panels themselves
+/// are transparent.
 pub const PANEL_FILL: Color32 = Color32::from_gray(30);
 /// Background behind images (neutral, darker than the panels).
 pub const VIEWPORT_BG: Color32 = Color32::from_gray(18);
