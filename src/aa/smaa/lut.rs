@@ -623,6 +623,30 @@ mod tests {
     }
 
     #[test]
+    fn every_diagonal_run_of_two_or_more_pixels_has_an_area() {
+        // The weight pass tells whether a pixel's left neighbour blends along a `\` staircase
+        // from the run's length alone (smaa.wgsl, `on_blended_staircase`): that holds only if
+        // no run of two or more pixels reads a zero area, whatever its ends and sub-table.
+        let t = tables();
+        for sub in 0..DIAG_OFFSETS.len() as u32 {
+            for (near, far) in (0..4u32).flat_map(|n| (0..4u32).map(move |f| (n, f))) {
+                for (l, r) in (0..DIAG_CELL).flat_map(|l| (0..DIAG_CELL).map(move |r| (l, r))) {
+                    if l + r < 2 {
+                        continue;
+                    }
+                    let x = AREA_SIZE.0 / 2 + DIAG_CELL * near + l;
+                    let y = sub * SUBTABLE_HEIGHT + DIAG_CELL * far + r;
+                    let i = ((y * AREA_SIZE.0 + x) * 2) as usize;
+                    assert!(
+                        t.area[i] > 0 || t.area[i + 1] > 0,
+                        "sub-table {sub}, ends {near}/{far}, lengths {l}/{r}: zero area"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
     fn area_table_places_every_cell() {
         let t = tables();
         assert_eq!(t.area.len(), (AREA_SIZE.0 * AREA_SIZE.1 * 2) as usize);

@@ -76,8 +76,10 @@ fn image_size() -> vec2<i32> {
     return vec2<i32>(params.size);
 }
 
+// Whether `p` lies in the image: one unsigned comparison per axis (a negative coordinate
+// becomes a large unsigned one).
 fn inside(p: vec2<i32>) -> bool {
-    return all(p >= vec2<i32>(0)) && all(p < image_size());
+    return all(vec2<u32>(p) < vec2<u32>(params.size));
 }
 
 fn clamp_pixel(p: vec2<i32>) -> vec2<i32> {
@@ -158,9 +160,10 @@ fn fs_edges_depth(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f
 // 2. Blending weights
 
 // Edges of a pixel; none outside the image (a select, not a branch, so that a GPU issues the
-// loads of a function together).
+// loads of a function together; an out-of-bounds load returns some texel or zero in WGSL, and
+// the select discards it, so the coordinate needs no clamp).
 fn edge_at(p: vec2<i32>) -> vec2<f32> {
-    return select(vec2<f32>(0.0), textureLoad(edges_tex, clamp_pixel(p), 0).rg, inside(p));
+    return select(vec2<f32>(0.0), textureLoad(edges_tex, p, 0).rg, inside(p));
 }
 
 fn has(e: f32) -> i32 {
@@ -184,7 +187,7 @@ fn search_length(e: vec2<f32>, forward: bool) -> i32 {
     let edge = i32(round(e.x * 32.0));
     let crossing = i32(round(e.y * 32.0));
     let texel = vec2<i32>(crossing + select(0, SEARCH_FORWARD_X, forward), 32 - edge);
-    if any(texel < vec2<i32>(0)) || any(texel >= SEARCH_SIZE) {
+    if any(texel < vec2<i32>(0)) | any(texel >= SEARCH_SIZE) {
         return 0;
     }
     return i32(round(textureLoad(search_tex, texel, 0).r * 255.0 / SEARCH_UNIT));
@@ -212,7 +215,7 @@ fn search(p: vec2<i32>, dir: vec2<i32>, axis: Axis, forward: bool) -> vec2<i32> 
         e = vec2<f32>(channel(pair, axis.edge), channel(pair, 1u - axis.edge));
         i++;
         // Stop unless both pixels carry the edge (21 + 7 out of 32) and nothing crosses it.
-        if i >= steps || e.x < 0.8281 || e.y > 0.0 {
+        if (i >= steps) | (e.x < 0.8281) | (e.y > 0.0) {
             break;
         }
     }
@@ -289,13 +292,14 @@ fn diag_top(p: vec2<i32>, o: vec2<i32>, mirrored: bool) -> i32 {
 fn on_staircase(p: vec2<i32>, o: vec2<i32>, mirrored: bool) -> bool {
     if !mirrored {
         let e = edge_at(p + o);
-        return e.x > 0.5 && e.y > 0.5;
+        return (e.x > 0.5) & (e.y > 0.5);
     }
     let t = p + vec2<i32>(-o.x, o.y);
     let at = (vec2<f32>(t) + vec2<f32>(0.75, 0.5)) / params.size;
     let e = round(4.0 * textureSampleLevel(edges_tex, linear_sampler, at, 0.0).rg);
-    let right_left = e.x == 1.0 || e.x == 4.0;
-    return right_left && e.y >= 3.0 && inside(t) && inside(t + vec2<i32>(1, 0));
+    let right_left = (e.x == 1.0) | (e.x == 4.0);
+    let both_inside = all(vec2<u32>(t) < vec2<u32>(params.size) - vec2<u32>(1u, 0u));
+    return right_left & (e.y >= 3.0) & both_inside;
 }
 
 // Staircase pixels beyond `p` in direction `dir`: (count, 1 when the end was found).
@@ -335,6 +339,20 @@ fn diag_weights(p: vec2<i32>, mirrored: bool, subtable: u32) -> vec2<f32> {
     return textureLoad(area_tex, texel, 0).rg;
 }
 
+// Whether `q` blends along a "\\" staircase, i.e. whether diag_weights(q, true, ..) is not
+// zero: q is on the staircase and the run through it is two or more pixels long, since every
+// such run has an area (lut.rs tests it). The length test needs two steps each way, not the
+// full searches: five fetches, issued together.
+fn on_blended_staircase(q: vec2<i32>) -> bool {
+    let deep = MAX_SEARCH_STEPS_DIAG >= 2;
+    let near1 = on_staircase(q, vec2<i32>(-1, 1), true);
+    let near2 = on_staircase(q, vec2<i32>(-2, 2), true) & deep;
+    let far1 = on_staircase(q, vec2<i32>(1, -1), true);
+    let far2 = on_staircase(q, vec2<i32>(2, -2), true) & deep;
+    let long_run = (near1 & near2) | (far1 & far2) | (near1 & far1);
+    return on_staircase(q, vec2<i32>(0), true) & long_run;
+}
+
 @fragment
 fn fs_weights(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(position.xy);
@@ -354,11 +372,7 @@ fn fs_weights(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> 
     if e.x > 0.5 {
         // On a "\\" staircase the left edge belongs to the step of the left neighbour, which
         // blends along the diagonal; this pixel gets its share from the staircase pixel below.
-        var on_diagonal = false;
-        if MAX_SEARCH_STEPS_DIAG > 0 {
-            let diagonal = diag_weights(p - vec2<i32>(1, 0), true, params.subsample.w);
-            on_diagonal = diagonal.x + diagonal.y > 0.0;
-        }
+        let on_diagonal = MAX_SEARCH_STEPS_DIAG > 0 && on_blended_staircase(p - vec2<i32>(1, 0));
         if !on_diagonal {
             w = vec4<f32>(w.xy, ortho_weights(p, Axis(vec2<i32>(0, 1), vec2<i32>(-1, 0), 0u), params.subsample.y));
         }
