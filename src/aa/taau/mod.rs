@@ -86,8 +86,11 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
 
 /// Format of the accumulated colour (alpha: samples accumulated).
 const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Format of the depth and speed kept with the history.
-const AUX_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+/// Format of the depth and speed kept with the history: half floats, since the disocclusion
+/// test compares depths relative to each other, to a tolerance far above their 1/2048
+/// precision, and a filterable format lets the resolve gather the four texels around the
+/// reprojected place in one fetch.
+const AUX_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 /// The confidence (in samples) below which the spatial estimate fills in.
 const FILL_FLOOR: f32 = 1.0;
 
@@ -147,7 +150,7 @@ impl Taau {
             (1, Binding::Depth),
             (2, Binding::Texture),
             (3, Binding::Texture),
-            (4, Binding::UnfilterableTexture),
+            (4, Binding::Texture),
             (5, Binding::Sampler),
             (6, Binding::Uniform),
             (7, Binding::Texture),

@@ -168,55 +168,106 @@ struct Samples {
     nearest: vec2<i32>,
     nearest_depth: f32,
     farthest_depth: f32,
+    // The render pixel the 3x3 window is centred on.
+    base: vec2<i32>,
 }
 
+// The factors of the sample weights along one axis, for the render pixels one before, at and
+// one after the base pixel: every weight is a product of an x and a y factor (the Gaussians
+// are separable, the box tests are per axis), so three evaluations per axis replace nine.
+struct AxisFactors {
+    // The samples' offsets from the output pixel's centre, in render pixels.
+    offset: vec3<f32>,
+    // Inside the output pixel (box kernel), 1 or 0.
+    in_pixel: vec3<f32>,
+    // The Gaussian kernel's factor (KERNEL 0).
+    kernel: vec3<f32>,
+    // The wide Gaussian's factor (the spatial estimate).
+    wide: vec3<f32>,
+    // Within the colour box's reach, 1 or 0.
+    in_box: vec3<f32>,
+}
+
+fn axis_factors(base: f32, jitter: f32, centre: f32, ratio: f32, reach: f32) -> AxisFactors {
+    let offset = vec3<f32>(base - 0.5, base + 0.5, base + 1.5) - jitter - centre;
+    let d = offset * ratio / params.jitter.w;
+    return AxisFactors(
+        offset,
+        select(vec3<f32>(0.0), vec3<f32>(1.0), abs(offset * ratio) < vec3<f32>(0.5)),
+        exp(-BOX_SHARPNESS * d * d),
+        exp(-2.0 * offset * offset),
+        select(vec3<f32>(0.0), vec3<f32>(1.0), abs(offset) <= vec3<f32>(reach)),
+    );
+}
+
+// Adds the render sample (`dx`, `dy`) from the base pixel (each -1, 0 or 1; `i` and `j` the
+// same as indices 0..2 into the axis factors) with its depth `z`.
+fn add_sample(s: ptr<function, Samples>, x: AxisFactors, y: AxisFactors, i: u32, j: u32, z: f32) {
+    let pixel = (*s).base + vec2<i32>(i32(i) - 1, i32(j) - 1);
+    let inside = clamp(pixel, vec2<i32>(0), vec2<i32>(params.render.xy) - 1);
+    // Compressed before the tonemapper (radiance.wgsl, the prelude).
+    let rgb = compressed(textureLoad(current, inside, 0).rgb);
+    let inside_weight = x.in_pixel[i] * y.in_pixel[j];
+    (*s).box_sum += inside_weight * rgb;
+    (*s).box_weight += inside_weight;
+    var w = x.kernel[i] * y.kernel[j];
+    if KERNEL == 1u {
+        w = kernel_weight(vec2<f32>(x.offset[i], y.offset[j]) * params.output.xy * params.render.zw);
+    }
+    (*s).sum += w * rgb;
+    (*s).weight += w;
+    let wide = x.wide[i] * y.wide[j];
+    (*s).wide_sum += wide * rgb;
+    (*s).wide_weight += wide;
+    // The colour box: the samples within 1/2 + 1/ratio render pixels of the centre (all nine
+    // at native; below it, those that can fall within about one output pixel's reach, so the
+    // box stays as tight in output pixels as at native).
+    // (Selects and products, not branches, so that a GPU issues the nine loads together.)
+    let in_box = x.in_box[i] * y.in_box[j];
+    let c = box_space(rgb);
+    (*s).low = select((*s).low, min((*s).low, c), in_box > 0.0);
+    (*s).high = select((*s).high, max((*s).high, c), in_box > 0.0);
+    (*s).moment1 += in_box * c;
+    (*s).moment2 += in_box * c * c;
+    (*s).count += in_box;
+    let nearer = z > (*s).nearest_depth;
+    (*s).nearest_depth = select((*s).nearest_depth, z, nearer);
+    (*s).nearest = select((*s).nearest, inside, nearer);
+    (*s).farthest_depth = min((*s).farthest_depth, z);
+}
+
+// The 3x3 render samples around the output pixel. The depths come from four gathers at the
+// corners of the 4x4 block whose upper-left 3x3 is the window (the sampler clamps at the
+// border as the colour loads do), so nine depth loads cost four fetches; the samples are
+// added in rows, left to right, so the nearest surface is the same one the loads found.
 fn gather_samples(centre: vec2<f32>) -> Samples {
     let jitter = params.jitter.xy;
     let ratio = params.output.xy * params.render.zw;
     let base = vec2<i32>(floor(centre + jitter));
-    let last = vec2<i32>(params.render.xy) - 1;
     let zero = vec3<f32>(0.0);
     var s = Samples(
         zero, 0.0, zero, 0.0, zero, 0.0, vec3<f32>(1e9), vec3<f32>(-1e9), zero, zero, 0.0, base, -1.0, 2.0,
+        base,
     );
-    for (var dy = -1; dy <= 1; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let pixel = base + vec2<i32>(dx, dy);
-            let inside = clamp(pixel, vec2<i32>(0), last);
-            // Compressed before the tonemapper (radiance.wgsl, the prelude).
-            let rgb = compressed(textureLoad(current, inside, 0).rgb);
-            // The sample's offset from the output pixel's centre, in render pixels.
-            let offset = vec2<f32>(pixel) + 0.5 - jitter - centre;
-            let in_pixel = all(abs(offset * ratio) < vec2<f32>(0.5));
-            let inside_weight = select(0.0, 1.0, in_pixel);
-            s.box_sum += inside_weight * rgb;
-            s.box_weight += inside_weight;
-            let w = kernel_weight(offset * ratio);
-            s.sum += w * rgb;
-            s.weight += w;
-            let wide = exp(-2.0 * dot(offset, offset));
-            s.wide_sum += wide * rgb;
-            s.wide_weight += wide;
-            // The colour box: the samples within 1/2 + 1/ratio render pixels of the centre
-            // (all nine at native; below it, those that can fall within about one output
-            // pixel's reach, so the box stays as tight in output pixels as at native).
-            let reach = 0.5 + 1.0 / max(ratio.x, ratio.y);
-            if all(abs(offset) <= vec2<f32>(reach)) {
-                let c = box_space(rgb);
-                s.low = min(s.low, c);
-                s.high = max(s.high, c);
-                s.moment1 += c;
-                s.moment2 += c * c;
-                s.count += 1.0;
-            }
-            let z = textureLoad(depth, inside, 0);
-            if z > s.nearest_depth {
-                s.nearest_depth = z;
-                s.nearest = inside;
-            }
-            s.farthest_depth = min(s.farthest_depth, z);
-        }
-    }
+    let reach = 0.5 + 1.0 / max(ratio.x, ratio.y);
+    let fb = vec2<f32>(base);
+    let x = axis_factors(fb.x, jitter.x, centre.x, ratio.x, reach);
+    let y = axis_factors(fb.y, jitter.y, centre.y, ratio.y, reach);
+    // Gather order: (x) lower left, (y) lower right, (z) upper right, (w) upper left.
+    let one = params.render.zw;
+    let upper_left = textureGather(depth, bilinear, fb * one);
+    let upper_right = textureGather(depth, bilinear, (fb + vec2<f32>(2.0, 0.0)) * one);
+    let lower_left = textureGather(depth, bilinear, (fb + vec2<f32>(0.0, 2.0)) * one);
+    let lower_right = textureGather(depth, bilinear, (fb + vec2<f32>(2.0, 2.0)) * one);
+    add_sample(&s, x, y, 0u, 0u, upper_left.w);
+    add_sample(&s, x, y, 1u, 0u, upper_left.z);
+    add_sample(&s, x, y, 2u, 0u, upper_right.w);
+    add_sample(&s, x, y, 0u, 1u, upper_left.x);
+    add_sample(&s, x, y, 1u, 1u, upper_left.y);
+    add_sample(&s, x, y, 2u, 1u, upper_right.x);
+    add_sample(&s, x, y, 0u, 2u, lower_left.w);
+    add_sample(&s, x, y, 1u, 2u, lower_left.z);
+    add_sample(&s, x, y, 2u, 2u, lower_right.w);
     return s;
 }
 
@@ -262,7 +313,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
     }
 
     let previous = uv - velocity;
-    let off_screen = any(previous < vec2<f32>(0.0)) || any(previous > vec2<f32>(1.0));
+    let off_screen = any(previous < vec2<f32>(0.0)) | any(previous > vec2<f32>(1.0));
     // How much reading the history between texels blurs it: 4 f (1 - f) of the fraction f
     // past a texel centre, 0 on a texel, 1 half-way (and 1 where there is no history).
     let f = fract(previous * params.output.xy - 0.5);
@@ -286,21 +337,19 @@ fn resolve(position: vec2<f32>) -> Resolved {
     var confidence = 0.0;
     if dropped == 0.0 {
         let sampled = history_at(previous);
-        // Disocclusion: the four history texels around the reprojected place.
+        // Disocclusion: the four history texels around the reprojected place, gathered at
+        // their shared corner (one fetch for the depths, one for the speeds).
         let texel = vec2<i32>(floor(previous * params.output.xy - 0.5));
-        let last = vec2<i32>(params.output.xy) - 1;
-        let a = textureLoad(history_aux, clamp(texel, vec2<i32>(0), last), 0).xy;
-        let b = textureLoad(history_aux, clamp(texel + vec2<i32>(1, 0), vec2<i32>(0), last), 0).xy;
-        let c = textureLoad(history_aux, clamp(texel + vec2<i32>(0, 1), vec2<i32>(0), last), 0).xy;
-        let d = textureLoad(history_aux, clamp(texel + vec2<i32>(1, 1), vec2<i32>(0), last), 0).xy;
+        let corner = (vec2<f32>(texel) + 1.0) * params.output.zw;
+        let depths = textureGather(0, history_aux, bilinear, corner);
         // The nearest surface now lies behind the farthest one the history saw there.
-        let farthest_before = min(min(a.x, b.x), min(c.x, d.x));
+        let farthest_before = min(min(depths.x, depths.y), min(depths.z, depths.w));
         let revealed = behind(s.nearest_depth, farthest_before);
-        let here = textureLoad(
-            history_aux,
-            clamp(vec2<i32>(previous * params.output.xy), vec2<i32>(0), last),
-            0,
-        ).y;
+        // The speed of the texel the reprojected place lies in (one of the four: gather
+        // order lower left, lower right, upper right, upper left).
+        let speeds = textureGather(1, history_aux, bilinear, corner);
+        let right = vec2<i32>(previous * params.output.xy) - texel == vec2<i32>(1);
+        let here = select(select(speeds.w, speeds.z, right.x), select(speeds.x, speeds.y, right.x), right.y);
         if revealed > params.guard.x {
             dropped = 1.0;
         } else {
