@@ -63,6 +63,9 @@ override OUTPUT: u32 = 0u;
 // filters and mipmaps): the shader's own filter, `sample_base_color`. Other materials, and
 // every material of an untextured scene, take one plain lookup and pay nothing for it.
 override ANISOTROPIC: bool = false;
+// True in the pipelines of materials with normal detail (ripples or flakes): the others skip
+// the detail's arithmetic rather than compute it and select it away.
+override DETAIL: bool = false;
 // True in the pipelines of alpha-blended materials: colour is premultiplied by alpha (the
 // blend composites it over the target), and the alpha is the reactive mask's coverage.
 override BLENDED: bool = false;
@@ -282,14 +285,19 @@ fn shade_fragment(
     }
     // Normal detail bends the normal of the specular term only, like flakes and ripples
     // under a clear coat over a smooth base: the sparkle it makes is specular aliasing alone.
-    let detailed = (material.detail.y > 0.0) | (material.detail.z > 0.0);
-    var specular_n = select(n, detail_normal(n, world_position, 1.0), detailed);
+    var specular_n = n;
+    if DETAIL {
+        specular_n = detail_normal(n, world_position, 1.0);
+    }
     // The lobe: the material's, or widened by specular antialiasing (derivatives are taken
     // here, before the alpha test's discard, where control flow is still uniform).
     var lobe = vec2<f32>(material.specular.a, 1.0);
     if SPECULAR_AA {
-        let unresolved = select(0.0, unresolved_detail(world_position), detailed);
-        specular_n = select(n, detail_normal(n, world_position, sqrt(1.0 - unresolved)), detailed);
+        var unresolved = 0.0;
+        if DETAIL {
+            unresolved = unresolved_detail(world_position);
+            specular_n = detail_normal(n, world_position, sqrt(1.0 - unresolved));
+        }
         let extra = detail_roughness2(unresolved);
         lobe = filtered_lobe(dpdx(n), dpdy(n), material.specular.a, extra);
     }

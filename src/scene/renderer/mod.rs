@@ -249,6 +249,8 @@ struct GpuMaterial {
     cull_back: bool,
     /// Its texture is filtered by the shader's anisotropic filter (a pipeline of its own).
     anisotropic: bool,
+    /// It has normal detail (a pipeline of its own).
+    detail: bool,
 }
 
 /// A scene uploaded to the GPU, with its pipelines.
@@ -476,6 +478,9 @@ fn upload_materials(
                 bind_group,
                 cull_back: !m.double_sided,
                 anisotropic: m.base_color_texture.is_some() && filtered_anisotropically(&m.sampler),
+                detail: m
+                    .normal_detail
+                    .is_some_and(|d| d.ripple > 0.0 || d.flakes > 0.0),
             }
         })
         .collect();
@@ -743,6 +748,7 @@ impl SceneRenderer {
                 raster,
                 cull_back: self.materials[self.draws[i].material].cull_back,
                 anisotropic: self.materials[self.draws[i].material].anisotropic,
+                detail: self.materials[self.draws[i].material].detail,
                 specular_aa: self.specular_aa,
                 output: SceneOutput::of(targets.color.format(), self.tonemap.as_ref()),
                 blend: self.blended.contains(i),

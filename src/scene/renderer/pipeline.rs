@@ -1,6 +1,7 @@
 //! The scene's render pipelines: one per [`PipelineKey`], built from `shaders/scene.wgsl`
 //! with the key's entry points (by [`ShadingRate`]) and override constants
-//! (`ALPHA_TO_COVERAGE`, `SPECULAR_AA`, `ANISOTROPIC`, `BLENDED`, `OUTPUT` and `OPERATOR`), so that a switch
+//! (`ALPHA_TO_COVERAGE`, `SPECULAR_AA`, `ANISOTROPIC`, `DETAIL`, `BLENDED`, `OUTPUT` and
+//! `OPERATOR`), so that a switch
 //! that is off compiles to the shader without it rather than to a branch on a uniform. Blended
 //! pipelines composite premultiplied colour over the target, test depth without writing it,
 //! leave motion alone and composite their alpha into the reactive mask; opaque ones leave the
@@ -24,6 +25,8 @@ pub struct PipelineKey {
     /// The material's texture goes through the shader's anisotropic filter (`ANISOTROPIC`);
     /// without it one plain lookup, so untextured scenes pay nothing for the filter.
     pub anisotropic: bool,
+    /// The material has normal detail (`DETAIL`); without it the shader skips the detail.
+    pub detail: bool,
     /// Geometric specular antialiasing (see `SceneRenderer::set_specular_aa`).
     pub specular_aa: bool,
     /// What the colour target receives (and so its format).
@@ -111,6 +114,7 @@ pub(super) fn create(
         ("ALPHA_TO_COVERAGE", flag(a2c)),
         ("SPECULAR_AA", flag(key.specular_aa)),
         ("ANISOTROPIC", flag(key.anisotropic)),
+        ("DETAIL", flag(key.detail)),
         ("BLENDED", flag(key.blend)),
         output,
         operator,
@@ -121,11 +125,12 @@ pub(super) fn create(
     };
     let targets = targets(&key);
     let label = format!(
-        "scene {}x {:?}{}{}{}{} {:?}",
+        "scene {}x {:?}{}{}{}{}{} {:?}",
         key.sample_count,
         key.raster.shading,
         if a2c { " a2c" } else { "" },
         if key.anisotropic { " anisotropic" } else { "" },
+        if key.detail { " detail" } else { "" },
         if key.specular_aa { " specular-aa" } else { "" },
         if key.blend { " blend" } else { "" },
         key.output,
