@@ -236,10 +236,10 @@ fn add_sample(s: ptr<function, Samples>, x: AxisFactors, y: AxisFactors, i: u32,
     (*s).farthest_depth = min((*s).farthest_depth, z);
 }
 
-// The 3x3 render samples around the output pixel. The depths come from four gathers at the
-// corners of the 4x4 block whose upper-left 3x3 is the window (the sampler clamps at the
+// The 3x3 render samples around the output pixel. The depths come from four gathers, the
+// 2x2 quarters of the 4x4 block whose upper-left 3x3 is the window (the sampler clamps at the
 // border as the colour loads do), so nine depth loads cost four fetches; the samples are
-// added in rows, left to right, so the nearest surface is the same one the loads found.
+// added in rows, left to right, so that ties pick the same nearest surface as a scan would.
 fn gather_samples(centre: vec2<f32>) -> Samples {
     let jitter = params.jitter.xy;
     let ratio = params.output.xy * params.render.zw;
