@@ -186,6 +186,50 @@ impl Tunable for TaaSettings {
     type Preset = Preset;
 
     fn params(&self) -> Vec<Param> {
+        let mut params = self.history_params();
+        params.extend(self.current_frame_params());
+        params
+    }
+
+    fn set(&mut self, key: &str, value: &ParamValue) -> bool {
+        crate::set_fields!(
+            self,
+            key,
+            value,
+            [
+                samples,
+                history_filter,
+                rectify,
+                gamma,
+                current_weight,
+                motion_weight,
+                velocity_tolerance,
+                luma_weight,
+                current_filter,
+                velocity,
+                neighbourhood,
+                trust_own_speed,
+                resample_feedback,
+                trust_sharp_only,
+                mip_bias,
+                tonemap_order,
+                reactive_mask,
+            ]
+        )
+    }
+
+    /// Replaces every setting with the preset's but the tonemap order, which no preset sets.
+    fn apply_preset(&mut self, preset: Preset) {
+        *self = Self {
+            tonemap_order: self.tonemap_order,
+            ..Self::preset(preset)
+        };
+    }
+}
+
+impl TaaSettings {
+    /// The parameters of the history: its samples, filter, rectification and weights.
+    fn history_params(&self) -> Vec<Param> {
         let s = self;
         vec![
             Param::named(
@@ -253,6 +297,14 @@ impl Tunable for TaaSettings {
                 4.0,
                 s.velocity_tolerance,
             ),
+        ]
+    }
+
+    /// The parameters of the current frame's side: its filter, the velocity and
+    /// neighbourhood it reads, the trust tests, the mip bias and the reactive mask.
+    fn current_frame_params(&self) -> Vec<Param> {
+        let s = self;
+        vec![
             Param::named(
                 "current_filter",
                 "Current-frame filter",
@@ -345,43 +397,6 @@ impl Tunable for TaaSettings {
         ]
     }
 
-    fn set(&mut self, key: &str, value: &ParamValue) -> bool {
-        crate::set_fields!(
-            self,
-            key,
-            value,
-            [
-                samples,
-                history_filter,
-                rectify,
-                gamma,
-                current_weight,
-                motion_weight,
-                velocity_tolerance,
-                luma_weight,
-                current_filter,
-                velocity,
-                neighbourhood,
-                trust_own_speed,
-                resample_feedback,
-                trust_sharp_only,
-                mip_bias,
-                tonemap_order,
-                reactive_mask,
-            ]
-        )
-    }
-
-    /// Replaces every setting with the preset's but the tonemap order, which no preset sets.
-    fn apply_preset(&mut self, preset: Preset) {
-        *self = Self {
-            tonemap_order: self.tonemap_order,
-            ..Self::preset(preset)
-        };
-    }
-}
-
-impl TaaSettings {
     /// The settings of a preset.
     pub fn preset(preset: Preset) -> Self {
         let default = Self::default();
