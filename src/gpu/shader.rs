@@ -21,6 +21,13 @@
 //! doubled the resolve's cost; named values (structs, straight-line code) stay in registers.
 //! lavapipe's LLVM keeps both forms in registers, so only a GPU shows the difference (figures:
 //! `docs/techniques/taa.md`).
+//!
+//! **Work a pixel does not need is compiled out, not selected away.** On the GPUs this project
+//! is measured on, fragment work runs on few of the chip's units and costs what its
+//! instructions cost, so a feature that a material or setting may lack (the scene's
+//! anisotropic filter and normal detail) is an override constant of its pipeline rather than
+//! computed for every pixel and discarded by a `select`, and a bounds test is one unsigned
+//! comparison per axis (figures: `docs/gpu-figures.md`).
 
 /// A WGSL file compiled into the binary: its path from the repository root and its text.
 /// Shared shaders are listed in [`SHADERS`]; a technique lists its own in its folder and
