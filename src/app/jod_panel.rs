@@ -59,34 +59,45 @@ pub(super) fn sequences_section(ui: &mut egui::Ui, ws: &mut Workspace) {
             }
         },
     );
-    controls(ui, ws);
+    controls(ui, ws, "sequences");
 }
 
 /// Progress with its cancel button (or the button that scores), the display model and the
-/// viewing distance.
-pub(super) fn controls(ui: &mut egui::Ui, ws: &mut Workspace) {
-    if let Some((done, total)) = ws.jod.progress() {
-        ui.horizontal(|ui| {
-            ui.add(
-                egui::ProgressBar::new(done as f32 / total.max(1) as f32)
-                    .desired_width(180.0)
-                    .text(format!("ColorVideoVDP: {done}/{total} scored")),
-            );
+/// viewing distance; `scope` names the table they are under (`clip`, `sequences`).
+pub(super) fn controls(ui: &mut egui::Ui, ws: &mut Workspace, scope: &str) {
+    // The buttons get ids of their own: ids made from the place in the panel change when
+    // figures arriving above them change the widgets there, and a click sent to a button by
+    // its id in one frame (as assistive technology and the UI tests do) would miss it in the
+    // next.
+    let buttons =
+        egui::UiBuilder::new().scope_id(egui::Id::unique(("colorvideovdp buttons", scope)));
+    ui.scope_builder(buttons, |ui| match ws.jod.progress() {
+        Some((done, total)) => {
+            ui.horizontal(|ui| {
+                ui.add(
+                    egui::ProgressBar::new(done as f32 / total.max(1) as f32)
+                        .desired_width(180.0)
+                        .text(format!("ColorVideoVDP: {done}/{total} scored")),
+                );
+                if ui
+                    .button("Cancel scoring")
+                    .on_hover_text("Stop after the one being scored")
+                    .clicked()
+                {
+                    ws.jod.cancel();
+                }
+            });
+        }
+        None => {
             if ui
-                .button("Cancel scoring")
-                .on_hover_text("Stop after the one being scored")
+                .button("Score with ColorVideoVDP")
+                .on_hover_text("Score every pane against the reference over all its frames, at the playback rate (seconds per pane; the frames are read on a thread of their own).")
                 .clicked()
             {
-                ws.jod.cancel();
+                ws.jod.start(&ws.cx);
             }
-        });
-    } else if ui
-        .button("Score with ColorVideoVDP")
-        .on_hover_text("Score every pane against the reference over all its frames, at the playback rate (seconds per pane; the frames are read on a thread of their own).")
-        .clicked()
-    {
-        ws.jod.start(&ws.cx);
-    }
+        }
+    });
     let settings = &mut ws.cx.settings;
     ui.horizontal(|ui| {
         ui.label("JOD display");

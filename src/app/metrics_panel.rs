@@ -306,7 +306,7 @@ fn clip_section(ui: &mut egui::Ui, ws: &mut Workspace) {
             "reference: {change:.2} luma levels change per pixel and frame"
         ));
     }
-    jod_panel::controls(ui, ws);
+    jod_panel::controls(ui, ws, "clip");
 }
 
 fn memory_section(ui: &mut egui::Ui, ws: &mut Workspace) {
