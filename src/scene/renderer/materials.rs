@@ -108,9 +108,8 @@ pub(super) fn upload_materials(
                 bind_group,
                 cull_back: !m.double_sided,
                 anisotropic: m.base_color_texture.is_some() && filtered_anisotropically(&m.sampler),
-                detail: m
-                    .normal_detail
-                    .is_some_and(|d| d.ripple > 0.0 || d.flakes > 0.0),
+                // Detail as the shader reads it: a ripple or flake slope above zero.
+                detail: uniform.detail[1] > 0.0 || uniform.detail[2] > 0.0,
             }
         })
         .collect();

@@ -1,8 +1,8 @@
 //! The scene's render pipelines: one per [`PipelineKey`], built from `shaders/scene.wgsl`
 //! with the key's entry points (by [`ShadingRate`]) and override constants
 //! (`ALPHA_TO_COVERAGE`, `SPECULAR_AA`, `ANISOTROPIC`, `DETAIL`, `BLENDED`, `OUTPUT` and
-//! `OPERATOR`), so that a switch
-//! that is off compiles to the shader without it rather than to a branch on a uniform. Blended
+//! `OPERATOR`), so that a switch that is off compiles to the shader without it rather than to
+//! a branch on a uniform. Blended
 //! pipelines composite premultiplied colour over the target, test depth without writing it,
 //! leave motion alone and composite their alpha into the reactive mask; opaque ones leave the
 //! mask at its clear value, zero.
