@@ -68,7 +68,7 @@ pub fn clip_bar(
                     .desired_width(160.0)
                     .text(format!("{count}/{} frames", clip.expected)),
             );
-            if ui.button("Cancel").clicked() {
+            if bar_button(ui, "clip bar", "Cancel").clicked() {
                 action = Some(ClipAction::Cancel);
             }
         }
@@ -76,20 +76,20 @@ pub fn clip_bar(
             return;
         }
         if !shown {
-            if ui.button("Show clip").clicked() {
+            if bar_button(ui, "clip bar", "Show clip").clicked() {
                 action = Some(ClipAction::ShowClip);
             }
         } else {
-            playback_controls(ui, &mut clip.player, count);
-            if action_button(ui, "Live").on_hover_text("Back to the live view (the clip stays)").clicked() {
+            playback_controls(ui, "clip bar", &mut clip.player, count);
+            if bar_button(ui, "clip bar", "Live").on_hover_text("Back to the live view (the clip stays)").clicked() {
                 action = Some(ClipAction::ShowLive);
             }
         }
         if !recording {
-            if action_button(ui, "Export…").on_hover_text("Write the clip as a looping animated PNG and a self-contained HTML comparison page, with its record").clicked() {
+            if bar_button(ui, "clip bar", "Export…").on_hover_text("Write the clip as a looping animated PNG and a self-contained HTML comparison page, with its record").clicked() {
                 action = Some(ClipAction::Export);
             }
-            if action_button(ui, "Discard").clicked() {
+            if bar_button(ui, "clip bar", "Discard").clicked() {
                 action = Some(ClipAction::Discard);
             }
         }
@@ -156,32 +156,36 @@ fn recipe_controls(ui: &mut egui::Ui, settings: &mut ClipSettings) -> bool {
     record
 }
 
-/// A button of the bar after the playback controls, with an id of its own: the controls' frame
-/// rate warning comes and goes, and a button numbered after it would change id between the
-/// frame a click (accesskit's too) is aimed at it and the frame that takes the click.
-fn action_button(ui: &mut egui::Ui, text: &str) -> egui::Response {
-    ui.push_id(text, |ui| ui.button(text)).inner
+/// A button of a bar, keyed by the bar and its text ([`style::keyed`]): the widgets before it
+/// come and go (the recipe's options, the progress, the playback rate warning).
+fn bar_button(ui: &mut egui::Ui, bar: &str, text: &str) -> egui::Response {
+    style::keyed(ui, egui::Id::unique((bar, text)), |ui| ui.button(text))
 }
 
 /// Play and pause, single steps, the scrubber, the rate and ping-pong of a shown clip of
-/// `count` frames.
-fn playback_controls(ui: &mut egui::Ui, player: &mut ClipPlayer, count: usize) {
+/// `count` frames, in the bar named `bar`.
+fn playback_controls(ui: &mut egui::Ui, bar: &str, player: &mut ClipPlayer, count: usize) {
     let play = if player.playing {
         "Pause clip"
     } else {
         "Play clip"
     };
-    if ui
-        .button(play)
+    if bar_button(ui, bar, play)
         .on_hover_text("Play or pause (Space)")
         .clicked()
     {
         player.playing = !player.playing;
     }
-    if ui.button("-1").on_hover_text("One frame back").clicked() {
+    if bar_button(ui, bar, "-1")
+        .on_hover_text("One frame back")
+        .clicked()
+    {
         player.step(-1, count);
     }
-    if ui.button("+1").on_hover_text("One frame forward").clicked() {
+    if bar_button(ui, bar, "+1")
+        .on_hover_text("One frame forward")
+        .clicked()
+    {
         player.step(1, count);
     }
     let mut index = player.frame(count);
@@ -230,7 +234,7 @@ fn sequence_bar(ui: &mut egui::Ui, sequences: &mut SequenceSet) {
             ui.label(RichText::new("Sequences").strong());
             let count = sequences.len();
             if !sequences.is_empty() {
-                playback_controls(ui, &mut sequences.player, count);
+                playback_controls(ui, "sequence bar", &mut sequences.player, count);
             }
             let Some(first) = sequences.sequences().first() else {
                 return;

@@ -65,13 +65,10 @@ pub(super) fn sequences_section(ui: &mut egui::Ui, ws: &mut Workspace) {
 /// Progress with its cancel button (or the button that scores), the display model and the
 /// viewing distance; `scope` names the table they are under (`clip`, `sequences`).
 pub(super) fn controls(ui: &mut egui::Ui, ws: &mut Workspace, scope: &str) {
-    // The buttons get ids of their own: ids made from the place in the panel change when
-    // figures arriving above them change the widgets there, and a click sent to a button by
-    // its id in one frame (as assistive technology and the UI tests do) would miss it in the
-    // next.
-    let buttons =
-        egui::UiBuilder::new().scope_id(egui::Id::unique(("colorvideovdp buttons", scope)));
-    ui.scope_builder(buttons, |ui| match ws.jod.progress() {
+    // Keyed: the figures above the buttons arrive while they are shown.
+    let buttons = egui::Id::unique(("colorvideovdp buttons", scope));
+    style::keyed(ui, buttons, |ui| {
+        match ws.jod.progress() {
         Some((done, total)) => {
             ui.horizontal(|ui| {
                 ui.add(
@@ -97,6 +94,7 @@ pub(super) fn controls(ui: &mut egui::Ui, ws: &mut Workspace, scope: &str) {
                 ws.jod.start(&ws.cx);
             }
         }
+    }
     });
     let settings = &mut ws.cx.settings;
     ui.horizontal(|ui| {

@@ -11,6 +11,7 @@
 use egui::RichText;
 
 use super::context::Context;
+use super::style;
 use crate::aa::combo::{
     Combo, DEFAULT_STRENGTH, MIN_SCALE, ScalePreset, Sharpen, Sharpening, Upscaler,
 };
@@ -135,16 +136,19 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
                     .on_hover_text("The same id works on the command line: --technique ID");
             });
             let listed = engine.entry(&id).is_some_and(|e| !e.removed);
-            let button = ui
-                .add_enabled(
+            // Keyed: the form's rows above it change with the draft.
+            let add_button = egui::Id::unique("render scale form: add");
+            let button = style::keyed(ui, add_button, |ui| {
+                ui.add_enabled(
                     !combo.is_plain() && !listed,
                     egui::Button::new("Add and compare"),
                 )
-                .on_disabled_hover_text(if listed {
-                    "Already in the list."
-                } else {
-                    "At native scale without sharpening this is the technique itself."
-                });
+            })
+            .on_disabled_hover_text(if listed {
+                "Already in the list."
+            } else {
+                "At native scale without sharpening this is the technique itself."
+            });
             if button.clicked() {
                 add = Some(id);
             }

@@ -188,6 +188,18 @@ pub fn chip(
     rect
 }
 
+/// Adds widgets in a scope whose ids come from `key` alone, not from the widgets before it.
+///
+/// egui numbers a widget after the ones added before it in the same `Ui` (`push_id` too: its
+/// scope is numbered the same way). Where a widget before a button comes and goes between frames
+/// (a warning, figures that arrive), the button's id changes, and a click sent to it by id in one
+/// frame (as assistive technology and the UI tests do) misses it in the next. `key` must be
+/// unique among the widgets shown in a frame.
+pub fn keyed<R>(ui: &mut egui::Ui, key: egui::Id, add: impl FnOnce(&mut egui::Ui) -> R) -> R {
+    ui.scope_builder(egui::UiBuilder::new().scope_id(key), add)
+        .inner
+}
+
 /// Milliseconds with a precision that suits the size.
 pub fn ms(value: f64) -> String {
     if value >= 100.0 {
@@ -238,5 +250,31 @@ mod tests {
         for other in [None, Some(4), Some(usize::MAX)] {
             assert_eq!(slot_mark(other), (REFERENCE_LETTER, REFERENCE_COLOR));
         }
+    }
+
+    #[test]
+    fn a_keyed_button_keeps_its_id_whatever_comes_before_it() {
+        let ctx = egui::Context::default();
+        // The ids of a plain button and a keyed one after `preceding` labels.
+        let ids = |preceding: usize| {
+            let mut ids = None;
+            let _ = ctx.run_ui(egui::RawInput::default(), |ui| {
+                for n in 0..preceding {
+                    ui.label(format!("warning {n}"));
+                }
+                let plain = ui.button("Discard").id;
+                let keyed = keyed(ui, egui::Id::unique("keyed test"), |ui| {
+                    ui.button("Export").id
+                });
+                ids = Some((plain, keyed));
+            });
+            ids.expect("the buttons were added")
+        };
+        let (before, after) = (ids(0), ids(2));
+        assert_ne!(
+            before.0, after.0,
+            "the plain button is numbered after the labels"
+        );
+        assert_eq!(before.1, after.1);
     }
 }
