@@ -202,12 +202,14 @@ impl BenchFeature {
                         .desired_width(bar_width)
                         .text(text),
                 );
-                if ui
-                    .add_enabled(!cancelling, egui::Button::new("Cancel"))
-                    .on_hover_text(
-                        "Stop the bench after the frame it is rendering; nothing is written.",
-                    )
-                    .clicked()
+                let cancel = egui::Id::unique("bench: cancel");
+                if style::keyed(ui, cancel, |ui| {
+                    ui.add_enabled(!cancelling, egui::Button::new("Cancel"))
+                })
+                .on_hover_text(
+                    "Stop the bench after the frame it is rendering; nothing is written.",
+                )
+                .clicked()
                 {
                     running.progress.cancel.store(true, Ordering::Relaxed);
                 }
@@ -222,8 +224,8 @@ impl BenchFeature {
                         .suffix(" frames"),
                 )
                 .on_hover_text(format!("Timed frames (after {DEFAULT_WARMUP} warm-up frames), as `aa-lab bench --frames`."));
-                if ui
-                    .button("Run bench")
+                // Keyed: the figures above it change with every frame.
+                if style::keyed(ui, egui::Id::unique("bench: run"), |ui| ui.button("Run bench"))
                     .on_hover_text(format!("Measure the compared techniques as `aa-lab bench` does: GPU time per pass over the timed frames along a slow camera track from this view, memory, quality of frame {DEFAULT_QUALITY_FRAME} against the 64-sample reference, flicker. The live view pauses meanwhile; the report goes to a new folder in the export folder."))
                     .clicked()
                 {

@@ -99,25 +99,28 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
             .weak(),
         );
         ui.add_space(6.0);
-        ui.horizontal(|ui| {
-            if cx.images.has_sequences() {
-                if ui.button("Open other sequences…").clicked() {
-                    cx.open_sequences_dialog(&ctx);
+        // Keyed: the figures above change as they are measured.
+        style::keyed(ui, egui::Id::unique("image panel: open and close"), |ui| {
+            ui.horizontal(|ui| {
+                if cx.images.has_sequences() {
+                    if ui.button("Open other sequences…").clicked() {
+                        cx.open_sequences_dialog(&ctx);
+                    }
+                } else if ui.button("Open other images…").clicked() {
+                    cx.open_images_dialog(&ctx);
                 }
-            } else if ui.button("Open other images…").clicked() {
-                cx.open_images_dialog(&ctx);
-            }
-            let back = match &cx.scene {
-                Some(scene) => format!("Back to {}", scene.name),
-                None => "Close images".to_owned(),
-            };
-            if ui
-                .button(back)
-                .on_hover_text("Close the images and show the scene again")
-                .clicked()
-            {
-                cx.close_images();
-            }
+                let back = match &cx.scene {
+                    Some(scene) => format!("Back to {}", scene.name),
+                    None => "Close images".to_owned(),
+                };
+                if ui
+                    .button(back)
+                    .on_hover_text("Close the images and show the scene again")
+                    .clicked()
+                {
+                    cx.close_images();
+                }
+            })
         });
     });
 }

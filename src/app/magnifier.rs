@@ -543,8 +543,9 @@ fn header(ui: &mut egui::Ui, cx: &mut Context) {
                 .on_hover_text("Drag the white rectangle in the view, Ctrl+click to place it, or nudge it with the arrow keys.");
             }
             ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                if ui
-                    .button("Copy sheet")
+                // Keyed: the lens readout and the legend before it come and go.
+                let copy = egui::Id::unique("magnifier: copy sheet");
+                if style::keyed(ui, copy, |ui| ui.button("Copy sheet"))
                     .on_hover_text(shortcut_hint(&ctx, Action::CopySheet, "Copy the magnifier sheet (all panes with labels and metrics) to the clipboard"))
                     .clicked()
                 {

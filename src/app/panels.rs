@@ -349,7 +349,11 @@ pub(super) fn toolbar(ui: &mut egui::Ui, ws: &mut Workspace, help_open: &mut boo
                         .on_hover_text(tip);
                 }
                 ui.separator();
-                compare_strip(ui, ws);
+                // In a scope of its own: the strip's widgets come and go with the compared
+                // techniques, and the buttons after it keep their ids.
+                style::keyed(ui, egui::Id::unique("toolbar: compared techniques"), |ui| {
+                    compare_strip(ui, ws);
+                });
                 ui.separator();
                 let (icon, tip) = if ws.cx.camera.playing {
                     ("Pause", "Pause time")
@@ -400,17 +404,19 @@ pub(super) fn toolbar(ui: &mut egui::Ui, ws: &mut Workspace, help_open: &mut boo
                     .on_hover_text("Render resolution");
                 ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                     let status = ws.export.status();
+                    // Keyed: Cancel comes and goes before the others.
+                    let key = |name: &str| egui::Id::unique(("toolbar", name));
                     if status.is_some()
-                        && ui
-                            .button("Cancel")
+                        && style::keyed(ui, key("cancel export"), |ui| ui.button("Cancel"))
                             .on_hover_text("Stop the export; the file being written is removed")
                             .clicked()
                     {
                         ws.export.cancel();
                     }
                     let label = status.unwrap_or_else(|| "Export".to_owned());
-                    if ui
-                        .add_enabled(!ws.export.running(), Button::new(label))
+                    if style::keyed(ui, key("export"), |ui| {
+                        ui.add_enabled(!ws.export.running(), Button::new(label))
+                    })
                         .on_hover_text(shortcut_hint(
                             &ctx,
                             Action::Export,
@@ -423,8 +429,7 @@ pub(super) fn toolbar(ui: &mut egui::Ui, ws: &mut Workspace, help_open: &mut boo
                     {
                         ws.cx.request(Command::ExportFrame);
                     }
-                    if ui
-                        .button("?")
+                    if style::keyed(ui, key("help"), |ui| ui.button("?"))
                         .on_hover_text(shortcut_hint(&ctx, Action::Help, "Keyboard shortcuts"))
                         .clicked()
                     {
@@ -453,10 +458,11 @@ fn compare_strip(ui: &mut egui::Ui, ws: &mut Workspace) {
         image_panel::strip(ui, &mut ws.cx);
     }
     if compared.len() >= 2
-        && ui
-            .small_button("swap A/B")
-            .on_hover_text("Swap A and B")
-            .clicked()
+        && style::keyed(ui, egui::Id::unique("toolbar: swap"), |ui| {
+            ui.small_button("swap A/B")
+        })
+        .on_hover_text("Swap A and B")
+        .clicked()
     {
         if ws.cx.images.is_open() {
             ws.cx.images.swap_first_two();

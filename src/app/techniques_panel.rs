@@ -10,7 +10,7 @@ use super::context::{Context, Level};
 use super::image_panel;
 use super::scale_form;
 use super::settings::MAX_COMPARE;
-use super::style::{SLOT_COLORS, SLOT_LETTERS};
+use super::style::{self, SLOT_COLORS, SLOT_LETTERS};
 use crate::aa::{Param, ParamKind, ParamValue};
 
 /// Every registry technique with its switch, comparison mark and settings.
@@ -53,10 +53,12 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
                 ui.add_space(4.0);
                 scale_form::ui(ui, cx);
                 ui.add_space(4.0);
-                if ui
-                    .small_button("Add technique from file…")
-                    .on_hover_text(USER_TECHNIQUE_HINT)
-                    .clicked()
+                let add_from_file = egui::Id::unique("techniques panel: add from file");
+                if style::keyed(ui, add_from_file, |ui| {
+                    ui.small_button("Add technique from file…")
+                })
+                .on_hover_text(USER_TECHNIQUE_HINT)
+                .clicked()
                 {
                     let ctx = ui.ctx().clone();
                     cx.add_technique_dialog(&ctx);
@@ -100,7 +102,9 @@ fn technique_row(ui: &mut egui::Ui, cx: &mut Context, id: &'static str, number: 
         } else {
             Color32::TRANSPARENT
         });
-    frame.show(ui, |ui| {
+    // Keyed by the technique: rows come and go above it (user techniques, combinations).
+    style::keyed(ui, egui::Id::unique(("technique row", id)), |ui| {
+        frame.show(ui, |ui| {
         ui.horizontal(|ui| {
             let mut on = enabled;
             let tip = match &key {
@@ -191,6 +195,7 @@ fn technique_row(ui: &mut egui::Ui, cx: &mut Context, id: &'static str, number: 
                 technique_settings(ui, cx, id);
             }
         }
+    })
     });
     if let Some(on) = toggled {
         cx.set_technique_enabled(id, on);

@@ -6,13 +6,14 @@
 
 #![allow(dead_code)]
 
+use std::collections::{HashMap, HashSet};
 use std::time::{Duration, Instant};
 
 use aa_lab::app::{AaLabApp, ClipPath, DisplayPath, LaunchOptions};
 use aa_lab::scene::motion::Motion;
 use egui::{Event, Modifiers, PointerButton, Pos2};
 use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 
 /// Window size: side panels and magnifier leave a viewport of a few hundred pixels.
 pub const WINDOW: egui::Vec2 = egui::vec2(1180.0, 760.0);
@@ -111,9 +112,41 @@ pub fn pan_clip_with_reference(harness: &mut Harness<'_, AaLabApp>, frames: u32,
     clip.reference_samples = 16;
 }
 
-/// Steps the UI until `done` holds.
+/// A button as one frame shows it: its accesskit id, place and parent's id.
+struct ShownButton {
+    id: String,
+    rect: egui::Rect,
+    parent: String,
+}
+
+/// The buttons of the frame by label, for the labels one button has.
+fn buttons(harness: &Harness<'_, AaLabApp>) -> HashMap<String, ShownButton> {
+    let mut buttons = HashMap::new();
+    let mut repeated = HashSet::new();
+    for node in harness.query_all_by_role(egui::accesskit::Role::Button) {
+        let shown = ShownButton {
+            id: format!("{:?}", node.accesskit_node().id()),
+            rect: node.rect(),
+            parent: format!("{:?}", node.parent().map(|p| p.accesskit_node().id())),
+        };
+        let Some(label) = node.accesskit_node().label() else {
+            continue;
+        };
+        if buttons.insert(label.clone(), shown).is_some() {
+            repeated.insert(label);
+        }
+    }
+    buttons.retain(|label, _| !repeated.contains(label));
+    buttons
+}
+
+/// Steps the UI until `done` holds, and checks that no button changes its id meanwhile (the
+/// same label in the same place or under the same parent with another id): the frames a wait
+/// steps through have no input, and a widget whose id moves with what arrives before it (figures,
+/// frames, progress) loses the clicks aimed at it.
 pub fn wait(harness: &mut Harness<'_, AaLabApp>, what: &str, done: impl Fn(&AaLabApp) -> bool) {
     let start = Instant::now();
+    let mut before = buttons(harness);
     while !done(harness.state()) {
         assert!(
             start.elapsed() < TIMEOUT,
@@ -126,6 +159,22 @@ pub fn wait(harness: &mut Harness<'_, AaLabApp>, what: &str, done: impl Fn(&AaLa
                 .collect::<Vec<_>>()
         );
         harness.step();
+        let now = buttons(harness);
+        for (label, shown) in &now {
+            let Some(old) = before.get(label) else {
+                continue;
+            };
+            assert!(
+                old.id == shown.id || (old.rect != shown.rect && old.parent != shown.parent),
+                "the button {label:?} changed its id ({} -> {}) in a frame without input, \
+                 while waiting for {what}: a click aimed at it in one frame (by id, as accesskit \
+                 sends it, or pressed in one frame and released in the next) would miss it; key \
+                 it (`style::keyed`) or put what comes and goes before it in a scope of its own",
+                old.id,
+                shown.id
+            );
+        }
+        before = now;
         std::thread::sleep(Duration::from_millis(5));
     }
     harness.step();
