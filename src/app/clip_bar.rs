@@ -165,55 +165,58 @@ fn bar_button(ui: &mut egui::Ui, bar: &str, text: &str) -> egui::Response {
 /// Play and pause, single steps, the scrubber, the rate and ping-pong of a shown clip of
 /// `count` frames, in the bar named `bar`.
 fn playback_controls(ui: &mut egui::Ui, bar: &str, player: &mut ClipPlayer, count: usize) {
-    let play = if player.playing {
-        "Pause clip"
-    } else {
-        "Play clip"
-    };
-    if bar_button(ui, bar, play)
-        .on_hover_text("Play or pause (Space)")
-        .clicked()
-    {
-        player.playing = !player.playing;
-    }
-    if bar_button(ui, bar, "-1")
-        .on_hover_text("One frame back")
-        .clicked()
-    {
-        player.step(-1, count);
-    }
-    if bar_button(ui, bar, "+1")
-        .on_hover_text("One frame forward")
-        .clicked()
-    {
-        player.step(1, count);
-    }
-    let mut index = player.frame(count);
-    let scrub = ui.add(
-        egui::Slider::new(&mut index, 0..=count - 1)
-            .show_value(false)
-            .trailing_fill(true),
-    );
-    if scrub.changed() {
-        player.seek(index);
-    }
-    ui.label(RichText::new(format!("{:>3}/{count}", index + 1)).monospace());
-    egui::ComboBox::from_id_salt("clip rate")
-        .selected_text(player.rate.label())
-        .width(70.0)
-        .show_ui(ui, |ui| {
-            for rate in PlayRate::ALL {
-                ui.selectable_value(&mut player.rate, rate, rate.label());
-            }
+    // Keyed by the bar: what comes before the controls changes (a recording's progress),
+    // their own widgets do not, but for the rate warning at the end.
+    style::keyed(ui, egui::Id::unique(("playback controls", bar)), |ui| {
+        let play = if player.playing {
+            "Pause clip"
+        } else {
+            "Play clip"
+        };
+        if ui
+            .button(play)
+            .on_hover_text("Play or pause (Space)")
+            .clicked()
+        {
+            player.playing = !player.playing;
+        }
+        if ui.button("-1").on_hover_text("One frame back").clicked() {
+            player.step(-1, count);
+        }
+        if ui.button("+1").on_hover_text("One frame forward").clicked() {
+            player.step(1, count);
+        }
+        let mut index = player.frame(count);
+        let scrub = ui.add(
+            egui::Slider::new(&mut index, 0..=count - 1)
+                .show_value(false)
+                .trailing_fill(true),
+        );
+        if scrub.changed() {
+            player.seek(index);
+        }
+        ui.label(RichText::new(format!("{:>3}/{count}", index + 1)).monospace());
+        egui::ComboBox::from_id_salt("clip rate")
+            .selected_text(player.rate.label())
+            .width(70.0)
+            .show_ui(ui, |ui| {
+                for rate in PlayRate::ALL {
+                    ui.selectable_value(&mut player.rate, rate, rate.label());
+                }
+            });
+        // Keyed: the ids before it shifted while a recording's first frames arrived (the UI
+        // tests' id check found it).
+        style::keyed(ui, egui::Id::unique(("ping-pong", bar)), |ui| {
+            ui.checkbox(&mut player.ping_pong, "ping-pong")
         });
-    ui.checkbox(&mut player.ping_pong, "ping-pong");
-    if let Some(shown) = player
-        .shown_fps()
-        .filter(|fps| *fps < 0.95 * player.rate.fps())
-    {
-        ui.label(RichText::new(format!("shown at {shown:.0} fps")).small().color(style::WARN))
-            .on_hover_text("The window paints fewer frames per second than the clip's rate: every frame is shown, more slowly");
-    }
+        if let Some(shown) = player
+            .shown_fps()
+            .filter(|fps| *fps < 0.95 * player.rate.fps())
+        {
+            ui.label(RichText::new(format!("shown at {shown:.0} fps")).small().color(style::WARN))
+                .on_hover_text("The window paints fewer frames per second than the clip's rate: every frame is shown, more slowly");
+        }
+    });
 }
 
 /// `bytes` in MiB, for labels.

@@ -32,24 +32,32 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace, bench: &mut BenchFeature
             egui::ScrollArea::vertical().show(ui, |ui| {
                 ui.add_space(4.0);
                 ui.heading("Metrics");
+                // Each section in a scope of its own: the figures in one come and go with the
+                // frames, and the controls of the next keep their ids (`style::keyed`).
+                let section = |name: &str| egui::Id::unique(("metrics section", name));
                 if ws.cx.images.is_open() {
                     // Nothing renders: only the images' figures apply.
-                    image_panel::quality_section(ui, ws);
+                    style::keyed(ui, section("images"), |ui| {
+                        image_panel::quality_section(ui, ws);
+                    });
                     return;
                 }
-                performance_section(ui, ws);
+                style::keyed(ui, section("performance"), |ui| performance_section(ui, ws));
                 ui.separator();
-                gpu_section(ui, ws);
+                style::keyed(ui, section("gpu"), |ui| gpu_section(ui, ws));
                 ui.separator();
-                memory_section(ui, ws);
+                style::keyed(ui, section("memory"), |ui| memory_section(ui, ws));
                 ui.separator();
-                quality_section(ui, ws);
+                style::keyed(ui, section("quality"), |ui| quality_section(ui, ws));
                 if ws.cx.engine.as_ref().is_some_and(|e| e.clip().is_some()) {
                     ui.separator();
-                    clip_section(ui, ws);
+                    style::keyed(ui, section("clip"), |ui| clip_section(ui, ws));
                 }
                 ui.separator();
-                if let Some((level, text)) = bench.ui(ui, || bench_request(ws)) {
+                let asked = style::keyed(ui, section("bench"), |ui| {
+                    bench.ui(ui, || bench_request(ws))
+                });
+                if let Some((level, text)) = asked {
                     ws.cx.notify(level, text);
                 }
             });

@@ -119,11 +119,22 @@ struct ShownButton {
     parent: String,
 }
 
-/// The buttons of the frame by label, for the labels one button has.
+/// The controls of the frame (buttons, checkboxes, combo boxes, sliders, drag values) by
+/// label, for the labels one control has. The frame-time plot's legend entries are left out:
+/// egui_plot numbers them after the plot's axis labels, which follow the data.
 fn buttons(harness: &Harness<'_, AaLabApp>) -> HashMap<String, ShownButton> {
     let mut buttons = HashMap::new();
     let mut repeated = HashSet::new();
-    for node in harness.query_all_by_role(egui::accesskit::Role::Button) {
+    let control = |node: &egui_kittest::kittest::AccessKitNode<'_>| {
+        use egui::accesskit::Role;
+        let legend = ["frame (wall clock)", "GPU (all passes)"];
+        match node.role() {
+            Role::Button | Role::ComboBox | Role::Slider | Role::SpinButton => true,
+            Role::CheckBox => node.label().is_none_or(|l| !legend.contains(&l.as_str())),
+            _ => false,
+        }
+    };
+    for node in harness.query_all_by(control) {
         let shown = ShownButton {
             id: format!("{:?}", node.accesskit_node().id()),
             rect: node.rect(),
