@@ -1,8 +1,9 @@
 //! The viewer under test: the real [`AaLabApp`] launched headless through egui_kittest on the
 //! wgpu renderer (software Vulkan when there is no GPU), and the steps tests take with it (wait
-//! for a state, click, drag, add a user technique, read a blind session's answers). Shared by
-//! the UI tests (`tests/ui.rs`) and the soak (`tests/soak.rs`), each including it with
-//! `#[path]`.
+//! for a state, click, drag, add a user technique, read a blind session's answers). Every wait
+//! also checks that the controls on screen keep their ids from one frame to the next
+//! ([`wait`]). Shared by the UI tests (`tests/ui*.rs`) and the soak (`tests/soak.rs`), each
+//! including it with `#[path]`.
 
 #![allow(dead_code)]
 
