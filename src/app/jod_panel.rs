@@ -67,35 +67,7 @@ pub(super) fn sequences_section(ui: &mut egui::Ui, ws: &mut Workspace) {
 pub(super) fn controls(ui: &mut egui::Ui, ws: &mut Workspace, scope: &str) {
     // Keyed: the figures above the buttons arrive while they are shown.
     let buttons = egui::Id::unique(("colorvideovdp buttons", scope));
-    style::keyed(ui, buttons, |ui| {
-        match ws.jod.progress() {
-        Some((done, total)) => {
-            ui.horizontal(|ui| {
-                ui.add(
-                    egui::ProgressBar::new(done as f32 / total.max(1) as f32)
-                        .desired_width(180.0)
-                        .text(format!("ColorVideoVDP: {done}/{total} scored")),
-                );
-                if ui
-                    .button("Cancel scoring")
-                    .on_hover_text("Stop after the one being scored")
-                    .clicked()
-                {
-                    ws.jod.cancel();
-                }
-            });
-        }
-        None => {
-            if ui
-                .button("Score with ColorVideoVDP")
-                .on_hover_text("Score every pane against the reference over all its frames, at the playback rate (seconds per pane; the frames are read on a thread of their own).")
-                .clicked()
-            {
-                ws.jod.start(&ws.cx);
-            }
-        }
-    }
-    });
+    style::keyed(ui, buttons, |ui| scoring_buttons(ui, ws));
     let settings = &mut ws.cx.settings;
     ui.horizontal(|ui| {
         ui.label("JOD display");
@@ -134,6 +106,34 @@ pub(super) fn controls(ui: &mut egui::Ui, ws: &mut Workspace, scope: &str) {
             .on_hover_text(help);
         } else {
             ui.weak(RichText::new("the model's").small());
+        }
+    });
+}
+
+/// Scoring's progress with its cancel button, or the button that starts it.
+fn scoring_buttons(ui: &mut egui::Ui, ws: &mut Workspace) {
+    let Some((done, total)) = ws.jod.progress() else {
+        if ui
+            .button("Score with ColorVideoVDP")
+            .on_hover_text("Score every pane against the reference over all its frames, at the playback rate (seconds per pane; the frames are read on a thread of their own).")
+            .clicked()
+        {
+            ws.jod.start(&ws.cx);
+        }
+        return;
+    };
+    ui.horizontal(|ui| {
+        ui.add(
+            egui::ProgressBar::new(done as f32 / total.max(1) as f32)
+                .desired_width(180.0)
+                .text(format!("ColorVideoVDP: {done}/{total} scored")),
+        );
+        if ui
+            .button("Cancel scoring")
+            .on_hover_text("Stop after the one being scored")
+            .clicked()
+        {
+            ws.jod.cancel();
         }
     });
 }

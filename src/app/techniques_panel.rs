@@ -105,97 +105,97 @@ fn technique_row(ui: &mut egui::Ui, cx: &mut Context, id: &'static str, number: 
     // Keyed by the technique: rows come and go above it (user techniques, combinations).
     style::keyed(ui, egui::Id::unique(("technique row", id)), |ui| {
         frame.show(ui, |ui| {
-        ui.horizontal(|ui| {
-            let mut on = enabled;
-            let tip = match &key {
-                Some(k) => format!("{summary}\n\nKey {k} switches it on or off."),
-                None => summary.to_owned(),
-            };
-            let response = ui
-                .add_enabled(
-                    switchable,
-                    egui::Checkbox::new(&mut on, RichText::new(name).strong()),
-                )
-                .on_hover_text(tip);
-            let response = match &reason {
-                Some(reason) => response.on_disabled_hover_text(format!("Unavailable: {reason}")),
-                None => response,
-            };
-            if response.changed() {
-                toggled = Some(on);
-            }
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                if user
-                    && ui
-                        .small_button("×")
-                        .on_hover_text(
-                            "Remove this technique (a user technique's file stays on disk; \
-                             add it again to bring it back)",
-                        )
-                        .clicked()
-                {
-                    remove_clicked = true;
+            ui.horizontal(|ui| {
+                let mut on = enabled;
+                let tip = match &key {
+                    Some(k) => format!("{summary}\n\nKey {k} switches it on or off."),
+                    None => summary.to_owned(),
+                };
+                let response = ui
+                    .add_enabled(
+                        switchable,
+                        egui::Checkbox::new(&mut on, RichText::new(name).strong()),
+                    )
+                    .on_hover_text(tip);
+                let response = match &reason {
+                    Some(reason) => response.on_disabled_hover_text(format!("Unavailable: {reason}")),
+                    None => response,
+                };
+                if response.changed() {
+                    toggled = Some(on);
                 }
-                if available {
-                    let (text, fill) = match slot {
-                        Some(s) => (SLOT_LETTERS[s], SLOT_COLORS[s]),
-                        None => ("+", Color32::from_gray(60)),
-                    };
-                    let button = Button::new(RichText::new(text).monospace().strong().color(
-                        if slot.is_some() {
-                            Color32::BLACK
-                        } else {
-                            Color32::from_gray(200)
-                        },
-                    ))
-                    .fill(fill)
-                    .min_size(egui::vec2(22.0, 18.0));
-                    if ui
-                        .add(button)
-                        .on_hover_text(match slot {
-                            Some(s) => {
-                                format!("Compared as {}; click to stop comparing", SLOT_LETTERS[s])
-                            }
-                            None => "Compare this technique (switches it on)".to_owned(),
-                        })
-                        .clicked()
+                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                    if user
+                        && ui
+                            .small_button("×")
+                            .on_hover_text(
+                                "Remove this technique (a user technique's file stays on disk; \
+                                 add it again to bring it back)",
+                            )
+                            .clicked()
                     {
-                        compare_clicked = true;
+                        remove_clicked = true;
                     }
-                }
-                if let Some(k) = &key {
-                    ui.weak(RichText::new(k).monospace().small());
-                }
+                    if available {
+                        let (text, fill) = match slot {
+                            Some(s) => (SLOT_LETTERS[s], SLOT_COLORS[s]),
+                            None => ("+", Color32::from_gray(60)),
+                        };
+                        let button = Button::new(RichText::new(text).monospace().strong().color(
+                            if slot.is_some() {
+                                Color32::BLACK
+                            } else {
+                                Color32::from_gray(200)
+                            },
+                        ))
+                        .fill(fill)
+                        .min_size(egui::vec2(22.0, 18.0));
+                        if ui
+                            .add(button)
+                            .on_hover_text(match slot {
+                                Some(s) => {
+                                    format!("Compared as {}; click to stop comparing", SLOT_LETTERS[s])
+                                }
+                                None => "Compare this technique (switches it on)".to_owned(),
+                            })
+                            .clicked()
+                        {
+                            compare_clicked = true;
+                        }
+                    }
+                    if let Some(k) = &key {
+                        ui.weak(RichText::new(k).monospace().small());
+                    }
+                });
             });
-        });
-        if let Some(elapsed) = compiling {
-            compiling_note(ui, elapsed);
-        }
-        if let Some(reason) = &reason
-            && user
-        {
-            file_error(ui, &format!("The file does not build: {reason}"));
-        } else if let Some(reason) = &reason {
-            ui.label(
-                RichText::new("not available on this adapter")
-                    .small()
-                    .weak(),
-            )
-            .on_hover_text(reason);
-        } else {
-            if let Some(problem) = &problem {
-                file_error(
-                    ui,
-                    &format!(
-                        "The last change does not build; the previous build still runs: {problem}"
-                    ),
-                );
+            if let Some(elapsed) = compiling {
+                compiling_note(ui, elapsed);
             }
-            if enabled {
-                technique_settings(ui, cx, id);
+            if let Some(reason) = &reason
+                && user
+            {
+                file_error(ui, &format!("The file does not build: {reason}"));
+            } else if let Some(reason) = &reason {
+                ui.label(
+                    RichText::new("not available on this adapter")
+                        .small()
+                        .weak(),
+                )
+                .on_hover_text(reason);
+            } else {
+                if let Some(problem) = &problem {
+                    file_error(
+                        ui,
+                        &format!(
+                            "The last change does not build; the previous build still runs: {problem}"
+                        ),
+                    );
+                }
+                if enabled {
+                    technique_settings(ui, cx, id);
+                }
             }
-        }
-    })
+        })
     });
     if let Some(on) = toggled {
         cx.set_technique_enabled(id, on);

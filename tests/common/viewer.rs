@@ -113,8 +113,8 @@ pub fn pan_clip_with_reference(harness: &mut Harness<'_, AaLabApp>, frames: u32,
     clip.reference_samples = 16;
 }
 
-/// A button as one frame shows it: its accesskit id, place and parent's id.
-struct ShownButton {
+/// A control as one frame shows it: its accesskit id, place and parent's id.
+struct ShownControl {
     id: String,
     rect: egui::Rect,
     parent: String,
@@ -123,8 +123,8 @@ struct ShownButton {
 /// The controls of the frame (buttons, checkboxes, combo boxes, sliders, drag values) by
 /// label, for the labels one control has. The frame-time plot's legend entries are left out:
 /// egui_plot numbers them after the plot's axis labels, which follow the data.
-fn buttons(harness: &Harness<'_, AaLabApp>) -> HashMap<String, ShownButton> {
-    let mut buttons = HashMap::new();
+fn controls(harness: &Harness<'_, AaLabApp>) -> HashMap<String, ShownControl> {
+    let mut controls = HashMap::new();
     let mut repeated = HashSet::new();
     let control = |node: &egui_kittest::kittest::AccessKitNode<'_>| {
         use egui::accesskit::Role;
@@ -136,7 +136,7 @@ fn buttons(harness: &Harness<'_, AaLabApp>) -> HashMap<String, ShownButton> {
         }
     };
     for node in harness.query_all_by(control) {
-        let shown = ShownButton {
+        let shown = ShownControl {
             id: format!("{:?}", node.accesskit_node().id()),
             rect: node.rect(),
             parent: format!("{:?}", node.parent().map(|p| p.accesskit_node().id())),
@@ -144,21 +144,21 @@ fn buttons(harness: &Harness<'_, AaLabApp>) -> HashMap<String, ShownButton> {
         let Some(label) = node.accesskit_node().label() else {
             continue;
         };
-        if buttons.insert(label.clone(), shown).is_some() {
+        if controls.insert(label.clone(), shown).is_some() {
             repeated.insert(label);
         }
     }
-    buttons.retain(|label, _| !repeated.contains(label));
-    buttons
+    controls.retain(|label, _| !repeated.contains(label));
+    controls
 }
 
-/// Steps the UI until `done` holds, and checks that no button changes its id meanwhile (the
+/// Steps the UI until `done` holds, and checks that no control changes its id meanwhile (the
 /// same label in the same place or under the same parent with another id): the frames a wait
 /// steps through have no input, and a widget whose id moves with what arrives before it (figures,
 /// frames, progress) loses the clicks aimed at it.
 pub fn wait(harness: &mut Harness<'_, AaLabApp>, what: &str, done: impl Fn(&AaLabApp) -> bool) {
     let start = Instant::now();
-    let mut before = buttons(harness);
+    let mut before = controls(harness);
     while !done(harness.state()) {
         assert!(
             start.elapsed() < TIMEOUT,
@@ -171,14 +171,14 @@ pub fn wait(harness: &mut Harness<'_, AaLabApp>, what: &str, done: impl Fn(&AaLa
                 .collect::<Vec<_>>()
         );
         harness.step();
-        let now = buttons(harness);
+        let now = controls(harness);
         for (label, shown) in &now {
             let Some(old) = before.get(label) else {
                 continue;
             };
             assert!(
                 old.id == shown.id || (old.rect != shown.rect && old.parent != shown.parent),
-                "the button {label:?} changed its id ({} -> {}) in a frame without input, \
+                "the control {label:?} changed its id ({} -> {}) in a frame without input, \
                  while waiting for {what}: a click aimed at it in one frame (by id, as accesskit \
                  sends it, or pressed in one frame and released in the next) would miss it; key \
                  it (`style::keyed`) or put what comes and goes before it in a scope of its own",
