@@ -9,7 +9,7 @@ use egui::RichText;
 use super::context::{Command, Context};
 use super::engine::{Clip, ClipPath, ClipPlayer, ClipSettings, ClipStatus, MAX_FRAMES, PlayRate};
 use super::sequence_set::{CACHE_FRAMES, SequenceSet};
-use super::style;
+use super::style::{self, ShowKeyed};
 
 /// What the clip bar asks the app to do.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -232,7 +232,7 @@ fn bar(ui: &egui::Ui) -> egui::Panel {
 
 /// The transport of an open sequence set: its playback controls and what it holds.
 fn sequence_bar(ui: &mut egui::Ui, sequences: &mut SequenceSet) {
-    bar(ui).show(ui, |ui| {
+    bar(ui).show_keyed(ui, "sequence bar", |ui| {
         ui.horizontal_wrapped(|ui| {
             ui.label(RichText::new("Sequences").strong());
             let count = sequences.len();
@@ -269,7 +269,7 @@ pub(in crate::app) fn panel(ui: &mut egui::Ui, cx: &mut Context) {
     let shown = engine.clip_shown();
     let settings = &mut cx.settings.clip;
     let action = bar(ui)
-        .show(ui, |ui| {
+        .show_keyed(ui, "clip bar", |ui| {
             clip_bar(ui, settings, engine.clip_mut(), shown, Some(estimate))
         })
         .inner;

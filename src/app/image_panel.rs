@@ -12,7 +12,7 @@ use super::context::Context;
 use super::image_set::IMAGE_IDS;
 use super::jod_panel;
 use super::quality;
-use super::style::{self, number, number_weak};
+use super::style::{self, ShowKeyed, number, number_weak};
 use super::workspace::Workspace;
 
 /// What the reference of an image set is, for tooltips.
@@ -49,7 +49,7 @@ pub(super) fn strip(ui: &mut egui::Ui, cx: &mut Context) {
 /// The left panel while images are shown.
 pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
     let ctx = ui.ctx().clone();
-    style::left_panel("images").show(ui, |ui| {
+    style::left_panel("images").show_keyed(ui, "images", |ui| {
         ui.add_space(4.0);
         ui.heading("Images");
         ui.separator();

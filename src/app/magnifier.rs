@@ -28,7 +28,7 @@ use super::engine::ReferenceState;
 use super::lens::{Source, crop};
 use super::settings::MagnifierSettings;
 use super::shortcuts::{Action, shortcut_hint};
-use super::style;
+use super::style::{self, ShowKeyed};
 use super::worker::Worker;
 use crate::export::sheet::{self, Cell, Row};
 use crate::gpu::readback::Region;
@@ -400,7 +400,7 @@ impl MagnifierPanel {
                 egui::Frame::side_top_panel(ui.style())
                     .inner_margin(egui::Margin::symmetric(10, 6)),
             )
-            .show(ui, |ui| {
+            .show_keyed(ui, "magnifier", |ui| {
                 // Keep the panel at its set height (panels otherwise shrink to their content).
                 ui.set_min_height(ui.available_height());
                 // Keyed: the header's controls keep their ids whatever is shown above it.

@@ -18,7 +18,7 @@ use super::image_panel;
 use super::jod_panel;
 use super::quality;
 use super::reference::REFERENCE_ID;
-use super::style::{self, ACCENT, SLOT_COLORS, SLOT_LETTERS, number, number_weak};
+use super::style::{self, ACCENT, SLOT_COLORS, SLOT_LETTERS, ShowKeyed, number, number_weak};
 use super::workspace::Workspace;
 
 /// The panel. See the module docs.
@@ -28,7 +28,7 @@ pub(super) fn ui(ui: &mut egui::Ui, ws: &mut Workspace, bench: &mut BenchFeature
         .resizable(true)
         .default_size(340.0)
         .size_range(260.0..=560.0)
-        .show(ui, |ui| {
+        .show_keyed(ui, "metrics", |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 ui.add_space(4.0);
                 ui.heading("Metrics");

@@ -11,7 +11,7 @@ use super::context::{Command, Level};
 use super::image_panel;
 use super::settings::{Layout, Resolution};
 use super::shortcuts::{self, Action, shortcut_hint};
-use super::style::{self, SLOT_COLORS};
+use super::style::{self, SLOT_COLORS, ShowKeyed};
 use super::techniques_panel::USER_TECHNIQUE_HINT;
 use super::workspace::Workspace;
 use crate::scene::procedural::BUILTIN_SCENES;
@@ -33,7 +33,7 @@ pub(super) fn menu_bar(
     panels_hidden: &mut bool,
 ) {
     let ctx = ui.ctx().clone();
-    egui::Panel::top("menu bar").show(ui, |ui| {
+    egui::Panel::top("menu bar").show_keyed(ui, "menu bar", |ui| {
         egui::MenuBar::new().ui(ui, |ui| {
             ui.menu_button("File", |ui| file_menu(ui, ws, &ctx));
             ui.menu_button("View", |ui| view_menu(ui, ws, panels_hidden));
@@ -341,7 +341,7 @@ pub(super) fn toolbar(ui: &mut egui::Ui, ws: &mut Workspace, help_open: &mut boo
     let ctx = ui.ctx().clone();
     egui::Panel::top("toolbar")
         .frame(egui::Frame::side_top_panel(ui.style()).inner_margin(egui::Margin::symmetric(8, 5)))
-        .show(ui, |ui| {
+        .show_keyed(ui, "toolbar", |ui| {
             ui.horizontal(|ui| {
                 for layout in Layout::ALL {
                     let tip = shortcut_hint(&ctx, Action::Layout(layout), layout.help());
@@ -481,7 +481,7 @@ fn compare_strip(ui: &mut egui::Ui, ws: &mut Workspace) {
 pub(super) fn status_bar(ui: &mut egui::Ui, ws: &Workspace, hover: Option<(u32, u32)>) {
     egui::Panel::bottom("status bar")
         .frame(egui::Frame::side_top_panel(ui.style()).inner_margin(egui::Margin::symmetric(8, 3)))
-        .show(ui, |ui| {
+        .show_keyed(ui, "status bar", |ui| {
             ui.horizontal(|ui| {
                 let caps = &ws.cx.gpu.caps;
                 ui.label(RichText::new(&caps.adapter_name).small())

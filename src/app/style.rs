@@ -200,6 +200,44 @@ pub fn keyed<R>(ui: &mut egui::Ui, key: egui::Id, add: impl FnOnce(&mut egui::Ui
         .inner
 }
 
+/// Panels whose contents keep their ids whatever panels come before them.
+///
+/// egui numbers a panel's contents after the panels shown before it in the frame, as it numbers
+/// widgets (see [`keyed`]). A panel that comes or goes (the clip bar when a recording ends, the
+/// magnifier, a sequence set's bar) would renumber every control in the panels after it.
+pub trait ShowKeyed {
+    /// Shows the panel with its contents in a scope keyed by `key`, which must be unique among
+    /// the panels of a frame.
+    fn show_keyed<R>(
+        self,
+        ui: &mut egui::Ui,
+        key: &'static str,
+        add: impl FnOnce(&mut egui::Ui) -> R,
+    ) -> egui::InnerResponse<R>;
+}
+
+impl ShowKeyed for egui::Panel {
+    fn show_keyed<R>(
+        self,
+        ui: &mut egui::Ui,
+        key: &'static str,
+        add: impl FnOnce(&mut egui::Ui) -> R,
+    ) -> egui::InnerResponse<R> {
+        self.show(ui, |ui| keyed(ui, egui::Id::unique(key), add))
+    }
+}
+
+impl ShowKeyed for egui::CentralPanel {
+    fn show_keyed<R>(
+        self,
+        ui: &mut egui::Ui,
+        key: &'static str,
+        add: impl FnOnce(&mut egui::Ui) -> R,
+    ) -> egui::InnerResponse<R> {
+        self.show(ui, |ui| keyed(ui, egui::Id::unique(key), add))
+    }
+}
+
 /// Milliseconds with a precision that suits the size.
 pub fn ms(value: f64) -> String {
     if value >= 100.0 {
@@ -274,6 +312,35 @@ mod tests {
         assert_ne!(
             before.0, after.0,
             "the plain button is numbered after the labels"
+        );
+        assert_eq!(before.1, after.1);
+    }
+
+    #[test]
+    fn a_keyed_panel_keeps_its_contents_ids_whatever_panels_come_before_it() {
+        let ctx = egui::Context::default();
+        // The ids of a button in a plain panel and in a keyed one, with or without a bar
+        // shown before them.
+        let ids = |with_bar: bool| {
+            let mut ids = None;
+            let _ = ctx.run_ui(egui::RawInput::default(), |ui| {
+                if with_bar {
+                    egui::Panel::bottom("bar").show(ui, |ui| ui.label("clip"));
+                }
+                let plain = egui::Panel::left("plain")
+                    .show(ui, |ui| ui.button("Run").id)
+                    .inner;
+                let keyed = egui::Panel::right("keyed")
+                    .show_keyed(ui, "keyed panel test", |ui| ui.button("Copy").id)
+                    .inner;
+                ids = Some((plain, keyed));
+            });
+            ids.expect("the panels were shown")
+        };
+        let (before, after) = (ids(false), ids(true));
+        assert_ne!(
+            before.0, after.0,
+            "the plain panel is numbered after the bar"
         );
         assert_eq!(before.1, after.1);
     }

@@ -10,7 +10,7 @@ use super::context::{Context, Level};
 use super::image_panel;
 use super::scale_form;
 use super::settings::MAX_COMPARE;
-use super::style::{self, SLOT_COLORS, SLOT_LETTERS};
+use super::style::{self, SLOT_COLORS, SLOT_LETTERS, ShowKeyed};
 use crate::aa::{Param, ParamKind, ParamValue};
 
 /// Every registry technique with its switch, comparison mark and settings.
@@ -20,7 +20,7 @@ pub(super) fn ui(ui: &mut egui::Ui, cx: &mut Context) {
         image_panel::ui(ui, cx);
         return;
     }
-    super::style::left_panel("techniques").show(ui, |ui| {
+    style::left_panel("techniques").show_keyed(ui, "techniques", |ui| {
             ui.add_space(4.0);
             ui.horizontal(|ui| {
                 ui.heading("Techniques");

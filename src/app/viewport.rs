@@ -18,7 +18,7 @@ use super::blit;
 use super::context::Context;
 use super::engine::Published;
 use super::settings::{Layout, Resolution};
-use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, VIEWPORT_BG};
+use super::style::{self, REFERENCE_COLOR, SLOT_COLORS, ShowKeyed, VIEWPORT_BG};
 
 /// Gap between grid tiles, in points.
 const GRID_GAP: f32 = 2.0;
@@ -201,7 +201,7 @@ impl ViewportPanel {
         // `paint_background`).
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE)
-            .show(ui, |ui| {
+            .show_keyed(ui, "viewport", |ui| {
                 let rect = ui.max_rect();
                 let ppp = ui.ctx().pixels_per_point();
                 let tiles_rects = tile_rects(cx.settings.layout, rect, ppp);

@@ -5,6 +5,7 @@
 
 use super::*;
 use crate::app::key_events::take_press;
+use crate::app::style::ShowKeyed;
 
 impl BlindState {
     /// The keys of a session, taken out of `events`: digits answer (0: no preference), Enter
@@ -152,7 +153,7 @@ pub(in crate::app) fn panel(ui: &mut egui::Ui, blind: &mut BlindState) -> Option
         .resizable(true)
         .default_size(280.0)
         .size_range(220.0..=480.0)
-        .show(ui, |ui| {
+        .show_keyed(ui, "blind comparison", |ui| {
             egui::ScrollArea::vertical()
                 .show(ui, |ui| blind.ui(ui))
                 .inner
