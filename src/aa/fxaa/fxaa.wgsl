@@ -43,6 +43,8 @@ struct FxaaParams {
     rcp_frame_subpix: vec4<f32>,
     // x: edge_threshold, y: edge_threshold_min.
     thresholds: vec4<f32>,
+    // x: subpix_strands, y: subpix_clean_edges (factors on the sub-pixel amount).
+    subpix_factors: vec4<f32>,
 }
 
 @group(0) @binding(0) var image: texture_2d<f32>;
@@ -198,14 +200,11 @@ fn analyse(position: vec2<f32>) -> Analysis {
         + (luma_nw + luma_ne + luma_sw + luma_se)) / 12.0;
     let contrast = saturate(abs(low_pass - luma_m) / range);
     let eased = (3.0 - 2.0 * contrast) * contrast * contrast;
-    // The read moves by that fraction of the way to the neighbour across, in linear light, but
-    // never further than `subpix_limit`: the pixels that stand out most are the one-pixel
-    // strands of sub-pixel geometry, which a long move would nearly erase (their neighbours
-    // across get a light share of their own), while a pixel beside a straight edge stands
-    // out by a third of the range and moves by a few hundredths.
-    var subpix = min(eased * eased * params.rcp_frame_subpix.z, params.rcp_frame_subpix.w);
+    var subpix = eased * eased * params.rcp_frame_subpix.z;
 
-    // The two neighbours across the edge: north/south for a horizontal edge, else west/east.
+    // The two neighbours along the edge, and across it: north/south for a horizontal edge, else
+    // west/east.
+    let luma_along = select(vec2<f32>(luma_n, luma_s), vec2<f32>(luma_w, luma_e), horizontal);
     if !horizontal {
         luma_n = luma_w;
         luma_s = luma_e;
@@ -214,6 +213,22 @@ fn analyse(position: vec2<f32>) -> Analysis {
     let gradient_s = luma_s - luma_m;
     let towards_n = abs(gradient_n) >= abs(gradient_s);
     let gradient = max(abs(gradient_n), abs(gradient_s));
+
+    // Where the pixel lies decides how far the sub-pixel term moves it. Brighter or darker
+    // than both neighbours across the edge, it is a strand or dot thinner than a pixel, which
+    // the edge search cannot place: `subpix_strands`. Between them, with neighbours along the
+    // edge that match it, it lies wholly on one side of a clean edge that the search places,
+    // where the term would only blur it: `subpix_clean_edges`, easing back to the full amount
+    // as its neighbours along the edge differ from it by up to a tenth of the range. The move
+    // is never longer than `subpix_limit`: the pixels that stand out most are the one-pixel
+    // strands of sub-pixel geometry, which a long move would nearly erase.
+    if gradient_n * gradient_s > 0.0 {
+        subpix *= params.subpix_factors.x;
+    } else {
+        let along_contrast = max(abs(luma_along.x - luma_m), abs(luma_along.y - luma_m)) / range;
+        subpix *= mix(params.subpix_factors.y, 1.0, saturate(along_contrast * 10.0));
+    }
+    subpix = min(subpix, params.rcp_frame_subpix.w);
     var across = select(texel.x, texel.y, horizontal);
     var local_average = 0.5 * (luma_s + luma_m);
     if towards_n {

@@ -9,20 +9,25 @@
 //! filtering, and is encoded again on output (blending encoded values leaves half-covered pixels
 //! far too dark). The sub-pixel amount, Lottes' softening of pixels that stand out of their 3x3
 //! neighbourhood, moves the read that fraction of the way to the neighbour across, in linear
-//! light, but never further than `subpix_limit` (0.35 of a pixel by default): the pixels that
+//! light, but never further than `subpix_limit` (0.33 of a pixel by default): the pixels that
 //! stand out most are the one-pixel strands of sub-pixel geometry, which a longer move nearly
-//! erases, while the pixels beside a straight edge move by a few hundredths.
+//! erases. The amount depends on where the pixel lies across the edge: brighter or darker than
+//! both neighbours across it, it is a strand or dot the edge search cannot place, and its
+//! amount is raised (`subpix_strands`); between them and matched by its neighbours along the
+//! edge, it lies beside a clean edge that the search places, where the term would only blur it,
+//! and its amount is lowered (`subpix_clean_edges`). Lottes' term treats both alike.
 //! Settings:
 //! - `quality`: Lottes' presets 10-15 (few steps, a long last step: medium dither), 20-29 (more,
 //!   shorter steps: less dither) and 39 (twelve short steps, no dither); the search step list
 //!   of the preset goes into the shader as override constants, so a pipeline is built per
 //!   preset and luma choice and cached;
-//! - `subpix`, `edge_threshold`, `edge_threshold_min` as in FXAA 3.11, and `subpix_limit`
-//!   (uniforms: changing them costs nothing);
+//! - `subpix`, `edge_threshold`, `edge_threshold_min` as in FXAA 3.11, and `subpix_limit`,
+//!   `subpix_strands`, `subpix_clean_edges` (uniforms: changing them costs nothing);
 //! - `luma`: BT.601 luma or green-as-luma.
 //!
-//! Presets: `default` (aa-lab's: quality 39, subpix 0.85 up to 0.35 of a pixel, Lottes'
-//! thresholds 0.166 / 0.0833), `lottes` (quality 12, subpix 0.75 without a limit) and Bevy's
+//! Presets: `default` (aa-lab's: quality 39, subpix 1 up to 0.33 of a pixel, 1.3 times that on
+//! strands and half beside clean edges, Lottes' thresholds 0.166 / 0.0833), `lottes` (quality
+//! 12, subpix 0.75 without a limit or the two factors: FXAA 3.11 as published) and Bevy's
 //! sensitivity levels `low` .. `extreme`, which set the two thresholds. The defaults remove as
 //! much of No AA's edge error as Bevy's FXAA does, with a lower FLIP.
 //! Debug view `edges`: the luma, with the pixels FXAA treats as edges coloured by orientation.
@@ -95,6 +100,7 @@ type PipelineKey = (Quality, LumaSource, Pass, bool);
 struct FxaaUniform {
     rcp_frame_subpix: [f32; 4],
     thresholds: [f32; 4],
+    subpix_factors: [f32; 4],
 }
 
 /// The FXAA technique.
@@ -232,6 +238,7 @@ impl Technique for Fxaa {
                 s.subpix_limit,
             ],
             thresholds: [s.edge_threshold, s.edge_threshold_min, 0.0, 0.0],
+            subpix_factors: [s.subpix_strands, s.subpix_clean_edges, 0.0, 0.0],
         };
         ctx.gpu
             .queue

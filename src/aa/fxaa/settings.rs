@@ -82,8 +82,8 @@ crate::named_enum! {
     /// The named presets: aa-lab's defaults, Lottes' FXAA 3.11 defaults, then Bevy's
     /// sensitivity levels, which set the two contrast thresholds.
     pub enum Preset {
-        /// aa-lab's defaults: quality 39, subpix 0.85 up to 0.35 of a pixel, thresholds 0.166 /
-        /// 0.0833.
+        /// aa-lab's defaults: quality 39, subpix 1 up to 0.33 of a pixel (1.3 times on strands,
+        /// half beside clean edges), thresholds 0.166 / 0.0833.
         Default => "default",
         /// Lottes' FXAA 3.11 defaults: quality 12, subpix 0.75 without a limit, thresholds
         /// 0.166 / 0.0833.
@@ -125,6 +125,12 @@ pub struct FxaaSettings {
     pub subpix: f32,
     /// The longest sub-pixel move of the read, in pixels (1: no limit, as Lottes').
     pub subpix_limit: f32,
+    /// Factor on the sub-pixel amount of a pixel brighter or darker than both its neighbours
+    /// across the edge (a strand or dot thinner than a pixel; 1: as Lottes').
+    pub subpix_strands: f32,
+    /// Factor on the sub-pixel amount of a pixel beside a clean edge: between its neighbours
+    /// across the edge and matched by its neighbours along it (1: as Lottes').
+    pub subpix_clean_edges: f32,
     /// Contrast needed to process a pixel, relative to the brightest luma of its cross.
     pub edge_threshold: f32,
     /// Contrast below which dark pixels are skipped regardless.
@@ -141,8 +147,10 @@ impl Default for FxaaSettings {
     fn default() -> Self {
         Self {
             quality: Quality::Q39,
-            subpix: 0.85,
-            subpix_limit: 0.35,
+            subpix: 1.0,
+            subpix_limit: 0.33,
+            subpix_strands: 1.3,
+            subpix_clean_edges: 0.5,
             ..Self::lottes()
         }
     }
@@ -155,6 +163,8 @@ impl FxaaSettings {
             quality: Quality::Q12,
             subpix: 0.75,
             subpix_limit: 1.0,
+            subpix_strands: 1.0,
+            subpix_clean_edges: 1.0,
             edge_threshold: 0.166,
             edge_threshold_min: 0.0833,
             luma: LumaSource::Bt601,
@@ -182,8 +192,8 @@ impl Tunable for FxaaSettings {
                 "subpix",
                 "Sub-pixel blending",
                 "How much single pixels that stand out from their 3x3 neighbourhood are blended \
-                 (sub-pixel aliasing): 0 off and sharpest, 0.85 the default (Lottes' 0.75), 1 \
-                 softest.",
+                 (sub-pixel aliasing): 0 off and sharpest, 1 the default and softest (Lottes' \
+                 0.75).",
                 0.0,
                 1.0,
                 s.subpix,
@@ -192,11 +202,32 @@ impl Tunable for FxaaSettings {
                 "subpix_limit",
                 "Sub-pixel limit",
                 "The furthest sub-pixel blending moves a pixel's read towards its neighbour, in \
-                 pixels: 0.35 the default keeps one-pixel strands (hair, wires) visible, 1 no \
+                 pixels: 0.33 the default keeps one-pixel strands (hair, wires) visible, 1 no \
                  limit (Lottes').",
                 0.0,
                 1.0,
                 s.subpix_limit,
+            ),
+            Param::float(
+                "subpix_strands",
+                "Sub-pixel on strands",
+                "Factor on the sub-pixel blending of a pixel brighter or darker than both its \
+                 neighbours across the edge: a strand, wire or dot thinner than a pixel, which the \
+                 edge search cannot place. 1.3 the default, 1 as Lottes'.",
+                0.0,
+                2.0,
+                s.subpix_strands,
+            ),
+            Param::float(
+                "subpix_clean_edges",
+                "Sub-pixel beside clean edges",
+                "Factor on the sub-pixel blending of a pixel beside a clean edge (its neighbours \
+                 along the edge match it): the edge search places such edges, and the sub-pixel \
+                 term would only blur a pixel that lies wholly on one side. 0.5 the default, 1 \
+                 as Lottes'.",
+                0.0,
+                1.0,
+                s.subpix_clean_edges,
             ),
             Param::float(
                 "edge_threshold",
@@ -238,6 +269,8 @@ impl Tunable for FxaaSettings {
                 quality,
                 subpix,
                 subpix_limit,
+                subpix_strands,
+                subpix_clean_edges,
                 edge_threshold,
                 edge_threshold_min,
                 luma,
@@ -352,14 +385,30 @@ mod tests {
         };
         settings.apply_preset(Preset::Lottes);
         assert_eq!(
-            (settings.quality, settings.subpix, settings.subpix_limit),
-            (Quality::Q12, 0.75, 1.0)
+            settings,
+            FxaaSettings {
+                tonemap_order: TonemapOrder::Before,
+                ..FxaaSettings::lottes()
+            }
+        );
+        assert_eq!(
+            (
+                settings.quality,
+                settings.subpix,
+                settings.subpix_limit,
+                settings.subpix_strands,
+                settings.subpix_clean_edges
+            ),
+            (Quality::Q12, 0.75, 1.0, 1.0, 1.0)
         );
         assert_eq!(settings.tonemap_order, TonemapOrder::Before);
         settings.apply_preset(Preset::Default);
         assert_eq!(
-            (settings.quality, settings.subpix, settings.subpix_limit),
-            (Quality::Q39, 0.85, 0.35)
+            settings,
+            FxaaSettings {
+                tonemap_order: TonemapOrder::Before,
+                ..FxaaSettings::default()
+            }
         );
         assert_eq!(settings.tonemap_order, TonemapOrder::Before);
     }
