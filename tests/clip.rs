@@ -236,21 +236,29 @@ fn videos_show_the_same_pixels_as_the_apng() {
             // Each clip pixel is a scale x scale block of the video; compare its top-left.
             let mut total = 0u64;
             let mut worst = 0u8;
+            let mut far_off = 0u32;
             for (x, y, p) in apng.enumerate_pixels() {
                 let q = video.get_pixel(x * scale, y * scale);
-                for c in 0..3 {
-                    let d = p[c].abs_diff(q[c]);
-                    total += u64::from(d);
-                    worst = worst.max(d);
-                }
+                let off = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap_or(0);
+                total += (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>();
+                worst = worst.max(off);
+                far_off += u32::from(off > 24);
             }
             let mean = total as f64 / f64::from(width * height * 3);
             assert!(
                 mean < 2.0,
                 "{name} frame {number}: mean difference {mean:.2} levels"
             );
+            // Lossy coding rings at single pixels: VP9 at CRF 16 leaves one pixel 50 levels off
+            // where a bright pane edge meets the label strip (the next frames of that clip:
+            // at most 29), while a smeared chroma sample or a misplaced pane puts whole edges
+            // off. So: at most one pixel in a thousand more than 24 levels off, none 64.
             assert!(
-                worst < 48,
+                far_off * 1000 <= width * height,
+                "{name} frame {number}: {far_off} pixels more than 24 levels off"
+            );
+            assert!(
+                worst < 64,
                 "{name} frame {number}: a channel {worst} levels off"
             );
         }
