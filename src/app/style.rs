@@ -216,27 +216,23 @@ pub trait ShowKeyed {
     ) -> egui::InnerResponse<R>;
 }
 
-impl ShowKeyed for egui::Panel {
-    fn show_keyed<R>(
-        self,
-        ui: &mut egui::Ui,
-        key: &'static str,
-        add: impl FnOnce(&mut egui::Ui) -> R,
-    ) -> egui::InnerResponse<R> {
-        self.show(ui, |ui| keyed(ui, egui::Id::unique(key), add))
-    }
+/// `ShowKeyed` for panel types whose `show` takes a `Ui` and the contents.
+macro_rules! show_keyed_for {
+    ($($panel:ty),*) => {$(
+        impl ShowKeyed for $panel {
+            fn show_keyed<R>(
+                self,
+                ui: &mut egui::Ui,
+                key: &'static str,
+                add: impl FnOnce(&mut egui::Ui) -> R,
+            ) -> egui::InnerResponse<R> {
+                self.show(ui, |ui| keyed(ui, egui::Id::unique(key), add))
+            }
+        }
+    )*};
 }
 
-impl ShowKeyed for egui::CentralPanel {
-    fn show_keyed<R>(
-        self,
-        ui: &mut egui::Ui,
-        key: &'static str,
-        add: impl FnOnce(&mut egui::Ui) -> R,
-    ) -> egui::InnerResponse<R> {
-        self.show(ui, |ui| keyed(ui, egui::Id::unique(key), add))
-    }
-}
+show_keyed_for!(egui::Panel, egui::CentralPanel);
 
 /// Milliseconds with a precision that suits the size.
 pub fn ms(value: f64) -> String {
