@@ -136,11 +136,22 @@ fn fxaa_and_taa_change_edges_and_leave_flat_regions() {
             common::technique(&gpu, "none", &[]),
             common::technique(&gpu, "fxaa", &[]),
             common::technique(&gpu, "taa", &[]),
+            // The lowest thresholds: a flat black cross then passes the contrast test's
+            // comparison (0 < 0 is false), and only its own test keeps it out.
+            common::technique(
+                &gpu,
+                "fxaa",
+                &[("edge_threshold", "0.03"), ("edge_threshold_min", "0")],
+            ),
         ],
     );
     let cameras: Vec<FrameCamera> = (0..16).map(|f| still(&scene, f, SIZE)).collect();
     let images = run(&mut graph, &cameras);
-    for (name, image) in [("fxaa", &images[1]), ("taa", &images[2])] {
+    for (name, image) in [
+        ("fxaa", &images[1]),
+        ("taa", &images[2]),
+        ("fxaa at the lowest thresholds", &images[3]),
+    ] {
         let (flat_changes, edge_changes) = flat_and_edge_changes(&images[0], image);
         assert!(
             flat_changes.is_empty(),

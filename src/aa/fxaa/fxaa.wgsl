@@ -2,8 +2,8 @@
 //
 // Per pixel:
 //  1. Local contrast: luma of the pixel and its four direct neighbours. When their range is
-//     below max(edge_threshold_min, edge_threshold * brightest luma), the pixel is returned
-//     unchanged (flat regions cost one early exit and stay exact).
+//     zero or below max(edge_threshold_min, edge_threshold * brightest luma), the pixel is
+//     returned unchanged (flat regions cost one early exit and stay exact).
 //  2. Edge orientation from second differences of the 3x3 lumas (horizontal edges have a
 //     strong vertical second difference), and which side of the pixel the edge lies on (the
 //     neighbour across the steeper gradient).
@@ -176,7 +176,9 @@ fn analyse(position: vec2<f32>) -> Analysis {
     let brightest = max(max(max(luma_n, luma_s), max(luma_w, luma_e)), luma_m);
     let darkest = min(min(min(luma_n, luma_s), min(luma_w, luma_e)), luma_m);
     let range = brightest - darkest;
-    if range < max(params.thresholds.y, brightest * params.thresholds.x) {
+    // A flat cross is never an edge, even with both thresholds at 0 (the tests below divide
+    // by the range).
+    if range <= 0.0 || range < max(params.thresholds.y, brightest * params.thresholds.x) {
         return result;
     }
     result.edge = true;
