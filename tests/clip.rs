@@ -239,8 +239,9 @@ fn videos_show_the_same_pixels_as_the_apng() {
             let mut far_off = 0u32;
             for (x, y, p) in apng.enumerate_pixels() {
                 let q = video.get_pixel(x * scale, y * scale);
-                let off = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap_or(0);
-                total += (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>();
+                let channels = [0, 1, 2].map(|c| p[c].abs_diff(q[c]));
+                let off = channels.into_iter().max().unwrap_or(0);
+                total += channels.into_iter().map(u64::from).sum::<u64>();
                 worst = worst.max(off);
                 far_off += u32::from(off > 24);
             }

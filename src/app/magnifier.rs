@@ -403,10 +403,7 @@ impl MagnifierPanel {
             .show_keyed(ui, "magnifier", |ui| {
                 // Keep the panel at its set height (panels otherwise shrink to their content).
                 ui.set_min_height(ui.available_height());
-                // Keyed: the header's controls keep their ids whatever is shown above it.
-                style::keyed(ui, egui::Id::unique("magnifier header"), |ui| {
-                    header(ui, cx)
-                });
+                header(ui, cx);
                 ui.add_space(4.0);
                 self.panes(ui, cx, &inputs);
             });
