@@ -44,6 +44,9 @@ pub struct Capabilities {
     /// downlevel flag, which the OpenGL backend lacks): every technique reads its input's
     /// sRGB-encoded values through such a view.
     pub view_formats: bool,
+    /// Fragment shaders can write storage textures (wgpu's `FRAGMENT_WRITABLE_STORAGE`
+    /// downlevel flag; every Vulkan, Metal and DX12 device has it): TAAU keeps its history so.
+    pub fragment_storage: bool,
 }
 
 impl Capabilities {
@@ -66,6 +69,7 @@ impl Capabilities {
             .reduce(|acc, counts| acc.into_iter().filter(|c| counts.contains(c)).collect())
             .unwrap_or_else(|| vec![1]);
         let limits = device.limits();
+        let downlevel = adapter.get_downlevel_capabilities().flags;
         let timestamps = features.contains(
             wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS,
         );
@@ -88,10 +92,8 @@ impl Capabilities {
             pipeline_statistics: features.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY),
             max_texture_dimension_2d: limits.max_texture_dimension_2d,
             max_buffer_size: limits.max_buffer_size,
-            view_formats: adapter
-                .get_downlevel_capabilities()
-                .flags
-                .contains(wgpu::DownlevelFlags::VIEW_FORMATS),
+            view_formats: downlevel.contains(wgpu::DownlevelFlags::VIEW_FORMATS),
+            fragment_storage: downlevel.contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE),
         }
     }
 
@@ -128,7 +130,7 @@ impl Capabilities {
             out += &format!("  {:<18}{:?}\n", f.format, f.sample_counts);
         }
         out += &format!(
-            "timestamp queries:  {}{}\npipeline statistics: {}\nmax texture size:   {}\nmax buffer size:    {} MiB\nsRGB/linear views:  {}\n",
+            "timestamp queries:  {}{}\npipeline statistics: {}\nmax texture size:   {}\nmax buffer size:    {} MiB\nsRGB/linear views:  {}\nfragment storage:   {}\n",
             yes_no(self.timestamps),
             if self.timestamps {
                 format!(" ({} ns per tick)", self.timestamp_period_ns)
@@ -142,6 +144,11 @@ impl Capabilities {
                 "yes"
             } else {
                 "no (no technique can run: install a Vulkan driver)"
+            },
+            if self.fragment_storage {
+                "yes"
+            } else {
+                "no (TAAU cannot run)"
             },
         );
         out

@@ -32,6 +32,8 @@ pub enum Binding {
     UnfilterableTexture,
     /// A read-write storage buffer.
     StorageBuffer,
+    /// A 2D storage texture of this format, written only.
+    WriteOnlyTexture(wgpu::TextureFormat),
 }
 
 /// A bind-group layout for fragment-stage bindings.
@@ -84,6 +86,11 @@ pub fn stage_layout(
                 }
                 Binding::MultisampledDepth => texture(wgpu::TextureSampleType::Depth, true),
                 Binding::Sampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                Binding::WriteOnlyTexture(format) => wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                },
             },
             count: None,
         })

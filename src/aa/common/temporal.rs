@@ -90,6 +90,24 @@ impl PingPong {
         size: (u32, u32),
         format: wgpu::TextureFormat,
     ) -> Self {
+        Self::with_usage(
+            device,
+            label,
+            size,
+            format,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        )
+    }
+
+    /// A pair of textures written as `usage` says (a render target, or a storage texture) and
+    /// sampled.
+    pub fn with_usage(
+        device: &wgpu::Device,
+        label: &str,
+        size: (u32, u32),
+        format: wgpu::TextureFormat,
+        usage: wgpu::TextureUsages,
+    ) -> Self {
         let texture = |suffix: &str| {
             crate::gpu::texture_2d(
                 device,
@@ -97,7 +115,7 @@ impl PingPong {
                     &format!("{label} {suffix}"),
                     size,
                     format,
-                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                    usage | wgpu::TextureUsages::TEXTURE_BINDING,
                 ),
             )
         };

@@ -21,7 +21,7 @@
 //!   the render samples fills in: a spatial upscale that the next samples replace.
 //! - **Motion of the nearest surface** (largest reverse-Z depth of the 3x3 render pixels).
 //! - **Disocclusion from depth**: the history keeps the nearest depth it was written with (a
-//!   second output-size target); where the reprojected place held a surface at another depth
+//!   second output-size texture); where the reprojected place held a surface at another depth
 //!   the history is dropped.
 //! - **Thin features** are kept by TAA's velocity trust instead of FSR 2's locks: the history
 //!   keeps the speed it was written with, and rectification eases off where the pixel moves at
@@ -54,6 +54,7 @@ use crate::aa::info::{TechniqueInfo, needs_encoded_views};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::Gpu;
+use crate::gpu::capabilities::Capabilities;
 use crate::gpu::shader::Shader;
 use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
@@ -79,18 +80,40 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
          thin features kept by their motion. At scale 1 it is a native temporal AA; below it \
          it reconstructs detail a spatial upscaler cannot, at the price of TAA's: motion \
          vectors, softness under motion and possible ghosting.",
-    availability: needs_encoded_views,
+    availability,
     create: |gpu| Box::new(Taau::new(gpu)),
     shaders: &[WGSL, DEBUG_WGSL, RADIANCE_WGSL],
 };
 
+/// The resolve writes its history as storage textures from the fragment shader, so the
+/// adapter must allow that besides the views every technique needs.
+fn availability(caps: &Capabilities) -> Result<(), String> {
+    needs_encoded_views(caps)?;
+    if caps.fragment_storage {
+        Ok(())
+    } else {
+        Err(format!(
+            "the {} backend cannot write storage textures from a fragment shader (wgpu's \
+             FRAGMENT_WRITABLE_STORAGE), where TAAU keeps its history",
+            caps.backend
+        ))
+    }
+}
+
 /// Format of the accumulated colour (alpha: samples accumulated).
 const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Format of the depth and speed kept with the history: half floats, since the disocclusion
-/// test compares depths relative to each other, to a tolerance far above their 1/2048
-/// precision, and a filterable format lets the resolve gather the four texels around the
-/// reprojected place in one fetch.
-const AUX_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
+/// Format of the depth and speed kept with the history (red and green; blue and alpha
+/// unused): half floats, since the disocclusion test compares depths relative to each other,
+/// to a tolerance far above their 1/2048 precision, and a filterable format lets the resolve
+/// gather the four texels around the reprojected place in one fetch. Four channels because
+/// two-channel half floats are no storage format in WebGPU.
+const AUX_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// How the resolve writes the history: as storage textures, not render targets. A fragment's
+/// export to a render target goes through the GPU's fixed-function output stage, which on the
+/// compute GPUs this was measured on (NVIDIA H200) costs in proportion to the bytes written
+/// and was most of the resolve's cost with three targets (docs/upscaling.md). The history
+/// needs no blending, so a store does the same job.
+const HISTORY_USAGE: wgpu::TextureUsages = wgpu::TextureUsages::STORAGE_BINDING;
 /// The confidence (in samples) below which the spatial estimate fills in.
 const FILL_FLOOR: f32 = 1.0;
 
@@ -154,6 +177,8 @@ impl Taau {
             (5, Binding::Sampler),
             (6, Binding::Uniform),
             (7, Binding::Texture),
+            (8, Binding::WriteOnlyTexture(HISTORY_FORMAT)),
+            (9, Binding::WriteOnlyTexture(AUX_FORMAT)),
         ];
         Self {
             settings,
@@ -197,12 +222,9 @@ impl Taau {
             debug,
         };
         let (entry_point, targets): (&str, &[wgpu::TextureFormat]) = if debug {
-            (
-                "fs_resolve_debug",
-                &[output, HISTORY_FORMAT, AUX_FORMAT, STATE_FORMAT],
-            )
+            ("fs_resolve_debug", &[output, STATE_FORMAT])
         } else {
-            ("fs_resolve", &[output, HISTORY_FORMAT, AUX_FORMAT])
+            ("fs_resolve", &[output])
         };
         self.resolve
             .pipeline(ctx, key, entry_point, targets, &constants)
@@ -248,8 +270,20 @@ impl Taau {
         if !fits {
             let device = &self.resolve.device;
             self.history = Some(History {
-                colour: PingPong::new(device, "taau history", output_size, HISTORY_FORMAT),
-                aux: PingPong::new(device, "taau depth", output_size, AUX_FORMAT),
+                colour: PingPong::with_usage(
+                    device,
+                    "taau history",
+                    output_size,
+                    HISTORY_FORMAT,
+                    HISTORY_USAGE,
+                ),
+                aux: PingPong::with_usage(
+                    device,
+                    "taau depth",
+                    output_size,
+                    AUX_FORMAT,
+                    HISTORY_USAGE,
+                ),
                 render_size,
                 radiance,
             });
@@ -316,11 +350,13 @@ impl Technique for Taau {
             history.colour.read(),
             history.aux.read(),
             input.reactive.as_ref().unwrap_or(motion),
+            history.colour.write(),
+            history.aux.write(),
         ]
         .map(|t| t.create_view(&Default::default()));
         let mut resources: Vec<(u32, wgpu::BindingResource<'_>)> = views
             .iter()
-            .zip([0, 1, 2, 3, 4, 7])
+            .zip([0, 1, 2, 3, 4, 7, 8, 9])
             .map(|(view, binding)| (binding, wgpu::BindingResource::TextureView(view)))
             .collect();
         let resolve = &self.resolve;
@@ -328,15 +364,13 @@ impl Technique for Taau {
         resources.push((6, resolve.uniform.as_entire_binding()));
         let bind_group =
             pass::bind_group(&resolve.device, "taau resolve", &resolve.layout, &resources);
-        let targets = [output, history.colour.write(), history.aux.write()]
-            .map(|t| t.create_view(&Default::default()));
+        let output_view = output.create_view(&Default::default());
         let state_view = self
             .debug
             .as_ref()
             .filter(|_| debug)
             .map(|d| d.state.create_view(&Default::default()));
-        let attachments: Vec<_> = targets
-            .iter()
+        let attachments: Vec<_> = std::iter::once(&output_view)
             .chain(&state_view)
             .map(cleared_black)
             .collect();

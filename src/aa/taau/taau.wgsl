@@ -27,7 +27,9 @@
 //     history is read again next frame; fewer still on the reactive mask: surfaces moving on
 //     their own), and the new samples are added with their weights:
 //     colour = (history * n + sum(w c)) / (n + sum(w)).
-// Colour is linear (the sRGB input decodes on load, the sRGB output encodes on store).
+// Colour is linear (the sRGB input decodes on load, the sRGB output encodes on store). The
+// output is the one render target; the history and its depth and speed are stored as storage
+// textures (cheaper than render-target exports on GPUs whose output stage is narrow).
 
 struct TaauParams {
     // xy: output size in pixels, zw: one output pixel in UV.
@@ -57,6 +59,9 @@ struct TaauParams {
 @group(0) @binding(6) var<uniform> params: TaauParams;
 // Coverage of alpha-blended surfaces at the render size (read only with REACTIVE_MASK).
 @group(0) @binding(7) var transparency: texture_2d<f32>;
+// The next history: colour and confidence; depth and speed (blue and alpha unused).
+@group(0) @binding(8) var history_out: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(9) var history_aux_out: texture_storage_2d<rgba16float, write>;
 
 // 0: bilinear history, 1: five-tap Catmull-Rom.
 override HISTORY_FILTER: u32 = 1u;
@@ -408,38 +413,33 @@ struct Varying {
     @location(0) uv: vec2<f32>,
 }
 
-struct ResolveOutput {
-    @location(0) colour: vec4<f32>,
-    @location(1) history: vec4<f32>,
-    @location(2) aux: vec2<f32>,
+// Resolves the pixel at `position`, stores its history and returns its output colour.
+fn resolve_and_store(position: vec2<f32>) -> Resolved {
+    let r = resolve(position);
+    let pixel = vec2<i32>(position);
+    textureStore(history_out, pixel, vec4<f32>(r.colour, r.confidence));
+    textureStore(history_aux_out, pixel, vec4<f32>(r.depth, r.speed, 0.0, 0.0));
+    return r;
 }
 
 @fragment
-fn fs_resolve(in: Varying) -> ResolveOutput {
-    let r = resolve(in.position.xy);
-    return ResolveOutput(
-        vec4<f32>(to_output(r.colour), 1.0),
-        vec4<f32>(r.colour, r.confidence),
-        vec2<f32>(r.depth, r.speed),
-    );
+fn fs_resolve(in: Varying) -> @location(0) vec4<f32> {
+    let r = resolve_and_store(in.position.xy);
+    return vec4<f32>(to_output(r.colour), 1.0);
 }
 
 struct ResolveDebugOutput {
     @location(0) colour: vec4<f32>,
-    @location(1) history: vec4<f32>,
-    @location(2) aux: vec2<f32>,
     // x: dropped (0, 0.5 reset or off screen, 1 disocclusion), y: confidence, z: the new
     // samples' weight, w: reactive mask.
-    @location(3) debug: vec4<f32>,
+    @location(1) debug: vec4<f32>,
 }
 
 @fragment
 fn fs_resolve_debug(in: Varying) -> ResolveDebugOutput {
-    let r = resolve(in.position.xy);
+    let r = resolve_and_store(in.position.xy);
     return ResolveDebugOutput(
         vec4<f32>(to_output(r.colour), 1.0),
-        vec4<f32>(r.colour, r.confidence),
-        vec2<f32>(r.depth, r.speed),
         vec4<f32>(r.dropped, r.confidence, r.weight, r.reactive),
     );
 }
