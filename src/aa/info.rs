@@ -34,6 +34,21 @@ pub fn anywhere(_caps: &Capabilities) -> Result<(), String> {
     Ok(())
 }
 
+/// The temporal resolves write their history as storage textures from the fragment shader,
+/// so the adapter must allow that besides the views every technique needs.
+pub fn needs_history_stores(caps: &Capabilities) -> Result<(), String> {
+    needs_encoded_views(caps)?;
+    if caps.fragment_storage {
+        Ok(())
+    } else {
+        Err(format!(
+            "the {} backend cannot write storage textures from a fragment shader (wgpu's \
+             FRAGMENT_WRITABLE_STORAGE), where this technique keeps its history",
+            caps.backend
+        ))
+    }
+}
+
 /// What the post-process techniques (and MSAA's resolve and debug views) need: sRGB and linear
 /// views of one texture (see [`Capabilities::view_formats`]).
 pub fn needs_encoded_views(caps: &Capabilities) -> Result<(), String> {

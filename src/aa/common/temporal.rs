@@ -83,30 +83,17 @@ pub struct PingPong {
 }
 
 impl PingPong {
-    /// A pair of render-target textures of `size` and `format`, labelled `LABEL a` and `b`.
+    /// A pair of textures of `size` and `format`, labelled `LABEL a` and `b`, sampled and
+    /// written as storage textures. The resolves store their history rather than export it
+    /// to a render target: an export goes through the GPU's fixed-function output stage,
+    /// which on the compute GPUs aa-lab was measured on (NVIDIA H200) costs in proportion to
+    /// the bytes written and was most of TAAU's resolve with three targets
+    /// (docs/upscaling.md); a history needs no blending, so a store does the same job.
     pub fn new(
         device: &wgpu::Device,
         label: &str,
         size: (u32, u32),
         format: wgpu::TextureFormat,
-    ) -> Self {
-        Self::with_usage(
-            device,
-            label,
-            size,
-            format,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        )
-    }
-
-    /// A pair of textures written as `usage` says (a render target, or a storage texture) and
-    /// sampled.
-    pub fn with_usage(
-        device: &wgpu::Device,
-        label: &str,
-        size: (u32, u32),
-        format: wgpu::TextureFormat,
-        usage: wgpu::TextureUsages,
     ) -> Self {
         let texture = |suffix: &str| {
             crate::gpu::texture_2d(
@@ -115,7 +102,7 @@ impl PingPong {
                     &format!("{label} {suffix}"),
                     size,
                     format,
-                    usage | wgpu::TextureUsages::TEXTURE_BINDING,
+                    wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
                 ),
             )
         };

@@ -8,7 +8,7 @@
 //! every pixel is sampled at that many places, and textures get a negative mip bias (-1.5 by
 //! default: -1/2 log2 of the 8 samples the history averages, so textures come out as sharp as
 //! in a supersampled image). The resolve (`taa.wgsl` in this folder, one fullscreen pass with
-//! two targets) reprojects the history with the renderer's motion vectors (camera and object
+//! the output as its one target, the next history stored) reprojects the history with the renderer's motion vectors (camera and object
 //! motion, without jitter; taken from the nearest surface among the pixel and its neighbours),
 //! rectifies it against the current neighbourhood's colours (clamp, YCoCg clip or variance
 //! clip) and blends it with the current sample, writing the output and the next history
@@ -72,7 +72,7 @@ use crate::aa::common::temporal::{
     HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset,
 };
 use crate::aa::common::{RADIANCE_WGSL, encoded_view, holds_radiance, output_format};
-use crate::aa::info::{TechniqueInfo, needs_encoded_views};
+use crate::aa::info::{TechniqueInfo, needs_history_stores};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::shader::Shader;
@@ -100,7 +100,7 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
          one post pass. It handles edges, textures and specular shimmer alike, but needs \
          motion vectors, blurs slightly under motion, and can ghost or smear where the \
          history cannot be matched (disocclusions, transparency, fast-changing shading).",
-    availability: needs_encoded_views,
+    availability: needs_history_stores,
     create: |gpu| Box::new(Taa::new(gpu)),
     shaders: &[WGSL, DEBUG_WGSL, RADIANCE_WGSL],
 };
@@ -186,6 +186,7 @@ impl Taa {
             (4, Binding::Sampler),
             (5, Binding::Uniform),
             (6, Binding::Texture),
+            (7, Binding::WriteOnlyTexture(HISTORY_FORMAT)),
         ];
         Self {
             settings,
@@ -228,12 +229,9 @@ impl Taa {
             radiance,
         };
         let (entry_point, targets): (&str, &[wgpu::TextureFormat]) = if debug {
-            (
-                "fs_resolve_debug",
-                &[output, HISTORY_FORMAT, COLOR_FORMAT_ENCODED_VIEW],
-            )
+            ("fs_resolve_debug", &[output, COLOR_FORMAT_ENCODED_VIEW])
         } else {
-            ("fs_resolve", &[output, HISTORY_FORMAT])
+            ("fs_resolve", &[output])
         };
         self.resolve
             .pipeline(ctx, key, entry_point, targets, &s.constants(radiance))
@@ -335,6 +333,7 @@ impl Technique for Taa {
         let depth_view = input.depth.create_view(&Default::default());
         let motion_view = motion.create_view(&Default::default());
         let history_view = history.read().create_view(&Default::default());
+        let next_view = history.write().create_view(&Default::default());
         // Without the mask the pipeline reads nothing at binding 6: the motion view fills it.
         let reactive_view = input.reactive.as_ref().map_or_else(
             || motion_view.clone(),
@@ -363,16 +362,16 @@ impl Technique for Taa {
                         resource: resolve.uniform.as_entire_binding(),
                     },
                     texture(6, &reactive_view),
+                    texture(7, &next_view),
                 ],
             });
         let output_view = output.create_view(&Default::default());
-        let next_view = history.write().create_view(&Default::default());
         let rejection_view = self
             .debug
             .as_ref()
             .filter(|_| debug)
             .map(|d| encoded_view(&d.rejection));
-        let mut attachments = vec![cleared_black(&output_view), cleared_black(&next_view)];
+        let mut attachments = vec![cleared_black(&output_view)];
         if let Some(view) = &rejection_view {
             attachments.push(cleared_black(view));
         }

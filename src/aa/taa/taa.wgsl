@@ -32,8 +32,9 @@
 //     between texels), optionally weighed by 1 / (1 + luminance)
 //     against the history's so a lone bright sample does not flicker.
 // Colour is linear (the sRGB input decodes on load, the sRGB output encodes on store); the
-// history is Rgba16Float. fs_resolve writes output and history; fs_resolve_debug also writes
-// the history-rejection mask (through an Rgba8Unorm view: the mask colours are display values).
+// history is Rgba16Float. fs_resolve writes the output and stores the history (a storage
+// texture); fs_resolve_debug also writes the history-rejection mask (through an Rgba8Unorm
+// view: the mask colours are display values).
 
 struct TaaParams {
     // xy: image size in pixels, zw: one pixel in UV.
@@ -62,6 +63,9 @@ struct TaaParams {
 @group(0) @binding(5) var<uniform> params: TaaParams;
 // Coverage of alpha-blended surfaces (read only with REACTIVE_MASK).
 @group(0) @binding(6) var reactive: texture_2d<f32>;
+// The next history (colour and speed), stored rather than exported (see PingPong in
+// aa/common/temporal.rs).
+@group(0) @binding(7) var history_out: texture_storage_2d<rgba16float, write>;
 
 // 0: bilinear history, 1: five-tap Catmull-Rom.
 override HISTORY_FILTER: u32 = 1u;
@@ -442,36 +446,32 @@ struct Varying {
     @location(0) uv: vec2<f32>,
 }
 
-struct ResolveOutput {
-    @location(0) colour: vec4<f32>,
-    @location(1) history: vec4<f32>,
+// Resolves the pixel at `position` and stores its history.
+fn resolve_and_store(position: vec2<f32>) -> Resolved {
+    let r = resolve(position);
+    textureStore(history_out, vec2<i32>(position), vec4<f32>(r.colour, r.speed));
+    return r;
 }
 
 @fragment
-fn fs_resolve(in: Varying) -> ResolveOutput {
-    let r = resolve(in.position.xy);
-    return ResolveOutput(vec4<f32>(to_output(r.colour), 1.0), vec4<f32>(r.colour, r.speed));
+fn fs_resolve(in: Varying) -> @location(0) vec4<f32> {
+    return vec4<f32>(to_output(resolve_and_store(in.position.xy).colour), 1.0);
 }
 
 struct ResolveDebugOutput {
     @location(0) colour: vec4<f32>,
-    @location(1) history: vec4<f32>,
-    @location(2) rejection: vec4<f32>,
+    @location(1) rejection: vec4<f32>,
 }
 
 // History-rejection mask: the result's luminance dimmed, red where the history was dropped
 // (reset or off screen), yellow where rectification moved it, brighter the further.
 @fragment
 fn fs_resolve_debug(in: Varying) -> ResolveDebugOutput {
-    let r = resolve(in.position.xy);
+    let r = resolve_and_store(in.position.xy);
     let base = vec3<f32>(0.3 * sqrt(luminance(r.colour)));
     var mask = mix(base, vec3<f32>(1.0, 0.85, 0.1), r.rectified);
     if r.rejected {
         mask = vec3<f32>(0.9, 0.1, 0.1);
     }
-    return ResolveDebugOutput(
-        vec4<f32>(to_output(r.colour), 1.0),
-        vec4<f32>(r.colour, r.speed),
-        vec4<f32>(mask, 1.0),
-    );
+    return ResolveDebugOutput(vec4<f32>(to_output(r.colour), 1.0), vec4<f32>(mask, 1.0));
 }

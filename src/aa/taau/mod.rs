@@ -50,11 +50,10 @@ use crate::aa::common::temporal::{
     HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset,
 };
 use crate::aa::common::{RADIANCE_WGSL, holds_radiance, output_format};
-use crate::aa::info::{TechniqueInfo, needs_encoded_views};
+use crate::aa::info::{TechniqueInfo, needs_history_stores};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
 use crate::gpu::Gpu;
-use crate::gpu::capabilities::Capabilities;
 use crate::gpu::shader::Shader;
 use crate::graph::hdr::TonemapOrder;
 use crate::graph::{MemoryItem, PassContext};
@@ -80,25 +79,10 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
          thin features kept by their motion. At scale 1 it is a native temporal AA; below it \
          it reconstructs detail a spatial upscaler cannot, at the price of TAA's: motion \
          vectors, softness under motion and possible ghosting.",
-    availability,
+    availability: needs_history_stores,
     create: |gpu| Box::new(Taau::new(gpu)),
     shaders: &[WGSL, DEBUG_WGSL, RADIANCE_WGSL],
 };
-
-/// The resolve writes its history as storage textures from the fragment shader, so the
-/// adapter must allow that besides the views every technique needs.
-fn availability(caps: &Capabilities) -> Result<(), String> {
-    needs_encoded_views(caps)?;
-    if caps.fragment_storage {
-        Ok(())
-    } else {
-        Err(format!(
-            "the {} backend cannot write storage textures from a fragment shader (wgpu's \
-             FRAGMENT_WRITABLE_STORAGE), where TAAU keeps its history",
-            caps.backend
-        ))
-    }
-}
 
 /// Format of the accumulated colour (alpha: samples accumulated).
 const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -108,12 +92,6 @@ const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// gather the four texels around the reprojected place in one fetch. Four channels because
 /// two-channel half floats are no storage format in WebGPU.
 const AUX_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// How the resolve writes the history: as storage textures, not render targets. A fragment's
-/// export to a render target goes through the GPU's fixed-function output stage, which on the
-/// compute GPUs this was measured on (NVIDIA H200) costs in proportion to the bytes written
-/// and was most of the resolve's cost with three targets (docs/upscaling.md). The history
-/// needs no blending, so a store does the same job.
-const HISTORY_USAGE: wgpu::TextureUsages = wgpu::TextureUsages::STORAGE_BINDING;
 /// The confidence (in samples) below which the spatial estimate fills in.
 const FILL_FLOOR: f32 = 1.0;
 
@@ -270,20 +248,8 @@ impl Taau {
         if !fits {
             let device = &self.resolve.device;
             self.history = Some(History {
-                colour: PingPong::with_usage(
-                    device,
-                    "taau history",
-                    output_size,
-                    HISTORY_FORMAT,
-                    HISTORY_USAGE,
-                ),
-                aux: PingPong::with_usage(
-                    device,
-                    "taau depth",
-                    output_size,
-                    AUX_FORMAT,
-                    HISTORY_USAGE,
-                ),
+                colour: PingPong::new(device, "taau history", output_size, HISTORY_FORMAT),
+                aux: PingPong::new(device, "taau depth", output_size, AUX_FORMAT),
                 render_size,
                 radiance,
             });
