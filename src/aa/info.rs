@@ -62,3 +62,52 @@ pub fn needs_encoded_views(caps: &Capabilities) -> Result<(), String> {
         ))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::aa::registry;
+
+    /// A Vulkan adapter's report, with the two flags the availability checks read.
+    fn caps(view_formats: bool, fragment_storage: bool) -> Capabilities {
+        Capabilities {
+            adapter_name: "test adapter".into(),
+            backend: "Vulkan".into(),
+            device_type: "Cpu".into(),
+            driver: String::new(),
+            software: true,
+            formats: Vec::new(),
+            scene_sample_counts: vec![1],
+            timestamps: false,
+            timestamp_period_ns: 0.0,
+            pipeline_statistics: false,
+            max_texture_dimension_2d: 8192,
+            max_buffer_size: 1 << 28,
+            view_formats,
+            fragment_storage,
+        }
+    }
+
+    fn available(id: &str, caps: &Capabilities) -> Result<(), String> {
+        (registry::info(id).expect("registered").availability)(caps)
+    }
+
+    #[test]
+    fn the_temporal_resolves_need_fragment_storage_writes_and_the_others_do_not() {
+        let without_stores = caps(true, false);
+        for id in ["taa", "taau"] {
+            let reason = available(id, &without_stores).expect_err(id);
+            assert!(
+                reason.contains("FRAGMENT_WRITABLE_STORAGE"),
+                "{id}: {reason}"
+            );
+            assert_eq!(available(id, &caps(true, true)), Ok(()), "{id}");
+        }
+        for id in ["fxaa", "smaa", "cmaa2", "mlaa"] {
+            assert_eq!(available(id, &without_stores), Ok(()), "{id}");
+        }
+        // Without sRGB views the views are the reason given, stores or not.
+        let reason = available("taau", &caps(false, true)).expect_err("taau without views");
+        assert!(reason.contains("VIEW_FORMATS"), "{reason}");
+    }
+}
