@@ -7,15 +7,16 @@
 //! shifted by the next offset of a Halton(2,3) sequence of 8 or 16 samples, so over a cycle
 //! every pixel is sampled at that many places, and textures get a negative mip bias (-1.5 by
 //! default: -1/2 log2 of the 8 samples the history averages, so textures come out as sharp as
-//! in a supersampled image). The resolve (`taa.wgsl` in this folder, one fullscreen pass with
-//! the output as its one target, the next history stored) reprojects the history with the renderer's motion vectors (camera and object
-//! motion, without jitter; taken from the nearest surface among the pixel and its neighbours),
-//! rectifies it against the current neighbourhood's colours (clamp, YCoCg clip or variance
-//! clip) and blends it with the current sample, writing the output and the next history
-//! (ping-pong Rgba16Float textures, linear colour). The default makes 11 texture reads per
-//! pixel: the colour neighbourhood is shared within each 2x2 quad of fragments through the fine
-//! derivatives, depths come in two gathers, and the shader keeps no function-local arrays,
-//! which a GPU's compiler may keep in memory (see `gpu/shader.rs`).
+//! in a supersampled image). The resolve (`taa.wgsl` in this folder, one fullscreen pass whose
+//! one render target is the output) reprojects the history with the renderer's motion vectors
+//! (camera and object motion, without jitter; taken from the nearest surface among the pixel
+//! and its neighbours), rectifies it against the current neighbourhood's colours (clamp, YCoCg
+//! clip or variance clip) and blends it with the current sample, writing the output and
+//! storing the next history (ping-pong Rgba16Float storage textures, linear colour). The
+//! default makes 11 texture reads per pixel: the colour neighbourhood is shared within each
+//! 2x2 quad of fragments through the fine derivatives, depths come in two gathers, and the
+//! shader keeps no function-local arrays, which a GPU's compiler may keep in memory (see
+//! `gpu/shader.rs`).
 //!
 //! Under motion the history is resampled between pixels every frame, which softens it, so the
 //! current frame's share rises with how much that read blurs it (`resample_feedback`; none on
