@@ -45,7 +45,8 @@ pub struct Capabilities {
     /// sRGB-encoded values through such a view.
     pub view_formats: bool,
     /// Fragment shaders can write storage textures (wgpu's `FRAGMENT_WRITABLE_STORAGE`
-    /// downlevel flag; every Vulkan, Metal and DX12 device has it): TAAU keeps its history so.
+    /// downlevel flag; every Vulkan, Metal and DX12 device has it): TAA and TAAU store their
+    /// history so.
     pub fragment_storage: bool,
 }
 
@@ -148,7 +149,7 @@ impl Capabilities {
             if self.fragment_storage {
                 "yes"
             } else {
-                "no (TAAU cannot run)"
+                "no (TAA and TAAU cannot run)"
             },
         );
         out
