@@ -673,20 +673,18 @@ fn taa_keeps_up_with_msaa_4x_on_hairball_and_atrium_under_the_orbit() {
     // Hairball's strands are thinner than a pixel, so each jittered point sample is noise, and
     // under the orbit the resampled history never converges to the pixel's average: the
     // current frame's Gaussian estimate (`current_filter`) is what brings TAA level with MSAA
-    // 4x there at 640x360. At larger sizes MSAA 4x resolves more of the strands while TAA's
-    // loss to the orbit's motion stays, and TAA falls behind (docs/techniques/taa.md, "At other
-    // sizes"): the odd 853x481 pins today's smaller lead there, so that tuning TAA to one size
-    // fails here. The margins are how far below MSAA 4x's SSIM TAA may be. On atrium TAA
-    // was ahead at both sizes only while lavapipe filtered textures without anisotropy
-    // (blurring every 1x render, which TAA's negative mip bias won back); with the scene
-    // shader's anisotropic filter, as on a GPU, it is .0019 behind at 640x360 (.9410 vs
-    // .9429) and ahead at 853x481 (.9464 vs .9444), as on the H100 (.0011 behind at 1280x720,
-    // issue 31 item 2, open).
+    // 4x there. At larger sizes MSAA 4x resolves more of the strands, and TAA's loss to the
+    // orbit grows with the motion in pixels; the falloff of the history's share with the
+    // parallax and the speed holds it (docs/techniques/taa.md, "At other sizes"). Issue 31's
+    // target is TAA within .011 SSIM of MSAA 4x on hairball, and at or above it in SSIM and
+    // FLIP on atrium: met at 640x360; the odd 853x481 pins today's gap on hairball (.017), so
+    // that tuning TAA to one size fails here. Without the falloff atrium was .0019 behind in
+    // SSIM at 640x360 and .0015 in FLIP at 853x481.
     let gpu = common::gpu();
     for (name, size, margin) in [
-        ("hairball", (640, 360), 0.005),
+        ("hairball", (640, 360), 0.011),
         ("hairball", (853, 481), 0.02),
-        ("atrium", (640, 360), 0.003),
+        ("atrium", (640, 360), 0.0),
         ("atrium", (853, 481), 0.0),
     ] {
         let scene = load(name, &SceneOptions::default()).unwrap_or_else(|e| panic!("{e}"));
@@ -706,14 +704,26 @@ fn taa_keeps_up_with_msaa_4x_on_hairball_and_atrium_under_the_orbit() {
                 .expect("same size")
                 .mean
         });
+        let [msaa_flip, taa_flip] = [0, 1].map(|i| {
+            flip::flip_map(&reference, &images[i])
+                .expect("same size")
+                .mean(None)
+                .expect("pixels")
+        });
         println!(
-            "{name} {size:?} frame 16: MSAA 4x {msaa:.4}, TAA {taa:.4}, TAA point sample {point:.4}"
+            "{name} {size:?} frame 16: MSAA 4x {msaa:.4} / {msaa_flip:.4}, TAA {taa:.4} / \
+             {taa_flip:.4}, TAA point sample {point:.4}"
         );
         assert!(
             taa >= msaa - margin,
             "{name} {size:?}: TAA SSIM {taa:.4} vs MSAA 4x {msaa:.4}"
         );
-        if name == "hairball" {
+        if name == "atrium" {
+            assert!(
+                taa_flip <= msaa_flip,
+                "atrium {size:?}: TAA FLIP {taa_flip:.4} vs MSAA 4x {msaa_flip:.4}"
+            );
+        } else {
             assert!(
                 taa > point + 0.004,
                 "hairball {size:?}: the Gaussian current frame {taa:.4} vs the point sample \

@@ -5,9 +5,10 @@
 //!
 //! Each frame reads the shared jittered render (`SceneInput::jittered`): the projection is
 //! shifted by the next offset of a Halton(2,3) sequence of 8 or 16 samples, so over a cycle
-//! every pixel is sampled at that many places, and textures get a negative mip bias (-1.5 by
-//! default: -1/2 log2 of the 8 samples the history averages, so textures come out as sharp as
-//! in a supersampled image). The resolve (`taa.wgsl` in this folder, one fullscreen pass whose
+//! every pixel is sampled at that many places, and textures get a negative mip bias (-1 by
+//! default, as AMD's FSR 2 integration guide recommends at native scale: sharper mip levels,
+//! whose aliasing the history averages; -1.5, half the log2 of the 8 samples, scored better on
+//! a still camera but worse in FLIP under motion, where the history holds fewer samples). The resolve (`taa.wgsl` in this folder, one fullscreen pass whose
 //! one render target is the output) reprojects the history with the renderer's motion vectors
 //! (camera and object motion, without jitter; taken from the nearest surface among the pixel
 //! and its neighbours), rectifies it against the current neighbourhood's colours (clamp, YCoCg
@@ -25,6 +26,14 @@
 //! one-pixel box: an estimate of the pixel's area average, as the 64-sample reference computes
 //! it, from reads the rectification makes anyway. A sharp history converges to that average
 //! on its own, so the Gaussian is mixed in only as far as the history is blurred.
+//!
+//! The history's share also falls off exponentially with the parallax around the pixel (the
+//! difference between the motions of the nearest and the farthest surface of the depth search,
+//! one more motion read: a pixel whose surfaces part cannot be carried by one motion vector, so
+//! its history holds colours that belong elsewhere) and with the speed (`parallax_falloff` 8
+//! and `speed_falloff` 16 pixels per frame). Under the orbit both measured better at every
+//! size: the gap to MSAA 4x on hairball had grown with the size because the motion in pixels
+//! does (`docs/techniques/taa.md`).
 //!
 //! Thin geometry: a line thinner than a pixel is hit by only some of the jitter positions, and
 //! clamping the history to the neighbourhood of a frame that missed it would cut the line out
@@ -150,12 +159,18 @@ struct PipelineKey {
     radiance: bool,
 }
 
+/// 1 / `length` for a falloff length, 0 (no falloff) for 0.
+fn inverse_or_zero(length: f32) -> f32 {
+    if length > 0.0 { 1.0 / length } else { 0.0 }
+}
+
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct TaaUniform {
     size: [f32; 4],
     blend: [f32; 4],
     trust: [f32; 4],
+    falloff: [f32; 4],
     current_filter: [[f32; 4]; 3],
 }
 
@@ -321,6 +336,12 @@ impl Technique for Taa {
                 f32::from(u8::from(self.settings.resample_feedback)),
                 f32::from(u8::from(self.settings.trust_sharp_only)),
                 self.settings.reactive_mask,
+            ],
+            falloff: [
+                inverse_or_zero(self.settings.parallax_falloff),
+                inverse_or_zero(self.settings.speed_falloff),
+                0.0,
+                0.0,
             ],
             current_filter: current_filter_weights(
                 &self.settings,

@@ -97,6 +97,11 @@ pub struct TaaSettings {
     /// rectification applies in full; smaller changes ease it off proportionally (0: always
     /// rectify in full).
     pub velocity_tolerance: f32,
+    /// Parallax (pixels per frame between the motions of the nearest and the farthest surface
+    /// around the pixel) over which the history's share falls to 1/e (0: no falloff).
+    pub parallax_falloff: f32,
+    /// Speed (pixels per frame) over which the history's share falls to 1/e (0: no falloff).
+    pub speed_falloff: f32,
     /// Raise the current frame's share with the blur of reading the history between texels
     /// (else with the speed).
     pub resample_feedback: bool,
@@ -133,6 +138,8 @@ impl Default for TaaSettings {
             current_weight: 0.1,
             motion_weight: 0.3,
             velocity_tolerance: 1.0,
+            parallax_falloff: 8.0,
+            speed_falloff: 16.0,
             resample_feedback: true,
             trust_own_speed: false,
             trust_sharp_only: false,
@@ -140,7 +147,7 @@ impl Default for TaaSettings {
             current_filter: CurrentFilter::Gaussian,
             velocity: VelocityTaps::Quads,
             neighbourhood: Neighbourhood::Cross,
-            mip_bias: -1.5,
+            mip_bias: -1.0,
             tonemap_order: TonemapOrder::Before,
             reactive_mask: 0.0,
         }
@@ -204,6 +211,8 @@ impl Tunable for TaaSettings {
                 current_weight,
                 motion_weight,
                 velocity_tolerance,
+                parallax_falloff,
+                speed_falloff,
                 luma_weight,
                 current_filter,
                 velocity,
@@ -296,6 +305,31 @@ impl TaaSettings {
                 0.0,
                 4.0,
                 s.velocity_tolerance,
+            ),
+            Param::float(
+                "parallax_falloff",
+                "Parallax falloff",
+                "Parallax in pixels per frame (how differently the nearest and the farthest \
+                 surface around the pixel move) over which the history's share falls to 1/e. One \
+                 motion vector cannot carry a pixel whose surfaces part: the strands of a tangle, \
+                 a silhouette over a far background. There the history holds colours that \
+                 belong elsewhere, more the faster they part. Smaller follows the current frame \
+                 sooner (sharper, a little more aliasing); 0 turns the falloff off.",
+                0.0,
+                64.0,
+                s.parallax_falloff,
+            ),
+            Param::float(
+                "speed_falloff",
+                "Speed falloff",
+                "Speed in pixels per frame over which the history's share falls to 1/e: the \
+                 faster the image moves, the more the current frame counts. Under a moving camera \
+                 the history keeps less of the scene's detail the faster it moves, more than the \
+                 blur of each read between texels accounts for (measured: docs/techniques/taa.md). \
+                 0 turns the falloff off.",
+                0.0,
+                64.0,
+                s.speed_falloff,
             ),
         ]
     }

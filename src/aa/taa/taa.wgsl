@@ -48,6 +48,9 @@ struct TaaParams {
     // that blur grows; w: the reactive mask's strength (with REACTIVE_MASK). (Whose speed the
     // trust compares is TRUST_OWN_SPEED.)
     trust: vec4<f32>,
+    // x: 1 / the parallax (pixels per frame) over which the history's share falls to 1/e, y: the
+    // same for the speed (0: no falloff).
+    falloff: vec4<f32>,
     // Weights of the current frame's filter for the 3x3 taps, row by row (index 3 (dy + 1) +
     // dx + 1), normalised over the taps of the colour neighbourhood: exp(-a d^2) of each
     // sample's distance d from the pixel centre (they depend only on this frame's jitter, so
@@ -272,36 +275,44 @@ fn add_tap(colour_box: ptr<function, ColourBox>, rgb: vec3<f32>, tap: u32) {
     (*colour_box).count += 1.0;
 }
 
-struct Nearest {
-    pixel: vec2<i32>,
-    depth: f32,
+// The nearest and the farthest surface (reverse-Z: largest and smallest depth) among the
+// pixels searched: the nearest's motion reprojects the pixel; the two motions' difference is
+// the parallax inside the neighbourhood.
+struct Surfaces {
+    nearest: vec2<i32>,
+    near_depth: f32,
+    farthest: vec2<i32>,
+    far_depth: f32,
 }
 
-// The nearest surface (reverse-Z: largest depth) of the 2x2 quad above-left of the pixel and
-// the one below-right, each read with one gather at the quad's centre (a corner of the pixel)
-// instead of four loads; the clamp-to-edge sampler repeats the border pixels, as the loads'
-// clamped coordinates do.
-fn nearest_in_quads(pixel: vec2<i32>, last: vec2<i32>) -> Nearest {
+// The surfaces of the 2x2 quad above-left of the pixel and the one below-right, each read
+// with one gather at the quad's centre (a corner of the pixel) instead of four loads; the
+// clamp-to-edge sampler repeats the border pixels, as the loads' clamped coordinates do.
+fn surfaces_in_quads(pixel: vec2<i32>, last: vec2<i32>) -> Surfaces {
     let corner = vec2<f32>(pixel) * params.size.zw;
     // A gather's components: (x0, y1), (x1, y1), (x1, y0), (x0, y0).
     let above = textureGather(depth, bilinear, corner);
     let below = textureGather(depth, bilinear, corner + params.size.zw);
-    var nearest = Nearest(pixel, above.y);
-    nearest = nearer(nearest, above.x, pixel + vec2<i32>(-1, 0));
-    nearest = nearer(nearest, above.z, pixel + vec2<i32>(0, -1));
-    nearest = nearer(nearest, above.w, pixel + vec2<i32>(-1, -1));
-    nearest = nearer(nearest, below.x, pixel + vec2<i32>(0, 1));
-    nearest = nearer(nearest, below.y, pixel + vec2<i32>(1, 1));
-    nearest = nearer(nearest, below.z, pixel + vec2<i32>(1, 0));
-    return Nearest(clamp(nearest.pixel, vec2<i32>(0), last), nearest.depth);
+    var s = Surfaces(pixel, above.y, pixel, above.y);
+    s = widen(s, above.x, pixel + vec2<i32>(-1, 0));
+    s = widen(s, above.z, pixel + vec2<i32>(0, -1));
+    s = widen(s, above.w, pixel + vec2<i32>(-1, -1));
+    s = widen(s, below.x, pixel + vec2<i32>(0, 1));
+    s = widen(s, below.y, pixel + vec2<i32>(1, 1));
+    s = widen(s, below.z, pixel + vec2<i32>(1, 0));
+    return Surfaces(clamp(s.nearest, vec2<i32>(0), last), s.near_depth, clamp(s.farthest, vec2<i32>(0), last), s.far_depth);
 }
 
-// The candidate surface if it is nearer (reverse-Z: larger depth) than `nearest`.
-fn nearer(nearest: Nearest, depth: f32, pixel: vec2<i32>) -> Nearest {
-    if depth > nearest.depth {
-        return Nearest(pixel, depth);
-    }
-    return nearest;
+// The surfaces with the candidate at `pixel` taken in where it is nearer or farther.
+fn widen(s: Surfaces, depth: f32, pixel: vec2<i32>) -> Surfaces {
+    let nearer = depth > s.near_depth;
+    let farther = depth < s.far_depth;
+    return Surfaces(
+        select(s.nearest, pixel, nearer),
+        select(s.near_depth, depth, nearer),
+        select(s.farthest, pixel, farther),
+        select(s.far_depth, depth, farther),
+    );
 }
 
 struct Resolved {
@@ -336,25 +347,32 @@ fn resolve(position: vec2<f32>) -> Resolved {
     }
     let low = colour_box.low;
     let high = colour_box.high;
-    var nearest = Nearest(pixel, 0.0);
+    var surfaces = Surfaces(pixel, 0.0, pixel, 0.0);
     if VELOCITY_TAPS == 1u || VELOCITY_TAPS == 2u {
-        nearest.depth = textureLoad(depth, pixel, 0);
+        let own_depth = textureLoad(depth, pixel, 0);
+        surfaces = Surfaces(pixel, own_depth, pixel, own_depth);
         for (var dy = -1; dy <= 1; dy++) {
             for (var dx = -1; dx <= 1; dx++) {
                 let diagonal = dx != 0 && dy != 0;
                 if (dx != 0 || dy != 0) && (VELOCITY_TAPS == 2u || diagonal) {
                     let p = clamp(pixel + vec2<i32>(dx, dy), vec2<i32>(0), last);
-                    nearest = nearer(nearest, textureLoad(depth, p, 0), p);
+                    surfaces = widen(surfaces, textureLoad(depth, p, 0), p);
                 }
             }
         }
     } else if VELOCITY_TAPS == 3u {
-        nearest = nearest_in_quads(pixel, last);
+        surfaces = surfaces_in_quads(pixel, last);
     }
 
     // 2. Reprojection.
     let uv = (floor(position) + 0.5) * params.size.zw;
-    let velocity = textureLoad(motion, nearest.pixel, 0).xy;
+    let velocity = textureLoad(motion, surfaces.nearest, 0).xy;
+    // Parallax: how differently the farthest surface around the pixel moves, in pixels per
+    // frame (none with the pixel's own motion, which searches no neighbours).
+    var parallax = 0.0;
+    if VELOCITY_TAPS > 0u {
+        parallax = length((velocity - textureLoad(motion, surfaces.farthest, 0).xy) * params.size.xy);
+    }
     let speed = length(velocity * params.size.xy);
     // The speed the trust test compares (and the history keeps): the pixel's own surface's.
     var own_speed = speed;
@@ -422,7 +440,10 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // still camera and whole-pixel motion keep the history sharp; half-pixel motion softens it
     // most).
     let adapt = select(saturate(speed), blur, params.trust.y > 0.5);
-    let alpha = max(mix(params.blend.x, max(params.blend.x, params.blend.w), adapt), reactive_share);
+    // The history's share then falls off with the parallax and with the speed.
+    let stale = parallax * params.falloff.x + speed * params.falloff.y;
+    let blended = mix(params.blend.x, max(params.blend.x, params.blend.w), adapt);
+    let alpha = max(1.0 - (1.0 - blended) * exp(-stale), reactive_share);
     // The current frame's estimate of the pixel: where the history stays sharp (still camera,
     // whole-pixel motion) the accumulated point samples converge to the pixel's box average and
     // the pixel's own sample is exact; where resampling blurs the history every frame it never
