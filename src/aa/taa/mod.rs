@@ -79,7 +79,7 @@ use glam::Vec2;
 
 use crate::aa::common::pass::Binding;
 use crate::aa::common::temporal::{
-    HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset,
+    HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset, motion_falloff_uniform,
 };
 use crate::aa::common::{RADIANCE_WGSL, encoded_view, holds_radiance, output_format};
 use crate::aa::info::{TechniqueInfo, needs_history_stores};
@@ -157,11 +157,6 @@ struct PipelineKey {
     debug: bool,
     /// Before the tonemapper of an HDR frame: radiance in and out, luminance-weighted.
     radiance: bool,
-}
-
-/// 1 / `length` for a falloff length, 0 (no falloff) for 0.
-fn inverse_or_zero(length: f32) -> f32 {
-    if length > 0.0 { 1.0 / length } else { 0.0 }
 }
 
 #[repr(C)]
@@ -337,12 +332,10 @@ impl Technique for Taa {
                 f32::from(u8::from(self.settings.trust_sharp_only)),
                 self.settings.reactive_mask,
             ],
-            falloff: [
-                inverse_or_zero(self.settings.parallax_falloff),
-                inverse_or_zero(self.settings.speed_falloff),
-                0.0,
-                0.0,
-            ],
+            falloff: motion_falloff_uniform(
+                self.settings.parallax_falloff,
+                self.settings.speed_falloff,
+            ),
             current_filter: current_filter_weights(
                 &self.settings,
                 jitter_offset(camera.frame, self.settings.samples.count()),

@@ -4,6 +4,7 @@
 //! override constants the structural choices become.
 
 pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
+use crate::aa::common::temporal::{MOTION_FALLOFF, motion_falloff_params};
 use crate::graph::hdr::TonemapOrder;
 use crate::graph::params::{Named, Param, ParamValue, Tunable};
 
@@ -138,8 +139,8 @@ impl Default for TaaSettings {
             current_weight: 0.1,
             motion_weight: 0.3,
             velocity_tolerance: 1.0,
-            parallax_falloff: 8.0,
-            speed_falloff: 16.0,
+            parallax_falloff: MOTION_FALLOFF.0,
+            speed_falloff: MOTION_FALLOFF.1,
             resample_feedback: true,
             trust_own_speed: false,
             trust_sharp_only: false,
@@ -237,10 +238,11 @@ impl Tunable for TaaSettings {
 }
 
 impl TaaSettings {
-    /// The parameters of the history: its samples, filter, rectification and weights.
+    /// The parameters of the history: its samples, filter, rectification, weights and falloff
+    /// under motion.
     fn history_params(&self) -> Vec<Param> {
         let s = self;
-        vec![
+        let mut params = vec![
             Param::named(
                 "samples",
                 "Jitter samples",
@@ -306,32 +308,9 @@ impl TaaSettings {
                 4.0,
                 s.velocity_tolerance,
             ),
-            Param::float(
-                "parallax_falloff",
-                "Parallax falloff",
-                "Parallax in pixels per frame (how differently the nearest and the farthest \
-                 surface around the pixel move) over which the history's share falls to 1/e. One \
-                 motion vector cannot carry a pixel whose surfaces part: the strands of a tangle, \
-                 a silhouette over a far background. There the history holds colours that \
-                 belong elsewhere, more the faster they part. Smaller follows the current frame \
-                 sooner (sharper, a little more aliasing); 0 turns the falloff off.",
-                0.0,
-                64.0,
-                s.parallax_falloff,
-            ),
-            Param::float(
-                "speed_falloff",
-                "Speed falloff",
-                "Speed in pixels per frame over which the history's share falls to 1/e: the \
-                 faster the image moves, the more the current frame counts. Under a moving camera \
-                 the history keeps less of the scene's detail the faster it moves, more than the \
-                 blur of each read between texels accounts for (measured: docs/techniques/taa.md). \
-                 0 turns the falloff off.",
-                0.0,
-                64.0,
-                s.speed_falloff,
-            ),
-        ]
+        ];
+        params.extend(motion_falloff_params(s.parallax_falloff, s.speed_falloff));
+        params
     }
 
     /// The parameters of the current frame's side: its filter, the velocity and

@@ -47,7 +47,7 @@ use glam::Mat4;
 
 use crate::aa::common::pass::{self, Binding};
 use crate::aa::common::temporal::{
-    HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset,
+    HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset, motion_falloff_uniform,
 };
 use crate::aa::common::{RADIANCE_WGSL, holds_radiance, output_format};
 use crate::aa::info::{TechniqueInfo, needs_history_stores};
@@ -110,6 +110,7 @@ struct TaauUniform {
     jitter: [f32; 4],
     accumulate: [f32; 4],
     guard: [f32; 4],
+    falloff: [f32; 4],
     reproject: [[f32; 4]; 4],
 }
 
@@ -232,6 +233,7 @@ impl Taau {
                 s.velocity_tolerance,
             ],
             guard: [s.depth_tolerance, s.reactive, FILL_FLOOR, s.reactive_mask],
+            falloff: motion_falloff_uniform(s.parallax_falloff, s.speed_falloff),
             reproject: Mat4::to_cols_array_2d(&reproject),
         }
     }

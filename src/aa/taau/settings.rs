@@ -4,6 +4,7 @@
 //! structural choices become.
 
 pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
+use crate::aa::common::temporal::{MOTION_FALLOFF, motion_falloff_params};
 use crate::graph::hdr::TonemapOrder;
 use crate::graph::params::{Named, Param, ParamValue, Tunable};
 
@@ -64,6 +65,13 @@ pub struct TaauSettings {
     pub motion_samples: f32,
     /// Change of speed (output pixels per frame) at which rectification applies in full.
     pub velocity_tolerance: f32,
+    /// Parallax (output pixels per frame between the motions of the nearest and the farthest
+    /// surface of the 3x3 render samples) over which the history's samples fall to 1/e (0: no
+    /// falloff).
+    pub parallax_falloff: f32,
+    /// Speed (output pixels per frame) over which the history's samples fall to 1/e (0: no
+    /// falloff).
+    pub speed_falloff: f32,
     /// Relative depth difference beyond which the reprojected history shows another surface.
     pub depth_tolerance: f32,
     /// How far the reactive mask (surfaces moving on their own) leans on the current frame.
@@ -90,6 +98,8 @@ impl Default for TaauSettings {
             max_samples: 6.0,
             motion_samples: 1.5,
             velocity_tolerance: 1.0,
+            parallax_falloff: MOTION_FALLOFF.0,
+            speed_falloff: MOTION_FALLOFF.1,
             depth_tolerance: 0.05,
             reactive: 0.0,
             mip_bias: -1.0,
@@ -121,7 +131,7 @@ impl Tunable for TaauSettings {
 
     fn params(&self) -> Vec<Param> {
         let s = self;
-        vec![
+        let mut params = vec![
             Param::named(
                 "phases",
                 "Jitter phases per pixel",
@@ -202,6 +212,9 @@ impl Tunable for TaauSettings {
                 4.0,
                 s.velocity_tolerance,
             ),
+        ];
+        params.extend(motion_falloff_params(s.parallax_falloff, s.speed_falloff));
+        params.extend([
             Param::float(
                 "depth_tolerance",
                 "Disocclusion depth tolerance",
@@ -245,7 +258,8 @@ impl Tunable for TaauSettings {
                 s.reactive_mask,
             ),
             s.tonemap_order.param(),
-        ]
+        ]);
+        params
     }
 
     fn set(&mut self, key: &str, value: &ParamValue) -> bool {
@@ -263,6 +277,8 @@ impl Tunable for TaauSettings {
                 max_samples,
                 motion_samples,
                 velocity_tolerance,
+                parallax_falloff,
+                speed_falloff,
                 depth_tolerance,
                 reactive,
                 mip_bias,
