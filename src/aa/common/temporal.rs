@@ -48,7 +48,7 @@ crate::named_enum! {
 /// The default falloff lengths of the history's share under motion, pixels per frame: the
 /// parallax around the pixel, then the speed (measured under the orbit at three sizes:
 /// `docs/techniques/taa.md`).
-pub const MOTION_FALLOFF: (f32, f32) = (8.0, 16.0);
+pub const MOTION_FALLOFF: (f32, f32) = (16.0, 16.0);
 
 /// The settings of the history's falloff under motion: its share (TAA) or its samples (the
 /// temporal upscaler) are multiplied by exp(-parallax / `parallax` - speed / `speed`), each

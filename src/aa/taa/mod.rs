@@ -30,10 +30,11 @@
 //! The history's share also falls off exponentially with the parallax around the pixel (the
 //! difference between the motions of the nearest and the farthest surface of the depth search,
 //! one more motion read: a pixel whose surfaces part cannot be carried by one motion vector, so
-//! its history holds colours that belong elsewhere) and with the speed (`parallax_falloff` 8
-//! and `speed_falloff` 16 pixels per frame). Under the orbit both measured better at every
-//! size: the gap to MSAA 4x on hairball had grown with the size because the motion in pixels
-//! does (`docs/techniques/taa.md`).
+//! its history holds colours that belong elsewhere) and with the speed (`parallax_falloff` and
+//! `speed_falloff`, 16 pixels per frame each; `aa::common::temporal`). Under the orbit TAA's gap
+//! to MSAA 4x on hairball grew with the size, as the motion in pixels does; the falloff closes
+//! part of it at 1280x720 and more at 1920x1080, and lifts atrium at every size, for a small
+//! loss on hairball at 640x360 (`docs/techniques/taa.md`).
 //!
 //! Thin geometry: a line thinner than a pixel is hit by only some of the jitter positions, and
 //! clamping the history to the neighbourhood of a frame that missed it would cut the line out
