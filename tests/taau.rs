@@ -91,11 +91,10 @@ fn taau_leaves_no_ghost_trail_behind_camera_or_object_motion() {
     for (name, scene, camera) in cases {
         for id in ["taau", "taau@quality"] {
             // Nothing that removes a ghost: no rectification, no disocclusion test, no falloff
-            // of the history under motion.
+            // of the history with the speed.
             let unrectified = [
                 ("rectify", "none"),
                 ("depth_tolerance", "1"),
-                ("parallax_falloff", "0"),
                 ("speed_falloff", "0"),
             ];
             let (ghost, ghost_mean) =

@@ -45,52 +45,53 @@ crate::named_enum! {
     }
 }
 
-/// The default falloff lengths of the history's share under motion, pixels per frame: the
-/// parallax around the pixel, then the speed (measured under the orbit at three sizes:
-/// `docs/techniques/taa.md`).
-pub const MOTION_FALLOFF: (f32, f32) = (16.0, 16.0);
+/// The default falloff length of the history under motion, in pixels per frame, of both the
+/// parallax around the pixel (TAA) and the speed (TAA and the temporal upscaler); measured
+/// under the orbit at three sizes: `docs/techniques/taa.md`.
+pub const MOTION_FALLOFF: f32 = 16.0;
 
-/// The settings of the history's falloff under motion: its share (TAA) or its samples (the
-/// temporal upscaler) are multiplied by exp(-parallax / `parallax` - speed / `speed`), each
-/// term off at 0. Parallax is how differently the nearest and the farthest surface of the
-/// resolve's depth search move: one motion vector cannot carry a pixel whose surfaces part
-/// (the strands of a tangle, a silhouette over a far background), and its history then holds
-/// colours that belong elsewhere, more the faster they part.
-pub fn motion_falloff_params(parallax: f32, speed: f32) -> [Param; 2] {
-    [
-        Param::float(
-            "parallax_falloff",
-            "Parallax falloff",
-            "Parallax in pixels per frame (how differently the nearest and the farthest surface \
-             around the pixel move) over which the history's weight falls to 1/e. One motion \
-             vector cannot carry a pixel whose surfaces part: the strands of a tangle, a \
-             silhouette over a far background; its history holds colours that belong elsewhere, \
-             more the faster they part. Smaller follows the current frame sooner (sharper, a \
-             little more aliasing); 0 turns the falloff off.",
-            0.0,
-            64.0,
-            parallax,
-        ),
-        Param::float(
-            "speed_falloff",
-            "Speed falloff",
-            "Speed in pixels per frame over which the history's weight falls to 1/e: the faster \
-             the image moves, the more the current frame counts. Under a moving camera the \
-             history keeps less of the scene's detail the faster it moves, more than the blur of \
-             each read between texels accounts for (measured: docs/techniques/taa.md). 0 turns \
-             the falloff off.",
-            0.0,
-            64.0,
-            speed,
-        ),
-    ]
+/// The setting of the history's falloff with the parallax: TAA's share of the history is
+/// multiplied by exp(-parallax / `length`) (off at 0). Parallax is how differently the
+/// nearest and the farthest surface of the resolve's depth search move: one motion vector
+/// cannot carry a pixel whose surfaces part (the strands of a tangle, a silhouette over a far
+/// background), and its history then holds colours that belong elsewhere, more the faster
+/// they part.
+pub fn parallax_falloff_param(length: f32) -> Param {
+    Param::float(
+        "parallax_falloff",
+        "Parallax falloff",
+        "Parallax in pixels per frame (how differently the nearest and the farthest surface \
+         around the pixel move) over which the history's weight falls to 1/e. One motion vector \
+         cannot carry a pixel whose surfaces part: the strands of a tangle, a silhouette over a \
+         far background; its history holds colours that belong elsewhere, more the faster they \
+         part. Smaller follows the current frame sooner (sharper, a little more aliasing); 0 \
+         turns the falloff off.",
+        0.0,
+        64.0,
+        length,
+    )
 }
 
-/// The falloff for a shader: x = 1 / `parallax`, y = 1 / `speed` (0 where a length is 0: no
-/// falloff).
-pub fn motion_falloff_uniform(parallax: f32, speed: f32) -> [f32; 4] {
-    let inverse = |length: f32| if length > 0.0 { 1.0 / length } else { 0.0 };
-    [inverse(parallax), inverse(speed), 0.0, 0.0]
+/// The setting of the history's falloff with the speed: the history's weight is multiplied by
+/// exp(-speed / `length`) (off at 0).
+pub fn speed_falloff_param(length: f32) -> Param {
+    Param::float(
+        "speed_falloff",
+        "Speed falloff",
+        "Speed in pixels per frame over which the history's weight falls to 1/e: the faster the \
+         image moves, the more the current frame counts. Under a moving camera the history \
+         keeps less of the scene's detail the faster it moves, more than the blur of each read \
+         between texels accounts for (measured: docs/techniques/taa.md). 0 turns the falloff \
+         off.",
+        0.0,
+        64.0,
+        length,
+    )
+}
+
+/// A falloff length as the shader's rate: 1 / `length`, or 0 (no falloff) for 0.
+pub fn falloff_rate(length: f32) -> f32 {
+    if length > 0.0 { 1.0 / length } else { 0.0 }
 }
 
 /// The jitter offset of a frame in render pixels (content moves by it; the pixel's sample sits

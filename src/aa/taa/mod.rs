@@ -80,7 +80,7 @@ use glam::Vec2;
 
 use crate::aa::common::pass::Binding;
 use crate::aa::common::temporal::{
-    HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset, motion_falloff_uniform,
+    HistoryReset, PingPong, ResolvePass, cleared_black, falloff_rate, jitter_offset,
 };
 use crate::aa::common::{RADIANCE_WGSL, encoded_view, holds_radiance, output_format};
 use crate::aa::info::{TechniqueInfo, needs_history_stores};
@@ -333,10 +333,12 @@ impl Technique for Taa {
                 f32::from(u8::from(self.settings.trust_sharp_only)),
                 self.settings.reactive_mask,
             ],
-            falloff: motion_falloff_uniform(
-                self.settings.parallax_falloff,
-                self.settings.speed_falloff,
-            ),
+            falloff: [
+                falloff_rate(self.settings.parallax_falloff),
+                falloff_rate(self.settings.speed_falloff),
+                0.0,
+                0.0,
+            ],
             current_filter: current_filter_weights(
                 &self.settings,
                 jitter_offset(camera.frame, self.settings.samples.count()),

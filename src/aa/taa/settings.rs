@@ -4,7 +4,9 @@
 //! override constants the structural choices become.
 
 pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
-use crate::aa::common::temporal::{MOTION_FALLOFF, motion_falloff_params};
+use crate::aa::common::temporal::{
+    MOTION_FALLOFF, parallax_falloff_param, speed_falloff_param,
+};
 use crate::graph::hdr::TonemapOrder;
 use crate::graph::params::{Named, Param, ParamValue, Tunable};
 
@@ -139,8 +141,8 @@ impl Default for TaaSettings {
             current_weight: 0.1,
             motion_weight: 0.3,
             velocity_tolerance: 1.0,
-            parallax_falloff: MOTION_FALLOFF.0,
-            speed_falloff: MOTION_FALLOFF.1,
+            parallax_falloff: MOTION_FALLOFF,
+            speed_falloff: MOTION_FALLOFF,
             resample_feedback: true,
             trust_own_speed: false,
             trust_sharp_only: false,
@@ -309,7 +311,10 @@ impl TaaSettings {
                 s.velocity_tolerance,
             ),
         ];
-        params.extend(motion_falloff_params(s.parallax_falloff, s.speed_falloff));
+        params.extend([
+            parallax_falloff_param(s.parallax_falloff),
+            speed_falloff_param(s.speed_falloff),
+        ]);
         params
     }
 

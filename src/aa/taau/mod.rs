@@ -47,7 +47,7 @@ use glam::Mat4;
 
 use crate::aa::common::pass::{self, Binding};
 use crate::aa::common::temporal::{
-    HistoryReset, PingPong, ResolvePass, cleared_black, jitter_offset, motion_falloff_uniform,
+    HistoryReset, PingPong, ResolvePass, cleared_black, falloff_rate, jitter_offset,
 };
 use crate::aa::common::{RADIANCE_WGSL, holds_radiance, output_format};
 use crate::aa::info::{TechniqueInfo, needs_history_stores};
@@ -233,7 +233,7 @@ impl Taau {
                 s.velocity_tolerance,
             ],
             guard: [s.depth_tolerance, s.reactive, FILL_FLOOR, s.reactive_mask],
-            falloff: motion_falloff_uniform(s.parallax_falloff, s.speed_falloff),
+            falloff: [falloff_rate(s.speed_falloff), 0.0, 0.0, 0.0],
             reproject: Mat4::to_cols_array_2d(&reproject),
         }
     }

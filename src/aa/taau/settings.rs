@@ -4,7 +4,7 @@
 //! structural choices become.
 
 pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
-use crate::aa::common::temporal::{MOTION_FALLOFF, motion_falloff_params};
+use crate::aa::common::temporal::{MOTION_FALLOFF, speed_falloff_param};
 use crate::graph::hdr::TonemapOrder;
 use crate::graph::params::{Named, Param, ParamValue, Tunable};
 
@@ -65,10 +65,6 @@ pub struct TaauSettings {
     pub motion_samples: f32,
     /// Change of speed (output pixels per frame) at which rectification applies in full.
     pub velocity_tolerance: f32,
-    /// Parallax (output pixels per frame between the motions of the nearest and the farthest
-    /// surface of the 3x3 render samples) over which the history's samples fall to 1/e (0: no
-    /// falloff).
-    pub parallax_falloff: f32,
     /// Speed (output pixels per frame) over which the history's samples fall to 1/e (0: no
     /// falloff).
     pub speed_falloff: f32,
@@ -98,8 +94,7 @@ impl Default for TaauSettings {
             max_samples: 6.0,
             motion_samples: 1.5,
             velocity_tolerance: 1.0,
-            parallax_falloff: MOTION_FALLOFF.0,
-            speed_falloff: MOTION_FALLOFF.1,
+            speed_falloff: MOTION_FALLOFF,
             depth_tolerance: 0.05,
             reactive: 0.0,
             mip_bias: -1.0,
@@ -213,7 +208,7 @@ impl Tunable for TaauSettings {
                 s.velocity_tolerance,
             ),
         ];
-        params.extend(motion_falloff_params(s.parallax_falloff, s.speed_falloff));
+        params.push(speed_falloff_param(s.speed_falloff));
         params.extend([
             Param::float(
                 "depth_tolerance",
@@ -277,7 +272,6 @@ impl Tunable for TaauSettings {
                 max_samples,
                 motion_samples,
                 velocity_tolerance,
-                parallax_falloff,
                 speed_falloff,
                 depth_tolerance,
                 reactive,

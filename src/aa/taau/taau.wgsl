@@ -25,9 +25,9 @@
 //  5. Accumulation: the history's confidence (samples accumulated, in kernel weight) is capped
 //     (fewer where reading the history between texels blurs it or the pixel moves, so the
 //     history is read again next frame; fewer still on the reactive mask: surfaces moving on
-//     their own) and falls off with the parallax around the pixel (the motions of its nearest
-//     and farthest surface differ: one motion vector cannot carry it) and with the speed, as
-//     in this project's TAA; the new samples are added with their weights:
+//     their own) and falls off exponentially with the speed, as in this project's TAA (TAA's
+//     parallax term, tried here too, spread the current frame's wide-reaching estimate below
+//     native: docs/upscaling.md); the new samples are added with their weights:
 //     colour = (history * n + sum(w c)) / (n + sum(w)).
 // Colour is linear (the sRGB input decodes on load, the sRGB output encodes on store). The
 // output is the one render target; the history and its depth and speed are stored as storage
@@ -48,8 +48,8 @@ struct TaauParams {
     // confidence below which the spatial estimate fills in, w: the transparency reactive
     // mask's strength (with REACTIVE_MASK).
     guard: vec4<f32>,
-    // x: 1 / the parallax (output pixels per frame) over which the history's samples fall to
-    // 1/e, y: the same for the speed (0: no falloff).
+    // x: 1 / the speed (output pixels per frame) over which the history's samples fall to 1/e
+    // (0: no falloff); yzw unused.
     falloff: vec4<f32>,
     // Current frame's NDC (x, y, depth) to the previous frame's clip space, camera only.
     reproject: mat4x4<f32>,
@@ -174,11 +174,10 @@ struct Samples {
     moment1: vec3<f32>,
     moment2: vec3<f32>,
     count: f32,
-    // Nearest surface: its render pixel and depth; the farthest surface's depth and pixel.
+    // Nearest surface: its render pixel and depth; the farthest depth.
     nearest: vec2<i32>,
     nearest_depth: f32,
     farthest_depth: f32,
-    farthest: vec2<i32>,
     // The render pixel the 3x3 window is centred on.
     base: vec2<i32>,
 }
@@ -244,8 +243,6 @@ fn add_sample(s: ptr<function, Samples>, x: AxisFactors, y: AxisFactors, i: u32,
     let nearer = z > (*s).nearest_depth;
     (*s).nearest_depth = select((*s).nearest_depth, z, nearer);
     (*s).nearest = select((*s).nearest, inside, nearer);
-    let farther = z < (*s).farthest_depth;
-    (*s).farthest = select((*s).farthest, inside, farther);
     (*s).farthest_depth = min((*s).farthest_depth, z);
 }
 
@@ -259,7 +256,7 @@ fn gather_samples(centre: vec2<f32>) -> Samples {
     let base = vec2<i32>(floor(centre + jitter));
     let zero = vec3<f32>(0.0);
     var s = Samples(
-        zero, 0.0, zero, 0.0, zero, 0.0, vec3<f32>(1e9), vec3<f32>(-1e9), zero, zero, 0.0, base, -1.0, 2.0, base,
+        zero, 0.0, zero, 0.0, zero, 0.0, vec3<f32>(1e9), vec3<f32>(-1e9), zero, zero, 0.0, base, -1.0, 2.0,
         base,
     );
     let reach = 0.5 + 1.0 / max(ratio.x, ratio.y);
@@ -405,12 +402,8 @@ fn resolve(position: vec2<f32>) -> Resolved {
             // fewer samples, the history outlives more reads).
             let moving = max(blur, saturate(speed / SETTLED_SPEED));
             let cap = mix(params.accumulate.x, min(params.accumulate.y, params.accumulate.x), moving);
-            // Motion the history cannot follow: where the surfaces around the pixel part
-            // (parallax: one motion vector cannot carry them all), and the faster it moves, the
-            // fewer of its samples it keeps (one more motion read, of the farthest surface).
-            let parallax = length((velocity - textureLoad(motion, s.farthest, 0).xy) * params.output.xy);
-            let stale = parallax * params.falloff.x + speed * params.falloff.y;
-            confidence = min(sampled.a, cap) * (1.0 - reactive) * exp(-stale);
+            // The faster the pixel moves, the fewer samples the history keeps (as in TAA).
+            confidence = min(sampled.a, cap) * (1.0 - reactive) * exp(-speed * params.falloff.x);
         }
     }
     // Where the history and the new samples together hold too little, the spatial estimate
