@@ -457,7 +457,7 @@ impl Technique for Taa {
         let s = &self.settings;
         let rectify = s.rectify.name();
         Some(format!(
-            "{} jitter samples, {} current frame, {} history, {rectify} rectification on the {} colours{}, {} velocity, current weight {}",
+            "{} jitter samples, {} current frame, {} history, {rectify} rectification on the {} colours{}, {} velocity, current weight {}, history falling off over {} / {} px/frame of parallax / speed",
             s.samples.count(),
             s.current_filter.name(),
             s.history_filter.name(),
@@ -468,7 +468,9 @@ impl Technique for Taa {
                 String::new()
             },
             s.velocity.name(),
-            s.current_weight
+            s.current_weight,
+            s.parallax_falloff,
+            s.speed_falloff
         ))
     }
 }

@@ -4,9 +4,7 @@
 //! override constants the structural choices become.
 
 pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
-use crate::aa::common::temporal::{
-    MOTION_FALLOFF, parallax_falloff_param, speed_falloff_param,
-};
+use crate::aa::common::temporal::{MOTION_FALLOFF, parallax_falloff_param, speed_falloff_param};
 use crate::graph::hdr::TonemapOrder;
 use crate::graph::params::{Named, Param, ParamValue, Tunable};
 

@@ -15,7 +15,8 @@
 //!   with a one-pixel spread, or Lanczos-2); the history keeps how many samples it holds (its
 //!   confidence, capped: lower wherever the pixel moves, since every frame's read between
 //!   texels blurs the history a little more, and below native each frame adds fewer samples,
-//!   so a capped history outlives more reads), so a pixel that got no sample this frame keeps
+//!   so a capped history outlives more reads, and falling off exponentially with the speed,
+//!   `speed_falloff`, as TAA's share does), so a pixel that got no sample this frame keeps
 //!   its history and one that just lost its history takes the new samples at full weight.
 //!   Where the two together hold too little (first frame, disocclusion), a wide Gaussian of
 //!   the render samples fills in: a spatial upscale that the next samples replace.
@@ -385,14 +386,15 @@ impl Technique for Taau {
         let s = &self.settings;
         Some(format!(
             "{} jitter phases per output pixel, {} kernel of width {}, {} history, {} \
-             rectification, at most {} samples ({} in motion)",
+             rectification, at most {} samples ({} in motion, falling off over {} px/frame of speed)",
             s.phases.name(),
             s.kernel.name(),
             s.kernel_width,
             s.history_filter.name(),
             s.rectify.name(),
             s.max_samples,
-            s.motion_samples
+            s.motion_samples,
+            s.speed_falloff
         ))
     }
 }
