@@ -8,8 +8,9 @@
 //! every pixel is sampled at that many places, and textures get a negative mip bias (-1 by
 //! default, as AMD's FSR 2 integration guide recommends at native scale: sharper mip levels,
 //! whose aliasing the history averages; -1.5, half the log2 of the 8 samples, scored better on
-//! a still camera but worse in FLIP under motion, where the history holds fewer samples). The resolve (`taa.wgsl` in this folder, one fullscreen pass whose
-//! one render target is the output) reprojects the history with the renderer's motion vectors
+//! a still camera but worse in FLIP under motion, where the history holds fewer samples). The
+//! resolve (`taa.wgsl` in this folder, one fullscreen pass whose one render target is the
+//! output) reprojects the history with the renderer's motion vectors
 //! (camera and object motion, without jitter; taken from the nearest surface among the pixel
 //! and its neighbours), rectifies it against the current neighbourhood's colours (clamp, YCoCg
 //! clip or variance clip) and blends it with the current sample, writing the output and

@@ -9,7 +9,7 @@
 //     through the fine derivatives), and the nearest surface among the pixel and its
 //     neighbours (reverse-Z: largest depth; the two 2x2 quads that share the pixel, read by two
 //     gathers, the 4 diagonal ones or all 8) gives the motion vector, so silhouettes carry the
-//     foreground's motion.
+//     foreground's motion; the farthest surface among them gives the parallax (step 4).
 //     The current frame's contribution is either the pixel's own sample or (Gaussian
 //     filter) the neighbourhood's samples weighed by exp(-a d^2) of their distance d from the
 //     pixel centre (a sample sits at its pixel's centre minus the jitter; a = 6 gives the
@@ -29,7 +29,9 @@
 //     the rectification is eased off, so thin lines that this frame's jitter missed stay.
 //  4. Blend: the current frame gets `current_weight`, more under motion (the resampling softens
 //     the history a little every frame: the weight follows the speed, or the blur of the read
-//     between texels), optionally weighed by 1 / (1 + luminance)
+//     between texels), and more again as the history's share falls off exponentially with the
+//     parallax (how differently the nearest and the farthest surface move: one motion vector
+//     cannot carry both) and with the speed; optionally weighed by 1 / (1 + luminance)
 //     against the history's so a lone bright sample does not flicker.
 // Colour is linear (the sRGB input decodes on load, the sRGB output encodes on store); the
 // history is Rgba16Float. fs_resolve writes the output and stores the history (a storage
@@ -300,7 +302,12 @@ fn surfaces_in_quads(pixel: vec2<i32>, last: vec2<i32>) -> Surfaces {
     s = widen(s, below.x, pixel + vec2<i32>(0, 1));
     s = widen(s, below.y, pixel + vec2<i32>(1, 1));
     s = widen(s, below.z, pixel + vec2<i32>(1, 0));
-    return Surfaces(clamp(s.nearest, vec2<i32>(0), last), s.near_depth, clamp(s.farthest, vec2<i32>(0), last), s.far_depth);
+    return Surfaces(
+        clamp(s.nearest, vec2<i32>(0), last),
+        s.near_depth,
+        clamp(s.farthest, vec2<i32>(0), last),
+        s.far_depth,
+    );
 }
 
 // The surfaces with the candidate at `pixel` taken in where it is nearer or farther.
@@ -371,7 +378,8 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // frame (none with the pixel's own motion, which searches no neighbours).
     var parallax = 0.0;
     if VELOCITY_TAPS > 0u {
-        parallax = length((velocity - textureLoad(motion, surfaces.farthest, 0).xy) * params.size.xy);
+        let farthest_velocity = textureLoad(motion, surfaces.farthest, 0).xy;
+        parallax = length((velocity - farthest_velocity) * params.size.xy);
     }
     let speed = length(velocity * params.size.xy);
     // The speed the trust test compares (and the history keeps): the pixel's own surface's.

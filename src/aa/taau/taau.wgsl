@@ -403,7 +403,8 @@ fn resolve(position: vec2<f32>) -> Resolved {
             let moving = max(blur, saturate(speed / SETTLED_SPEED));
             let cap = mix(params.accumulate.x, min(params.accumulate.y, params.accumulate.x), moving);
             // The faster the pixel moves, the fewer samples the history keeps (as in TAA).
-            confidence = min(sampled.a, cap) * (1.0 - reactive) * exp(-speed * params.falloff.x);
+            let falloff = exp(-speed * params.falloff.x);
+            confidence = min(sampled.a, cap) * (1.0 - reactive) * falloff;
         }
     }
     // Where the history and the new samples together hold too little, the spatial estimate
