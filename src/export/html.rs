@@ -7,9 +7,9 @@
 //!
 //! The page is written as the frames render ([`HtmlPage::push`]: one `<script>` per frame, so
 //! memory holds one frame), and the record, known at the end, comes last. Under `#selftest`
-//! the page steps, zooms, moves the wipe and plays by itself and writes what its wipe view
-//! shows into `#selftest`, which tests/html.rs checks in headless Chromium against the
-//! embedded frames. Written atomically ([`crate::files::PendingFile`]).
+//! the page steps, zooms, moves the wipe and plays by itself, writes what its wipe view shows
+//! into `#selftest` and the console, and closes; tests/html.rs checks it in headless Chromium
+//! against the embedded frames. Written atomically ([`crate::files::PendingFile`]).
 
 use std::io::{self, Write};
 use std::path::Path;
