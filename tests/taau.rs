@@ -91,11 +91,12 @@ fn taau_leaves_no_ghost_trail_behind_camera_or_object_motion() {
     for (name, scene, camera) in cases {
         for id in ["taau", "taau@quality"] {
             // Nothing that removes a ghost: no rectification, no disocclusion test, no falloff
-            // of the history with the speed.
+            // of the history with the speed or the parallax.
             let unrectified = [
                 ("rectify", "none"),
                 ("depth_tolerance", "1"),
                 ("speed_falloff", "0"),
+                ("parallax_falloff", "0"),
             ];
             let (ghost, ghost_mean) =
                 common::temporal::trail(&gpu, id, scene, camera, &unrectified);

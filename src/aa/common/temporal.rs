@@ -46,12 +46,13 @@ crate::named_enum! {
 }
 
 /// The default falloff length of the history under motion, in pixels per frame, of both the
-/// parallax around the pixel (TAA) and the speed (TAA and the temporal upscaler); measured
-/// under the orbit at three sizes: `docs/techniques/taa.md`.
+/// parallax around the pixel (TAA, and the temporal upscaler at native scale) and the speed;
+/// measured under the orbit at three sizes: `docs/techniques/taa.md`, `docs/upscaling.md`.
 pub const MOTION_FALLOFF: f32 = 16.0;
 
-/// The setting of the history's falloff with the parallax: TAA's share of the history is
-/// multiplied by exp(-parallax / `length`) (off at 0). Parallax is how differently the
+/// The setting of the history's falloff with the parallax: the history's share (TAA) or
+/// samples (the temporal upscaler, at native scale only) are multiplied by
+/// exp(-parallax / `length`) (off at 0). Parallax is how differently the
 /// nearest and the farthest surface of the resolve's depth search move: one motion vector
 /// cannot carry a pixel whose surfaces part (the strands of a tangle, a silhouette over a far
 /// background), and its history then holds colours that belong elsewhere, more the faster
@@ -65,7 +66,8 @@ pub fn parallax_falloff_param(length: f32) -> Param {
          cannot carry a pixel whose surfaces part: the strands of a tangle, a silhouette over a \
          far background; its history holds colours that belong elsewhere, more the faster they \
          part. Smaller follows the current frame sooner (sharper, a little more aliasing); 0 \
-         turns the falloff off.",
+         turns the falloff off. The temporal upscaler applies it at native scale only: below \
+         it, its current estimate reaches past the pixel's neighbours.",
         0.0,
         64.0,
         length,

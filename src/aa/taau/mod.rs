@@ -16,7 +16,8 @@
 //!   confidence, capped: lower wherever the pixel moves, since every frame's read between
 //!   texels blurs the history a little more, and below native each frame adds fewer samples,
 //!   so a capped history outlives more reads, and falling off exponentially with the speed,
-//!   `speed_falloff`, as TAA's share does), so a pixel that got no sample this frame keeps
+//!   `speed_falloff`, and at native scale with the parallax, `parallax_falloff`, as TAA's
+//!   share does), so a pixel that got no sample this frame keeps
 //!   its history and one that just lost its history takes the new samples at full weight.
 //!   Where the two together hold too little (first frame, disocclusion), a wide Gaussian of
 //!   the render samples fills in: a spatial upscale that the next samples replace.
@@ -234,7 +235,18 @@ impl Taau {
                 s.velocity_tolerance,
             ],
             guard: [s.depth_tolerance, s.reactive, FILL_FLOOR, s.reactive_mask],
-            falloff: [falloff_rate(s.speed_falloff), 0.0, 0.0, 0.0],
+            falloff: [
+                falloff_rate(s.speed_falloff),
+                // Below native the current estimate reaches past the output pixel's
+                // neighbours, and leaning on it where surfaces part spreads their colours.
+                if render == output {
+                    falloff_rate(s.parallax_falloff)
+                } else {
+                    0.0
+                },
+                0.0,
+                0.0,
+            ],
             reproject: Mat4::to_cols_array_2d(&reproject),
         }
     }
@@ -386,7 +398,8 @@ impl Technique for Taau {
         let s = &self.settings;
         Some(format!(
             "{} jitter phases per output pixel, {} kernel of width {}, {} history, {} \
-             rectification, at most {} samples ({} in motion, falling off over {} px/frame of speed)",
+             rectification, at most {} samples ({} in motion, falling off over {} px/frame of speed \
+             and, at native scale, {} of parallax)",
             s.phases.name(),
             s.kernel.name(),
             s.kernel_width,
@@ -394,7 +407,8 @@ impl Technique for Taau {
             s.rectify.name(),
             s.max_samples,
             s.motion_samples,
-            s.speed_falloff
+            s.speed_falloff,
+            s.parallax_falloff
         ))
     }
 }

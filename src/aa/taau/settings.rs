@@ -4,7 +4,7 @@
 //! structural choices become.
 
 pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
-use crate::aa::common::temporal::{MOTION_FALLOFF, speed_falloff_param};
+use crate::aa::common::temporal::{MOTION_FALLOFF, parallax_falloff_param, speed_falloff_param};
 use crate::graph::hdr::TonemapOrder;
 use crate::graph::params::{Named, Param, ParamValue, Tunable};
 
@@ -68,6 +68,10 @@ pub struct TaauSettings {
     /// Speed (output pixels per frame) over which the history's samples fall to 1/e (0: no
     /// falloff).
     pub speed_falloff: f32,
+    /// Parallax (output pixels per frame: how differently the nearest and the farthest surface
+    /// of the 3x3 move) over which the history's samples fall to 1/e, at native scale only
+    /// (0: no falloff).
+    pub parallax_falloff: f32,
     /// Relative depth difference beyond which the reprojected history shows another surface.
     pub depth_tolerance: f32,
     /// How far the reactive mask (surfaces moving on their own) leans on the current frame.
@@ -95,6 +99,7 @@ impl Default for TaauSettings {
             motion_samples: 1.5,
             velocity_tolerance: 1.0,
             speed_falloff: MOTION_FALLOFF,
+            parallax_falloff: MOTION_FALLOFF,
             depth_tolerance: 0.05,
             reactive: 0.0,
             mip_bias: -1.0,
@@ -209,6 +214,7 @@ impl Tunable for TaauSettings {
             ),
         ];
         params.push(speed_falloff_param(s.speed_falloff));
+        params.push(parallax_falloff_param(s.parallax_falloff));
         params.extend([
             Param::float(
                 "depth_tolerance",
@@ -273,6 +279,7 @@ impl Tunable for TaauSettings {
                 motion_samples,
                 velocity_tolerance,
                 speed_falloff,
+                parallax_falloff,
                 depth_tolerance,
                 reactive,
                 mip_bias,

@@ -25,9 +25,11 @@
 //  5. Accumulation: the history's confidence (samples accumulated, in kernel weight) is capped
 //     (fewer where reading the history between texels blurs it or the pixel moves, so the
 //     history is read again next frame; fewer still on the reactive mask: surfaces moving on
-//     their own) and falls off exponentially with the speed, as in this project's TAA (TAA's
-//     parallax term, tried here too, spread the current frame's wide-reaching estimate below
-//     native: docs/upscaling.md); the new samples are added with their weights:
+//     their own) and falls off exponentially with the speed and, at native scale, with the
+//     parallax (how differently the nearest and the farthest surface of the 3x3 move), as in
+//     this project's TAA (below native the current frame's estimate reaches beyond the output
+//     pixel's neighbours, and leaning on it there spread colours: docs/upscaling.md); the new
+//     samples are added with their weights:
 //     colour = (history * n + sum(w c)) / (n + sum(w)).
 // Colour is linear (the sRGB input decodes on load, the sRGB output encodes on store). The
 // output is the one render target; the history and its depth and speed are stored as storage
@@ -49,7 +51,7 @@ struct TaauParams {
     // mask's strength (with REACTIVE_MASK).
     guard: vec4<f32>,
     // x: 1 / the speed (output pixels per frame) over which the history's samples fall to 1/e
-    // (0: no falloff); yzw unused.
+    // (0: no falloff), y: the same for the parallax (0 below native scale); zw unused.
     falloff: vec4<f32>,
     // Current frame's NDC (x, y, depth) to the previous frame's clip space, camera only.
     reproject: mat4x4<f32>,
@@ -180,6 +182,8 @@ struct Samples {
     farthest_depth: f32,
     // The render pixel the 3x3 window is centred on.
     base: vec2<i32>,
+    // The farthest surface's render pixel.
+    farthest: vec2<i32>,
 }
 
 // The factors of the sample weights along one axis, for the render pixels one before, at and
@@ -243,6 +247,8 @@ fn add_sample(s: ptr<function, Samples>, x: AxisFactors, y: AxisFactors, i: u32,
     let nearer = z > (*s).nearest_depth;
     (*s).nearest_depth = select((*s).nearest_depth, z, nearer);
     (*s).nearest = select((*s).nearest, inside, nearer);
+    let farther = z < (*s).farthest_depth;
+    (*s).farthest = select((*s).farthest, inside, farther);
     (*s).farthest_depth = min((*s).farthest_depth, z);
 }
 
@@ -257,7 +263,7 @@ fn gather_samples(centre: vec2<f32>) -> Samples {
     let zero = vec3<f32>(0.0);
     var s = Samples(
         zero, 0.0, zero, 0.0, zero, 0.0, vec3<f32>(1e9), vec3<f32>(-1e9), zero, zero, 0.0, base, -1.0, 2.0,
-        base,
+        base, base,
     );
     let reach = 0.5 + 1.0 / max(ratio.x, ratio.y);
     let fb = vec2<f32>(base);
@@ -311,6 +317,13 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // Motion of the nearest surface, in UV, and the speed in output pixels.
     let velocity = textureLoad(motion, s.nearest, 0).xy;
     let speed = length(velocity * params.output.xy);
+    // The parallax: how differently the nearest and the farthest surface move, in output
+    // pixels (read only where its falloff is on: at native scale).
+    var parallax = 0.0;
+    if params.falloff.y > 0.0 {
+        let farthest_velocity = textureLoad(motion, s.farthest, 0).xy;
+        parallax = length((velocity - farthest_velocity) * params.output.xy);
+    }
     // The reactive mask: motion the camera does not explain (the surface moves on its own).
     let ndc = vec3<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, s.nearest_depth);
     let previous_clip = params.reproject * vec4<f32>(ndc, 1.0);
@@ -402,8 +415,9 @@ fn resolve(position: vec2<f32>) -> Resolved {
             // fewer samples, the history outlives more reads).
             let moving = max(blur, saturate(speed / SETTLED_SPEED));
             let cap = mix(params.accumulate.x, min(params.accumulate.y, params.accumulate.x), moving);
-            // The faster the pixel moves, the fewer samples the history keeps (as in TAA).
-            let falloff = exp(-speed * params.falloff.x);
+            // The faster the pixel moves, and at native scale the faster its surfaces part, the
+            // fewer samples the history keeps (as in TAA).
+            let falloff = exp(-speed * params.falloff.x - parallax * params.falloff.y);
             confidence = min(sampled.a, cap) * (1.0 - reactive) * falloff;
         }
     }
