@@ -100,7 +100,7 @@ const FILL_FLOOR: f32 = 1.0;
 /// Everything a resolve pipeline is specialised on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct PipelineKey {
-    constants: [(&'static str, u64); 5],
+    constants: [(&'static str, u64); 6],
     debug: bool,
 }
 
@@ -196,7 +196,8 @@ impl Taau {
         debug: bool,
         radiance: bool,
     ) -> wgpu::RenderPipeline {
-        let constants = self.settings.constants(radiance);
+        let native = ctx.frame.size() == ctx.frame.output_size();
+        let constants = self.settings.constants(radiance, native);
         let output = output_format(radiance);
         let key = PipelineKey {
             constants: constants.map(|(name, value)| (name, value.to_bits())),
@@ -237,13 +238,7 @@ impl Taau {
             guard: [s.depth_tolerance, s.reactive, FILL_FLOOR, s.reactive_mask],
             falloff: [
                 falloff_rate(s.speed_falloff),
-                // Below native the current estimate reaches past the output pixel's
-                // neighbours, and leaning on it where surfaces part spreads their colours.
-                if render == output {
-                    falloff_rate(s.parallax_falloff)
-                } else {
-                    0.0
-                },
+                falloff_rate(s.parallax_falloff),
                 0.0,
                 0.0,
             ],

@@ -325,9 +325,11 @@ impl TaauSettings {
         }
     }
 
-    /// The override constants of the structural settings, and `RADIANCE` (before the
-    /// tonemapper of an HDR frame; `aa/common/radiance.wgsl`).
-    pub(super) fn constants(&self, radiance: bool) -> [(&'static str, f64); 5] {
+    /// The override constants of the structural settings, `RADIANCE` (before the tonemapper
+    /// of an HDR frame; `aa/common/radiance.wgsl`) and `PARALLAX` (the parallax falloff, on
+    /// at native scale only: below it the current estimate reaches past the output pixel's
+    /// neighbours, and leaning on it where surfaces part spreads their colours).
+    pub(super) fn constants(&self, radiance: bool, native: bool) -> [(&'static str, f64); 6] {
         [
             (
                 "HISTORY_FILTER",
@@ -339,6 +341,10 @@ impl TaauSettings {
             (
                 "REACTIVE_MASK",
                 f64::from(u8::from(self.reactive_mask > 0.0)),
+            ),
+            (
+                "PARALLAX",
+                f64::from(u8::from(native && self.parallax_falloff > 0.0)),
             ),
         ]
     }

@@ -51,7 +51,7 @@ struct TaauParams {
     // mask's strength (with REACTIVE_MASK).
     guard: vec4<f32>,
     // x: 1 / the speed (output pixels per frame) over which the history's samples fall to 1/e
-    // (0: no falloff), y: the same for the parallax (0 below native scale); zw unused.
+    // (0: no falloff), y: the same for the parallax (with PARALLAX); zw unused.
     falloff: vec4<f32>,
     // Current frame's NDC (x, y, depth) to the previous frame's clip space, camera only.
     reproject: mat4x4<f32>,
@@ -79,6 +79,10 @@ override KERNEL: u32 = 0u;
 // The renderer's mask of blended surfaces (after FSR 2's reactive mask) joins the derived one:
 // the history keeps guard.w times their coverage fewer samples, and no velocity trust.
 override REACTIVE_MASK: bool = false;
+// The history also falls off with the parallax (native scale, `parallax_falloff` above 0). A
+// pipeline constant, not a test of the uniform: lavapipe recompiles a shader at every draw
+// whose branches read uniforms only, and keeps every variant (tests/long_runs.rs).
+override PARALLAX: bool = false;
 
 // Speed (output pixels per frame) from which the history keeps only its motion samples,
 // however close to a texel this frame's read lands; slower, the cap eases towards the
@@ -320,7 +324,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // The parallax: how differently the nearest and the farthest surface move, in output
     // pixels (read only where its falloff is on: at native scale).
     var parallax = 0.0;
-    if params.falloff.y > 0.0 {
+    if PARALLAX {
         let farthest_velocity = textureLoad(motion, s.farthest, 0).xy;
         parallax = length((velocity - farthest_velocity) * params.output.xy);
     }
