@@ -242,7 +242,7 @@ impl TaaSettings {
     /// under motion.
     fn history_params(&self) -> Vec<Param> {
         let s = self;
-        let mut params = vec![
+        vec![
             Param::named(
                 "samples",
                 "Jitter samples",
@@ -308,12 +308,9 @@ impl TaaSettings {
                 4.0,
                 s.velocity_tolerance,
             ),
-        ];
-        params.extend([
             parallax_falloff_param(s.parallax_falloff),
             speed_falloff_param(s.speed_falloff),
-        ]);
-        params
+        ]
     }
 
     /// The parameters of the current frame's side: its filter, the velocity and

@@ -131,7 +131,7 @@ impl Tunable for TaauSettings {
 
     fn params(&self) -> Vec<Param> {
         let s = self;
-        let mut params = vec![
+        vec![
             Param::named(
                 "phases",
                 "Jitter phases per pixel",
@@ -212,10 +212,8 @@ impl Tunable for TaauSettings {
                 4.0,
                 s.velocity_tolerance,
             ),
-        ];
-        params.push(speed_falloff_param(s.speed_falloff));
-        params.push(parallax_falloff_param(s.parallax_falloff));
-        params.extend([
+            speed_falloff_param(s.speed_falloff),
+            parallax_falloff_param(s.parallax_falloff),
             Param::float(
                 "depth_tolerance",
                 "Disocclusion depth tolerance",
@@ -259,8 +257,7 @@ impl Tunable for TaauSettings {
                 s.reactive_mask,
             ),
             s.tonemap_order.param(),
-        ]);
-        params
+        ]
     }
 
     fn set(&mut self, key: &str, value: &ParamValue) -> bool {
