@@ -20,7 +20,7 @@ use super::camera::CameraController;
 use super::clip_bar;
 use super::context::{Command, Context, Level, NOTICE_SECONDS, Notice};
 use super::engine::DisplayPath;
-use super::key_events::KeyIntake;
+use super::key_events::{HeldKeys, KeyIntake};
 use super::magnifier::{MagnifierPanel, PanelInputs};
 use super::metrics_panel;
 use super::panels;
@@ -53,6 +53,8 @@ pub struct LaunchOptions {
     /// window does (with [`eframe::App::clear_color`]); otherwise (egui_kittest, whose renderer
     /// clears to transparent) the app fills the background itself.
     pub window_clears: bool,
+    /// The shortcut keys held, shared with the window's event filter (`event_filter.rs`).
+    pub held_keys: HeldKeys,
 }
 
 /// Errors of creating the app.
@@ -164,7 +166,7 @@ impl AaLabApp {
             bench: BenchFeature::default(),
             help_open: false,
             panels_hidden: false,
-            keys: KeyIntake::default(),
+            keys: KeyIntake::new(options.held_keys.clone()),
             key_actions: Vec::new(),
             engine_frames: 0,
             #[cfg(feature = "profile")]

@@ -1,8 +1,11 @@
 //! Shortcut keys answered before egui's pass: [`take_press`] removes a key's presses from a
 //! list of events as egui's `consume_key` would, and [`KeyIntake`] applies the viewer's key
 //! handling to a frame's raw input, removing the presses it answered together with their
-//! releases and typed text. This file imports nothing of the viewer; the shortcut table and the
-//! blind comparison's keys use it.
+//! releases and typed text; [`HeldKeys`] tells the window's event filter
+//! (`app::event_filter`) which releases it may drop before eframe sees them. This file imports
+//! nothing of the viewer; the shortcut table and the blind comparison's keys use it.
+
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use egui::{Key, Modifiers};
 
@@ -26,14 +29,40 @@ pub(super) fn take_press(events: &mut Vec<egui::Event>, modifiers: Modifiers, ke
 /// Why: egui asks for two more frames after any frame with input events (to let things settle),
 /// so a key press and its release cost up to six painted frames. On a software rasteriser each
 /// paint of the whole window takes tens of milliseconds of both cores; a shortcut answered in
-/// the raw input costs one paint (two when the release comes in a batch of its own).
+/// the raw input costs one paint (the window's event filter drops a release that comes in a
+/// batch of its own, which would otherwise cost a second).
 #[derive(Default)]
 pub(super) struct KeyIntake {
-    /// Keys pressed for a shortcut and not yet released.
-    held: Vec<Key>,
+    held: HeldKeys,
+}
+
+/// The keys pressed for a shortcut and not yet released, shared by the [`KeyIntake`] that took
+/// their presses and the window's event filter, which drops their releases.
+#[derive(Clone, Debug, Default)]
+pub struct HeldKeys(Arc<Mutex<Vec<Key>>>);
+
+impl HeldKeys {
+    fn lock(&self) -> MutexGuard<'_, Vec<Key>> {
+        self.0.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Forgets `key` if it is held: its release is answered. True if it was.
+    pub(super) fn release(&self, key: Key) -> bool {
+        let mut held = self.lock();
+        let found = held.iter().position(|k| *k == key);
+        if let Some(i) = found {
+            held.swap_remove(i);
+        }
+        found.is_some()
+    }
 }
 
 impl KeyIntake {
+    /// An intake whose held keys are `held` (shared with the window's event filter).
+    pub(super) fn new(held: HeldKeys) -> Self {
+        Self { held }
+    }
+
     /// Runs `take` (which removes the presses it answers) on a frame's raw events, then removes
     /// the releases of the keys taken, now or in an earlier frame, and the text typed with them.
     pub(super) fn take<T>(
@@ -57,24 +86,20 @@ impl KeyIntake {
         let typed_with_a_shortcut = !taken.is_empty();
         // A press that egui sees owns its release again (the key was released unseen, say
         // while the window had no focus); a repeat does not add the key twice.
-        self.held.retain(|k| !left.contains(k));
+        let mut held = self.held.lock();
+        held.retain(|k| !left.contains(k));
         for key in taken {
-            if !self.held.contains(&key) {
-                self.held.push(key);
+            if !held.contains(&key) {
+                held.push(key);
             }
         }
+        drop(held);
         events.retain(|event| match event {
             egui::Event::Key {
                 key,
                 pressed: false,
                 ..
-            } => match self.held.iter().position(|k| k == key) {
-                Some(i) => {
-                    self.held.swap_remove(i);
-                    false
-                }
-                None => true,
-            },
+            } => !self.held.release(*key),
             egui::Event::Text(_) => !typed_with_a_shortcut,
             _ => true,
         });
@@ -144,6 +169,21 @@ mod tests {
             vec![key(Key::F1, false)],
             "the release was already taken"
         );
+    }
+
+    #[test]
+    fn a_release_the_window_filter_answered_is_no_longer_held() {
+        let held = HeldKeys::default();
+        let mut intake = KeyIntake::new(held.clone());
+        let mut press = vec![key(Key::F1, true)];
+        assert!(intake.take(&mut press, take_f1));
+        assert!(!held.release(Key::B), "B was not taken");
+        assert!(held.release(Key::F1), "the filter drops F1's release");
+        assert!(!held.release(Key::F1), "and only once");
+        // A release egui sees later (the key pressed while egui had the keyboard) stays.
+        let mut release = vec![key(Key::F1, false)];
+        intake.take(&mut release, take_f1);
+        assert_eq!(release, vec![key(Key::F1, false)]);
     }
 
     #[test]

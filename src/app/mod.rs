@@ -55,6 +55,7 @@ mod clip_bar;
 mod context;
 mod difference;
 mod engine;
+mod event_filter;
 mod export;
 mod image_panel;
 mod image_set;
@@ -84,6 +85,8 @@ mod viewport;
 mod worker;
 mod workspace;
 
+use std::cell::RefCell;
+use std::rc::Rc;
 use std::sync::Arc;
 
 pub use app::{AaLabApp, LaunchOptions};
@@ -92,6 +95,7 @@ pub use camera::CameraController;
 pub use difference::DiffMetric;
 pub use engine::DisplayPath;
 pub use engine::{ClipPath, ClipSettings};
+use key_events::HeldKeys;
 pub use quality::{Figures, PixelFigures};
 pub use rasterizer_threads::spread_window_rasterizer_threads;
 pub use settings::{Layout, Resolution, Settings};
@@ -170,18 +174,40 @@ pub fn run(options: LaunchOptions) -> Result<(), ViewerError> {
     if !display_available() {
         return Err(ViewerError::NoDisplay);
     }
-    eframe::run_native(
+    let window_error = |e: &dyn std::fmt::Display| ViewerError::Window(e.to_string());
+    let event_loop = winit::event_loop::EventLoop::<eframe::UserEvent>::with_user_event()
+        .build()
+        .map_err(|e| window_error(&e))?;
+    let held_keys = HeldKeys::default();
+    // eframe reports an app that could not be created only in its log when it runs on an
+    // event loop of ours: the creator keeps the outcome.
+    let created: Rc<RefCell<Option<Result<(), String>>>> = Rc::default();
+    let outcome = Rc::clone(&created);
+    let launch = LaunchOptions {
+        window_clears: true,
+        held_keys: held_keys.clone(),
+        ..options
+    };
+    let eframe = eframe::create_native(
         APP_ID,
         native_options(),
         Box::new(move |cc| {
-            let options = LaunchOptions {
-                window_clears: true,
-                ..options
-            };
-            AaLabApp::new(cc, options)
-                .map(|app| Box::new(app) as Box<dyn eframe::App>)
+            let app = AaLabApp::new(cc, launch);
+            *outcome.borrow_mut() = Some(app.as_ref().map(|_| ()).map_err(|e| e.to_string()));
+            app.map(|app| Box::new(app) as Box<dyn eframe::App>)
                 .map_err(|e| e.into())
         }),
-    )
-    .map_err(|e| ViewerError::Window(e.to_string()))
+        &event_loop,
+    );
+    let mut filtered = event_filter::ShortcutReleaseFilter::new(eframe, held_keys);
+    event_loop
+        .run_app(&mut filtered)
+        .map_err(|e| window_error(&e))?;
+    match created.take() {
+        Some(Ok(())) => Ok(()),
+        Some(Err(e)) => Err(ViewerError::Window(e)),
+        None => Err(ViewerError::Window(
+            "eframe could not open it (its log above says why)".to_owned(),
+        )),
+    }
 }
