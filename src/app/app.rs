@@ -6,7 +6,8 @@
 //! motion (time playing with something that changes, the reference accumulating, a job
 //! running), so an idle viewer costs nothing. Shortcut keys are taken out of the raw input
 //! before egui's pass (`raw_input_hook`, `key_events.rs`), so a key costs no settling frames,
-//! and carried out with the frame's other shortcuts.
+//! and carried out with the frame's other shortcuts; their releases never reach eframe
+//! (`event_filter.rs`), so they cost no paint either.
 //!
 //! Its public methods are the viewer's test API (tests/ui.rs, benches/viewer.rs): they read or
 //! drive the workspace and the panels.
