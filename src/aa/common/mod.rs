@@ -97,22 +97,12 @@ use crate::gpu::{COLOR_FORMAT, COLOR_FORMAT_ENCODED_VIEW, HDR_FORMAT, Texture2d,
 /// A clamp-to-edge bilinear sampler (post passes read neighbours past the image border as the
 /// border pixel).
 pub fn bilinear_clamp_sampler(device: &wgpu::Device, label: &str) -> wgpu::Sampler {
-    clamp_sampler(device, label, wgpu::FilterMode::Linear)
-}
-
-/// A clamp-to-edge nearest sampler: what gathers from an integer texture need (WebGPU lets no
-/// filtering sampler touch one).
-pub fn nearest_clamp_sampler(device: &wgpu::Device, label: &str) -> wgpu::Sampler {
-    clamp_sampler(device, label, wgpu::FilterMode::Nearest)
-}
-
-fn clamp_sampler(device: &wgpu::Device, label: &str, filter: wgpu::FilterMode) -> wgpu::Sampler {
     device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some(label),
         address_mode_u: wgpu::AddressMode::ClampToEdge,
         address_mode_v: wgpu::AddressMode::ClampToEdge,
-        mag_filter: filter,
-        min_filter: filter,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
         ..Default::default()
     })
 }

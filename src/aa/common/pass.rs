@@ -26,10 +26,6 @@ pub enum Binding {
     MultisampledDepth,
     /// A filtering sampler.
     Sampler,
-    /// A non-filtering sampler (gathers from an integer texture).
-    NearestSampler,
-    /// An unsigned-integer texture (loaded, or gathered through a non-filtering sampler).
-    UintTexture,
     /// A uniform buffer bound at a dynamic offset (one slot per draw).
     DynamicUniform,
     /// A float texture that is only loaded, of a format that need not be filterable.
@@ -90,10 +86,6 @@ pub fn stage_layout(
                 }
                 Binding::MultisampledDepth => texture(wgpu::TextureSampleType::Depth, true),
                 Binding::Sampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                Binding::NearestSampler => {
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::NonFiltering)
-                }
-                Binding::UintTexture => texture(wgpu::TextureSampleType::Uint, false),
                 Binding::WriteOnlyTexture(format) => wgpu::BindingType::StorageTexture {
                     access: wgpu::StorageTextureAccess::WriteOnly,
                     format,

@@ -51,7 +51,7 @@ use crate::aa::common::pass::{self, Binding};
 use crate::aa::common::temporal::{
     HistoryReset, PingPong, ResolvePass, cleared_black, falloff_rate, jitter_offset,
 };
-use crate::aa::common::{RADIANCE_WGSL, holds_radiance, nearest_clamp_sampler, output_format};
+use crate::aa::common::{RADIANCE_WGSL, holds_radiance, output_format};
 use crate::aa::info::{TechniqueInfo, needs_history_stores};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
@@ -88,14 +88,12 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
 
 /// Format of the accumulated colour (alpha: samples accumulated).
 const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Format of the depth and speed kept with the history: two half floats packed into one
-/// 32-bit word (`pack2x16float`). Half floats, since the disocclusion test compares depths
-/// relative to each other, to a tolerance far above their 1/2048 precision; packed, since
-/// two-channel half floats are no storage format in WebGPU and the four-channel one wrote 8
-/// bytes per output pixel for 4 (on the GPUs measured a history store costs by the byte,
-/// docs/upscaling.md); one gather still fetches the four texels around the reprojected
-/// place, depths and speeds together.
-const AUX_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+/// Format of the depth and speed kept with the history (red and green; blue and alpha
+/// unused): half floats, since the disocclusion test compares depths relative to each other,
+/// to a tolerance far above their 1/2048 precision, and a filterable format lets the resolve
+/// gather the four texels around the reprojected place in one fetch. Four channels because
+/// two-channel half floats are no storage format in WebGPU.
+const AUX_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// The confidence (in samples) below which the spatial estimate fills in.
 const FILL_FLOOR: f32 = 1.0;
 
@@ -137,8 +135,6 @@ struct History {
 pub struct Taau {
     settings: TaauSettings,
     resolve: ResolvePass<PipelineKey>,
-    /// Gathers the packed depths and speeds (an integer texture takes no filtering sampler).
-    aux_sampler: wgpu::Sampler,
     history: Option<History>,
     reset: HistoryReset,
     debug_enabled: bool,
@@ -158,18 +154,16 @@ impl Taau {
             (1, Binding::Depth),
             (2, Binding::Texture),
             (3, Binding::Texture),
-            (4, Binding::UintTexture),
+            (4, Binding::Texture),
             (5, Binding::Sampler),
             (6, Binding::Uniform),
             (7, Binding::Texture),
             (8, Binding::WriteOnlyTexture(HISTORY_FORMAT)),
             (9, Binding::WriteOnlyTexture(AUX_FORMAT)),
-            (10, Binding::NearestSampler),
         ];
         Self {
             settings,
             resolve: ResolvePass::new::<TaauUniform>(gpu, "taau resolve", &WGSL, &bindings),
-            aux_sampler: nearest_clamp_sampler(&gpu.device, "taau depth"),
             history: None,
             reset: HistoryReset::default(),
             debug_enabled: false,
@@ -343,7 +337,6 @@ impl Technique for Taau {
             .collect();
         let resolve = &self.resolve;
         resources.push((5, wgpu::BindingResource::Sampler(&resolve.sampler)));
-        resources.push((10, wgpu::BindingResource::Sampler(&self.aux_sampler)));
         resources.push((6, resolve.uniform.as_entire_binding()));
         let bind_group =
             pass::bind_group(&resolve.device, "taau resolve", &resolve.layout, &resources);

@@ -61,17 +61,14 @@ struct TaauParams {
 @group(0) @binding(1) var depth: texture_depth_2d;
 @group(0) @binding(2) var motion: texture_2d<f32>;
 @group(0) @binding(3) var history: texture_2d<f32>;
-// The history's depth and speed, two half floats packed in one word.
-@group(0) @binding(4) var history_aux: texture_2d<u32>;
+@group(0) @binding(4) var history_aux: texture_2d<f32>;
 @group(0) @binding(5) var bilinear: sampler;
 @group(0) @binding(6) var<uniform> params: TaauParams;
 // Coverage of alpha-blended surfaces at the render size (read only with REACTIVE_MASK).
 @group(0) @binding(7) var transparency: texture_2d<f32>;
-// The next history: colour and confidence; depth and speed (packed).
+// The next history: colour and confidence; depth and speed (blue and alpha unused).
 @group(0) @binding(8) var history_out: texture_storage_2d<rgba16float, write>;
-@group(0) @binding(9) var history_aux_out: texture_storage_2d<r32uint, write>;
-// Gathers the packed words (an integer texture takes no filtering sampler).
-@group(0) @binding(10) var nearest: sampler;
+@group(0) @binding(9) var history_aux_out: texture_storage_2d<rgba16float, write>;
 
 // 0: bilinear history, 1: five-tap Catmull-Rom.
 override HISTORY_FILTER: u32 = 1u;
@@ -368,21 +365,18 @@ fn resolve(position: vec2<f32>) -> Resolved {
     if dropped == 0.0 {
         let sampled = history_at(previous);
         // Disocclusion: the four history texels around the reprojected place, gathered at
-        // their shared corner (one fetch: each word packs a depth and a speed).
+        // their shared corner (one fetch for the depths, one for the speeds).
         let texel = vec2<i32>(floor(previous * params.output.xy - 0.5));
         let corner = (vec2<f32>(texel) + 1.0) * params.output.zw;
-        let words = textureGather(0, history_aux, nearest, corner);
+        let depths = textureGather(0, history_aux, bilinear, corner);
         // The nearest surface now lies behind the farthest one the history saw there.
-        let farthest_before = min(
-            min(unpack2x16float(words.x).x, unpack2x16float(words.y).x),
-            min(unpack2x16float(words.z).x, unpack2x16float(words.w).x),
-        );
+        let farthest_before = min(min(depths.x, depths.y), min(depths.z, depths.w));
         let revealed = behind(s.nearest_depth, farthest_before);
         // The speed of the texel the reprojected place lies in (one of the four: gather
         // order lower left, lower right, upper right, upper left).
+        let speeds = textureGather(1, history_aux, bilinear, corner);
         let right = vec2<i32>(previous * params.output.xy) - texel == vec2<i32>(1);
-        let word = select(select(words.w, words.z, right.x), select(words.x, words.y, right.x), right.y);
-        let here = unpack2x16float(word).y;
+        let here = select(select(speeds.w, speeds.z, right.x), select(speeds.x, speeds.y, right.x), right.y);
         if revealed > params.guard.x {
             dropped = 1.0;
         } else {
@@ -449,7 +443,7 @@ fn resolve_and_store(position: vec2<f32>) -> Resolved {
     let r = resolve(position);
     let pixel = vec2<i32>(position);
     textureStore(history_out, pixel, vec4<f32>(r.colour, r.confidence));
-    textureStore(history_aux_out, pixel, vec4<u32>(pack2x16float(vec2<f32>(r.depth, r.speed)), 0u, 0u, 0u));
+    textureStore(history_aux_out, pixel, vec4<f32>(r.depth, r.speed, 0.0, 0.0));
     return r;
 }
 
