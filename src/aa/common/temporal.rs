@@ -74,6 +74,35 @@ pub fn parallax_falloff_param(length: f32) -> Param {
     )
 }
 
+/// The default parallax falloff length at a silhouette over a broad background (TAA), in
+/// pixels per frame: measured at three sizes, frames 16 and 40, on hairball and atrium
+/// (`docs/techniques/taa.md`).
+pub const SILHOUETTE_FALLOFF: f32 = 2.0;
+
+/// The setting of the parallax falloff where the farthest surface around the pixel is broad:
+/// the falloff length moves from `parallax_falloff`'s towards `length` as the farthest
+/// surface's share of the depths the resolve searched rises from 2 of 7 to 6 of 7 (off at 0).
+/// A foreground edge over a wide background (a column before a wall) then leans on the current
+/// frame as soon as the two part, while a tangle of strands over other strands, whose
+/// farthest surface is as thin as its nearest, keeps its history: the one parallax length
+/// had to choose between them (`docs/techniques/taa.md`).
+pub fn silhouette_falloff_param(length: f32) -> Param {
+    Param::float(
+        "silhouette_falloff",
+        "Silhouette falloff",
+        "Parallax in pixels per frame over which the history's weight falls to 1/e where the \
+         farthest surface around the pixel is broad: an edge over a wide background, such as \
+         a column before a wall. It takes over from the parallax falloff as the farthest \
+         surface's share of the depths searched rises from 2 of 7 to 6 of 7, so a tangle of \
+         strands over other strands keeps the parallax falloff's longer history while a \
+         silhouette follows the current frame as soon as its surfaces part. 0 turns it off \
+         (the parallax falloff everywhere).",
+        0.0,
+        64.0,
+        length,
+    )
+}
+
 /// The setting of the history's falloff with the speed: the history's weight is multiplied by
 /// exp(-speed / `length`) (off at 0).
 pub fn speed_falloff_param(length: f32) -> Param {

@@ -35,7 +35,13 @@
 //! `speed_falloff`, 16 pixels per frame each; `aa::common::temporal`). Under the orbit TAA's gap
 //! to MSAA 4x on hairball grew with the size, as the motion in pixels does; the falloff closes
 //! part of it at 1280x720 and more at 1920x1080, and lifts atrium at every size, for a small
-//! loss on hairball at 640x360 (`docs/techniques/taa.md`).
+//! loss on hairball at 640x360 (`docs/techniques/taa.md`). Where the farthest surface of the
+//! search is broad (most of the depths searched lie on it: an edge over a wide background),
+//! the parallax falloff shortens towards `silhouette_falloff` (2 pixels per frame): such a
+//! silhouette is better served by the current frame as soon as its surfaces part, while a
+//! tangle of strands over other strands, whose farthest surface is as thin as its nearest,
+//! keeps the longer history that its sub-pixel detail needs. One length had to trade the two
+//! against each other; the farthest surface's share tells them apart for no extra reads.
 //!
 //! Thin geometry: a line thinner than a pixel is hit by only some of the jitter positions, and
 //! clamping the history to the neighbourhood of a frame that missed it would cut the line out
@@ -337,7 +343,7 @@ impl Technique for Taa {
             falloff: [
                 falloff_rate(self.settings.parallax_falloff),
                 falloff_rate(self.settings.speed_falloff),
-                0.0,
+                falloff_rate(self.settings.silhouette_falloff),
                 0.0,
             ],
             current_filter: current_filter_weights(
@@ -458,7 +464,7 @@ impl Technique for Taa {
         let s = &self.settings;
         let rectify = s.rectify.name();
         Some(format!(
-            "{} jitter samples, {} current frame, {} history, {rectify} rectification on the {} colours{}, {} velocity, current weight {}, history falling off over {} / {} px/frame of parallax / speed",
+            "{} jitter samples, {} current frame, {} history, {rectify} rectification on the {} colours{}, {} velocity, current weight {}, history falling off over {} / {} px/frame of parallax / speed ({} of parallax at silhouettes)",
             s.samples.count(),
             s.current_filter.name(),
             s.history_filter.name(),
@@ -471,7 +477,8 @@ impl Technique for Taa {
             s.velocity.name(),
             s.current_weight,
             s.parallax_falloff,
-            s.speed_falloff
+            s.speed_falloff,
+            s.silhouette_falloff
         ))
     }
 }

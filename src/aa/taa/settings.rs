@@ -4,7 +4,10 @@
 //! override constants the structural choices become.
 
 pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
-use crate::aa::common::temporal::{MOTION_FALLOFF, parallax_falloff_param, speed_falloff_param};
+use crate::aa::common::temporal::{
+    MOTION_FALLOFF, SILHOUETTE_FALLOFF, parallax_falloff_param, silhouette_falloff_param,
+    speed_falloff_param,
+};
 use crate::graph::hdr::TonemapOrder;
 use crate::graph::params::{Named, Param, ParamValue, Tunable};
 
@@ -101,6 +104,9 @@ pub struct TaaSettings {
     /// Parallax (pixels per frame between the motions of the nearest and the farthest surface
     /// around the pixel) over which the history's share falls to 1/e (0: no falloff).
     pub parallax_falloff: f32,
+    /// The parallax falloff's length where the farthest surface around the pixel is broad (a
+    /// silhouette over a wide background; 0: `parallax_falloff` everywhere).
+    pub silhouette_falloff: f32,
     /// Speed (pixels per frame) over which the history's share falls to 1/e (0: no falloff).
     pub speed_falloff: f32,
     /// Raise the current frame's share with the blur of reading the history between texels
@@ -140,6 +146,7 @@ impl Default for TaaSettings {
             motion_weight: 0.3,
             velocity_tolerance: 1.0,
             parallax_falloff: MOTION_FALLOFF,
+            silhouette_falloff: SILHOUETTE_FALLOFF,
             speed_falloff: MOTION_FALLOFF,
             resample_feedback: true,
             trust_own_speed: false,
@@ -213,6 +220,7 @@ impl Tunable for TaaSettings {
                 motion_weight,
                 velocity_tolerance,
                 parallax_falloff,
+                silhouette_falloff,
                 speed_falloff,
                 luma_weight,
                 current_filter,
@@ -309,6 +317,7 @@ impl TaaSettings {
                 s.velocity_tolerance,
             ),
             parallax_falloff_param(s.parallax_falloff),
+            silhouette_falloff_param(s.silhouette_falloff),
             speed_falloff_param(s.speed_falloff),
         ]
     }

@@ -9,7 +9,9 @@
 //     through the fine derivatives), and the nearest surface among the pixel and its
 //     neighbours (reverse-Z: largest depth; the two 2x2 quads that share the pixel, read by two
 //     gathers, the 4 diagonal ones or all 8) gives the motion vector, so silhouettes carry the
-//     foreground's motion; the farthest surface among them gives the parallax (step 4).
+//     foreground's motion; the farthest surface among them gives the parallax (step 4), and
+//     the share of the depths searched that lie on it tells a silhouette over a broad
+//     background from strands over other strands.
 //     The current frame's contribution is either the pixel's own sample or (Gaussian
 //     filter) the neighbourhood's samples weighed by exp(-a d^2) of their distance d from the
 //     pixel centre (a sample sits at its pixel's centre minus the jitter; a = 6 gives the
@@ -31,7 +33,8 @@
 //     the history a little every frame: the weight follows the speed, or the blur of the read
 //     between texels), and more again as the history's share falls off exponentially with the
 //     parallax (how differently the nearest and the farthest surface move: one motion vector
-//     cannot carry both) and with the speed; optionally weighed by 1 / (1 + luminance)
+//     cannot carry both; faster where the farthest surface is broad) and with the speed;
+//     optionally weighed by 1 / (1 + luminance)
 //     against the history's so a lone bright sample does not flicker.
 // Colour is linear (the sRGB input decodes on load, the sRGB output encodes on store); the
 // history is Rgba16Float. fs_resolve writes the output and stores the history (a storage
@@ -51,7 +54,8 @@ struct TaaParams {
     // trust compares is TRUST_OWN_SPEED.)
     trust: vec4<f32>,
     // x: 1 / the parallax (pixels per frame) over which the history's share falls to 1/e, y: the
-    // same for the speed (0: no falloff).
+    // same for the speed, z: for the parallax where the farthest surface is broad (0: no
+    // falloff; z 0: x everywhere).
     falloff: vec4<f32>,
     // Weights of the current frame's filter for the 3x3 taps, row by row (index 3 (dy + 1) +
     // dx + 1), normalised over the taps of the colour neighbourhood: exp(-a d^2) of each
@@ -285,6 +289,19 @@ struct Surfaces {
     near_depth: f32,
     farthest: vec2<i32>,
     far_depth: f32,
+    // The share of the depths searched that lie on the farthest surface (within
+    // BACKGROUND_TOLERANCE): high where an edge stands before a broad background, low among
+    // strands over other strands.
+    background: f32,
+}
+
+// How much nearer than the farthest depth a depth may be and still lie on the farthest
+// surface: relative distance (reverse-Z depth is 1 / distance).
+const BACKGROUND_TOLERANCE: f32 = 0.05;
+
+// 1 where reverse-Z `depth` lies on the farthest surface, whose depth is `far`.
+fn on_background(depth: f32, far: f32) -> f32 {
+    return select(0.0, 1.0, depth <= far * (1.0 + BACKGROUND_TOLERANCE));
 }
 
 // The surfaces of the 2x2 quad above-left of the pixel and the one below-right, each read
@@ -295,19 +312,33 @@ fn surfaces_in_quads(pixel: vec2<i32>, last: vec2<i32>) -> Surfaces {
     // A gather's components: (x0, y1), (x1, y1), (x1, y0), (x0, y0).
     let above = textureGather(depth, bilinear, corner);
     let below = textureGather(depth, bilinear, corner + params.size.zw);
-    var s = Surfaces(pixel, above.y, pixel, above.y);
+    var s = Surfaces(pixel, above.y, pixel, above.y, 0.0);
     s = widen(s, above.x, pixel + vec2<i32>(-1, 0));
     s = widen(s, above.z, pixel + vec2<i32>(0, -1));
     s = widen(s, above.w, pixel + vec2<i32>(-1, -1));
     s = widen(s, below.x, pixel + vec2<i32>(0, 1));
     s = widen(s, below.y, pixel + vec2<i32>(1, 1));
     s = widen(s, below.z, pixel + vec2<i32>(1, 0));
+    // Seven depths (the pixel's is in both quads).
+    let far = s.far_depth;
+    let on_far = on_background(above.x, far) + on_background(above.y, far)
+        + on_background(above.z, far) + on_background(above.w, far)
+        + on_background(below.x, far) + on_background(below.y, far)
+        + on_background(below.z, far);
     return Surfaces(
         clamp(s.nearest, vec2<i32>(0), last),
         s.near_depth,
         clamp(s.farthest, vec2<i32>(0), last),
         s.far_depth,
+        on_far / 7.0,
     );
+}
+
+// Whether the loads search the neighbour (`dx`, `dy`) for surfaces (VELOCITY_TAPS 1: the four
+// diagonal ones, 2: all eight).
+fn searched(dx: i32, dy: i32) -> bool {
+    let diagonal = dx != 0 && dy != 0;
+    return (dx != 0 || dy != 0) && (VELOCITY_TAPS == 2u || diagonal);
 }
 
 // The surfaces with the candidate at `pixel` taken in where it is nearer or farther.
@@ -319,6 +350,7 @@ fn widen(s: Surfaces, depth: f32, pixel: vec2<i32>) -> Surfaces {
         select(s.near_depth, depth, nearer),
         select(s.farthest, pixel, farther),
         select(s.far_depth, depth, farther),
+        s.background,
     );
 }
 
@@ -354,19 +386,31 @@ fn resolve(position: vec2<f32>) -> Resolved {
     }
     let low = colour_box.low;
     let high = colour_box.high;
-    var surfaces = Surfaces(pixel, 0.0, pixel, 0.0);
+    var surfaces = Surfaces(pixel, 0.0, pixel, 0.0, 0.0);
     if VELOCITY_TAPS == 1u || VELOCITY_TAPS == 2u {
         let own_depth = textureLoad(depth, pixel, 0);
-        surfaces = Surfaces(pixel, own_depth, pixel, own_depth);
+        surfaces = Surfaces(pixel, own_depth, pixel, own_depth, 0.0);
         for (var dy = -1; dy <= 1; dy++) {
             for (var dx = -1; dx <= 1; dx++) {
-                let diagonal = dx != 0 && dy != 0;
-                if (dx != 0 || dy != 0) && (VELOCITY_TAPS == 2u || diagonal) {
+                if searched(dx, dy) {
                     let p = clamp(pixel + vec2<i32>(dx, dy), vec2<i32>(0), last);
                     surfaces = widen(surfaces, textureLoad(depth, p, 0), p);
                 }
             }
         }
+        // The same depths again (cached), now that the farthest is known.
+        var on_far = on_background(own_depth, surfaces.far_depth);
+        var count = 1.0;
+        for (var dy = -1; dy <= 1; dy++) {
+            for (var dx = -1; dx <= 1; dx++) {
+                if searched(dx, dy) {
+                    let p = clamp(pixel + vec2<i32>(dx, dy), vec2<i32>(0), last);
+                    on_far += on_background(textureLoad(depth, p, 0), surfaces.far_depth);
+                    count += 1.0;
+                }
+            }
+        }
+        surfaces.background = on_far / count;
     } else if VELOCITY_TAPS == 3u {
         surfaces = surfaces_in_quads(pixel, last);
     }
@@ -449,7 +493,15 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // most).
     let adapt = select(saturate(speed), blur, params.trust.y > 0.5);
     // The history's share then falls off with the parallax and with the speed.
-    let stale = parallax * params.falloff.x + speed * params.falloff.y;
+    // The parallax falls off faster where the farthest surface is broad: from 2 of 7 depths
+    // on it to 6 of 7, the rate moves from the parallax falloff's to the silhouette's.
+    let broad = saturate((surfaces.background - 2.0 / 7.0) * 7.0 / 4.0);
+    let parallax_rate = select(
+        params.falloff.x,
+        mix(params.falloff.x, params.falloff.z, broad),
+        params.falloff.z > 0.0,
+    );
+    let stale = parallax * parallax_rate + speed * params.falloff.y;
     let blended = mix(params.blend.x, max(params.blend.x, params.blend.w), adapt);
     let alpha = max(1.0 - (1.0 - blended) * exp(-stale), reactive_share);
     // The current frame's estimate of the pixel: where the history stays sharp (still camera,
