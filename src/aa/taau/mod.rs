@@ -16,8 +16,9 @@
 //!   confidence, capped: lower wherever the pixel moves, since every frame's read between
 //!   texels blurs the history a little more, and below native each frame adds fewer samples,
 //!   so a capped history outlives more reads, and falling off exponentially with the speed,
-//!   `speed_falloff`, and at native scale with the parallax, `parallax_falloff`, as TAA's
-//!   share does), so a pixel that got no sample this frame keeps
+//!   `speed_falloff`, and at native scale with the parallax, `parallax_falloff`, faster where
+//!   the farthest surface of the 3x3 is broad, `silhouette_falloff`, as TAA's share does), so
+//!   a pixel that got no sample this frame keeps
 //!   its history and one that just lost its history takes the new samples at full weight.
 //!   Where the two together hold too little (first frame, disocclusion), a wide Gaussian of
 //!   the render samples fills in: a spatial upscale that the next samples replace.
@@ -239,7 +240,7 @@ impl Taau {
             falloff: [
                 falloff_rate(s.speed_falloff),
                 falloff_rate(s.parallax_falloff),
-                0.0,
+                falloff_rate(s.silhouette_falloff),
                 0.0,
             ],
             reproject: Mat4::to_cols_array_2d(&reproject),
@@ -394,7 +395,7 @@ impl Technique for Taau {
         Some(format!(
             "{} jitter phases per output pixel, {} kernel of width {}, {} history, {} \
              rectification, at most {} samples ({} in motion, falling off over {} px/frame of speed \
-             and, at native scale, {} of parallax)",
+             and, at native scale, {} of parallax, {} at silhouettes)",
             s.phases.name(),
             s.kernel.name(),
             s.kernel_width,
@@ -403,7 +404,8 @@ impl Technique for Taau {
             s.max_samples,
             s.motion_samples,
             s.speed_falloff,
-            s.parallax_falloff
+            s.parallax_falloff,
+            s.silhouette_falloff
         ))
     }
 }

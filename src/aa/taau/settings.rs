@@ -4,7 +4,10 @@
 //! structural choices become.
 
 pub use crate::aa::common::temporal::{HistoryFilter, Rectify};
-use crate::aa::common::temporal::{MOTION_FALLOFF, parallax_falloff_param, speed_falloff_param};
+use crate::aa::common::temporal::{
+    MOTION_FALLOFF, SILHOUETTE_FALLOFF, parallax_falloff_param, silhouette_falloff_param,
+    speed_falloff_param,
+};
 use crate::graph::hdr::TonemapOrder;
 use crate::graph::params::{Named, Param, ParamValue, Tunable};
 
@@ -72,6 +75,10 @@ pub struct TaauSettings {
     /// of the 3x3 move) over which the history's samples fall to 1/e, at native scale only
     /// (0: no falloff).
     pub parallax_falloff: f32,
+    /// The parallax falloff's length where the farthest surface of the 3x3 is broad (a
+    /// silhouette over a wide background), at native scale only (0: `parallax_falloff`
+    /// everywhere).
+    pub silhouette_falloff: f32,
     /// Relative depth difference beyond which the reprojected history shows another surface.
     pub depth_tolerance: f32,
     /// How far the reactive mask (surfaces moving on their own) leans on the current frame.
@@ -100,6 +107,7 @@ impl Default for TaauSettings {
             velocity_tolerance: 1.0,
             speed_falloff: MOTION_FALLOFF,
             parallax_falloff: MOTION_FALLOFF,
+            silhouette_falloff: SILHOUETTE_FALLOFF,
             depth_tolerance: 0.05,
             reactive: 0.0,
             mip_bias: -1.0,
@@ -214,6 +222,7 @@ impl Tunable for TaauSettings {
             ),
             speed_falloff_param(s.speed_falloff),
             parallax_falloff_param(s.parallax_falloff),
+            silhouette_falloff_param(s.silhouette_falloff),
             Param::float(
                 "depth_tolerance",
                 "Disocclusion depth tolerance",
@@ -277,6 +286,7 @@ impl Tunable for TaauSettings {
                 velocity_tolerance,
                 speed_falloff,
                 parallax_falloff,
+                silhouette_falloff,
                 depth_tolerance,
                 reactive,
                 mip_bias,
@@ -323,9 +333,10 @@ impl TaauSettings {
     }
 
     /// The override constants of the structural settings, `RADIANCE` (before the tonemapper
-    /// of an HDR frame; `aa/common/radiance.wgsl`) and `PARALLAX` (the parallax falloff, on
-    /// at native scale only: below it the current estimate reaches past the output pixel's
-    /// neighbours, and leaning on it where surfaces part spreads their colours).
+    /// of an HDR frame; `aa/common/radiance.wgsl`) and `PARALLAX` (the parallax and
+    /// silhouette falloffs, on at native scale only: below it the current estimate reaches past
+    /// the output pixel's neighbours, and leaning on it where surfaces part spreads their
+    /// colours).
     pub(super) fn constants(&self, radiance: bool, native: bool) -> [(&'static str, f64); 6] {
         [
             (
@@ -341,7 +352,9 @@ impl TaauSettings {
             ),
             (
                 "PARALLAX",
-                f64::from(u8::from(native && self.parallax_falloff > 0.0)),
+                f64::from(u8::from(
+                    native && (self.parallax_falloff > 0.0 || self.silhouette_falloff > 0.0),
+                )),
             ),
         ]
     }

@@ -26,7 +26,9 @@
 //     (fewer where reading the history between texels blurs it or the pixel moves, so the
 //     history is read again next frame; fewer still on the reactive mask: surfaces moving on
 //     their own) and falls off exponentially with the speed and, at native scale, with the
-//     parallax (how differently the nearest and the farthest surface of the 3x3 move), as in
+//     parallax (how differently the nearest and the farthest surface of the 3x3 move; faster
+//     where most of the 3x3 lies on the farthest surface: a silhouette over a broad
+//     background rather than strands over strands), as in
 //     this project's TAA (below native the current frame's estimate reaches beyond the output
 //     pixel's neighbours, and leaning on it there spread colours: docs/upscaling.md); the new
 //     samples are added with their weights:
@@ -51,7 +53,8 @@ struct TaauParams {
     // mask's strength (with REACTIVE_MASK).
     guard: vec4<f32>,
     // x: 1 / the speed (output pixels per frame) over which the history's samples fall to 1/e
-    // (0: no falloff), y: the same for the parallax (with PARALLAX); zw unused.
+    // (0: no falloff), y: the same for the parallax (with PARALLAX), z: for the parallax where
+    // the farthest surface is broad (0: y everywhere); w unused.
     falloff: vec4<f32>,
     // Current frame's NDC (x, y, depth) to the previous frame's clip space, camera only.
     reproject: mat4x4<f32>,
@@ -79,7 +82,8 @@ override KERNEL: u32 = 0u;
 // The renderer's mask of blended surfaces (after FSR 2's reactive mask) joins the derived one:
 // the history keeps guard.w times their coverage fewer samples, and no velocity trust.
 override REACTIVE_MASK: bool = false;
-// The history also falls off with the parallax (native scale, `parallax_falloff` above 0). A
+// The history also falls off with the parallax (native scale, `parallax_falloff` or
+// `silhouette_falloff` above 0). A
 // pipeline constant, not a test of the uniform: lavapipe recompiles a shader at every draw
 // whose branches read uniforms only, and keeps every variant (tests/long_runs.rs).
 override PARALLAX: bool = false;
@@ -188,6 +192,8 @@ struct Samples {
     base: vec2<i32>,
     // The farthest surface's render pixel.
     farthest: vec2<i32>,
+    // The share of the nine depths that lie on the farthest surface (with PARALLAX).
+    background: f32,
 }
 
 // The factors of the sample weights along one axis, for the render pixels one before, at and
@@ -267,7 +273,7 @@ fn gather_samples(centre: vec2<f32>) -> Samples {
     let zero = vec3<f32>(0.0);
     var s = Samples(
         zero, 0.0, zero, 0.0, zero, 0.0, vec3<f32>(1e9), vec3<f32>(-1e9), zero, zero, 0.0, base, -1.0, 2.0,
-        base, base,
+        base, base, 0.0,
     );
     let reach = 0.5 + 1.0 / max(ratio.x, ratio.y);
     let fb = vec2<f32>(base);
@@ -288,7 +294,25 @@ fn gather_samples(centre: vec2<f32>) -> Samples {
     add_sample(&s, x, y, 0u, 2u, lower_left.w);
     add_sample(&s, x, y, 1u, 2u, lower_left.z);
     add_sample(&s, x, y, 2u, 2u, lower_right.w);
+    if PARALLAX {
+        let far = s.farthest_depth;
+        let on_far = on_background(upper_left.w, far) + on_background(upper_left.z, far)
+            + on_background(upper_right.w, far) + on_background(upper_left.x, far)
+            + on_background(upper_left.y, far) + on_background(upper_right.x, far)
+            + on_background(lower_left.w, far) + on_background(lower_left.z, far)
+            + on_background(lower_right.w, far);
+        s.background = on_far / 9.0;
+    }
     return s;
+}
+
+// How much nearer than the farthest depth a depth may be and still lie on the farthest
+// surface: relative distance (reverse-Z depth is 1 / distance), as in TAA.
+const BACKGROUND_TOLERANCE: f32 = 0.05;
+
+// 1 where reverse-Z `depth` lies on the farthest surface, whose depth is `far`.
+fn on_background(depth: f32, far: f32) -> f32 {
+    return select(0.0, 1.0, depth <= far * (1.0 + BACKGROUND_TOLERANCE));
 }
 
 // How far (relative distance) the surface at reverse-Z depth `now` lies behind the one at
@@ -324,9 +348,18 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // The parallax: how differently the nearest and the farthest surface move, in output
     // pixels (read only where its falloff is on: at native scale).
     var parallax = 0.0;
+    var parallax_rate = 0.0;
     if PARALLAX {
         let farthest_velocity = textureLoad(motion, s.farthest, 0).xy;
         parallax = length((velocity - farthest_velocity) * params.output.xy);
+        // From 2 of 7 depths on the farthest surface to 6 of 7 (TAA's shares), the rate moves
+        // from the parallax falloff's to the silhouette's.
+        let broad = saturate((s.background - 2.0 / 7.0) * 7.0 / 4.0);
+        parallax_rate = select(
+            params.falloff.y,
+            mix(params.falloff.y, params.falloff.z, broad),
+            params.falloff.z > 0.0,
+        );
     }
     // The reactive mask: motion the camera does not explain (the surface moves on its own).
     let ndc = vec3<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, s.nearest_depth);
@@ -421,7 +454,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
             let cap = mix(params.accumulate.x, min(params.accumulate.y, params.accumulate.x), moving);
             // The faster the pixel moves, and at native scale the faster its surfaces part, the
             // fewer samples the history keeps (as in TAA).
-            let falloff = exp(-speed * params.falloff.x - parallax * params.falloff.y);
+            let falloff = exp(-speed * params.falloff.x - parallax * parallax_rate);
             confidence = min(sampled.a, cap) * (1.0 - reactive) * falloff;
         }
     }
