@@ -88,9 +88,10 @@ fn every_shader_validates_with_naga() {
     let listed = listed();
     for name in files.iter().filter(|f| !fragments.contains(&f.as_str())) {
         let on_disk = std::fs::read_to_string(root().join(name)).expect("readable shader");
-        // A file with a prelude is validated as the GPU compiles it: the prelude, then the file.
+        // A file with a prelude is validated as the GPU compiles it: the prelude (after its own),
+        // then the file.
         let source = match listed.get(name.as_str()).and_then(|s| s.prelude) {
-            Some(prelude) => format!("{}\n{on_disk}", prelude.source),
+            Some(prelude) => format!("{}\n{on_disk}", prelude.composed_source()),
             None => on_disk,
         };
         let module = match naga::front::wgsl::parse_str(&source) {

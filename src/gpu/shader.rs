@@ -64,10 +64,11 @@ macro_rules! wgsl {
 }
 
 impl Shader {
-    /// The text the GPU compiles: the prelude's, if any, then this file's.
+    /// The text the GPU compiles: the prelude's, if any (with its own prelude first), then this
+    /// file's.
     pub fn composed_source(&self) -> std::borrow::Cow<'static, str> {
         match self.prelude {
-            Some(prelude) => format!("{}\n{}", prelude.source, self.source).into(),
+            Some(prelude) => format!("{}\n{}", prelude.composed_source(), self.source).into(),
             None => self.source.into(),
         }
     }

@@ -121,9 +121,15 @@ pub fn encoded_view(texture: &wgpu::Texture) -> wgpu::TextureView {
 }
 
 /// Karis' reversible tonemap (`compressed`, `to_output`) for the techniques before the
-/// tonemapper: the prelude of `taa.wgsl` and `taau.wgsl`, of SMAA's resolves
-/// (`smaa_modes.wgsl`) and of the perceptual copy ([`perceptual`]).
+/// tonemapper: the prelude of [`TEMPORAL_WGSL`] (so of `taa.wgsl` and `taau.wgsl`), of SMAA's
+/// resolves (`smaa_modes.wgsl`) and of the perceptual copy ([`perceptual`]).
 pub const RADIANCE_WGSL: crate::gpu::shader::Shader = crate::wgsl!("src/aa/common/radiance.wgsl");
+
+/// What the temporal resolves share (the depths on the farthest surface and the parallax
+/// falloff's rate, `temporal.wgsl`, after [`RADIANCE_WGSL`]): the prelude of `taa.wgsl` and
+/// `taau.wgsl`.
+pub const TEMPORAL_WGSL: crate::gpu::shader::Shader =
+    crate::wgsl!("src/aa/common/temporal.wgsl", prelude = RADIANCE_WGSL);
 
 /// Whether a colour texture holds radiance: the input or output of a technique running before
 /// the tonemapper of an HDR frame (`graph::hdr`).

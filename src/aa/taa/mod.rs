@@ -89,7 +89,9 @@ use crate::aa::common::pass::Binding;
 use crate::aa::common::temporal::{
     HistoryReset, PingPong, ResolvePass, cleared_black, falloff_rate, jitter_offset,
 };
-use crate::aa::common::{RADIANCE_WGSL, encoded_view, holds_radiance, output_format};
+use crate::aa::common::{
+    RADIANCE_WGSL, TEMPORAL_WGSL, encoded_view, holds_radiance, output_format,
+};
 use crate::aa::info::{TechniqueInfo, needs_history_stores};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
@@ -104,7 +106,7 @@ use debug::TaaDebug;
 pub const ID: &str = "taa";
 
 /// The resolve (reprojection, rectification, blend).
-const WGSL: Shader = crate::wgsl!("src/aa/taa/taa.wgsl", prelude = RADIANCE_WGSL);
+const WGSL: Shader = crate::wgsl!("src/aa/taa/taa.wgsl", prelude = TEMPORAL_WGSL);
 /// The velocity and jitter debug views.
 const DEBUG_WGSL: Shader = crate::wgsl!("src/aa/taa/taa_debug.wgsl");
 
@@ -120,7 +122,7 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
          history cannot be matched (disocclusions, transparency, fast-changing shading).",
     availability: needs_history_stores,
     create: |gpu| Box::new(Taa::new(gpu)),
-    shaders: &[WGSL, DEBUG_WGSL, RADIANCE_WGSL],
+    shaders: &[WGSL, DEBUG_WGSL, TEMPORAL_WGSL, RADIANCE_WGSL],
 };
 
 /// Format of the accumulated history.

@@ -289,19 +289,10 @@ struct Surfaces {
     near_depth: f32,
     farthest: vec2<i32>,
     far_depth: f32,
-    // The share of the depths searched that lie on the farthest surface (within
-    // BACKGROUND_TOLERANCE): high where an edge stands before a broad background, low among
-    // strands over other strands.
+    // The share of the depths searched that lie on the farthest surface (`on_background`,
+    // temporal.wgsl): high where an edge stands before a broad background, low among strands
+    // over other strands.
     background: f32,
-}
-
-// How much nearer than the farthest depth a depth may be and still lie on the farthest
-// surface: relative distance (reverse-Z depth is 1 / distance).
-const BACKGROUND_TOLERANCE: f32 = 0.05;
-
-// 1 where reverse-Z `depth` lies on the farthest surface, whose depth is `far`.
-fn on_background(depth: f32, far: f32) -> f32 {
-    return select(0.0, 1.0, depth <= far * (1.0 + BACKGROUND_TOLERANCE));
 }
 
 // The surfaces of the 2x2 quad above-left of the pixel and the one below-right, each read
@@ -493,14 +484,9 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // most).
     let adapt = select(saturate(speed), blur, params.trust.y > 0.5);
     // The history's share then falls off with the parallax and with the speed.
-    // The parallax falls off faster where the farthest surface is broad: from 2 of 7 depths
-    // on it to 6 of 7, the rate moves from the parallax falloff's to the silhouette's.
-    let broad = saturate((surfaces.background - 2.0 / 7.0) * 7.0 / 4.0);
-    let parallax_rate = select(
-        params.falloff.x,
-        mix(params.falloff.x, params.falloff.z, broad),
-        params.falloff.z > 0.0,
-    );
+    // The parallax falls off faster where the farthest surface is broad (temporal.wgsl).
+    let parallax_rate =
+        parallax_falloff_rate(params.falloff.x, params.falloff.z, surfaces.background);
     let stale = parallax * parallax_rate + speed * params.falloff.y;
     let blended = mix(params.blend.x, max(params.blend.x, params.blend.w), adapt);
     let alpha = max(1.0 - (1.0 - blended) * exp(-stale), reactive_share);

@@ -52,7 +52,7 @@ use crate::aa::common::pass::{self, Binding};
 use crate::aa::common::temporal::{
     HistoryReset, PingPong, ResolvePass, cleared_black, falloff_rate, jitter_offset,
 };
-use crate::aa::common::{RADIANCE_WGSL, holds_radiance, output_format};
+use crate::aa::common::{RADIANCE_WGSL, TEMPORAL_WGSL, holds_radiance, output_format};
 use crate::aa::info::{TechniqueInfo, needs_history_stores};
 use crate::aa::params::Named;
 use crate::aa::{DebugView, FrameInfo, SceneInput, Technique};
@@ -67,7 +67,7 @@ use debug::{STATE_FORMAT, TaauDebug};
 pub const ID: &str = "taau";
 
 /// The resolve (samples, reprojection, disocclusion, rectification, accumulation).
-const WGSL: Shader = crate::wgsl!("src/aa/taau/taau.wgsl", prelude = RADIANCE_WGSL);
+const WGSL: Shader = crate::wgsl!("src/aa/taau/taau.wgsl", prelude = TEMPORAL_WGSL);
 /// The debug views.
 const DEBUG_WGSL: Shader = crate::wgsl!("src/aa/taau/taau_debug.wgsl");
 
@@ -84,7 +84,7 @@ pub const INFO: TechniqueInfo = TechniqueInfo {
          vectors, softness under motion and possible ghosting.",
     availability: needs_history_stores,
     create: |gpu| Box::new(Taau::new(gpu)),
-    shaders: &[WGSL, DEBUG_WGSL, RADIANCE_WGSL],
+    shaders: &[WGSL, DEBUG_WGSL, TEMPORAL_WGSL, RADIANCE_WGSL],
 };
 
 /// Format of the accumulated colour (alpha: samples accumulated).

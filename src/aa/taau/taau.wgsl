@@ -192,7 +192,8 @@ struct Samples {
     base: vec2<i32>,
     // The farthest surface's render pixel.
     farthest: vec2<i32>,
-    // The share of the nine depths that lie on the farthest surface (with PARALLAX).
+    // The share of the nine depths that lie on the farthest surface (`on_background`,
+    // temporal.wgsl; with PARALLAX).
     background: f32,
 }
 
@@ -306,15 +307,6 @@ fn gather_samples(centre: vec2<f32>) -> Samples {
     return s;
 }
 
-// How much nearer than the farthest depth a depth may be and still lie on the farthest
-// surface: relative distance (reverse-Z depth is 1 / distance), as in TAA.
-const BACKGROUND_TOLERANCE: f32 = 0.05;
-
-// 1 where reverse-Z `depth` lies on the farthest surface, whose depth is `far`.
-fn on_background(depth: f32, far: f32) -> f32 {
-    return select(0.0, 1.0, depth <= far * (1.0 + BACKGROUND_TOLERANCE));
-}
-
 // How far (relative distance) the surface at reverse-Z depth `now` lies behind the one at
 // `before` (0 where it is not behind): reverse-Z depth is 1/distance, so the ratio of depths
 // is that of distances.
@@ -352,14 +344,8 @@ fn resolve(position: vec2<f32>) -> Resolved {
     if PARALLAX {
         let farthest_velocity = textureLoad(motion, s.farthest, 0).xy;
         parallax = length((velocity - farthest_velocity) * params.output.xy);
-        // From 2 of 7 depths on the farthest surface to 6 of 7 (TAA's shares), the rate moves
-        // from the parallax falloff's to the silhouette's.
-        let broad = saturate((s.background - 2.0 / 7.0) * 7.0 / 4.0);
-        parallax_rate = select(
-            params.falloff.y,
-            mix(params.falloff.y, params.falloff.z, broad),
-            params.falloff.z > 0.0,
-        );
+        // Faster where the farthest surface is broad, as in TAA (temporal.wgsl).
+        parallax_rate = parallax_falloff_rate(params.falloff.y, params.falloff.z, s.background);
     }
     // The reactive mask: motion the camera does not explain (the surface moves on its own).
     let ndc = vec3<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, s.nearest_depth);
