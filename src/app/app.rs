@@ -26,7 +26,7 @@ use super::magnifier::{MagnifierPanel, PanelInputs};
 use super::metrics_panel;
 use super::panels;
 use super::quality::Figures;
-use super::settings::{Layout, STORAGE_KEY, Settings};
+use super::settings::{APP_ID, Layout, STORAGE_KEY, Settings};
 use super::shortcuts::{self, Action};
 use super::style;
 use super::techniques_panel;
@@ -151,7 +151,14 @@ impl AaLabApp {
         if let Some(scene) = &options.scene {
             settings.scene = scene.clone();
         }
-        let mut ws = Workspace::new(Context::new(gpu, settings, notices, state, &options));
+        let mut ws = Workspace::new(Context::new(
+            gpu,
+            settings,
+            notices,
+            state,
+            options.engine_frame_delay,
+            options.display,
+        ));
         let scene = ws.cx.settings.scene.clone();
         ws.cx.load_scene(&cc.egui_ctx, &scene);
         if !options.images.is_empty() {
@@ -633,7 +640,7 @@ fn stored_settings(storage: Option<&dyn eframe::Storage>) -> Option<String> {
 
 /// eframe's settings file.
 fn settings_file() -> Option<PathBuf> {
-    Some(eframe::storage_dir(super::APP_ID)?.join("app.ron"))
+    Some(eframe::storage_dir(APP_ID)?.join("app.ron"))
 }
 
 /// A notice when eframe's settings file exists but gave no settings (it could not be parsed).

@@ -23,9 +23,14 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use egui::Rect;
 use wgpu::util::DeviceExt;
 
+/// egui's own multisampling, which the window is created with. Off: egui feathers its shapes
+/// itself, technique images are drawn as textured rectangles that multisampling would not
+/// change, and counts other than the adapter's supported ones panic (8 on lavapipe).
+pub(super) const EGUI_MULTISAMPLING: u16 = 0;
+
 // The pipeline draws into egui's render pass, which has one sample unless eframe multisamples.
 const _: () = assert!(
-    matches!(super::EGUI_MULTISAMPLING, 0 | 1),
+    matches!(EGUI_MULTISAMPLING, 0 | 1),
     "the blit pipeline is single-sampled"
 );
 

@@ -9,7 +9,7 @@ use egui::RichText;
 use super::context::{Command, Context};
 use super::engine::{Clip, ClipPath, ClipPlayer, ClipSettings, ClipStatus, MAX_FRAMES, PlayRate};
 use super::sequence_set::{CACHE_FRAMES, SequenceSet};
-use super::style::{self, ShowKeyed};
+use super::style::{self, ShowKeyed, whole_mib};
 
 /// What the clip bar asks the app to do.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,7 +47,7 @@ pub fn clip_bar(
         });
         if let Some(bytes) = estimate {
             ui.label(
-                RichText::new(format!("≈ {}", mib(bytes)))
+                RichText::new(format!("≈ {}", whole_mib(bytes)))
                     .small()
                     .color(ui.visuals().weak_text_color()),
             )
@@ -99,7 +99,7 @@ pub fn clip_bar(
             ClipStatus::Cancelled => "cancelled".to_owned(),
             ClipStatus::Failed(reason) => format!("failed: {reason}"),
         };
-        let text = format!("{} · {}{}", clip.description, mib(clip.bytes), if status.is_empty() { String::new() } else { format!(" · {status}") });
+        let text = format!("{} · {}{}", clip.description, whole_mib(clip.bytes), if status.is_empty() { String::new() } else { format!(" · {status}") });
         ui.label(RichText::new(text).small().color(if matches!(clip.status, ClipStatus::Failed(_)) { style::ERROR } else { ui.visuals().weak_text_color() }));
     });
     action
@@ -219,11 +219,6 @@ fn playback_controls(ui: &mut egui::Ui, bar: &str, player: &mut ClipPlayer, coun
     });
 }
 
-/// `bytes` in MiB, for labels.
-pub(super) fn mib(bytes: u64) -> String {
-    format!("{:.0} MiB", bytes as f64 / (1024.0 * 1024.0))
-}
-
 /// The bar's frame: a bottom panel above the status bar.
 fn bar(ui: &egui::Ui) -> egui::Panel {
     egui::Panel::bottom("clip bar")
@@ -245,7 +240,7 @@ fn sequence_bar(ui: &mut egui::Ui, sequences: &mut SequenceSet) {
             let (w, h) = first.size();
             let cache = (CACHE_FRAMES * sequences.sequences().len()) as u64 * u64::from(w) * u64::from(h) * 4;
             ui.label(
-                RichText::new(format!("{count} frames · {w}x{h} · frames read as they play, at most {} decoded", mib(cache)))
+                RichText::new(format!("{count} frames · {w}x{h} · frames read as they play, at most {} decoded", whole_mib(cache)))
                     .small()
                     .color(ui.visuals().weak_text_color()),
             )

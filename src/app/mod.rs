@@ -98,16 +98,9 @@ pub use engine::{ClipPath, ClipSettings};
 use key_events::HeldKeys;
 pub use quality::{Figures, PixelFigures};
 pub use rasterizer_threads::spread_window_rasterizer_threads;
+use settings::APP_ID;
 pub use settings::{Layout, Resolution, Settings};
 pub use worker::lower_priority;
-
-/// Application id: window class and the folder eframe persists settings in.
-pub const APP_ID: &str = "aa-lab";
-
-/// egui's own multisampling. Off: egui feathers its shapes itself, technique images are drawn
-/// as textured rectangles that multisampling would not change, and counts other than the
-/// adapter's supported ones panic (8 on lavapipe).
-const EGUI_MULTISAMPLING: u16 = 0;
 
 /// Errors of opening the viewer.
 #[derive(Debug, thiserror::Error)]
@@ -152,7 +145,7 @@ pub fn native_options() -> eframe::NativeOptions {
             wgpu_setup: wgpu_setup(),
             ..Default::default()
         },
-        multisampling: EGUI_MULTISAMPLING,
+        multisampling: blit::EGUI_MULTISAMPLING,
         dithering: false,
         persist_window: true,
         ..Default::default()

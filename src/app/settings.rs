@@ -18,6 +18,9 @@ use crate::scene::camera::OrbitPose;
 
 use super::difference::DiffMetric;
 
+/// Application id: window class and the folder eframe persists settings in.
+pub const APP_ID: &str = "aa-lab";
+
 /// Key of the settings in eframe's storage.
 pub const STORAGE_KEY: &str = "aa-lab viewer settings";
 

@@ -250,6 +250,11 @@ pub fn mib(bytes: u64) -> String {
     format!("{:.1} MiB", bytes as f64 / (1024.0 * 1024.0))
 }
 
+/// Bytes as whole MiB, for estimates and budgets.
+pub fn whole_mib(bytes: u64) -> String {
+    format!("{:.0} MiB", bytes as f64 / (1024.0 * 1024.0))
+}
+
 /// A right-aligned monospace number cell with a tooltip.
 pub(super) fn number(ui: &mut egui::Ui, text: String, tip: &str) {
     ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
@@ -275,6 +280,7 @@ mod tests {
         assert_eq!(ms(12.34), "12.3 ms");
         assert_eq!(ms(1234.0), "1234 ms");
         assert_eq!(mib(3 * 1024 * 1024 / 2), "1.5 MiB");
+        assert_eq!(whole_mib(3 * 1024 * 1024 / 2), "2 MiB");
     }
 
     #[test]

@@ -49,7 +49,7 @@ impl Context {
                     ids.len() + usize::from(settings.reference),
                     size.0,
                     size.1,
-                    crate::app::clip_bar::mib(bytes),
+                    crate::app::style::whole_mib(bytes),
                     settings.budget_mib
                 ),
             );

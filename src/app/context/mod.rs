@@ -25,7 +25,7 @@ pub(super) use super::notice::{Level, NOTICE_SECONDS, Notice};
 
 use super::blind::BlindState;
 use super::camera::CameraController;
-use super::engine::{Display, Engine};
+use super::engine::{Display, DisplayPath, Engine};
 use super::image_set::ImageSetState;
 use super::scene_loader::SceneLoader;
 use super::settings::{Bookmark, MAX_COMPARE, Settings};
@@ -143,13 +143,16 @@ pub struct JodMaps {
 
 impl Context {
     /// The context of a viewer on eframe's device `gpu` (its wgpu state `state`) with
-    /// `settings`; `notices` are raised at start. No scene is loaded yet.
+    /// `settings`; `notices` are raised at start; every engine frame takes at least
+    /// `engine_frame_delay`, and its images reach the screen by `display` where the device
+    /// allows. No scene is loaded yet.
     pub(super) fn new(
         gpu: Gpu,
         settings: Settings,
         notices: Vec<Notice>,
         state: &egui_wgpu::RenderState,
-        options: &super::LaunchOptions,
+        engine_frame_delay: Duration,
+        display: DisplayPath,
     ) -> Self {
         let mut camera = CameraController::new(CameraRig::default());
         camera.auto_rotate = settings.auto_rotate;
@@ -170,8 +173,8 @@ impl Context {
             blind: BlindState::default(),
             file_dialog: None,
             commands: Vec::new(),
-            engine_frame_delay: options.engine_frame_delay,
-            display: Display::choose(state, options.display),
+            engine_frame_delay,
+            display: Display::choose(state, display),
         }
     }
 
