@@ -16,9 +16,10 @@
 //!   confidence, capped: lower wherever the pixel moves, since every frame's read between
 //!   texels blurs the history a little more, and below native each frame adds fewer samples,
 //!   so a capped history outlives more reads, and falling off exponentially with the speed,
-//!   `speed_falloff`, and at native scale with the parallax, `parallax_falloff`, faster where
-//!   the farthest surface of the 3x3 is broad, `silhouette_falloff`, as TAA's share does), so
-//!   a pixel that got no sample this frame keeps
+//!   `speed_falloff`; at native scale the parallax, `parallax_falloff`, faster where the
+//!   farthest surface of the 3x3 is broad, `silhouette_falloff`, scales the history's share
+//!   against one new sample, as it scales TAA's, so that a long history cannot outlast it),
+//!   so a pixel that got no sample this frame keeps
 //!   its history and one that just lost its history takes the new samples at full weight.
 //!   Where the two together hold too little (first frame, disocclusion), a wide Gaussian of
 //!   the render samples fills in: a spatial upscale that the next samples replace.

@@ -25,10 +25,10 @@
 //  5. Accumulation: the history's confidence (samples accumulated, in kernel weight) is capped
 //     (fewer where reading the history between texels blurs it or the pixel moves, so the
 //     history is read again next frame; fewer still on the reactive mask: surfaces moving on
-//     their own) and falls off exponentially with the speed and, at native scale, with the
-//     parallax (how differently the nearest and the farthest surface of the 3x3 move; faster
-//     where most of the 3x3 lies on the farthest surface: a silhouette over a broad
-//     background rather than strands over strands), as in
+//     their own) and falls off exponentially with the speed; at native scale its share
+//     against one new sample falls off with the parallax (how differently the nearest and the
+//     farthest surface of the 3x3 move; faster where most of the 3x3 lies on the farthest
+//     surface: a silhouette over a broad background rather than strands over strands), as in
 //     this project's TAA (below native the current frame's estimate reaches beyond the output
 //     pixel's neighbours, and leaning on it there spread colours: docs/upscaling.md); the new
 //     samples are added with their weights:
@@ -438,10 +438,14 @@ fn resolve(position: vec2<f32>) -> Resolved {
             // fewer samples, the history outlives more reads).
             let moving = max(blur, saturate(speed / SETTLED_SPEED));
             let cap = mix(params.accumulate.x, min(params.accumulate.y, params.accumulate.x), moving);
-            // The faster the pixel moves, and at native scale the faster its surfaces part, the
-            // fewer samples the history keeps (as in TAA).
-            let falloff = exp(-speed * params.falloff.x - parallax * parallax_rate);
-            confidence = min(sampled.a, cap) * (1.0 - reactive) * falloff;
+            // The faster the pixel moves, the fewer samples the history keeps. At native scale
+            // the faster its surfaces part, the smaller the history's share against one new
+            // sample, as TAA's: n / (n + 1) becomes F n / (n + 1), so six samples fall off as
+            // fast as one (scaling n by F instead left a long history most of its share where
+            // the surfaces part: docs/upscaling.md).
+            let parting = exp(-parallax * parallax_rate);
+            let held = min(sampled.a, cap) * (1.0 - reactive) * exp(-speed * params.falloff.x);
+            confidence = held * parting / (1.0 + held * (1.0 - parting));
         }
     }
     // Where the history and the new samples together hold too little, the spatial estimate
