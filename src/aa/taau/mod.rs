@@ -102,7 +102,7 @@ const FILL_FLOOR: f32 = 1.0;
 /// Everything a resolve pipeline is specialised on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct PipelineKey {
-    constants: [(&'static str, u64); 6],
+    constants: [(&'static str, u64); 7],
     debug: bool,
 }
 

@@ -333,11 +333,12 @@ impl TaauSettings {
     }
 
     /// The override constants of the structural settings, `RADIANCE` (before the tonemapper
-    /// of an HDR frame; `aa/common/radiance.wgsl`) and `PARALLAX` (the parallax and
+    /// of an HDR frame; `aa/common/radiance.wgsl`), `OWN_MOTION` (the derived reactive mask,
+    /// read only where `reactive` is above 0) and `PARALLAX` (the parallax and
     /// silhouette falloffs, on at native scale only: below it the current estimate reaches past
     /// the output pixel's neighbours, and leaning on it where surfaces part spreads their
     /// colours).
-    pub(super) fn constants(&self, radiance: bool, native: bool) -> [(&'static str, f64); 6] {
+    pub(super) fn constants(&self, radiance: bool, native: bool) -> [(&'static str, f64); 7] {
         [
             (
                 "HISTORY_FILTER",
@@ -350,6 +351,7 @@ impl TaauSettings {
                 "REACTIVE_MASK",
                 f64::from(u8::from(self.reactive_mask > 0.0)),
             ),
+            ("OWN_MOTION", f64::from(u8::from(self.reactive > 0.0))),
             (
                 "PARALLAX",
                 f64::from(u8::from(

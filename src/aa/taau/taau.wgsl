@@ -82,6 +82,9 @@ override KERNEL: u32 = 0u;
 // The renderer's mask of blended surfaces (after FSR 2's reactive mask) joins the derived one:
 // the history keeps guard.w times their coverage fewer samples, and no velocity trust.
 override REACTIVE_MASK: bool = false;
+// The derived reactive mask (`reactive` above 0): the camera's own reprojection of the nearest
+// surface, against its motion vector. Off, the pass skips that matrix product.
+override OWN_MOTION: bool = false;
 // The history also falls off with the parallax (native scale, `parallax_falloff` or
 // `silhouette_falloff` above 0). A
 // pipeline constant, not a test of the uniform: lavapipe recompiles a shader at every draw
@@ -348,11 +351,15 @@ fn resolve(position: vec2<f32>) -> Resolved {
         parallax_rate = parallax_falloff_rate(params.falloff.y, params.falloff.z, s.background);
     }
     // The reactive mask: motion the camera does not explain (the surface moves on its own).
-    let ndc = vec3<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, s.nearest_depth);
-    let previous_clip = params.reproject * vec4<f32>(ndc, 1.0);
-    let camera_uv = vec2<f32>(0.5, -0.5) * previous_clip.xy / max(previous_clip.w, 1e-12) + 0.5;
-    let own_motion = length((uv - velocity - camera_uv) * params.output.xy);
-    var reactive = params.guard.y * saturate(own_motion);
+    var reactive = 0.0;
+    if OWN_MOTION {
+        let ndc = vec3<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, s.nearest_depth);
+        let previous_clip = params.reproject * vec4<f32>(ndc, 1.0);
+        let camera_uv =
+            vec2<f32>(0.5, -0.5) * previous_clip.xy / max(previous_clip.w, 1e-12) + 0.5;
+        let own_motion = length((uv - velocity - camera_uv) * params.output.xy);
+        reactive = params.guard.y * saturate(own_motion);
+    }
     if REACTIVE_MASK {
         let render_pixel = clamp(vec2<i32>(centre), vec2<i32>(0), vec2<i32>(params.render.xy) - 1);
         reactive = max(reactive, params.guard.w * textureLoad(transparency, render_pixel, 0).r);
