@@ -5,7 +5,7 @@
 
 mod common;
 
-use aa_lab::aa::{self, FrameInfo, Technique};
+use aa_lab::aa::{self, FrameInfo};
 use aa_lab::gpu::{Gpu, read_texture_rgba8};
 use aa_lab::graph::{FrameGraph, FrameScope};
 use aa_lab::metrics::{edges, flip};
@@ -26,21 +26,6 @@ const FIDELITY_SIZES: [(u32, u32); 2] = [SIZE, (411, 233)];
 /// Frame `frame` of the scene's own camera path (still for the flat chart).
 fn still(scene: &Scene, frame: u64, size: (u32, u32)) -> FrameCamera {
     common::camera(scene, frame, size)
-}
-
-/// Runs `cameras` in order (the first frame resets the history; earlier frames run only the
-/// temporal techniques, as `spec::run` does) and returns every technique's output after the
-/// last one.
-fn run(graph: &mut FrameGraph, cameras: &[FrameCamera]) -> Vec<RgbaImage> {
-    for (i, camera) in cameras.iter().enumerate() {
-        let scope = if i + 1 == cameras.len() {
-            FrameScope::All
-        } else {
-            FrameScope::TemporalOnly
-        };
-        common::render(graph, *camera, i == 0, scope);
-    }
-    common::outputs(graph)
 }
 
 /// Renders one frame of every technique.
@@ -83,46 +68,13 @@ fn flat_and_edge_changes(no_aa: &RgbaImage, image: &RgbaImage) -> (Vec<(u32, u32
     (flat_changes, edge_changes)
 }
 
-/// The 64-sample ordered-grid SSAA reference and the given techniques, at the scene's frame.
-fn with_reference(
-    gpu: &Gpu,
-    scene: &Scene,
-    techniques: Vec<Box<dyn Technique>>,
-    frames: u64,
-    size: (u32, u32),
-) -> (RgbaImage, Vec<RgbaImage>) {
-    with_reference_on(gpu, scene, techniques, frames, &|f| still(scene, f, size))
-}
-
 /// The 64-sample reference, No AA and FXAA (its defaults) of the scene's first frame.
 fn no_aa_and_fxaa(gpu: &Gpu, scene: &Scene, size: (u32, u32)) -> (RgbaImage, Vec<RgbaImage>) {
     let techniques = vec![
         common::technique(gpu, "none", &[]),
         common::technique(gpu, "fxaa", &[]),
     ];
-    with_reference(gpu, scene, techniques, 1, size)
-}
-
-/// The 64-sample ordered-grid SSAA reference and the given techniques after `frames` frames of
-/// a camera path (the last frame is the one compared).
-fn with_reference_on(
-    gpu: &Gpu,
-    scene: &Scene,
-    techniques: Vec<Box<dyn Technique>>,
-    frames: u64,
-    camera: &common::temporal::CameraPath<'_>,
-) -> (RgbaImage, Vec<RgbaImage>) {
-    let mut all = vec![common::technique(
-        gpu,
-        "ssaa",
-        &[("mode", "ordered"), ("factor", "8")],
-    )];
-    all.extend(techniques);
-    let mut graph = common::graph(gpu, scene, all);
-    let cameras: Vec<FrameCamera> = (0..frames).map(camera).collect();
-    let mut images = run(&mut graph, &cameras);
-    let reference = images.remove(0);
-    (reference, images)
+    common::with_reference(gpu, scene, techniques, 1, size)
 }
 
 #[test]
@@ -146,7 +98,7 @@ fn fxaa_and_taa_change_edges_and_leave_flat_regions() {
         ],
     );
     let cameras: Vec<FrameCamera> = (0..16).map(|f| still(&scene, f, SIZE)).collect();
-    let images = run(&mut graph, &cameras);
+    let images = common::run_cameras(&mut graph, &cameras);
     for (name, image) in [
         ("fxaa", &images[1]),
         ("taa", &images[2]),
@@ -181,7 +133,7 @@ fn every_fxaa_quality_preset_and_luma_antialiases_the_edge() {
             .iter()
             .map(|q| common::technique(&gpu, "fxaa", &[("quality", q)])),
     );
-    let (reference, images) = with_reference(&gpu, &scene, techniques, 1, SIZE);
+    let (reference, images) = common::with_reference(&gpu, &scene, techniques, 1, SIZE);
     let none = common::window_error(&images[0], &reference, slanted_edge(SIZE));
     for (name, image) in std::iter::once("green luma")
         .chain(presets.iter().copied())
@@ -245,7 +197,7 @@ fn fxaa_and_taa_approach_the_reference_on_the_builtin_chart_and_hairball() {
         .flat_map(|name| [(480, 270), (397, 223)].map(|size| (name, size)))
     {
         let scene = load(name, &SceneOptions::default()).unwrap_or_else(|e| panic!("{e}"));
-        let (reference, images) = with_reference(
+        let (reference, images) = common::with_reference(
             &gpu,
             &scene,
             vec![
@@ -316,7 +268,7 @@ fn taa_converges_on_a_still_camera() {
 }
 
 fn taa_converges_at(gpu: &Gpu, scene: &Scene, size: (u32, u32)) {
-    let (reference, images) = with_reference(
+    let (reference, images) = common::with_reference(
         gpu,
         scene,
         vec![
@@ -644,7 +596,7 @@ fn taa_keeps_thin_lines_on_a_moving_camera() {
     let scene = thin_bars();
     // Still, slow (0.41 pixels per frame) and faster (1.37) pans.
     for speed in [0.0, 0.0041, 0.0137] {
-        let (reference, images) = with_reference_on(
+        let (reference, images) = common::with_reference_on(
             &gpu,
             &scene,
             vec![
@@ -690,7 +642,7 @@ fn taa_keeps_up_with_msaa_4x_on_hairball_and_atrium_under_the_orbit() {
         ("atrium", (853, 481), 0.0),
     ] {
         let scene = load(name, &SceneOptions::default()).unwrap_or_else(|e| panic!("{e}"));
-        let (reference, images) = with_reference(
+        let (reference, images) = common::with_reference(
             &gpu,
             &scene,
             vec![

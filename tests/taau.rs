@@ -7,7 +7,6 @@ mod common;
 
 use aa_lab::aa::FrameInfo;
 use aa_lab::aa::common::temporal::jitter_offset;
-use aa_lab::graph::FrameScope;
 use aa_lab::scene::CameraRig;
 use aa_lab::scene::camera::FrameCamera;
 
@@ -123,35 +122,6 @@ fn taau_leaves_no_ghost_trail_behind_camera_or_object_motion() {
     }
 }
 
-/// The 64-sample reference (first) and the techniques `ids` at frame 16 of the scene's orbit,
-/// the temporal ones having run frames 0 to 16.
-fn orbit_frame_16(
-    gpu: &aa_lab::gpu::Gpu,
-    scene: &aa_lab::scene::Scene,
-    ids: &[&str],
-    size: (u32, u32),
-) -> Vec<image::RgbaImage> {
-    let reference = [("mode", "ordered"), ("factor", "8")];
-    let mut techniques = vec![common::technique(gpu, "ssaa", &reference)];
-    techniques.extend(ids.iter().map(|id| common::technique(gpu, id, &[])));
-    let mut graph = common::graph(gpu, scene, techniques);
-    // The reference renders the last frame only.
-    for frame in 0..=16 {
-        let scope = if frame == 16 {
-            FrameScope::All
-        } else {
-            FrameScope::TemporalOnly
-        };
-        common::render(
-            &mut graph,
-            common::camera(scene, frame, size),
-            frame == 0,
-            scope,
-        );
-    }
-    common::outputs(&mut graph)
-}
-
 #[test]
 fn taau_keeps_its_detail_on_atrium_under_the_orbit() {
     // Under the orbit the history is read between texels every frame and each read blurs it a
@@ -166,9 +136,11 @@ fn taau_keeps_its_detail_on_atrium_under_the_orbit() {
     let scene = aa_lab::scene::source::load("atrium", &Default::default())
         .unwrap_or_else(|e| panic!("{e}"));
     for (size, quality_floor) in [((640, 360), 0.885), ((853, 481), 0.892)] {
-        let images = orbit_frame_16(&gpu, &scene, &["taa", "taau", "taau@quality"], size);
-        let [taa, native, quality] = [1, 2, 3].map(|i| {
-            aa_lab::metrics::ssim::ssim(&images[0], &images[i])
+        let techniques = ["taa", "taau", "taau@quality"].map(|id| common::technique(&gpu, id, &[]));
+        // Frames 0 to 16; the reference renders the last one only.
+        let (reference, images) = common::with_reference(&gpu, &scene, techniques.into(), 17, size);
+        let [taa, native, quality] = [0, 1, 2].map(|i| {
+            aa_lab::metrics::ssim::ssim(&reference, &images[i])
                 .expect("same size")
                 .mean
         });
@@ -192,14 +164,16 @@ fn taau_at_native_leads_taa_on_hairball_at_full_hd() {
     let gpu = common::gpu();
     let scene = aa_lab::scene::source::load("hairball", &Default::default())
         .unwrap_or_else(|e| panic!("{e}"));
-    let images = orbit_frame_16(&gpu, &scene, &["taa", "taau"], (1920, 1080));
-    let [taa, native] = [1, 2].map(|i| {
-        aa_lab::metrics::ssim::ssim(&images[0], &images[i])
+    let techniques = ["taa", "taau"].map(|id| common::technique(&gpu, id, &[]));
+    let (reference, images) =
+        common::with_reference(&gpu, &scene, techniques.into(), 17, (1920, 1080));
+    let [taa, native] = [0, 1].map(|i| {
+        aa_lab::metrics::ssim::ssim(&reference, &images[i])
             .expect("same size")
             .mean
     });
-    let [taa_flip, native_flip] = [1, 2].map(|i| {
-        aa_lab::metrics::flip::flip_map(&images[0], &images[i])
+    let [taa_flip, native_flip] = [0, 1].map(|i| {
+        aa_lab::metrics::flip::flip_map(&reference, &images[i])
             .expect("same size")
             .mean(None)
             .expect("pixels")

@@ -198,6 +198,55 @@ pub fn render_techniques(
     render_frames(&mut graph(gpu, scene, techniques), scene, size, 0..=last)
 }
 
+/// Runs `cameras` in order (the first frame resets the history; earlier frames run only the
+/// temporal techniques, as `spec::run` does) and returns every technique's output after the
+/// last one.
+pub fn run_cameras(graph: &mut FrameGraph, cameras: &[FrameCamera]) -> Vec<RgbaImage> {
+    for (i, camera) in cameras.iter().enumerate() {
+        let scope = if i + 1 == cameras.len() {
+            FrameScope::All
+        } else {
+            FrameScope::TemporalOnly
+        };
+        render(graph, *camera, i == 0, scope);
+    }
+    outputs(graph)
+}
+
+/// The 64-sample ordered-grid SSAA reference and the given techniques after `frames` frames of
+/// the scene's own camera path at `size` (the last frame is the one compared).
+pub fn with_reference(
+    gpu: &Gpu,
+    scene: &Scene,
+    techniques: Vec<Box<dyn Technique>>,
+    frames: u64,
+    size: (u32, u32),
+) -> (RgbaImage, Vec<RgbaImage>) {
+    with_reference_on(gpu, scene, techniques, frames, &|f| camera(scene, f, size))
+}
+
+/// The 64-sample ordered-grid SSAA reference and the given techniques after `frames` frames of
+/// a camera path (the last frame is the one compared).
+pub fn with_reference_on(
+    gpu: &Gpu,
+    scene: &Scene,
+    techniques: Vec<Box<dyn Technique>>,
+    frames: u64,
+    camera: &temporal::CameraPath<'_>,
+) -> (RgbaImage, Vec<RgbaImage>) {
+    let mut all = vec![technique(
+        gpu,
+        "ssaa",
+        &[("mode", "ordered"), ("factor", "8")],
+    )];
+    all.extend(techniques);
+    let mut graph = graph(gpu, scene, all);
+    let cameras: Vec<FrameCamera> = (0..frames).map(camera).collect();
+    let mut images = run_cameras(&mut graph, &cameras);
+    let reference = images.remove(0);
+    (reference, images)
+}
+
 /// Mean absolute difference over RGB of two images of the same size, in 8-bit steps.
 pub fn mean_error(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
     window_error(a, b, (0, 0, a.width(), a.height()))
