@@ -132,6 +132,10 @@ fn taau_keeps_its_detail_on_atrium_under_the_orbit() {
     // SSIM. Measured on frame 16 before and after (docs/upscaling.md): taau .9391 -> .9482 and
     // .9453 -> .9534 (TAA .9410 and .9464), taau@quality .8798 -> .8883 and .8868 -> .8955 at
     // 640x360 and 853x481.
+    // At native scale the kernel's estimate (which blurs a texture) now stands in for the
+    // pixel's own sample only where the 3x3 spans more than one surface, which lifted taau
+    // from .9508 to .9552 at 640x360 (TAA .9475) and to .9609 at 853x481 (TAA .9543): it must
+    // lead TAA by .005.
     let gpu = common::gpu();
     let scene = aa_lab::scene::source::load("atrium", &Default::default())
         .unwrap_or_else(|e| panic!("{e}"));
@@ -147,7 +151,10 @@ fn taau_keeps_its_detail_on_atrium_under_the_orbit() {
         println!(
             "atrium {size:?} frame 16: taa {taa:.4}, taau {native:.4}, taau@quality {quality:.4}"
         );
-        assert!(native >= taa, "{size:?}: taau {native:.4} vs taa {taa:.4}");
+        assert!(
+            native >= taa + 0.005,
+            "{size:?}: taau {native:.4} vs taa {taa:.4}"
+        );
         assert!(
             quality >= quality_floor,
             "{size:?}: taau@quality {quality:.4} vs {quality_floor}"
