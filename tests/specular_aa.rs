@@ -7,11 +7,9 @@
 mod common;
 
 use aa_lab::gpu::Gpu;
-use aa_lab::graph::{FrameGraph, FrameScope};
-use aa_lab::metrics::Plane;
-use aa_lab::metrics::stability::{ChangeAccumulator, temporal_instability};
+use aa_lab::graph::FrameGraph;
+use aa_lab::scene::Scene;
 use aa_lab::scene::procedural::{SceneOptions, builtin};
-use aa_lab::scene::{Motion, Scene};
 use image::RgbaImage;
 
 const SIZE: (u32, u32) = (320, 180);
@@ -20,19 +18,10 @@ fn scene(name: &str) -> Scene {
     builtin(name, &SceneOptions::default()).expect("built-in scene")
 }
 
-/// A graph of `ids` (No AA, TAA...) and, last, the bench's 64-sample reference marked as the
-/// reference, with specular antialiasing as `specular_aa` says.
+/// A graph of `ids` (No AA, TAA...) and, last, the bench's 64-sample reference, with
+/// specular antialiasing as `specular_aa` says.
 fn graph_with_reference(gpu: &Gpu, scene: &Scene, ids: &[&str], specular_aa: bool) -> FrameGraph {
-    let mut techniques: Vec<_> = ids
-        .iter()
-        .map(|id| common::technique(gpu, id, &[]))
-        .collect();
-    let reference = aa_lab::bench::reference_spec(gpu).expect("reference");
-    techniques.push(reference.create(gpu).expect("reference technique"));
-    let mut graph = common::graph(gpu, scene, techniques);
-    if let Some(slot) = graph.slots_mut().last_mut() {
-        slot.reference = true;
-    }
+    let mut graph = common::graph_with_reference(gpu, scene, ids);
     graph.set_specular_aa(specular_aa);
     graph
 }
@@ -116,22 +105,11 @@ fn specular_aa_spares_unshaded_scenes_and_the_reference() {
 }
 
 /// Temporal instability of No AA and TAA (in that order) on a pan over sparkle, against the
-/// reference of the same graph, the first `WARMUP` frames left out.
+/// reference of the same graph, the first 4 frames left out.
 fn pan_instability(gpu: &Gpu, scene: &Scene, specular_aa: bool) -> [f64; 2] {
-    const WARMUP: u64 = 4;
-    const FRAMES: u64 = 12;
     let mut graph = graph_with_reference(gpu, scene, &["none", "taa"], specular_aa);
-    let mut changes = vec![ChangeAccumulator::new(); 3];
-    for frame in 0..WARMUP + FRAMES {
-        let camera = Motion::Pan.camera(&scene.camera, SIZE, 0.25, frame);
-        common::render(&mut graph, camera, frame == 0, FrameScope::All);
-        if frame >= WARMUP {
-            for (change, image) in changes.iter_mut().zip(common::outputs(&mut graph)) {
-                change.push(Plane::luma(&image)).expect("same size");
-            }
-        }
-    }
-    [0, 1].map(|i| temporal_instability(&changes[i], &changes[2]).expect("the reference moved"))
+    let figures = common::pan_instability(&mut graph, scene, SIZE, 4, 12);
+    [figures[0], figures[1]]
 }
 
 #[test]

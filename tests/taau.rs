@@ -133,9 +133,9 @@ fn taau_keeps_its_detail_on_atrium_under_the_orbit() {
     // .9453 -> .9534 (TAA .9410 and .9464), taau@quality .8798 -> .8883 and .8868 -> .8955 at
     // 640x360 and 853x481.
     // At native scale the kernel's estimate (which blurs a texture) now stands in for the
-    // pixel's own sample only where the 3x3 spans more than one surface, which lifted taau
-    // from .9508 to .9552 at 640x360 (TAA .9475) and to .9609 at 853x481 (TAA .9543): it must
-    // lead TAA by .005.
+    // pixel's own sample in full only where the 3x3 spans more than one surface (on one
+    // surface half of it), which lifted taau from .9508 to .9533 at 640x360 (TAA .9475) and
+    // to .9589 at 853x481 (TAA .9543): it must lead TAA by .004.
     let gpu = common::gpu();
     let scene = aa_lab::scene::source::load("atrium", &Default::default())
         .unwrap_or_else(|e| panic!("{e}"));
@@ -152,7 +152,7 @@ fn taau_keeps_its_detail_on_atrium_under_the_orbit() {
             "atrium {size:?} frame 16: taa {taa:.4}, taau {native:.4}, taau@quality {quality:.4}"
         );
         assert!(
-            native >= taa + 0.005,
+            native >= taa + 0.004,
             "{size:?}: taau {native:.4} vs taa {taa:.4}"
         );
         assert!(
@@ -160,6 +160,23 @@ fn taau_keeps_its_detail_on_atrium_under_the_orbit() {
             "{size:?}: taau@quality {quality:.4} vs {quality_floor}"
         );
     }
+}
+
+#[test]
+fn taau_at_native_pans_over_atrium_as_calmly_as_taa() {
+    // On one surface taau's estimate in motion is half the kernel's and half the pixel's own
+    // sample. The own sample alone made atrium's textures sharper under the orbit but flicker
+    // more than TAA's on the clip's slow pan (`aa-lab clip --motion pan`, 640x360, 8 + 24
+    // frames: instability .972 against TAA's .949); with the half share .941, with the kernel
+    // alone .894 (docs/upscaling.md).
+    let gpu = common::gpu();
+    let scene = aa_lab::scene::source::load("atrium", &Default::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut graph = common::graph_with_reference(&gpu, &scene, &["taa", "taau"]);
+    let figures = common::pan_instability(&mut graph, &scene, (640, 360), 8, 24);
+    let (taa, taau) = (figures[0], figures[1]);
+    println!("atrium pan 640x360: instability taa {taa:.3}, taau {taau:.3}");
+    assert!(taau <= taa, "taau {taau:.3} vs taa {taa:.3}");
 }
 
 #[test]

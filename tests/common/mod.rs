@@ -12,8 +12,10 @@ use std::ops::RangeInclusive;
 use aa_lab::aa::{self, FrameInfo, Technique};
 use aa_lab::gpu::{Gpu, read_texture_rgba8};
 use aa_lab::graph::{FrameGraph, FrameScope};
+use aa_lab::metrics::Plane;
+use aa_lab::metrics::stability::{ChangeAccumulator, temporal_instability};
 use aa_lab::scene::camera::FrameCamera;
-use aa_lab::scene::{AlphaMode, CameraRig, Material, Mesh, Scene, TextureImage, Vertex};
+use aa_lab::scene::{AlphaMode, CameraRig, Material, Mesh, Motion, Scene, TextureImage, Vertex};
 use glam::{Vec2, Vec3};
 use image::RgbaImage;
 
@@ -245,6 +247,47 @@ pub fn with_reference_on(
     let mut images = run_cameras(&mut graph, &cameras);
     let reference = images.remove(0);
     (reference, images)
+}
+
+/// A graph of the techniques `ids` and, last, the bench's 64-sample reference marked as the
+/// reference (which a clip's temporal figures are measured against).
+pub fn graph_with_reference(gpu: &Gpu, scene: &Scene, ids: &[&str]) -> FrameGraph {
+    let mut techniques: Vec<_> = ids.iter().map(|id| technique(gpu, id, &[])).collect();
+    let reference = aa_lab::bench::reference_spec(gpu).expect("reference");
+    techniques.push(reference.create(gpu).expect("reference technique"));
+    let mut graph = graph(gpu, scene, techniques);
+    if let Some(slot) = graph.slots_mut().last_mut() {
+        slot.reference = true;
+    }
+    graph
+}
+
+/// Temporal instability of each technique of a [`graph_with_reference`] (the reference left
+/// out) on the clip's pan of a quarter pixel per frame at `size`: `warmup` frames, then
+/// `frames` measured, as `aa-lab clip --motion pan` measures it.
+pub fn pan_instability(
+    graph: &mut FrameGraph,
+    scene: &Scene,
+    size: (u32, u32),
+    warmup: u64,
+    frames: u64,
+) -> Vec<f64> {
+    let outputs_with_reference = graph.slots_mut().len();
+    let mut changes = vec![ChangeAccumulator::new(); outputs_with_reference];
+    for frame in 0..warmup + frames {
+        let camera = Motion::Pan.camera(&scene.camera, size, 0.25, frame);
+        render(graph, camera, frame == 0, FrameScope::All);
+        if frame >= warmup {
+            for (change, image) in changes.iter_mut().zip(outputs(graph)) {
+                change.push(Plane::luma(&image)).expect("same size");
+            }
+        }
+    }
+    let (reference, techniques) = changes.split_last().expect("the reference");
+    techniques
+        .iter()
+        .map(|change| temporal_instability(change, reference).expect("the reference moved"))
+        .collect()
 }
 
 /// Mean absolute difference over RGB of two images of the same size, in 8-bit steps.

@@ -7,12 +7,13 @@
 //     output pixel count (1 each: the accumulation converges to the pixel's area average);
 //     where resampling blurs the history, the samples are weighted by their distance from the
 //     output pixel's centre (KERNEL: a Gaussian with the spread of one pixel, or radial
-//     Lanczos-2; both scaled by the kernel width), by the same measure; at native scale only
-//     across surfaces (where the 3x3's depths differ by more than the disocclusion tolerance:
-//     on one surface the kernel blurs its texture, and the pixel's own sample stays). The
-//     weighted sum is this frame's contribution and the sum of weights its confidence. A wide
-//     Gaussian over the same samples (half a render pixel) is the spatial estimate that fills
-//     in where the history holds too little (first frame, disocclusion).
+//     Lanczos-2; both scaled by the kernel width), by the same measure; at native scale in
+//     full only across surfaces (where the 3x3's depths differ by more than the disocclusion
+//     tolerance: on one surface the kernel blurs its texture, and it shares the estimate with
+//     the pixel's own sample). The weighted sum is this frame's contribution and the sum of
+//     weights its confidence. A wide Gaussian over the same samples (half a render pixel) is
+//     the spatial estimate that fills in where the history holds too little (first frame,
+//     disocclusion).
 //  2. Motion: of the nearest surface (reverse-Z: largest depth) among the 3x3 render pixels, so
 //     silhouettes move with the foreground.
 //  3. Disocclusion: the history keeps the farthest depth of the render pixels it was written
@@ -98,6 +99,11 @@ override PARALLAX: bool = false;
 // fraction's, so a slow steady pan (whose read lands at the same fraction every frame) keeps
 // its calm.
 const SETTLED_SPEED: f32 = 0.5;
+
+// At native scale, the share of the kernel's estimate (against the pixel's own sample) where
+// the 3x3 lies on one surface: without it a textured surface is sharper under the orbit but
+// flickers more than TAA's in a slow pan (docs/upscaling.md, "The kernel on geometry only").
+const SURFACE_KERNEL: f32 = 0.5;
 
 // exp(-a d^2) with a = 6: the variance of a one-pixel box (1/12 per axis).
 const BOX_SHARPNESS: f32 = 6.0;
@@ -381,15 +387,16 @@ fn resolve(position: vec2<f32>) -> Resolved {
     let spatial = s.wide_sum / s.wide_weight;
     let kernel_estimate = select(spatial, s.sum / s.weight, abs(s.weight) > 1e-4);
     let box_estimate = select(spatial, s.box_sum / s.box_weight, s.box_weight > 0.5);
-    // At native scale the kernel's estimate is kept for geometry: where the 3x3 lies on one
-    // surface (its depths within the disocclusion test's tolerance of each other) the kernel
-    // only blurs the surface's texture, and the pixel's own sample stands in for it, as on a
-    // still camera; across an edge the kernel averages the geometry's aliasing. (Below native
-    // the pixel often holds no sample of its own, and the spatial estimate that then stands in
-    // is blurrier than the kernel's.)
+    // At native scale the kernel's estimate is kept whole for geometry: where the 3x3 lies on
+    // one surface (its depths within the disocclusion test's tolerance of each other) the
+    // kernel only blurs the surface's texture, and the pixel's own sample takes half its place
+    // (SURFACE_KERNEL); across an edge the kernel averages the geometry's aliasing. (Below
+    // native the pixel often holds no sample of its own, and the spatial estimate that then
+    // stands in is blurrier than the kernel's.)
     let ratio = params.output.xy * params.render.zw;
     let spans_surfaces = saturate(behind(s.farthest_depth, s.nearest_depth) / params.guard.x);
-    let geometry = select(1.0, spans_surfaces, all(abs(ratio - 1.0) < vec2<f32>(1e-3)));
+    let native = all(abs(ratio - 1.0) < vec2<f32>(1e-3));
+    let geometry = select(1.0, mix(SURFACE_KERNEL, 1.0, spans_surfaces), native);
     var estimate = mix(box_estimate, kernel_estimate, blur * geometry);
     let weight = mix(s.box_weight, max(s.weight, 0.0), blur);
     if KERNEL == 1u {
