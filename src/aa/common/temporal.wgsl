@@ -4,7 +4,8 @@
 // searched lie on the farthest surface: an edge over a broad background (a column before a
 // wall) rather than strands over other strands, whose farthest surface is as thin as the
 // nearest (`silhouette_falloff` and `parallax_falloff`, `aa/common/temporal.rs`; measured in
-// docs/techniques/taa.md).
+// docs/techniques/taa.md). Both also filter this frame's samples wherever the pixel moves
+// across surfaces (`spans_surfaces`, `SETTLED_SPEED`).
 
 // How much nearer than the farthest depth a depth may be and still lie on the farthest
 // surface: relative distance (reverse-Z depth is 1 / distance).
@@ -21,4 +22,20 @@ fn on_background(depth: f32, far: f32) -> f32 {
 fn parallax_falloff_rate(parallax_rate: f32, silhouette_rate: f32, background: f32) -> f32 {
     let broad = saturate((background - 2.0 / 7.0) * 7.0 / 4.0);
     return select(parallax_rate, mix(parallax_rate, silhouette_rate, broad), silhouette_rate > 0.0);
+}
+
+// Speed (pixels per frame) from which a pixel counts as moving whatever fraction past a texel
+// its history read lands at: TAAU's history keeps only its motion samples from there, and both
+// resolves take this frame's filtered estimate in full where the pixel also spans surfaces.
+// Slower, both follow the fraction, so a slow steady pan (whose read lands at the same
+// fraction every frame) keeps its calm.
+const SETTLED_SPEED: f32 = 0.5;
+
+// How far the depths a resolve searched span more than one surface: 0 where the nearest
+// (reverse-Z `near`) and the farthest (`far`) lie within `tolerance` of each other (relative
+// distance), 1 where they lie that far apart or more. On one surface this frame's filter only
+// blurs a texture; across surfaces it averages an edge's aliasing, which a moving edge's
+// history cannot hold.
+fn spans_surfaces(near: f32, far: f32, tolerance: f32) -> f32 {
+    return saturate(max(near - far, 0.0) / max(near, 1e-12) / tolerance);
 }

@@ -17,7 +17,9 @@
 //     pixel centre (a sample sits at its pixel's centre minus the jitter; a = 6 gives the
 //     variance of the pixel's box): an estimate of the pixel's area average from the reads the
 //     box already makes (Karis filters the current frame the same way). The filtered estimate
-//     is mixed in as far as resampling blurs the history (step 4).
+//     is mixed in as far as resampling blurs the history (step 4), and in full wherever the
+//     pixel moves (half a pixel per frame or more) and its depths span surfaces (an edge,
+//     whose aliasing the filter averages; `spans_surfaces`, temporal.wgsl).
 //  2. Reprojection: the history is read at uv - motion (the motion vectors hold no jitter) with
 //     one bilinear tap or a five-tap bilinear-optimised Catmull-Rom filter (sharper; fewer taps
 //     than the 4x4 cubic by dropping its corners; its overshoot is removed by the
@@ -495,7 +497,12 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // the pixel's own sample is exact; where resampling blurs the history every frame it never
     // gets there, the current frame's weight rises and its point-sample noise dominates, so the
     // filtered estimate takes over by the same measure (a mix, not a branch on the uniform).
-    centre = mix(centre, colour_box.filtered, adapt);
+    // Across surfaces a pixel that moves takes the filtered estimate in full whatever the
+    // fraction (SETTLED_SPEED, spans_surfaces: temporal.wgsl): at a moving edge the point
+    // sample's aliasing is what the filter removes.
+    let spans = spans_surfaces(surfaces.near_depth, surfaces.far_depth, BACKGROUND_TOLERANCE);
+    let moving_edge = spans * saturate(speed / SETTLED_SPEED);
+    centre = mix(centre, colour_box.filtered, max(adapt, moving_edge));
     var colour: vec3<f32>;
     if LUMA_WEIGHT {
         let w_current = alpha / (1.0 + luminance(centre));

@@ -10,10 +10,11 @@
 //     Lanczos-2; both scaled by the kernel width), by the same measure; at native scale in
 //     full only across surfaces (where the 3x3's depths differ by more than the disocclusion
 //     tolerance: on one surface the kernel blurs its texture, and it shares the estimate with
-//     the pixel's own sample). The weighted sum is this frame's contribution and the sum of
-//     weights its confidence. A wide Gaussian over the same samples (half a render pixel) is
-//     the spatial estimate that fills in where the history holds too little (first frame,
-//     disocclusion).
+//     the pixel's own sample), and there in full wherever the pixel moves, as in TAA
+//     (`spans_surfaces`, temporal.wgsl). The weighted sum is this frame's contribution and
+//     the sum of weights its confidence. A wide Gaussian over the same samples (half a render
+//     pixel) is the spatial estimate that fills in where the history holds too little (first
+//     frame, disocclusion).
 //  2. Motion: of the nearest surface (reverse-Z: largest depth) among the 3x3 render pixels, so
 //     silhouettes move with the foreground.
 //  3. Disocclusion: the history keeps the farthest depth of the render pixels it was written
@@ -93,12 +94,6 @@ override OWN_MOTION: bool = false;
 // pipeline constant, not a test of the uniform: lavapipe recompiles a shader at every draw
 // whose branches read uniforms only, and keeps every variant (tests/long_runs.rs).
 override PARALLAX: bool = false;
-
-// Speed (output pixels per frame) from which the history keeps only its motion samples,
-// however close to a texel this frame's read lands; slower, the cap eases towards the
-// fraction's, so a slow steady pan (whose read lands at the same fraction every frame) keeps
-// its calm.
-const SETTLED_SPEED: f32 = 0.5;
 
 // At native scale, the share of the kernel's estimate (against the pixel's own sample) where
 // the 3x3 lies on one surface: without it a textured surface is sharper under the orbit but
@@ -393,11 +388,14 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // (SURFACE_KERNEL); across an edge the kernel averages the geometry's aliasing. (Below
     // native the pixel often holds no sample of its own, and the spatial estimate that then
     // stands in is blurrier than the kernel's.)
+    // Across surfaces a pixel that moves takes the kernel's estimate in full whatever this
+    // frame's fraction, as TAA does (SETTLED_SPEED, temporal.wgsl).
     let ratio = params.output.xy * params.render.zw;
-    let spans_surfaces = saturate(behind(s.farthest_depth, s.nearest_depth) / params.guard.x);
+    let spans = spans_surfaces(s.nearest_depth, s.farthest_depth, params.guard.x);
     let native = all(abs(ratio - 1.0) < vec2<f32>(1e-3));
-    let geometry = select(1.0, mix(SURFACE_KERNEL, 1.0, spans_surfaces), native);
-    var estimate = mix(box_estimate, kernel_estimate, blur * geometry);
+    let geometry = select(1.0, mix(SURFACE_KERNEL, 1.0, spans), native);
+    let moving_edge = select(0.0, spans * saturate(speed / SETTLED_SPEED), native);
+    var estimate = mix(box_estimate, kernel_estimate, max(blur * geometry, moving_edge));
     let weight = mix(s.box_weight, max(s.weight, 0.0), blur);
     if KERNEL == 1u {
         // Lanczos' negative lobe may overshoot: keep the estimate inside the box.
