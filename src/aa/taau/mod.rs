@@ -13,12 +13,12 @@
 //! - **Accumulation at the output resolution**: every new render sample joins the history of
 //!   the output pixels near it with a weight from its distance to their centres (a Gaussian
 //!   with a one-pixel spread, or Lanczos-2; at native scale, in motion, the kernel's
-//!   estimate of the pixel replaces its own sample only as far as the 3x3 spans more than one
-//!   surface, so textures stay sharp and edges are averaged); the history keeps how many
-//!   samples it holds (its confidence, capped: lower wherever the pixel moves, since every
-//!   frame's read between texels blurs the history a little more, and below native each
-//!   frame adds fewer samples,
-//!   so a capped history outlives more reads, and falling off exponentially with the speed,
+//!   estimate of the pixel takes its own sample's place in full only where the 3x3 spans more
+//!   than one surface, and half of it on one surface, so textures stay sharp and edges are
+//!   averaged); the history keeps how many samples it holds (its confidence, capped: lower
+//!   wherever the pixel moves, since every frame's read between texels blurs the history a
+//!   little more, and below native each frame adds fewer samples, so a capped history
+//!   outlives more reads, and falling off exponentially with the speed,
 //!   `speed_falloff`; at native scale the parallax, `parallax_falloff`, faster where the
 //!   farthest surface of the 3x3 is broad, `silhouette_falloff`, scales the history's share
 //!   against one new sample, as it scales TAA's, so that a long history cannot outlast it),

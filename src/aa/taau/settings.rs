@@ -81,7 +81,8 @@ pub struct TaauSettings {
     pub silhouette_falloff: f32,
     /// Relative depth difference beyond which the reprojected history shows another surface;
     /// at native scale also the spread of the 3x3's depths from which this frame's estimate
-    /// is the kernel's rather than the pixel's own sample (one surface: its texture stays sharp).
+    /// in motion is wholly the kernel's (on one surface it shares the place with the pixel's
+    /// own sample, so the texture stays sharp).
     pub depth_tolerance: f32,
     /// How far the reactive mask (surfaces moving on their own) leans on the current frame.
     pub reactive: f32,
@@ -231,9 +232,10 @@ impl Tunable for TaauSettings {
                 "Relative depth difference between the surface now and the one the history \
                  held at the reprojected place beyond which the history is dropped there \
                  (disocclusion). 1 never drops it. At native scale it also tells one surface \
-                 from several: in motion the new samples are filtered by the kernel only as far \
-                 as the 3x3's depths spread up to it, so a textured surface keeps the pixel's \
-                 own sharp sample and edges are still averaged.",
+                 from several: in motion the kernel's estimate takes the pixel's place in full \
+                 only as far as the 3x3's depths spread up to it (on one surface half of it), \
+                 so a textured surface keeps much of its own sharp sample and edges are still \
+                 averaged.",
                 0.005,
                 1.0,
                 s.depth_tolerance,
