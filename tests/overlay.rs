@@ -45,7 +45,7 @@ fn render(order: OverlayOrder, frames: u64) -> Vec<RgbaImage> {
         common::technique(&gpu, "fxaa", &[]),
         common::technique(&gpu, "taa", &[]),
         common::technique(&gpu, "msaa4", &[]),
-        common::technique(&gpu, "ssaa", &[("mode", "ordered"), ("factor", "8")]),
+        common::reference(&gpu),
     ];
     let mut graph = common::graph(&gpu, &scene, techniques);
     graph.set_overlay(Some(order));

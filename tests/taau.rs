@@ -25,11 +25,7 @@ fn taau_converges_to_the_reference_on_a_still_camera() {
         "none@quality:bilinear",
         "none@performance:bilinear",
     ];
-    let mut techniques = vec![common::technique(
-        &gpu,
-        "ssaa",
-        &[("mode", "ordered"), ("factor", "8")],
-    )];
+    let mut techniques = vec![common::reference(&gpu)];
     techniques.extend(ids.iter().map(|id| common::technique(&gpu, id, &[])));
     // 64 frames: two cycles of the 32 phases at 1/2.
     let images = common::render_techniques(&gpu, &scene, techniques, SIZE, 63);
@@ -168,8 +164,8 @@ fn taau_at_native_pans_over_atrium_as_calmly_as_taa() {
     // On one surface taau's estimate in motion is half the kernel's and half the pixel's own
     // sample. The own sample alone made atrium's textures sharper under the orbit but flicker
     // more than TAA's on the clip's slow pan (`aa-lab clip --motion pan`, 640x360, 8 + 24
-    // frames: instability .972 against TAA's .949); with the half share .941, with the kernel
-    // alone .894 (docs/upscaling.md).
+    // frames: instability .972 against TAA's .949); as kept .928, with the kernel alone .894
+    // (docs/upscaling.md).
     let gpu = common::gpu();
     let scene = aa_lab::scene::source::load("atrium", &Default::default())
         .unwrap_or_else(|e| panic!("{e}"));

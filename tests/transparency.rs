@@ -187,8 +187,7 @@ fn the_reactive_mask_lowers_temporal_error_behind_the_moving_particles() {
     let gpu = common::gpu();
     let scene = builtin("glass", &SceneOptions::default()).expect("built-in");
     let mut techniques = temporal_with_and_without_mask(&gpu);
-    let reference = aa_lab::bench::reference_spec(&gpu).expect("reference");
-    techniques.push(reference.create(&gpu).expect("reference technique"));
+    techniques.push(common::reference(&gpu));
     let frames = still_frames(common::graph(&gpu, &scene, techniques), &scene, size, LAST);
     let luma: Vec<Vec<Plane>> = frames
         .iter()

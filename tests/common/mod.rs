@@ -236,11 +236,7 @@ pub fn with_reference_on(
     frames: u64,
     camera: &temporal::CameraPath<'_>,
 ) -> (RgbaImage, Vec<RgbaImage>) {
-    let mut all = vec![technique(
-        gpu,
-        "ssaa",
-        &[("mode", "ordered"), ("factor", "8")],
-    )];
+    let mut all = vec![reference(gpu)];
     all.extend(techniques);
     let mut graph = graph(gpu, scene, all);
     let cameras: Vec<FrameCamera> = (0..frames).map(camera).collect();
@@ -249,12 +245,17 @@ pub fn with_reference_on(
     (reference, images)
 }
 
+/// The bench's 64-sample reference (ordered-grid SSAA), as `compare` and `clip` score against.
+pub fn reference(gpu: &Gpu) -> Box<dyn Technique> {
+    let spec = aa_lab::bench::reference_spec(gpu).expect("reference");
+    spec.create(gpu).expect("reference technique")
+}
+
 /// A graph of the techniques `ids` and, last, the bench's 64-sample reference marked as the
 /// reference (which a clip's temporal figures are measured against).
 pub fn graph_with_reference(gpu: &Gpu, scene: &Scene, ids: &[&str]) -> FrameGraph {
     let mut techniques: Vec<_> = ids.iter().map(|id| technique(gpu, id, &[])).collect();
-    let reference = aa_lab::bench::reference_spec(gpu).expect("reference");
-    techniques.push(reference.create(gpu).expect("reference technique"));
+    techniques.push(reference(gpu));
     let mut graph = graph(gpu, scene, techniques);
     if let Some(slot) = graph.slots_mut().last_mut() {
         slot.reference = true;
@@ -272,8 +273,7 @@ pub fn pan_instability(
     warmup: u64,
     frames: u64,
 ) -> Vec<f64> {
-    let outputs_with_reference = graph.slots_mut().len();
-    let mut changes = vec![ChangeAccumulator::new(); outputs_with_reference];
+    let mut changes = vec![ChangeAccumulator::new(); graph.slots().len()];
     for frame in 0..warmup + frames {
         let camera = Motion::Pan.camera(&scene.camera, size, 0.25, frame);
         render(graph, camera, frame == 0, FrameScope::All);

@@ -32,10 +32,17 @@ fn parallax_falloff_rate(parallax_rate: f32, silhouette_rate: f32, background: f
 const SETTLED_SPEED: f32 = 0.5;
 
 // How far the depths a resolve searched span more than one surface: 0 where the nearest
-// (reverse-Z `near`) and the farthest (`far`) lie within `tolerance` of each other (relative
-// distance), 1 where they lie that far apart or more. On one surface this frame's filter only
+// (reverse-Z `near`) and the farthest (`far`) coincide, rising linearly to 1 where they lie
+// `tolerance` (relative distance) apart or more. On one surface this frame's filter only
 // blurs a texture; across surfaces it averages an edge's aliasing, which a moving edge's
 // history cannot hold.
 fn spans_surfaces(near: f32, far: f32, tolerance: f32) -> f32 {
-    return saturate(max(near - far, 0.0) / max(near, 1e-12) / tolerance);
+    return saturate(behind(far, near) / tolerance);
+}
+
+// How far (relative distance) the surface at reverse-Z depth `now` lies behind the one at
+// `before` (0 where it is not behind): reverse-Z depth is 1/distance, so the ratio of depths
+// is that of distances. (TAAU's disocclusion test compares the same way.)
+fn behind(now: f32, before: f32) -> f32 {
+    return max(before - now, 0.0) / max(before, 1e-12);
 }

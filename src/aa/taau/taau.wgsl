@@ -313,13 +313,6 @@ fn gather_samples(centre: vec2<f32>) -> Samples {
     return s;
 }
 
-// How far (relative distance) the surface at reverse-Z depth `now` lies behind the one at
-// `before` (0 where it is not behind): reverse-Z depth is 1/distance, so the ratio of depths
-// is that of distances.
-fn behind(now: f32, before: f32) -> f32 {
-    return max(before - now, 0.0) / max(before, 1e-12);
-}
-
 struct Resolved {
     colour: vec3<f32>,
     // Samples accumulated after this frame.
