@@ -1,7 +1,8 @@
 //! GPU tests of the temporal upscaler (`taau`, software Vulkan in CI): on a still camera it
-//! converges to the 64-sample reference at native and below it, leaves no ghost trail behind
-//! camera or object motion, and its scene input carries the jitter phases and the mip bias of
-//! its render scale.
+//! converges to the 64-sample reference at native and below it (and at 1/1.5 scores above the
+//! native post-process techniques on hairball and atrium), leaves no ghost trail behind camera
+//! or object motion, keeps its lead or its calm against TAA under the orbit and the pan, and its
+//! scene input carries the jitter phases and the mip bias of its render scale.
 
 mod common;
 
@@ -156,6 +157,61 @@ fn taau_keeps_its_detail_on_atrium_under_the_orbit() {
             quality >= quality_floor,
             "{size:?}: taau@quality {quality:.4} vs {quality_floor}"
         );
+    }
+}
+
+#[test]
+fn taau_at_quality_meets_the_native_techniques_where_its_history_lasts() {
+    // Issue 30 asks taau@quality above native No AA, FXAA and SMAA 1x in SSIM and FLIP and
+    // within .01 SSIM of native TAA. Under the scenes' orbit it misses (the history is read
+    // between texels every frame and keeps about two samples' worth); on a still camera, where
+    // the history lasts, it meets every one at 640x360, 1280x720 and 1920x1080
+    // (docs/upscaling.md, "Where the history lasts"). Held here at 640x360 and the odd
+    // 427x241 after 17 frames: a change that breaks the
+    // reconstruction below native fails here even where the orbit hides it.
+    let gpu = common::gpu();
+    for name in ["hairball", "atrium"] {
+        let scene = aa_lab::scene::source::load(name, &Default::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+        // `aa-lab render --camera-motion still`: the orbit stopped at the scene's first view.
+        let still = CameraRig {
+            orbit_degrees_per_frame: 0.0,
+            ..scene.camera
+        };
+        for size in [(640, 360), (427, 241)] {
+            let ids = ["none", "fxaa", "smaa", "taa", "taau@quality"];
+            let techniques = ids.map(|id| common::technique(&gpu, id, &[]));
+            let (reference, images) =
+                common::with_reference_on(&gpu, &scene, techniques.into(), 17, &|frame| {
+                    FrameCamera::from_rig(&still, frame, size)
+                });
+            let scores: Vec<(f64, f64)> = images
+                .iter()
+                .map(|image| {
+                    let ssim = aa_lab::metrics::ssim::ssim(&reference, image).expect("same size");
+                    let flip = aa_lab::metrics::flip::flip_map(&reference, image)
+                        .expect("same size")
+                        .mean(None)
+                        .expect("pixels");
+                    (ssim.mean, flip)
+                })
+                .collect();
+            for (id, (ssim, flip)) in ids.iter().zip(&scores) {
+                println!("{name} {size:?} still: {id} {ssim:.4} / {flip:.4}");
+            }
+            let (quality_ssim, quality_flip) = scores[4];
+            for (id, (ssim, flip)) in ids[..3].iter().zip(&scores[..3]) {
+                assert!(
+                    quality_ssim > *ssim && quality_flip < *flip,
+                    "{name} {size:?}: taau@quality {quality_ssim:.4} / {quality_flip:.4} vs {id} {ssim:.4} / {flip:.4}"
+                );
+            }
+            let taa_ssim = scores[3].0;
+            assert!(
+                quality_ssim >= taa_ssim - 0.01,
+                "{name} {size:?}: taau@quality {quality_ssim:.4} vs taa {taa_ssim:.4}"
+            );
+        }
     }
 }
 
