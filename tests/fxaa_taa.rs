@@ -8,7 +8,7 @@ mod common;
 use aa_lab::aa::{self, FrameInfo};
 use aa_lab::gpu::{Gpu, read_texture_rgba8};
 use aa_lab::graph::{FrameGraph, FrameScope};
-use aa_lab::metrics::{edges, flip};
+use aa_lab::metrics::edges;
 use aa_lab::scene::camera::FrameCamera;
 use aa_lab::scene::procedural::SceneOptions;
 use aa_lab::scene::source::load;
@@ -242,10 +242,7 @@ fn fxaa_edge_gain_and_flip_on_the_chart_and_hairball() {
         let gain = edges::edge_gain(&reference, &images[0], &images[1])
             .expect("same sizes")
             .expect("No AA has edge error");
-        let flip = flip::flip_map(&reference, &images[1])
-            .expect("same sizes")
-            .mean(None)
-            .expect("pixels");
+        let flip = common::flip_mean(&reference, &images[1]);
         println!("{name} {size:?}: FXAA edge gain {gain:.3}, FLIP {flip:.4}");
         assert!(
             gain >= least_gain,
@@ -654,17 +651,9 @@ fn taa_keeps_up_with_msaa_4x_on_hairball_and_atrium_under_the_orbit() {
             17,
             size,
         );
-        let [msaa, taa, point] = [0, 1, 2].map(|i| {
-            aa_lab::metrics::ssim::ssim(&reference, &images[i])
-                .expect("same size")
-                .mean
-        });
-        let [msaa_flip, taa_flip, one_length_flip] = [0, 1, 3].map(|i| {
-            flip::flip_map(&reference, &images[i])
-                .expect("same size")
-                .mean(None)
-                .expect("pixels")
-        });
+        let [msaa, taa, point] = [0, 1, 2].map(|i| common::ssim_mean(&reference, &images[i]));
+        let [msaa_flip, taa_flip, one_length_flip] =
+            [0, 1, 3].map(|i| common::flip_mean(&reference, &images[i]));
         println!(
             "{name} {size:?} frame 16: MSAA 4x {msaa:.4} / {msaa_flip:.4}, TAA {taa:.4} / \
              {taa_flip:.4}, TAA point sample {point:.4}, TAA FLIP without the silhouette \

@@ -141,11 +141,7 @@ fn taau_keeps_its_detail_on_atrium_under_the_orbit() {
         let techniques = ["taa", "taau", "taau@quality"].map(|id| common::technique(&gpu, id, &[]));
         // Frames 0 to 16; the reference renders the last one only.
         let (reference, images) = common::with_reference(&gpu, &scene, techniques.into(), 17, size);
-        let [taa, native, quality] = [0, 1, 2].map(|i| {
-            aa_lab::metrics::ssim::ssim(&reference, &images[i])
-                .expect("same size")
-                .mean
-        });
+        let [taa, native, quality] = [0, 1, 2].map(|i| common::ssim_mean(&reference, &images[i]));
         println!(
             "atrium {size:?} frame 16: taa {taa:.4}, taau {native:.4}, taau@quality {quality:.4}"
         );
@@ -188,12 +184,10 @@ fn taau_at_quality_meets_the_native_techniques_where_its_history_lasts() {
             let scores: Vec<(f64, f64)> = images
                 .iter()
                 .map(|image| {
-                    let ssim = aa_lab::metrics::ssim::ssim(&reference, image).expect("same size");
-                    let flip = aa_lab::metrics::flip::flip_map(&reference, image)
-                        .expect("same size")
-                        .mean(None)
-                        .expect("pixels");
-                    (ssim.mean, flip)
+                    (
+                        common::ssim_mean(&reference, image),
+                        common::flip_mean(&reference, image),
+                    )
                 })
                 .collect();
             for (id, (ssim, flip)) in ids.iter().zip(&scores) {
@@ -248,17 +242,8 @@ fn taau_at_native_leads_taa_on_hairball_at_full_hd() {
     let techniques = ["taa", "taau"].map(|id| common::technique(&gpu, id, &[]));
     let (reference, images) =
         common::with_reference(&gpu, &scene, techniques.into(), 17, (1920, 1080));
-    let [taa, native] = [0, 1].map(|i| {
-        aa_lab::metrics::ssim::ssim(&reference, &images[i])
-            .expect("same size")
-            .mean
-    });
-    let [taa_flip, native_flip] = [0, 1].map(|i| {
-        aa_lab::metrics::flip::flip_map(&reference, &images[i])
-            .expect("same size")
-            .mean(None)
-            .expect("pixels")
-    });
+    let [taa, native] = [0, 1].map(|i| common::ssim_mean(&reference, &images[i]));
+    let [taa_flip, native_flip] = [0, 1].map(|i| common::flip_mean(&reference, &images[i]));
     println!(
         "hairball 1920x1080 frame 16: taa {taa:.4} / {taa_flip:.4}, taau {native:.4} / {native_flip:.4}"
     );

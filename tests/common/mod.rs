@@ -290,6 +290,21 @@ pub fn pan_instability(
         .collect()
 }
 
+/// Mean SSIM (scikit-image settings) of `image` against `reference`, as `aa-lab compare` gives.
+pub fn ssim_mean(reference: &RgbaImage, image: &RgbaImage) -> f64 {
+    aa_lab::metrics::ssim::ssim(reference, image)
+        .expect("same size")
+        .mean
+}
+
+/// Mean FLIP of `image` against `reference`, as `aa-lab compare` gives.
+pub fn flip_mean(reference: &RgbaImage, image: &RgbaImage) -> f64 {
+    aa_lab::metrics::flip::flip_map(reference, image)
+        .expect("same size")
+        .mean(None)
+        .expect("pixels")
+}
+
 /// Mean absolute difference over RGB of two images of the same size, in 8-bit steps.
 pub fn mean_error(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
     window_error(a, b, (0, 0, a.width(), a.height()))
