@@ -40,6 +40,13 @@ fn spans_surfaces(near: f32, far: f32, tolerance: f32) -> f32 {
     return saturate(behind(far, near) / tolerance);
 }
 
+// How far a pixel that spans surfaces by `spans` (`spans_surfaces`) and moves at `speed`
+// (pixels per frame) is a moving edge, whose filtered estimate both resolves take in full: 1
+// from SETTLED_SPEED on, less below it.
+fn moving_edge(spans: f32, speed: f32) -> f32 {
+    return spans * saturate(speed / SETTLED_SPEED);
+}
+
 // How far (relative distance) the surface at reverse-Z depth `now` lies behind the one at
 // `before` (0 where it is not behind): reverse-Z depth is 1/distance, so the ratio of depths
 // is that of distances. (TAAU's disocclusion test compares the same way.)

@@ -501,8 +501,7 @@ fn resolve(position: vec2<f32>) -> Resolved {
     // fraction (SETTLED_SPEED, spans_surfaces: temporal.wgsl): at a moving edge the point
     // sample's aliasing is what the filter removes.
     let spans = spans_surfaces(surfaces.near_depth, surfaces.far_depth, BACKGROUND_TOLERANCE);
-    let moving_edge = spans * saturate(speed / SETTLED_SPEED);
-    centre = mix(centre, colour_box.filtered, max(adapt, moving_edge));
+    centre = mix(centre, colour_box.filtered, max(adapt, moving_edge(spans, speed)));
     var colour: vec3<f32>;
     if LUMA_WEIGHT {
         let w_current = alpha / (1.0 + luminance(centre));

@@ -387,8 +387,8 @@ fn resolve(position: vec2<f32>) -> Resolved {
     let spans = spans_surfaces(s.nearest_depth, s.farthest_depth, params.guard.x);
     let native = all(abs(ratio - 1.0) < vec2<f32>(1e-3));
     let geometry = select(1.0, mix(SURFACE_KERNEL, 1.0, spans), native);
-    let moving_edge = select(0.0, spans * saturate(speed / SETTLED_SPEED), native);
-    var estimate = mix(box_estimate, kernel_estimate, max(blur * geometry, moving_edge));
+    let edge = select(0.0, moving_edge(spans, speed), native);
+    var estimate = mix(box_estimate, kernel_estimate, max(blur * geometry, edge));
     let weight = mix(s.box_weight, max(s.weight, 0.0), blur);
     if KERNEL == 1u {
         // Lanczos' negative lobe may overshoot: keep the estimate inside the box.
